@@ -1,0 +1,84 @@
+"""bouncelab: golf-ball bounce laws as first-class objects.
+
+Fit bounce laws to measured bounces, compare them and use them, following
+Biber, Jones, Champneys, Green & Szalai, *Measurements and linearized models
+for golf ball bounce*. All states are ``[xdot, ydot, omega]`` in the paper's
+scaled units (radii/s and rad/s, y up, omega > 0 backspin); see
+:mod:`bouncelab.data.units`.
+
+>>> import bouncelab as bl
+>>> law = bl.Rigid.published("A")
+>>> law
+Rigid(r=0.544, mu=0.997)
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__version__ = "0.1.0"
+
+from bouncelab.data import published, units
+from bouncelab.data.campaign import make_campaign, validate_campaign
+from bouncelab.data.slip_roll import classify_slip_roll
+from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+from bouncelab.laws import (
+    BounceModel,
+    PennerFixed,
+    PennerVarying,
+    PiecewiseAffine,
+    Rigid,
+    TangentialRestitution,
+    load_law,
+)
+from bouncelab.metrics import delta, delta_q, error_table, score
+
+# Heavier or edge modules load on first use, to keep `import bouncelab` fast.
+_LAZY = {
+    "load_campaign": "bouncelab.data.io",
+    "save_campaign": "bouncelab.data.io",
+    "generate_surrogate": "bouncelab.data.surrogate",
+    "fit": "bouncelab.fitting",
+    "FitResult": "bouncelab.fitting",
+    "compare": "bouncelab.fitting",
+    "split_by_setting": "bouncelab.fitting",
+    "cross_validate": "bouncelab.fitting",
+    "infer_settings": "bouncelab.fitting",
+}
+
+__all__ = [
+    "BounceModel",
+    "BouncelabError",
+    "DataError",
+    "FitError",
+    "NotFittedError",
+    "ParameterError",
+    "PennerFixed",
+    "PennerVarying",
+    "PiecewiseAffine",
+    "Rigid",
+    "TangentialRestitution",
+    "__version__",
+    "classify_slip_roll",
+    "delta",
+    "delta_q",
+    "error_table",
+    "load_law",
+    "make_campaign",
+    "published",
+    "score",
+    "units",
+    "validate_campaign",
+    *_LAZY,
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'bouncelab' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

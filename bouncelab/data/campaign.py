@@ -1,0 +1,196 @@
+"""The campaign container: bounces as a labelled :class:`xarray.Dataset`.
+
+A campaign has dimensions ``bounce`` and ``component`` and holds
+
+``landing`` (bounce, component)
+    ``[xdot0, ydot0, omega0]`` just before touch-down, scaled units.
+``liftoff`` (bounce, component)
+    ``[xdotF, ydotF, omegaF]`` just after lift-off, scaled units.
+``landing_pi``, ``liftoff_pi`` (bounce, component), optional
+    Half-widths of the 95 % prediction intervals of each measurement.
+``setting`` (bounce), optional coordinate
+    Launcher setting of each bounce (repeats share a setting).
+
+The ``component`` coordinate is ``["xdot", "ydot", "omega"]`` with a ``unit``
+coordinate beside it; attrs name the campaign, surface, ball radius, source
+and whether the data are measured or a synthetic surrogate.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS
+from bouncelab.data.validation import as_states, check_same_length
+from bouncelab.errors import DataError
+
+__all__ = ["CONVENTIONS", "campaign_arrays", "make_campaign", "validate_campaign"]
+
+#: Text stored in every campaign's attrs so a file explains its own sign conventions.
+CONVENTIONS = (
+    "scaled units: xdot, ydot in ball radii per second, omega in rad/s; y up (landing ydot < 0); "
+    "omega anticlockwise (omega > 0 is backspin for a ball moving in +x); v_P = xdot + omega"
+)
+
+DATA_KINDS = ("measured", "synthetic surrogate", "unknown")
+
+
+def make_campaign(
+    landing,
+    liftoff,
+    *,
+    setting=None,
+    landing_pi=None,
+    liftoff_pi=None,
+    campaign: str = "",
+    surface: str = "",
+    ball_radius_m: float = BALL_RADIUS_M,
+    source: str = "",
+    data_kind: str = "unknown",
+    attrs: dict[str, Any] | None = None,
+) -> xr.Dataset:
+    """Build a validated campaign Dataset from (n, 3) arrays in scaled units.
+
+    Parameters
+    ----------
+    landing, liftoff
+        (n, 3) arrays ``[xdot, ydot, omega]`` in radii/s and rad/s.
+    setting
+        Optional length-n launcher setting label of each bounce (int or str).
+    landing_pi, liftoff_pi
+        Optional (n, 3) half-widths of the 95 % prediction intervals (same units).
+    campaign, surface, source
+        Descriptive attrs.
+    ball_radius_m
+        Ball radius used for the scaling, in metres.
+    data_kind
+        ``"measured"``, ``"synthetic surrogate"`` or ``"unknown"``.
+    attrs
+        Further attrs to store.
+
+    Raises
+    ------
+    DataError
+        On any bad array (shape, NaN, a landing with ``ydot >= 0``, ...).
+    """
+    p0, _ = as_states(landing, "landing", landing=True)
+    pf, _ = as_states(liftoff, "liftoff")
+    check_same_length(p0, pf, "landing", "liftoff")
+    if data_kind not in DATA_KINDS:
+        raise DataError(f"data_kind must be one of {DATA_KINDS}; got {data_kind!r}")
+    n = p0.shape[0]
+    dims = ("bounce", "component")
+    data_vars: dict[str, Any] = {
+        "landing": (dims, p0, {"long_name": "state just before touch-down", "units": "scaled"}),
+        "liftoff": (dims, pf, {"long_name": "state just after lift-off", "units": "scaled"}),
+    }
+    for key, pi in (("landing_pi", landing_pi), ("liftoff_pi", liftoff_pi)):
+        if pi is None:
+            continue
+        arr, _ = as_states(pi, key)
+        check_same_length(p0, arr, "landing", key)
+        if (arr < 0).any():
+            row = int(np.argmax((arr < 0).any(axis=1)))
+            raise DataError("prediction-interval half-widths must be >= 0", column=key, row=row + 1)
+        data_vars[key] = (dims, arr, {"long_name": "half-width of the 95% prediction interval", "units": "scaled"})
+    coords: dict[str, Any] = {
+        "bounce": ("bounce", np.arange(n), {"long_name": "bounce index (0-based)"}),
+        "component": ("component", list(COMPONENTS)),
+        "unit": ("component", list(COMPONENT_UNITS)),
+    }
+    if setting is not None:
+        s = np.asarray(setting)
+        if s.shape != (n,):
+            raise DataError(f"setting must have one label per bounce ({n}); got shape {s.shape}", column="setting")
+        if s.dtype.kind == "f":
+            if not np.isfinite(s).all():
+                row = int(np.argmax(~np.isfinite(s)))
+                raise DataError("setting label is missing (NaN)", column="setting", row=row + 1)
+            if np.all(s == np.round(s)):
+                s = s.astype(np.int64)
+        if s.dtype.kind in "iu":
+            s = s.astype(np.int64)  # netCDF3 stores int32; keep one dtype through a round trip
+        if s.dtype.kind in "OS":
+            s = s.astype(str)
+        coords["setting"] = ("bounce", s, {"long_name": "launcher setting"})
+    all_attrs = {
+        "campaign": str(campaign),
+        "surface": str(surface),
+        "ball_radius_m": float(ball_radius_m),
+        "source": str(source),
+        "data_kind": data_kind,
+        "conventions": CONVENTIONS,
+    }
+    all_attrs.update(attrs or {})
+    return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
+
+
+def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
+    """Check that ``ds`` is a well-formed campaign and return it in canonical form.
+
+    The returned Dataset has the variables in (bounce, component) order with
+    components ``xdot, ydot, omega``; values are unchanged.
+
+    Raises
+    ------
+    DataError
+        Missing ``landing``/``liftoff`` variables or dimensions, bad values.
+    """
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"a campaign must be an xarray.Dataset; got {type(ds).__name__}", file=file)
+    for var in ("landing", "liftoff"):
+        if var not in ds.data_vars:
+            raise DataError(
+                f"campaign has no {var!r} variable; it has {sorted(map(str, ds.data_vars))}", file=file
+            )
+        if set(ds[var].dims) != {"bounce", "component"}:
+            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file)
+    setting = ds["setting"].values if "setting" in ds.coords else None
+    pis = {k: ds[k] for k in ("landing_pi", "liftoff_pi") if k in ds.data_vars}
+    p0, _ = as_states(ds["landing"].transpose("bounce", "component"), "landing", landing=True, file=file)
+    pf, _ = as_states(ds["liftoff"].transpose("bounce", "component"), "liftoff", file=file)
+    kept = {k: v for k, v in ds.attrs.items() if k not in ("conventions",)}
+    out = make_campaign(
+        p0, pf, setting=setting,
+        landing_pi=None if "landing_pi" not in pis else pis["landing_pi"].transpose("bounce", "component"),
+        liftoff_pi=None if "liftoff_pi" not in pis else pis["liftoff_pi"].transpose("bounce", "component"),
+        campaign=kept.pop("campaign", ""), surface=kept.pop("surface", ""),
+        ball_radius_m=float(kept.pop("ball_radius_m", BALL_RADIUS_M)), source=kept.pop("source", ""),
+        data_kind=kept.pop("data_kind", "unknown"), attrs=kept,
+    )
+    if "bounce" in ds.coords:
+        bounce = ds["bounce"].values
+        out = out.assign_coords(bounce=bounce.astype(np.int64) if bounce.dtype.kind in "iu" else bounce)
+    return out
+
+
+def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Landing, lift-off and setting arrays from a campaign Dataset or a ``(landing, liftoff)`` pair.
+
+    This is the one place where fitters and analyses accept their ``data``
+    argument, so every entry point validates the same way.
+    """
+    if isinstance(data, xr.Dataset):
+        for var in ("landing", "liftoff"):
+            if var not in data.data_vars:
+                raise DataError(f"{name} has no {var!r} variable; it has {sorted(map(str, data.data_vars))}")
+        p0, _ = as_states(data["landing"], "landing", landing=True)
+        pf, _ = as_states(data["liftoff"], "liftoff")
+        check_same_length(p0, pf, "landing", "liftoff")
+        setting = data["setting"].values if "setting" in data.coords else None
+        return p0, pf, setting
+    if isinstance(data, tuple | list) and len(data) in (2, 3):
+        p0, _ = as_states(data[0], "landing", landing=True)
+        pf, _ = as_states(data[1], "liftoff")
+        check_same_length(p0, pf, "landing", "liftoff")
+        setting = None if len(data) == 2 or data[2] is None else np.asarray(data[2])
+        if setting is not None and setting.shape != (p0.shape[0],):
+            raise DataError(f"setting must have one label per bounce ({p0.shape[0]}); got shape {setting.shape}")
+        return p0, pf, setting
+    raise DataError(
+        f"{name} must be a campaign Dataset or a (landing, liftoff) pair of (n, 3) arrays; "
+        f"got {type(data).__name__}"
+    )

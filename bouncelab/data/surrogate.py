@@ -1,0 +1,205 @@
+"""Synthetic surrogate campaigns, made from the paper's published laws.
+
+The paper's measured bounces are not bundled with bouncelab, so the embedded
+default campaigns ``"A"`` and ``"B"`` are **synthetic surrogates**: plausible
+data with the paper's design, generated here from its published
+piecewise-affine laws. They let every analysis run on a fresh machine; they are
+*not* measurements, and every surrogate Dataset says so in its attrs
+(``data_kind = "synthetic surrogate"``). Load real files with
+:func:`bouncelab.load_campaign` instead whenever you have them.
+
+How a surrogate is made (all random draws from one seeded
+:class:`numpy.random.Generator`):
+
+1. **Launcher settings.** A grid of launcher dials spans the campaign's
+   Table 1 ranges: :attr:`SurrogateSpec.speed_levels` speeds,
+   ``angle_levels`` angles of incidence and ``spin_levels`` spins, evenly
+   spaced between the table's minimum and maximum. Grid points whose scaled
+   ``xdot0`` or ``ydot0`` fall outside Table 1's scaled ranges are dropped (the
+   launcher could not reach them), and the campaign's settings are drawn
+   from the rest without replacement.
+2. **Repeats.** Each setting is repeated 6 times (campaign A: 55 settings,
+   330 bounces) or 6 or 12 times (campaign B: 35 settings of 12 and 47 of 6,
+   702 bounces, of which 9 drawn at random are "lost", leaving 693). Each
+   repeat scatters about its setting: speed by ``speed_scatter`` (relative,
+   1 sd), angle by ``angle_scatter_deg`` and spin by ``spin_scatter`` (relative)
+   plus ``spin_scatter_abs_rpm``, as a launcher's wheels and a ball's seating vary.
+3. **Turf response.** The true lift-off is the campaign's published
+   piecewise-affine law (eq. disjointA or disjointB) plus turf variability:
+   Gaussian, per component, with standard deviation
+   ``sqrt(pi/2) * Delta_q * ||p0||`` where ``Delta_q`` is the paper's
+   Table 2 error for that component (mean of the roll and slip columns), so
+   that the published law scores on the surrogate about what it scored on the
+   paper's data.
+4. **Measurement.** Each landing and lift-off component gets a 95 %
+   prediction-interval half-width of ``pi_fraction / 2`` times the campaign
+   mean of ``|q|``, scattered log-normally (``pi_spread``), so that most
+   interval widths are about 5 % of the mean value as the paper reports; the
+   recorded value is the true one plus Gaussian noise of standard deviation
+   half-width / 1.96, so the stored intervals are honest 95 % intervals.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data import published
+from bouncelab.data.campaign import make_campaign
+from bouncelab.data.units import BALL_RADIUS_M, landing_from_speed_angle_spin
+
+__all__ = ["DEFAULT_SEEDS", "SurrogateSpec", "generate_surrogate"]
+
+#: Seeds of the embedded surrogates (``bouncelab/data/files/campaign_{A,B}.nc``).
+DEFAULT_SEEDS = {"A": 330, "B": 693}
+
+GENERATOR_VERSION = "1"
+
+
+@dataclass(frozen=True)
+class SurrogateSpec:
+    """Design of a surrogate campaign (see the module docstring for the procedure)."""
+
+    campaign: str
+    settings: tuple[tuple[int, int], ...]  # (number of settings, repeats per setting)
+    lost: int = 0
+    speed_levels: int = 6
+    angle_levels: int = 5
+    spin_levels: int = 6
+    speed_scatter: float = 0.02
+    angle_scatter_deg: float = 0.6
+    spin_scatter: float = 0.04
+    spin_scatter_abs_rpm: float = 60.0
+    pi_fraction: float = 0.05
+    pi_spread: float = 0.35
+    turf_delta_q: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0))
+
+    @classmethod
+    def for_campaign(cls, campaign: str) -> SurrogateSpec:
+        """The design used for the embedded surrogate of campaign "A" or "B"."""
+        key = published.check_campaign(campaign)
+        t2 = published.TABLE2.loc[key].loc[["roll", "slip"]]
+        dq = tuple(float(t2[c].mean()) for c in ("delta_xdot", "delta_ydot", "delta_omega"))
+        if key == "A":
+            return cls(campaign="A", settings=((55, 6),), turf_delta_q=dq)
+        return cls(campaign="B", settings=((35, 12), (47, 6)), lost=9, turf_delta_q=dq)
+
+
+def _setting_grid(spec: SurrogateSpec) -> np.ndarray:
+    """Reachable (speed m/s, angle deg, spin rpm) launcher settings spanning Table 1."""
+    t1 = published.TABLE1.loc[spec.campaign]
+    speeds = np.linspace(t1.loc["speed", "min"], t1.loc["speed", "max"], spec.speed_levels)
+    angles = np.linspace(t1.loc["angle", "min"], t1.loc["angle", "max"], spec.angle_levels)
+    spins = np.linspace(t1.loc["spin", "min"], t1.loc["spin", "max"], spec.spin_levels)
+    grid = np.array(list(itertools.product(speeds, angles, spins)))
+    p0 = landing_from_speed_angle_spin(grid[:, 0], grid[:, 1], grid[:, 2])
+    ok = np.ones(len(grid), dtype=bool)
+    for col, name in enumerate(("xdot", "ydot")):
+        lo, hi = t1.loc[name, "min"], t1.loc[name, "max"]
+        ok &= (p0[:, col] >= lo) & (p0[:, col] <= hi)
+    return grid[ok]
+
+
+def generate_surrogate(campaign: str, *, seed: int | None = None, spec: SurrogateSpec | None = None) -> xr.Dataset:
+    """Generate a synthetic surrogate of the paper's campaign "A" or "B".
+
+    Parameters
+    ----------
+    campaign
+        "A" (artificial turf) or "B" (natural tee).
+    seed
+        Seed of the random generator; the embedded files use :data:`DEFAULT_SEEDS`.
+    spec
+        Design to use instead of :meth:`SurrogateSpec.for_campaign`.
+
+    Returns
+    -------
+    xarray.Dataset
+        A campaign (see :func:`bouncelab.make_campaign`) with ``setting``,
+        ``landing_pi`` and ``liftoff_pi``, whose attrs say it is synthetic.
+    """
+    key = published.check_campaign(campaign)
+    spec = spec or SurrogateSpec.for_campaign(key)
+    seed = DEFAULT_SEEDS[key] if seed is None else int(seed)
+    rng = np.random.default_rng(seed)
+
+    grid = _setting_grid(spec)
+    n_settings = sum(n for n, _ in spec.settings)
+    if n_settings > len(grid):
+        raise ValueError(f"the grid has {len(grid)} reachable settings; {n_settings} were asked for")
+    chosen = grid[rng.choice(len(grid), size=n_settings, replace=False)]
+    repeats = np.concatenate([np.full(n, k) for n, k in spec.settings])
+    setting = np.repeat(np.arange(1, n_settings + 1), repeats)
+    dial = np.repeat(chosen, repeats, axis=0)
+    n = len(setting)
+
+    speed = dial[:, 0] * (1.0 + spec.speed_scatter * rng.standard_normal(n))
+    angle = np.clip(dial[:, 1] + spec.angle_scatter_deg * rng.standard_normal(n), 1.0, 90.0)
+    spin = (
+        dial[:, 2] * (1.0 + spec.spin_scatter * rng.standard_normal(n))
+        + spec.spin_scatter_abs_rpm * rng.standard_normal(n)
+    )
+    landing = landing_from_speed_angle_spin(speed, angle, spin)
+
+    from bouncelab.laws.piecewise import PiecewiseAffine
+
+    law = PiecewiseAffine.published(key)
+    norm0 = np.linalg.norm(landing, axis=1, keepdims=True)
+    turf_sd = np.sqrt(np.pi / 2.0) * np.asarray(spec.turf_delta_q) * norm0
+    liftoff = law.predict(landing) + turf_sd * rng.standard_normal((n, 3))
+
+    def measured(true: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        scale = 0.5 * spec.pi_fraction * np.abs(true).mean(axis=0)
+        half = scale * rng.lognormal(0.0, spec.pi_spread, size=true.shape)
+        return true + half / 1.96 * rng.standard_normal(true.shape), half
+
+    landing_meas, landing_pi = measured(landing)
+    liftoff_meas, liftoff_pi = measured(liftoff)
+
+    keep = np.ones(n, dtype=bool)
+    if spec.lost:
+        keep[rng.choice(n, size=spec.lost, replace=False)] = False
+    table_surface = published.CAMPAIGNS[key]["surface"]
+    return make_campaign(
+        landing_meas[keep],
+        liftoff_meas[keep],
+        setting=setting[keep],
+        landing_pi=landing_pi[keep],
+        liftoff_pi=liftoff_pi[keep],
+        campaign=key,
+        surface=f"{table_surface} (synthetic surrogate)",
+        ball_radius_m=BALL_RADIUS_M,
+        source=f"bouncelab.data.surrogate.generate_surrogate({key!r}, seed={seed})",
+        data_kind="synthetic surrogate",
+        attrs={
+            "warning": (
+                "SYNTHETIC SURROGATE: generated by bouncelab from the paper's published piecewise-affine "
+                f"law (eq. disjoint{key}) with modelled scatter and noise. These are NOT measured bounces."
+            ),
+            "generator_version": GENERATOR_VERSION,
+            "generator_seed": seed,
+            "generator_spec": repr(asdict(spec)),
+            "citation": published.CITATION,
+        },
+    )
+
+
+def write_embedded(directory=None) -> list:
+    """Regenerate the embedded surrogate files (``python -m bouncelab.data.surrogate``)."""
+    from pathlib import Path
+
+    directory = Path(directory) if directory is not None else Path(__file__).parent / "files"
+    paths = []
+    for key in ("A", "B"):
+        path = directory / f"campaign_{key}.nc"
+        generate_surrogate(key).to_netcdf(path, engine="scipy")
+        paths.append(path)
+    return paths
+
+
+if __name__ == "__main__":
+    for p in write_embedded():
+        print(f"wrote {p}")

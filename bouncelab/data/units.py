@@ -1,0 +1,217 @@
+"""Units and sign conventions, in one place.
+
+bouncelab works in the paper's *scaled units* throughout and converts only at
+the edges (file loading, the command line, the helpers here):
+
+* lengths in ball radii, so ``xdot`` and ``ydot`` are in radii per second;
+* spin ``omega`` in rad/s;
+* ``y`` points up, so a landing has ``ydot < 0``;
+* ``omega`` is anticlockwise in the plane of motion (x to the right), so
+  ``omega > 0`` is backspin for a ball travelling in +x;
+* the contact point P (the lowest point of the ball) has tangential velocity
+  ``v_P = xdot + omega``.
+
+The ball radius is 21.35 mm by default (:data:`BALL_RADIUS_M`); every
+conversion takes ``radius_m`` to use another ball.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from bouncelab.errors import DataError
+
+__all__ = [
+    "BALL_RADIUS_M",
+    "COMPONENTS",
+    "COMPONENT_UNITS",
+    "SPEED_UNITS",
+    "SPIN_UNITS",
+    "from_scaled",
+    "landing_from_speed_angle_spin",
+    "speed_angle_spin",
+    "spin_from_scaled",
+    "spin_to_scaled",
+    "tangential_velocity",
+    "to_scaled",
+    "velocity_from_scaled",
+    "velocity_to_scaled",
+]
+
+#: Default golf-ball radius in metres (the paper's ball, R&A rules minimum diameter 42.67 mm).
+BALL_RADIUS_M = 0.02135
+
+#: Names of the three components of a landing or lift-off state, in order.
+COMPONENTS = ("xdot", "ydot", "omega")
+
+#: Units of each component in scaled form.
+COMPONENT_UNITS = ("radius/s", "radius/s", "rad/s")
+
+_FT = 0.3048
+_MILE = 1609.344
+
+#: Speed units: metres per second for one unit (``None`` means scaled radii/s).
+SPEED_UNITS: dict[str, float | None] = {
+    "m/s": 1.0,
+    "ft/s": _FT,
+    "mph": _MILE / 3600.0,
+    "km/h": 1000.0 / 3600.0,
+    "radius/s": None,
+}
+
+#: Spin units: rad/s for one unit.
+SPIN_UNITS: dict[str, float] = {
+    "rad/s": 1.0,
+    "rpm": 2.0 * math.pi / 60.0,
+    "rev/s": 2.0 * math.pi,
+    "deg/s": math.pi / 180.0,
+}
+
+# Spellings accepted for each unit (lower case, spaces removed).
+_ALIASES: dict[str, str] = {
+    "m/s": "m/s", "mps": "m/s", "ms-1": "m/s", "ms^-1": "m/s", "m.s-1": "m/s",
+    "ft/s": "ft/s", "fps": "ft/s", "ft/sec": "ft/s",
+    "mph": "mph", "mi/h": "mph", "miles/h": "mph",
+    "km/h": "km/h", "kph": "km/h", "kmh": "km/h",
+    "radius/s": "radius/s", "radii/s": "radius/s", "r/s": "radius/s", "scaled": "radius/s",
+    "1/s": "radius/s", "s-1": "radius/s", "s^-1": "radius/s", "/s": "radius/s",
+    "rad/s": "rad/s", "rads-1": "rad/s", "rad/sec": "rad/s", "rads^-1": "rad/s",
+    "rpm": "rpm", "rev/min": "rpm", "r/min": "rpm", "rotpermin": "rpm", "revpermin": "rpm",
+    "rev/s": "rev/s", "rps": "rev/s", "hz": "rev/s",
+    "deg/s": "deg/s", "°/s": "deg/s",
+}
+
+
+def canonical_unit(unit: str, kind: str) -> str:
+    """Return the canonical spelling of ``unit`` for ``kind`` ("velocity" or "spin").
+
+    Raises
+    ------
+    DataError
+        If the unit is unknown or of the wrong kind (a spin unit for a velocity).
+    """
+    key = str(unit).strip().lower().replace(" ", "")
+    canon = _ALIASES.get(key)
+    table = SPEED_UNITS if kind == "velocity" else SPIN_UNITS
+    if canon is None or canon not in table:
+        known = ", ".join(table)
+        raise DataError(f"unknown {kind} unit {unit!r}; known {kind} units: {known}")
+    return canon
+
+
+def velocity_to_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RADIUS_M):
+    """Convert a velocity from ``unit`` to radii/s.
+
+    ``v_scaled = v[m/s] / R[m]``.
+    """
+    canon = canonical_unit(unit, "velocity")
+    _check_radius(radius_m)
+    factor = SPEED_UNITS[canon]
+    v = np.asarray(value, dtype=float)
+    return v if factor is None else v * (factor / radius_m)
+
+
+def velocity_from_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RADIUS_M):
+    """Convert a velocity from radii/s to ``unit``."""
+    canon = canonical_unit(unit, "velocity")
+    _check_radius(radius_m)
+    factor = SPEED_UNITS[canon]
+    v = np.asarray(value, dtype=float)
+    return v if factor is None else v * (radius_m / factor)
+
+
+def spin_to_scaled(value, unit: str = "rpm"):
+    """Convert a spin rate from ``unit`` to rad/s (the scaled spin unit)."""
+    return np.asarray(value, dtype=float) * SPIN_UNITS[canonical_unit(unit, "spin")]
+
+
+def spin_from_scaled(value, unit: str = "rpm"):
+    """Convert a spin rate from rad/s to ``unit``."""
+    return np.asarray(value, dtype=float) / SPIN_UNITS[canonical_unit(unit, "spin")]
+
+
+def to_scaled(state, *, velocity: str = "m/s", spin: str = "rpm", radius_m: float = BALL_RADIUS_M):
+    """Convert an (..., 3) state ``[xdot, ydot, omega]`` in physical units to scaled units."""
+    s = np.array(state, dtype=float)
+    if s.shape[-1:] != (3,):
+        raise DataError(f"a state needs 3 components (xdot, ydot, omega) in its last axis; got shape {s.shape}")
+    s[..., :2] = velocity_to_scaled(s[..., :2], velocity, radius_m=radius_m)
+    s[..., 2] = spin_to_scaled(s[..., 2], spin)
+    return s
+
+
+def from_scaled(state, *, velocity: str = "m/s", spin: str = "rpm", radius_m: float = BALL_RADIUS_M):
+    """Convert an (..., 3) state in scaled units to ``velocity`` and ``spin`` units."""
+    s = np.array(state, dtype=float)
+    if s.shape[-1:] != (3,):
+        raise DataError(f"a state needs 3 components (xdot, ydot, omega) in its last axis; got shape {s.shape}")
+    s[..., :2] = velocity_from_scaled(s[..., :2], velocity, radius_m=radius_m)
+    s[..., 2] = spin_from_scaled(s[..., 2], spin)
+    return s
+
+
+def landing_from_speed_angle_spin(
+    speed,
+    angle_deg,
+    spin,
+    *,
+    speed_unit: str = "m/s",
+    spin_unit: str = "rpm",
+    radius_m: float = BALL_RADIUS_M,
+):
+    """Landing state ``[xdot0, ydot0, omega0]`` (scaled) from speed, angle of incidence and spin.
+
+    ``xdot0 = s cos(alpha)``, ``ydot0 = -s sin(alpha)`` with ``alpha`` the angle of
+    incidence below the horizontal (paper Fig. 2) and the ball travelling in +x;
+    ``spin > 0`` is backspin.
+
+    Examples
+    --------
+    The paper's typical driver landing (93.6 ft/s, 37.3 degrees, 34.9 rev/s of backspin):
+
+    >>> landing_from_speed_angle_spin(93.6, 37.3, 34.9, speed_unit="ft/s", spin_unit="rev/s").round(1)
+    array([1063. , -809.8,  219.3])
+    """
+    s = velocity_to_scaled(speed, speed_unit, radius_m=radius_m)
+    a = np.deg2rad(np.asarray(angle_deg, dtype=float))
+    if np.any((a <= 0) | (a > np.pi / 2)):
+        raise DataError("angle of incidence must be in (0, 90] degrees for a landing")
+    w = spin_to_scaled(spin, spin_unit)
+    s, a, w = np.broadcast_arrays(s, a, w)
+    return np.stack([s * np.cos(a), -s * np.sin(a), w], axis=-1)
+
+
+def speed_angle_spin(
+    state,
+    *,
+    speed_unit: str = "m/s",
+    spin_unit: str = "rpm",
+    radius_m: float = BALL_RADIUS_M,
+) -> Mapping[str, np.ndarray]:
+    """Speed, angle to the horizontal (degrees, positive downward) and spin of (..., 3) states.
+
+    The inverse of :func:`landing_from_speed_angle_spin` for a landing; for a
+    lift-off the angle is negative (the ball goes up).
+    """
+    s = np.asarray(state, dtype=float)
+    speed = np.hypot(s[..., 0], s[..., 1])
+    angle = np.rad2deg(np.arctan2(-s[..., 1], np.abs(s[..., 0])))
+    return {
+        "speed": velocity_from_scaled(speed, speed_unit, radius_m=radius_m),
+        "angle_deg": angle,
+        "spin": spin_from_scaled(s[..., 2], spin_unit),
+    }
+
+
+def tangential_velocity(state):
+    """Tangential velocity of the contact point, ``v_P = xdot + omega`` (radii/s), of (..., 3) states."""
+    s = np.asarray(state, dtype=float)
+    return s[..., 0] + s[..., 2]
+
+
+def _check_radius(radius_m: float) -> None:
+    if not (np.isfinite(radius_m) and radius_m > 0):
+        raise DataError(f"ball radius must be a positive length in metres; got {radius_m!r}")

@@ -1,0 +1,139 @@
+"""Shared validation of bounce-state arrays.
+
+Every public entry point that takes landing or lift-off states calls
+:func:`as_states` once; the laws, metrics and fitters then work on clean
+``(n, 3)`` float64 arrays and never re-check.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
+from bouncelab.errors import DataError
+
+__all__ = ["States", "as_states", "check_same_length"]
+
+States = Any  # an (..., 3) array-like or an xarray.DataArray with a "component" dimension
+
+
+def as_states(
+    states: States,
+    name: str = "landing",
+    *,
+    landing: bool = False,
+    file: str | None = None,
+) -> tuple[np.ndarray, Callable[[np.ndarray], Any]]:
+    """Validate ``states`` and return them as a C-contiguous (n, 3) float64 array.
+
+    Parameters
+    ----------
+    states
+        An array-like whose last axis holds ``[xdot, ydot, omega]`` (scaled
+        units), or an :class:`xarray.DataArray` with a ``component`` dimension.
+    name
+        What the states are, for error messages ("landing", "liftoff", ...).
+    landing
+        If true, also require ``ydot < 0`` (a landing moves downward).
+    file
+        File the data came from, for error messages.
+
+    Returns
+    -------
+    array, wrap
+        The (n, 3) array and a function that turns an (n, 3) result back into
+        the caller's kind: same leading shape, or a DataArray with the same
+        dimensions and coordinates.
+
+    Raises
+    ------
+    DataError
+        Wrong shape, non-numeric, NaN or infinite values, or a landing with
+        ``ydot >= 0``; the message names the row and component.
+    """
+    if isinstance(states, xr.DataArray):
+        return _from_dataarray(states, name, landing=landing, file=file)
+    try:
+        arr = np.asarray(states, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file) from None
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise DataError(
+            f"{name} must have shape (n, 3) with columns [xdot, ydot, omega]; got shape {arr.shape}",
+            file=file,
+        )
+    lead = arr.shape[:-1]
+    flat = np.ascontiguousarray(arr.reshape(-1, 3))
+    _check_values(flat, name, landing=landing, file=file)
+
+    def wrap(result: np.ndarray) -> np.ndarray:
+        return result.reshape(*lead, *result.shape[1:])
+
+    return flat, wrap
+
+
+def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | None):
+    if "component" not in da.dims:
+        raise DataError(
+            f"{name} DataArray needs a 'component' dimension (xdot, ydot, omega); "
+            f"its dimensions are {da.dims}",
+            file=file,
+        )
+    if da.sizes["component"] != 3:
+        raise DataError(f"{name} needs 3 components; 'component' has size {da.sizes['component']}", file=file)
+    if "component" in da.coords:
+        labels = [str(v) for v in da["component"].values]
+        if sorted(labels) != sorted(COMPONENTS):
+            raise DataError(
+                f"{name} component labels must be {list(COMPONENTS)}; got {labels}", file=file
+            )
+        da = da.sel(component=list(COMPONENTS))
+    other = [d for d in da.dims if d != "component"]
+    da = da.transpose(*other, "component")
+    arr, _ = as_states(da.values, name, landing=landing, file=file)
+    lead = da.shape[:-1]
+    dims = (*other, "component")
+    coords = {k: v for k, v in da.coords.items() if "component" not in v.dims}
+
+    def wrap(result: np.ndarray) -> xr.DataArray:
+        out = xr.DataArray(
+            result.reshape(*lead, 3),
+            dims=dims,
+            coords={**coords, "component": list(COMPONENTS), "unit": ("component", list(COMPONENT_UNITS))},
+        )
+        return out
+
+    return arr, wrap
+
+
+def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None) -> None:
+    if arr.shape[0] == 0:
+        raise DataError(f"{name} holds no bounces", file=file)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        what = "NaN" if np.isnan(arr[row, col]) else "infinite"
+        n_bad = int(bad.any(axis=1).sum())
+        raise DataError(
+            f"{name} value is {what} ({n_bad} bounce(s) affected)",
+            file=file, column=f"{name}.{COMPONENTS[col]}", row=int(row) + 1,
+        )
+    if landing:
+        up = arr[:, 1] >= 0
+        if up.any():
+            row = int(np.argmax(up))
+            raise DataError(
+                f"landing ydot must be negative (y points up, a landing moves down); "
+                f"got {arr[row, 1]!r} ({int(up.sum())} bounce(s) affected)",
+                file=file, column=f"{name}.ydot", row=row + 1,
+            )
+
+
+def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -> None:
+    """Raise DataError unless two (n, 3) arrays describe the same bounces."""
+    if a.shape != b.shape:
+        raise DataError(f"{name_a} has shape {a.shape} but {name_b} has shape {b.shape}; one row per bounce in each")

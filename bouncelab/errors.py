@@ -1,0 +1,58 @@
+"""Exception types raised by bouncelab.
+
+Every problem with user input is reported with one of these, never with a
+silently wrong number. ``DataError`` is for data (arrays, files, campaigns);
+``ParameterError`` for the parameters and bounds of a bounce law.
+"""
+
+from __future__ import annotations
+
+__all__ = ["BouncelabError", "DataError", "FitError", "NotFittedError", "ParameterError"]
+
+
+class BouncelabError(Exception):
+    """Base class of every error bouncelab raises on purpose."""
+
+
+class DataError(BouncelabError, ValueError):
+    """Bad bounce data: the message names the file, column and row at fault.
+
+    Attributes
+    ----------
+    file, column, row
+        Where the problem is, when known (``row`` is 1-based: the first data
+        row of a file or the first bounce of an array is row 1).
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str | None = None,
+        column: str | None = None,
+        row: int | None = None,
+    ) -> None:
+        self.file = None if file is None else str(file)
+        self.column = column
+        self.row = row
+        where = []
+        if self.file is not None:
+            where.append(f"file {self.file!r}")
+        if column is not None:
+            where.append(f"column {column!r}")
+        if row is not None:
+            where.append(f"row {row}")
+        self.message = message
+        super().__init__(f"{', '.join(where)}: {message}" if where else message)
+
+
+class ParameterError(BouncelabError, ValueError):
+    """A law parameter or a bound is missing, non-finite or outside its physical range."""
+
+
+class NotFittedError(ParameterError):
+    """The law has unset parameters: construct it with values or fit it first."""
+
+
+class FitError(BouncelabError, ValueError):
+    """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
