@@ -270,8 +270,9 @@ def estimate_velocity(
     Examples
     --------
     >>> t = np.arange(10) / 5000.0
-    >>> estimate_velocity(t, 3.0 + 800.0 * t, t[-1]).value  # doctest: +ELLIPSIS
-    800.0...
+    >>> est = estimate_velocity(t, 3.0 + 800.0 * t - 229.7 * t**2, t[-1], method="positions")
+    >>> round(est.value, 6), round(est.slope, 6)  # 800 - 2 * 229.7 * t[-1], -2 * 229.7
+    (799.17308, -459.4)
     """
     level = _check_level(level)
     if interval not in _INTERVALS:
@@ -384,6 +385,7 @@ def detect_contact(
     *,
     min_flight: int = 4,
     min_contact: int = 2,
+    contact_model: Literal["flat", "linear"] = "flat",
     jitter_rtol: float = JITTER_RTOL,
 ) -> ContactDetection:
     """Find touch-down and lift-off from the height of the lowest visible point of the ball.
@@ -400,6 +402,10 @@ def detect_contact(
         Fewest frames accepted before touch-down and after lift-off.
     min_contact
         Fewest frames accepted in contact.
+    contact_model
+        ``"flat"`` (default): the lowest visible point stays at one height
+        during contact (the surface line); ``"linear"``: it may drift at a
+        constant rate (use it if the visible surface line moves in the image).
     jitter_rtol
         Largest accepted relative deviation of a frame interval from the mean.
 
@@ -418,7 +424,9 @@ def detect_contact(
     the three-piece model
 
     * a quadratic in ``t`` on frames ``0 .. i-1`` (free flight: gravity, drag),
-    * a straight line on frames ``i .. j`` (contact),
+    * a constant (``contact_model="flat"``) or a straight line
+      (``"linear"``) on frames ``i .. j`` (contact: the point stays at the
+      surface),
     * a quadratic on frames ``j+1 .. N-1``,
 
     is fitted by least squares, and the pair with the smallest total residual
@@ -432,7 +440,7 @@ def detect_contact(
 
     A bounce is reported only if the three-piece model beats a single
     quadratic through all frames by the Bayesian information criterion (it has
-    10 parameters counting the two breakpoints, against 3), and the point
+    9 or 10 parameters counting the two breakpoints, against 3), and the point
     clearly falls into touch-down and rises out of lift-off: the derivative of
     the first quadratic at touch-down is below, and that of the last at
     lift-off above, 5 standard errors of 0 (so a ball that stays on the
@@ -448,6 +456,9 @@ def detect_contact(
     h = _as_1d(lowest, "lowest")
     if tt.size != h.size:
         raise DataError(f"t and lowest must have the same length; got {tt.size} and {h.size}")
+    if contact_model not in ("flat", "linear"):
+        raise DataError(f"contact_model must be 'flat' or 'linear'; got {contact_model!r}")
+    contact_degree = 0 if contact_model == "flat" else 1
     for name, value, low in (("min_flight", min_flight, 3), ("min_contact", min_contact, 2)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
             raise DataError(f"{name} must be an integer >= {low}; got {value!r}")
@@ -487,7 +498,9 @@ def detect_contact(
             vz = szz - sz * sz / m
             vh = shh - sh * sh / m
             czh_c = szh - sz * sh / m
-            sse_c = vh - np.where(vz > 0, czh_c * czh_c / np.where(vz > 0, vz, 1.0), 0.0)
+            sse_c = vh
+            if contact_degree == 1:
+                sse_c = vh - np.where(vz > 0, czh_c * czh_c / np.where(vz > 0, vz, 1.0), 0.0)
         total = sse_before[ii] + np.maximum(sse_c, 0.0) + sse_after[np.minimum(jj + 1, n)]
         total = np.where(ok, total, np.inf)
         k = int(np.argmin(total))
@@ -497,10 +510,10 @@ def detect_contact(
     if not np.isfinite(sse3):  # pragma: no cover - n >= need guarantees a candidate
         raise DataError("no detectable contact: no admissible pair of contact frames")
 
-    # Model selection: three pieces (3 + 2 + 3 coefficients + 2 breakpoints) against one quadratic.
+    # Model selection: three pieces (3 + 1|2 + 3 coefficients + 2 breakpoints) against one quadratic.
     sse1 = float(_prefix_quadratic_sse(z, hc)[n])
     floor = 1e-300 + 1e-24 * float(hc @ hc)
-    bic3 = n * np.log(max(sse3, floor) / n) + 10 * np.log(n)
+    bic3 = n * np.log(max(sse3, floor) / n) + (9 + contact_degree) * np.log(n)
     bic1 = n * np.log(max(sse1, floor) / n) + 3 * np.log(n)
     if not bic3 < bic1:
         raise DataError(
@@ -509,7 +522,7 @@ def detect_contact(
             column="lowest",
         )
     pb = np.polyfit(z[:i], hc[:i], 2)
-    pc = np.polyfit(z[i : j + 1], hc[i : j + 1], 1)
+    pc = np.polyfit(z[i : j + 1], hc[i : j + 1], contact_degree)
     pa = np.polyfit(z[j + 1 :], hc[j + 1 :], 2)
     z0 = _meeting_point(pb, pc, z[i - 1], z[i])
     zf = _meeting_point(pa, pc, z[j], z[j + 1])
@@ -702,7 +715,7 @@ def interval_coverage(
     liftoff=None,
     **simulate_kwargs: Any,
 ) -> xr.Dataset:
-    """Measure by simulation how often each interval covers the true landing and lift-off states.
+    r"""Measure by simulation how often each interval covers the true landing and lift-off states.
 
     Each of ``n_bounces`` synthetic tracks
     (:func:`~bouncelab.analysis.trajectories.simulate_tracked_bounce` with
@@ -742,24 +755,39 @@ def interval_coverage(
 
     Notes
     -----
-    Reproduce the figures quoted in this module with::
+    Reproduce the figures quoted in this module (about 25 s) with::
 
-        python -c "from bouncelab.analysis.measurement import interval_coverage as c; \\
-print(c(2000, seed=0).coverage.to_pandas())"
+        from bouncelab.analysis.measurement import interval_coverage
+        r = interval_coverage(2000, seed=0)
+        print(r.coverage.stack(col=("state", "component")).to_pandas())
 
     Measured with ``n_bounces=2000, seed=0`` (defaults: 5000 fps, 40 frames a
-    side, ``position_noise=0.003``, ``angle_noise=0.008``), coverage of the
-    nominal 95 % intervals (Monte-Carlo standard error 0.5 %):
+    side, ``position_noise=0.003``, ``angle_noise=0.008``): coverage of the
+    nominal 95 % intervals (Monte-Carlo standard error 0.5 %), then mean
+    half-width and rms error (radii/s, rad/s):
 
-    ============  ======  ======  ======  ======  ======  ======
-    estimator     landing                 lift-off
-    ------------  ----------------------  ----------------------
-    \\             xdot    ydot    omega   xdot    ydot    omega
-    ============  ======  ======  ======  ======  ======  ======
-    paper PI      1.000   1.000   0.949   1.000   1.000   0.947
-    paper CI      0.996   0.995   0.949   0.996   0.995   0.947
-    positions CI  0.952   0.949   0.949   0.950   0.946   0.947
-    ============  ======  ======  ======  ======  ======  ======
+    ============  =====  =====  =====  =====  =====  =====
+    coverage      landing              lift-off
+    ------------  -------------------  -------------------
+    \             xdot   ydot   omega  xdot   ydot   omega
+    ============  =====  =====  =====  =====  =====  =====
+    paper PI      1.000  1.000  0.949  1.000  1.000  0.956
+    paper CI      1.000  1.000  0.949  1.000  1.000  0.956
+    positions CI  0.948  0.952  0.949  0.949  0.948  0.956
+    ============  =====  =====  =====  =====  =====  =====
+
+    ====================  =====  =====  =====  =====  =====  =====
+    half-width, paper PI  46.3   46.4   12.9   46.2   46.4   12.9
+    half-width, paper CI  14.8   14.8   12.9   15.3   15.3   12.9
+    half-width, pos. CI   1.81   1.81   12.9   1.80   1.81   12.9
+    rms error, paper      1.80   1.82   6.42   1.91   1.92   6.42
+    rms error, positions  0.90   0.89   6.42   0.90   0.89   6.42
+    ====================  =====  =====  =====  =====  =====  =====
+
+    The detected first contact frame was the true one in 1928 bounces and one
+    frame off in the other 72. With 10 frames a side the paper's CI covered
+    99.4-100 % and the positions CI 93.6-96.2 % (500 bounces); at 10000 fps,
+    or with 3x the position noise, the picture is the same as at the default.
     """
     from bouncelab.analysis.trajectories import simulate_tracked_bounce
 

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS
+from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, canonical_unit
 from bouncelab.data.validation import as_states, check_same_length
 from bouncelab.errors import DataError
 
@@ -69,7 +69,12 @@ def make_campaign(
     data_kind
         ``"measured"``, ``"synthetic surrogate"`` or ``"unknown"``.
     attrs
-        Further attrs to store.
+        Further attrs to store. They cannot replace ``conventions`` (which
+        describes the arrays' scaled units), and a ``data_kind`` given here is
+        checked like the argument.
+
+    The arrays are copied: changing the caller's arrays afterwards does not
+    change (or invalidate) the campaign.
 
     Raises
     ------
@@ -79,6 +84,9 @@ def make_campaign(
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
+    # as_states may return the caller's own array; the campaign must not share memory with it.
+    p0, pf = p0.copy(), pf.copy()
+    data_kind = (attrs or {}).get("data_kind", data_kind)
     if data_kind not in DATA_KINDS:
         raise DataError(f"data_kind must be one of {DATA_KINDS}; got {data_kind!r}")
     n = p0.shape[0]
@@ -91,6 +99,7 @@ def make_campaign(
         if pi is None:
             continue
         arr, _ = as_states(pi, key)
+        arr = arr.copy()
         check_same_length(p0, arr, "landing", key)
         if (arr < 0).any():
             row = int(np.argmax((arr < 0).any(axis=1)))
@@ -113,6 +122,10 @@ def make_campaign(
                 s = s.astype(np.int64)
         if s.dtype.kind in "iu":
             s = s.astype(np.int64)  # netCDF3 stores int32; keep one dtype through a round trip
+        if s.dtype.kind == "O":
+            missing = [i for i, v in enumerate(s) if v is None or (isinstance(v, float) and v != v)]
+            if missing:
+                raise DataError("setting label is missing (None or NaN)", column="setting", row=missing[0] + 1)
         if s.dtype.kind in "OS":
             s = s.astype(str)
         coords["setting"] = ("bounce", s, {"long_name": "launcher setting"})
@@ -122,9 +135,9 @@ def make_campaign(
         "ball_radius_m": float(ball_radius_m),
         "source": str(source),
         "data_kind": data_kind,
-        "conventions": CONVENTIONS,
     }
     all_attrs.update(attrs or {})
+    all_attrs["conventions"] = CONVENTIONS
     return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
 
 
@@ -148,6 +161,10 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
             )
         if set(ds[var].dims) != {"bounce", "component"}:
             raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file)
+    for var in ("landing_pi", "liftoff_pi"):
+        if var in ds.data_vars and set(ds[var].dims) != {"bounce", "component"}:
+            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file)
+    _check_unit_coord(ds, file)
     setting = ds["setting"].values if "setting" in ds.coords else None
     pis = {k: ds[k] for k in ("landing_pi", "liftoff_pi") if k in ds.data_vars}
     p0, _ = as_states(ds["landing"].transpose("bounce", "component"), "landing", landing=True, file=file)
@@ -163,8 +180,31 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
     )
     if "bounce" in ds.coords:
         bounce = ds["bounce"].values
-        out = out.assign_coords(bounce=bounce.astype(np.int64) if bounce.dtype.kind in "iu" else bounce)
+        bounce = bounce.astype(np.int64) if bounce.dtype.kind in "iu" else bounce
+        out = out.assign_coords(bounce=("bounce", bounce, dict(ds["bounce"].attrs)))
     return out
+
+
+def _check_unit_coord(ds: xr.Dataset, file: str | None) -> None:
+    """A ``unit`` coordinate along ``component`` must name the scaled units, or the numbers are not scaled."""
+    if "unit" not in ds.coords or ds["unit"].dims != ("component",):
+        return
+    comps = [str(c) for c in ds["component"].values] if "component" in ds.coords else list(COMPONENTS)
+    for comp, unit in zip(comps, ds["unit"].values, strict=True):
+        if comp not in COMPONENTS:
+            continue  # reported by as_states
+        kind = "spin" if comp == "omega" else "velocity"
+        expected = COMPONENT_UNITS[COMPONENTS.index(comp)]
+        try:
+            ok = canonical_unit(str(unit), kind) == expected
+        except DataError:
+            ok = False
+        if not ok:
+            raise DataError(
+                f"the unit coordinate says {comp} is in {str(unit)!r}; a campaign holds scaled units "
+                f"({dict(zip(COMPONENTS, COMPONENT_UNITS, strict=True))}): convert with bouncelab.data.units first",
+                file=file, column="unit",
+            )
 
 
 def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:

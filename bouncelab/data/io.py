@@ -50,7 +50,9 @@ With ``columns=None`` the columns are found from the synonyms in
 digits removed, so ``"X_dot 0"``, ``"xdot0"`` and ``"x-dot-0"`` are the same
 name. A header may end in a unit, which is not part of the name:
 ``"vx0 [m/s]"``, ``"Vx0 (m/s)"``, ``"omega0_rpm"``, ``"spin (rev/min)"``,
-``"vx0 m/s"``. A name is *stem* + *phase*, phase before or after the stem:
+``"vx0 m/s"``. A name is *stem* + *phase* or, for a phase of two or more
+characters and a stem of two or more, *phase* + *stem* (``in_vx``, not
+``i_vx``; ``w_in``, not ``in_w``) or *phase* + *stem* + *phase*:
 
 ==========  =================================================================
 stem        ``xdot``: xdot, dx, dxdt, vx, velx, xvel, xvelocity, velocityx, u,
@@ -75,12 +77,18 @@ prediction-interval half-widths are the same names followed (or preceded) by
 ``pi``, ``pi95``, ``hw``, ``halfwidth``, ``ci``, ``ci95``, ``err``, ``error``,
 ``unc`` or ``uncertainty`` (``vx0_pi``, ``omegaF_err``); they are used only
 when all three of a state are present. The setting column is one of
-``setting``, ``settings``, ``settingid``, ``setting_no``,
-``launcher_setting``, ``condition``, ``condition_id``, ``test_condition``,
-``group``, ``group_id``, ``setup``, ``config``, ``configuration``, ``case``,
-``test_case``. If a role matches no column or several, :func:`load_campaign`
-raises a :class:`~bouncelab.errors.DataError` that lists the file's columns and
-spells out the ``columns=`` argument to pass.
+``setting(s)``, ``setting_id``, ``setting_no``, ``setting_number``,
+``launcher_setting(s)``, ``condition(s)``, ``condition_id``,
+``test_condition(s)``, ``group``, ``group_id``, ``setup``, ``config``,
+``configuration``, ``case``, ``test_case``; numeric labels become integers
+(``"01"`` becomes 1), other labels stay strings. If a role matches no column
+or several, :func:`load_campaign` raises a
+:class:`~bouncelab.errors.DataError` that lists the file's columns and spells
+out the ``columns=`` argument to pass. A typical file that needs no argument::
+
+    Test condition,Vx0 (m/s),Vy0 (m/s),Spin0 (rpm),VxF (m/s),VyF (m/s),SpinF (rpm)
+    1,20.1,-15.2,3000,9.5,5.1,1500
+    1,19.8,-15.0,3050,9.7,5.0,1480
 
 With ``columns=`` given, it maps roles to the file's names::
 
@@ -100,11 +108,13 @@ only the roles listed are read.
 Units
 -----
 Values are converted to scaled units (radii/s, rad/s) with the ball radius
-``ball_radius_m``. The unit of a column comes from, in order of precedence,
-``units=`` (``{"velocity": "m/s", "spin": "rpm"}``, either key optional), the
-unit at the end of its header name, or a *units row* right under the header
-(a row whose cells are units such as ``m/s``, ``rpm``); if ``units=`` and a
-header disagree the load fails. Known units are those of
+``ball_radius_m``. The unit of a column is given by ``units=``
+(``{"velocity": "m/s", "spin": "rpm"}``, either key optional, applying to the
+prediction intervals too) and/or by the file: the unit at the end of the
+column's header name or, failing that, a *units row* right under the header (a
+row whose cells are units such as ``m/s``, ``rpm``). If both are given for a
+column and disagree, the load fails; each column may have its own unit, and
+the units read are recorded in the ``source_units`` attr. Known units are those of
 :mod:`bouncelab.data.units` (velocity: m/s, ft/s, mph, km/h, radius/s = 1/s
 = s^-1; spin: rad/s, rpm = rev/min = rot per min, rev/s = Hz, deg/s; ``1/s`` on a
 spin column means rad/s). With no unit anywhere, velocities are taken as
@@ -117,6 +127,10 @@ Examples::
     load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})
     load_campaign("bounces.xlsx", sheet="Campaign B", units={"spin": "rev/s"})
     load_campaign("scaled.txt")                      # radii/s and rad/s
+
+A campaign netCDF file is already in scaled units: ``columns=`` and
+``units=`` are refused, its stored ``ball_radius_m`` is kept, and
+``campaign=``/``surface=`` replace the stored names only when given.
 
 Errors
 ------
@@ -137,6 +151,7 @@ import re
 import tempfile
 import unicodedata
 import warnings
+import zipfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from importlib import resources
@@ -172,7 +187,6 @@ SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".
 EMBEDDED_CAMPAIGNS = ("A", "B")
 
 _NETCDF_SUFFIXES = (".nc", ".netcdf")
-_TEXT_SUFFIXES = (".csv", ".tsv", ".txt")
 _EXCEL_SUFFIXES = (".xlsx", ".xls")
 
 # Plausibility limits that catch a wrong unit (scaled units).
@@ -222,30 +236,63 @@ _SETTING_NAMES = (
 )
 
 
-def _build_synonyms() -> dict[str, frozenset[str]]:
-    table: dict[str, frozenset[str]] = {}
+#: The synonym table used when ``columns=None``, in normalised form (see the
+#: module docstring): the stems of each component, the landing and lift-off
+#: phase markers, the prediction-interval markers and the setting names. A
+#: state column is ``stem + phase``, ``phase + stem`` or ``phase + stem +
+#: phase`` (both phases of the same state; a phase before the stem must have
+#: two or more characters and the stem too); a prediction-interval column is a
+#: state column name with a ``pi`` marker before or after it.
+COLUMN_SYNONYMS: dict[str, tuple[str, ...]] = {
+    **_STEMS, **_PHASES, "pi": _PI_MARKERS, "setting": _SETTING_NAMES,
+}
+
+
+# Common column names that the rules below would otherwise read as bounce data.
+_NOT_SYNONYMS = frozenset({"indx"})
+
+
+def _build_state_keys() -> dict[str, str]:
+    table: dict[str, str] = {}
     for state, phases in _PHASES.items():
+        # A phase before the stem must be a word ("in_vx", not "i_vx" or "ivy"), and
+        # one-letter stems take it only after ("w_in", but not "low" or "prev").
+        prefixes = [ph for ph in phases if len(ph) > 1]
         for comp, stems in _STEMS.items():
-            keys = set()
+            role = f"{state}.{comp}"
             for stem in stems:
-                for ph in phases:
-                    keys.update((stem + ph, ph + stem))
-                    keys.update(pre + stem + ph for pre in phases)
-            table[f"{state}.{comp}"] = frozenset(keys)
-    for state in _STATES:
-        for comp in COMPONENTS:
-            base = table[f"{state}.{comp}"]
-            table[f"{state}_pi.{comp}"] = frozenset(
-                {k + m for k in base for m in _PI_MARKERS} | {m + k for k in base for m in _PI_MARKERS}
-            )
-    table["setting"] = frozenset(_SETTING_NAMES)
+                keys = {stem + ph for ph in phases}
+                if len(stem) > 1:
+                    keys.update(pre + stem for pre in prefixes)
+                    keys.update(pre + stem + ph for pre in prefixes for ph in phases)
+                for key in keys - _NOT_SYNONYMS:
+                        if table.setdefault(key, role) != role:  # pragma: no cover - checked in tests
+                            raise AssertionError(f"synonym {key!r} is both {table[key]} and {role}")
     return table
 
 
-#: Normalised column names recognised for each role when ``columns=None``:
-#: roles ``"landing.xdot"`` ... ``"liftoff.omega"``, ``"landing_pi.xdot"`` ...
-#: ``"liftoff_pi.omega"`` and ``"setting"``.
-COLUMN_SYNONYMS: dict[str, frozenset[str]] = _build_synonyms()
+_STATE_KEYS = _build_state_keys()
+_SETTING_KEYS = frozenset(_SETTING_NAMES)
+_ROLES = (
+    *(f"{s}.{c}" for s in (*_STATES, *_PI_STATES) for c in COMPONENTS),
+    "setting",
+)
+
+
+def _role_of(key: str) -> str | None:
+    """The role a normalised column name stands for, per :data:`COLUMN_SYNONYMS`."""
+    if key in _SETTING_KEYS:
+        return "setting"
+    if key in _STATE_KEYS:
+        return _STATE_KEYS[key]
+    for m in _PI_MARKERS:
+        for rest in (key[: -len(m)] if key.endswith(m) else None,
+                     key[len(m):] if key.startswith(m) else None):
+            if rest and rest in _STATE_KEYS:
+                state, comp = _STATE_KEYS[rest].split(".")
+                return f"{state}_pi.{comp}"
+    return None
+
 
 # --------------------------------------------------------------------------
 # Names and units
@@ -505,7 +552,7 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
             df = pd.read_excel(xf, sheet_name=sheet_name, header=None, dtype=object)
     except DataError:
         raise
-    except (ValueError, OSError, KeyError) as exc:
+    except (ValueError, OSError, KeyError, zipfile.BadZipFile) as exc:
         raise DataError(f"cannot read it as an Excel workbook: {exc}", file=file) from None
 
     def blank(c: Any) -> bool:
@@ -566,7 +613,7 @@ def _read_mat(path: Path, file: str) -> _Table:
             return
         if isinstance(val, bool):
             return
-        if isinstance(val, int | float | str):
+        if isinstance(val, int | float | str | np.number):
             add(name, parent, [val])
             return
         if not isinstance(val, np.ndarray):
@@ -688,20 +735,22 @@ def _dataset_values(vals: np.ndarray) -> Any:
 # --------------------------------------------------------------------------
 
 
-def _matches(col: _Column, keys: Sequence[str] | frozenset[str]) -> bool:
-    return col.full_key in keys or col.base_key in keys
+@dataclass
+class _Choice:
+    column: _Column
+    by_full_name: bool  # matched by its whole header, so a bracket in it may be part of the name
 
 
-def _find_requested(table: _Table, requested: str, role: str) -> _Column:
+def _find_requested(table: _Table, requested: str, role: str) -> _Choice:
     exact = [c for c in table.columns if c.name == requested.strip()]
     if len(exact) == 1:
-        return exact[0]
+        return _Choice(exact[0], True)
     req_full = _normalize(requested)
     req_base = _normalize(_split_header(requested)[0])
     keys = {k for k in (req_full, req_base) if k}
     found = [c for c in table.columns if c.full_key in keys or c.base_key in keys]
     if len(found) == 1:
-        return found[0]
+        return _Choice(found[0], found[0].full_key in keys)
     names = [c.name for c in table.columns]
     if not found:
         raise DataError(
@@ -715,22 +764,26 @@ def _find_requested(table: _Table, requested: str, role: str) -> _Column:
     )
 
 
-def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Column]:
+def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Choice]:
     allowed = (*_STATES, "setting", *_PI_STATES)
     if not isinstance(columns, Mapping):
-        raise DataError(f"columns= must be a mapping such as {{'landing': [...], ...}}; got {type(columns).__name__}",
-                        file=table.file)
+        raise DataError(
+            f"columns= must be a mapping such as {{'landing': [...], 'liftoff': [...]}}; "
+            f"got {type(columns).__name__}", file=table.file,
+        )
     unknown = [k for k in columns if k not in allowed]
     if unknown:
-        raise DataError(f"columns= has unknown keys {unknown}; allowed keys are {list(allowed)}", file=table.file)
-    chosen: dict[str, _Column] = {}
+        raise DataError(f"columns= has unknown keys {unknown}; allowed keys are {list(allowed)}",
+                        file=table.file)
+    chosen: dict[str, _Choice] = {}
     for state in (*_STATES, *_PI_STATES):
         names = columns.get(state)
         if names is None:
             if state in _STATES:
-                raise DataError(f"columns= must name the 3 {state} columns (xdot, ydot, omega)", file=table.file)
+                raise DataError(f"columns= must name the 3 {state} columns (xdot, ydot, omega)",
+                                file=table.file)
             continue
-        if isinstance(names, str) or len(names) != 3:
+        if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
             raise DataError(
                 f"columns[{state!r}] must be a list of 3 column names (xdot, ydot, omega); got {names!r}",
                 file=table.file,
@@ -742,16 +795,28 @@ def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Co
     return chosen
 
 
-def _select_auto(table: _Table) -> dict[str, _Column]:
-    found = {role: [c for c in table.columns if _matches(c, keys)] for role, keys in COLUMN_SYNONYMS.items()}
-    chosen: dict[str, _Column] = {}
+def _candidates(table: _Table) -> dict[str, list[_Choice]]:
+    """File columns matching each role's synonyms; a whole-name match hides a base-name one."""
+    found: dict[str, list[_Choice]] = {role: [] for role in _ROLES}
+    for col in table.columns:
+        role = _role_of(col.full_key)
+        if role is not None:
+            found[role].append(_Choice(col, True))
+        elif (role := _role_of(col.base_key)) is not None:
+            found[role].append(_Choice(col, False))
+    return found
+
+
+def _select_auto(table: _Table) -> dict[str, _Choice]:
+    found = _candidates(table)
+    chosen: dict[str, _Choice] = {}
     problems = []
     for role in (*(f"{s}.{c}" for s in _STATES for c in COMPONENTS), "setting"):
         cands = found[role]
         if len(cands) == 1:
             chosen[role] = cands[0]
         elif len(cands) > 1:
-            problems.append(f"{role}: several candidates {[c.name for c in cands]}")
+            problems.append(f"{role}: several candidates {[c.column.name for c in cands]}")
         elif role != "setting":
             problems.append(f"{role}: no column found")
     for state in _PI_STATES:
@@ -759,26 +824,27 @@ def _select_auto(table: _Table) -> dict[str, _Column]:
         if all(len(found[r]) == 1 for r in roles):
             chosen.update({r: found[r][0] for r in roles})
         elif any(len(found[r]) > 1 for r in roles):
-            problems.extend(f"{r}: several candidates {[c.name for c in found[r]]}"
+            problems.extend(f"{r}: several candidates {[c.column.name for c in found[r]]}"
                             for r in roles if len(found[r]) > 1)
         elif any(found[r] for r in roles):
             warnings.warn(
                 f"{table.file}: ignoring the incomplete {state} columns "
-                f"{[found[r][0].name for r in roles if found[r]]}; name all three in columns= to use them",
-                stacklevel=4,
+                f"{[found[r][0].column.name for r in roles if found[r]]}; "
+                "name all three in columns= to use them",
+                UserWarning, stacklevel=4,
             )
     if problems:
         raise DataError(_auto_detect_message(table, found, problems), file=table.file)
     return chosen
 
 
-def _auto_detect_message(table: _Table, found: dict[str, list[_Column]], problems: list[str]) -> str:
+def _auto_detect_message(table: _Table, found: dict[str, list[_Choice]], problems: list[str]) -> str:
     def pick(role: str) -> str:
         cands = found[role]
         if len(cands) == 1:
-            return repr(cands[0].name)
+            return repr(cands[0].column.name)
         if cands:
-            return repr("<one of " + ", ".join(c.name for c in cands) + ">")
+            return repr("<one of " + ", ".join(c.column.name for c in cands) + ">")
         return repr(f"<{role.replace('.', ' ')} column>")
 
     parts = [f"{s!r}: [{', '.join(pick(f'{s}.{c}') for c in COMPONENTS)}]" for s in _STATES]
@@ -794,7 +860,7 @@ def _auto_detect_message(table: _Table, found: dict[str, list[_Column]], problem
     return (
         "cannot tell which columns hold the bounce data (" + "; ".join(problems) + ").\n"
         f"The file's columns are {[c.name for c in table.columns]}.\n"
-        "Name them explicitly, replacing each <...>:\n"
+        "Name them explicitly (replace each <...>):\n"
         f"    load_campaign({table.file!r}, columns={{{', '.join(parts)}}})" + hint
     )
 
@@ -804,42 +870,41 @@ def _auto_detect_message(table: _Table, found: dict[str, list[_Column]], problem
 # --------------------------------------------------------------------------
 
 
-def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None, int]:
-    """Column as floats, and the first bad cell's error and row index (or None, n)."""
+def _is_empty_cell(v: Any) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v)) or (isinstance(v, str) and not v.strip())
+
+
+def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]:
+    """Column as floats, and the error of its first bad cell (or None)."""
     vals = col.values
     if isinstance(vals, np.ndarray) and vals.dtype.kind == "f":
-        return vals, None, table.n_rows
-    decimal_comma = getattr(table, "decimal_comma", False)
+        return vals, None  # NaN and inf are reported by as_states
     out = np.empty(len(vals))
     for i, v in enumerate(vals):
-        x: float | None
-        if isinstance(v, bool):
-            x = None
-        elif isinstance(v, int | float | np.number):
-            x = float(v)
-            if table.text_cells and math.isnan(x):
-                return out, _err(table, "empty cell; every bounce needs a value", col.name, i), i
-        elif isinstance(v, str):
+        x: float | None = None
+        if table.text_cells and _is_empty_cell(v):
+            return out, _err(table, "empty cell; every bounce needs a value", col.name, i)
+        if isinstance(v, str):
             if v.strip().lower() in _MISSING:
-                what = "empty cell" if not v.strip() else f"missing value {v.strip()!r}"
-                return out, _err(table, f"{what}; every bounce needs a value", col.name, i), i
-            x = _parse_number(v, decimal_comma=decimal_comma)
-        elif v is None:
-            return out, _err(table, "empty cell; every bounce needs a value", col.name, i), i
-        else:
-            x = None
+                return out, _err(table, f"missing value {v.strip()!r}; every bounce needs a value",
+                                 col.name, i)
+            x = _parse_number(v, decimal_comma=table.decimal_comma)
+        elif isinstance(v, int | float | np.number) and not isinstance(v, bool | np.bool_):
+            x = float(v)
         if x is None:
-            return out, _err(table, f"non-numeric value {v!r}", col.name, i), i
+            return out, _err(table, f"non-numeric value {v!r}", col.name, i)
         out[i] = x
-    return out, None, len(vals)
+    return out, None
 
 
 def _check_units_arg(units: Mapping[str, str] | None, file: str) -> dict[str, str]:
     if units is None:
         return {}
     if not isinstance(units, Mapping):
-        raise DataError(f"units= must be a mapping such as {{'velocity': 'm/s', 'spin': 'rpm'}}; got {units!r}",
-                        file=file)
+        raise DataError(
+            f"units= must be a mapping such as {{'velocity': 'm/s', 'spin': 'rpm'}}; got {units!r}",
+            file=file,
+        )
     bad = [k for k in units if k not in _UNIT_KINDS]
     if bad:
         raise DataError(f"units= has unknown keys {bad}; use 'velocity' and/or 'spin'", file=file)
@@ -850,23 +915,24 @@ def _check_units_arg(units: Mapping[str, str] | None, file: str) -> dict[str, st
         try:
             out[kind] = canonical_unit(unit, kind)
         except DataError as exc:
-            raise DataError(f"units={{{kind!r}: {unit!r}}}: {exc}", file=file) from None
+            raise DataError(f"units={{{kind!r}: {unit!r}}}: {exc.message}", file=file) from None
     return out
 
 
-def _column_unit(table: _Table, col: _Column, kind: str, given: dict[str, str]) -> tuple[str, str]:
-    """Unit of a column and where it came from ("units=", "header", "assumed")."""
+def _column_unit(table: _Table, choice: _Choice, kind: str, given: dict[str, str]) -> tuple[str, str]:
+    """Unit of a selected column and where it came from ("units=", "header", "assumed")."""
+    col = choice.column
     header = None
     if col.unit_text is not None:
-        header = _unit_of(col.unit_text).get(kind)
-        if header is None:
+        known = _unit_of(col.unit_text)
+        header = known.get(kind)
+        if header is None and (known or not (choice.by_full_name and col.unit_in_header)):
             where = "header" if col.unit_in_header else "units row"
-            other = _unit_of(col.unit_text)
-            what = f"a {next(iter(other))} unit, not a {kind} unit" if other else "not a known unit"
+            what = f"a {next(iter(known))} unit, not a {kind} unit" if known else "not a known unit"
             try:
                 canonical_unit(col.unit_text, kind)
             except DataError as exc:
-                raise DataError(f"the {where} gives the unit {col.unit_text!r}, {what}: {exc}",
+                raise DataError(f"the {where} gives the unit {col.unit_text!r}, {what}; {exc.message}",
                                 file=table.file, column=col.name) from None
     if kind in given:
         if header is not None and header != given[kind]:
@@ -890,7 +956,7 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
         return vals
     labels: list[Any] = []
     for i, v in enumerate(vals):
-        if v is None or (isinstance(v, float) and math.isnan(v)) or (isinstance(v, str) and not v.strip()):
+        if _is_empty_cell(v):
             raise _err(table, "empty setting cell; every bounce needs a setting label", col.name, i)
         labels.append(v.strip() if isinstance(v, str) else v)
     numbers = [
@@ -920,43 +986,47 @@ def _campaign_from_table(
     ball_radius_m: float,
 ) -> xr.Dataset:
     file = table.file
-    if not table.columns:
-        raise DataError("the file has no columns", file=file)
+    if table.n_rows == 0:
+        raise DataError("the file has a header but no data rows", file=file)
     chosen = _select_explicit(table, columns) if columns is not None else _select_auto(table)
+    cols = {role: ch.column for role, ch in chosen.items()}
 
     used: dict[str, str] = {}
-    for role, col in chosen.items():
+    for role, col in cols.items():
         if col.name in used:
             raise DataError(f"the same column is asked for as {used[col.name]} and as {role}",
                             file=file, column=col.name)
         used[col.name] = role
-    if table.n_rows == 0:
-        raise DataError("the file has a header but no data rows", file=file)
-    lengths = {c.name: len(c.values) for c in chosen.values()}
+    lengths = {c.name: len(c.values) for c in cols.values()}
     if len(set(lengths.values())) > 1:
+        longest = max(lengths, key=lambda k: lengths[k])
         raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each",
-                        file=file, column=max(lengths, key=lengths.get))
-    n = next(iter(lengths.values()))
+                        file=file, column=longest)
 
     # Cell values: report the first bad cell in row order.
-    numeric = {r: c for r, c in chosen.items() if r != "setting"}
     parsed: dict[str, np.ndarray] = {}
-    first: tuple[int, DataError] | None = None
-    for role, col in numeric.items():
-        arr, error, at = _numbers(table, col)
-        parsed[role] = arr
-        if error is not None and (first is None or at < first[0]):
-            first = (at, error)
-    setting = _setting_values(table, chosen["setting"]) if "setting" in chosen else None
-    if first is not None:
-        raise first[1]
+    errors: list[DataError] = []
+    for role, col in cols.items():
+        if role == "setting":
+            continue
+        parsed[role], error = _numbers(table, col)
+        if error is not None:
+            errors.append(error)
+    setting = None
+    if "setting" in cols:
+        try:
+            setting = _setting_values(table, cols["setting"])
+        except DataError as exc:
+            errors.append(exc)
+    if errors:
+        raise min(errors, key=lambda e: e.row or 0)
 
     # Units.
     unit_of: dict[str, tuple[str, str]] = {}
     scaled: dict[str, np.ndarray] = {}
-    for role, col in numeric.items():
+    for role in parsed:
         kind = _ROLE_KINDS[role.split(".")[1]]
-        unit, origin = _column_unit(table, col, kind, units)
+        unit, origin = _column_unit(table, chosen[role], kind, units)
         unit_of[role] = (unit, origin)
         if kind == "velocity":
             scaled[role] = velocity_to_scaled(parsed[role], unit, radius_m=ball_radius_m)
@@ -972,15 +1042,15 @@ def _campaign_from_table(
         try:
             states[state], _ = as_states(arr, state, landing=state == "landing", file=file)
         except DataError as exc:
-            raise _relocate(table, exc, chosen) from None
+            raise _relocate(table, exc, cols) from None
         if state in _PI_STATES and (arr < 0).any():
-            i, k = np.argwhere(arr < 0)[0]
-            raise _err(table, f"prediction-interval half-width {parsed[roles[k]][i]!r} is negative",
-                       chosen[roles[k]].name, int(i))
+            i, k = (int(v) for v in np.argwhere(arr < 0)[0])
+            raise _err(table, f"prediction-interval half-width {float(parsed[roles[k]][i])!r} is negative",
+                       cols[roles[k]].name, i)
 
-    _check_plausible(table, chosen, scaled, parsed, unit_of, n)
+    _check_plausible(table, cols, scaled, parsed, unit_of)
 
-    attrs = {"source_units": _describe_units(unit_of, chosen)}
+    attrs = {"source_units": _describe_units(unit_of, cols)}
     try:
         return make_campaign(
             states["landing"], states["liftoff"], setting=setting,
@@ -988,34 +1058,37 @@ def _campaign_from_table(
             campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, source=source,
             data_kind="measured", attrs=attrs,
         )
-    except DataError as exc:
-        raise _relocate(table, exc, chosen) from None
+    except DataError as exc:  # pragma: no cover - everything is checked above
+        raise _relocate(table, exc, cols) from None
 
 
-def _relocate(table: _Table, exc: DataError, chosen: dict[str, _Column]) -> DataError:
-    """Re-raise a validation error with the file's column name and row location."""
+def _relocate(table: _Table, exc: DataError, cols: dict[str, _Column]) -> DataError:
+    """A validation error re-raised with the file's column name and row location."""
     role = exc.column or ""
-    col = chosen.get(role)
-    if col is None and role in _PI_STATES:
-        col = chosen.get(f"{role}.xdot")
+    col = cols.get(role) or cols.get(f"{role}.xdot")
     name = col.name if col is not None else exc.column
     if exc.row is None:
         return DataError(exc.message, file=table.file, column=name)
     return _err(table, exc.message, name, exc.row - 1)
 
 
-def _check_plausible(table, chosen, scaled, parsed, unit_of, n) -> None:
+def _check_plausible(
+    table: _Table,
+    cols: dict[str, _Column],
+    scaled: dict[str, np.ndarray],
+    parsed: dict[str, np.ndarray],
+    unit_of: dict[str, tuple[str, str]],
+) -> None:
     """Refuse numbers that can only come from a unit mistake."""
-    ydot = "landing.ydot"
-    unit, origin = unit_of[ydot]
-    median = float(np.median(np.abs(scaled[ydot])))
-    if origin == "assumed" and median < _MIN_MEDIAN_LANDING_YDOT:
+    median = float(np.median(np.abs(scaled["landing.ydot"])))
+    if unit_of["landing.ydot"][1] == "assumed" and median < _MIN_MEDIAN_LANDING_YDOT:
         raise DataError(
-            f"no velocity unit given, so radii/s assumed, but the median landing |ydot| is {median:.3g} "
-            f"radii/s (< {_MIN_MEDIAN_LANDING_YDOT:g} radii/s = "
-            f"{_MIN_MEDIAN_LANDING_YDOT * BALL_RADIUS_M:.2f} m/s), which no golf landing has: "
+            f"the column has no velocity unit (in units= or the file), so radii/s are assumed, "
+            f"but the median landing |ydot| is "
+            f"{median:.3g} radii/s (below {_MIN_MEDIAN_LANDING_YDOT:g} radii/s = "
+            f"{_MIN_MEDIAN_LANDING_YDOT * BALL_RADIUS_M:.2f} m/s, which no golf landing is): "
             "the velocities look like physical units; pass units={'velocity': 'm/s'} "
-            "(or the unit they are in)", file=table.file, column=chosen[ydot].name,
+            "(or the unit they are in)", file=table.file, column=cols["landing.ydot"].name,
         )
     for role in (f"{s}.{c}" for s in _STATES for c in COMPONENTS):
         kind = _ROLE_KINDS[role.split(".")[1]]
@@ -1027,16 +1100,17 @@ def _check_plausible(table, chosen, scaled, parsed, unit_of, n) -> None:
         unit, origin = unit_of[role]
         said = f"{'assumed' if origin == 'assumed' else 'declared'} {unit}"
         if kind == "velocity":
-            msg = (f"{parsed[role][i]!r} ({said}) is {scaled[role][i]:.4g} radii/s, faster than "
+            msg = (f"{float(parsed[role][i])!r} ({said}) is {scaled[role][i]:.4g} radii/s, faster than "
                    f"{_MAX_VELOCITY:g} radii/s ({_MAX_VELOCITY * BALL_RADIUS_M:.0f} m/s), "
-                   "which no golf ball reaches: the unit is wrong (pass units={'velocity': ...})")
+                   "which no golf ball reaches: the velocity unit is wrong "
+                   "(pass units={'velocity': ...})")
         else:
-            msg = (f"{parsed[role][i]!r} ({said}) is {scaled[role][i]:.4g} rad/s, beyond "
+            msg = (f"{float(parsed[role][i])!r} ({said}) is {scaled[role][i]:.4g} rad/s, beyond "
                    f"{_MAX_SPIN:g} rad/s ({_MAX_SPIN * 60 / (2 * math.pi):.0f} rpm), which no golf "
-                   "ball reaches: the unit is wrong"
+                   "ball reaches: the spin unit is wrong"
                    + (" (rpm read as rad/s? pass units={'spin': 'rpm'})" if origin == "assumed"
                       else " (pass units={'spin': ...})"))
-        raise _err(table, msg, chosen[role].name, i)
+        raise _err(table, msg, cols[role].name, i)
 
 
 def _describe_units(unit_of: dict[str, tuple[str, str]], chosen: dict[str, _Column]) -> str:
@@ -1055,9 +1129,6 @@ def _describe_units(unit_of: dict[str, tuple[str, str]], chosen: dict[str, _Colu
 # --------------------------------------------------------------------------
 # netCDF campaigns
 # --------------------------------------------------------------------------
-
-_DTYPE_ATTR = "bouncelab_dtype"
-
 
 def _campaign_from_netcdf(
     ds: xr.Dataset,
@@ -1082,15 +1153,10 @@ def _campaign_from_netcdf(
             f"the campaign was scaled with ball_radius_m={float(stored_radius)!r}, "
             f"not {ball_radius_m!r}; a campaign file cannot be rescaled on loading", file=file,
         )
-    restored = {}
-    for name in ("bounce", "setting"):
-        if name in ds.coords and _DTYPE_ATTR in ds[name].attrs:
-            restored[name] = ds[name].values.astype(ds[name].attrs[_DTYPE_ATTR])
-    if restored:
-        ds = ds.assign_coords({k: ("bounce", v) for k, v in restored.items()})
     attrs = dict(ds.attrs)
     attrs.setdefault("data_kind", "measured")
     attrs.setdefault("source", source)
+    # validate_campaign restores what netCDF-3 changes (int32 integers, object strings).
     out = validate_campaign(ds.assign_attrs(attrs), file=file)
     if campaign is not None:
         out.attrs["campaign"] = str(campaign)
@@ -1206,8 +1272,13 @@ def load_campaign(
         )
     if sheet is not None and suffix not in _EXCEL_SUFFIXES:
         raise DataError("sheet= only applies to Excel files", file=file)
-    if not (isinstance(ball_radius_m, int | float) and math.isfinite(ball_radius_m) and ball_radius_m > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}", file=file)
+    try:
+        radius = float(ball_radius_m)
+    except (TypeError, ValueError):
+        radius = math.nan
+    if not (math.isfinite(radius) and radius > 0):
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
+                        file=file)
     absolute = str(path.resolve())
 
     if suffix in _NETCDF_SUFFIXES:
@@ -1228,7 +1299,7 @@ def load_campaign(
         table, columns=columns, units=_check_units_arg(units, file),
         campaign=path.stem if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=float(ball_radius_m),
+        source=absolute, ball_radius_m=radius,
     )
 
 
@@ -1300,14 +1371,10 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
-    out = checked.copy()
-    for name in ("bounce", "setting"):
-        if name in out.coords and out[name].dtype.kind in "iu":
-            out[name].attrs[_DTYPE_ATTR] = str(out[name].dtype)
     fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
-        out.to_netcdf(tmp, engine=engine or _netcdf_engine())
+        checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

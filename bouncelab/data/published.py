@@ -159,8 +159,11 @@ def check_campaign(campaign: str) -> str:
 
 def rigid_family_parameters(campaign: str, law: str) -> dict[str, float]:
     """Published parameters of a rigid-family law (Table 3), keyed by the law's keyword names."""
-    row = TABLE3.loc[(check_campaign(campaign), law)]
     names = {"Rigid": ("r", "mu"), "PennerVarying": ("r", "mu", "k_p"), "PennerFixed": ("r", "mu", "beta_deg")}
+    key = check_campaign(campaign)
+    if law not in names:
+        raise ValueError(f"Table 3 has the laws {list(names)}; got {law!r}")
+    row = TABLE3.loc[(key, law)]
     return {name: float(row[name]) for name in names[law]}
 
 

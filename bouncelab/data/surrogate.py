@@ -123,6 +123,8 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     """
     key = published.check_campaign(campaign)
     spec = spec or SurrogateSpec.for_campaign(key)
+    if spec.campaign != key:
+        raise ValueError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}")
     seed = DEFAULT_SEEDS[key] if seed is None else int(seed)
     rng = np.random.default_rng(seed)
 

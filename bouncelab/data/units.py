@@ -110,7 +110,7 @@ def velocity_to_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RADIU
     canon = canonical_unit(unit, "velocity")
     _check_radius(radius_m)
     factor = SPEED_UNITS[canon]
-    v = np.asarray(value, dtype=float)
+    v = _numeric(value, "velocity")
     return v if factor is None else v * (factor / radius_m)
 
 
@@ -119,25 +119,25 @@ def velocity_from_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RAD
     canon = canonical_unit(unit, "velocity")
     _check_radius(radius_m)
     factor = SPEED_UNITS[canon]
-    v = np.asarray(value, dtype=float)
+    v = _numeric(value, "velocity")
     return v if factor is None else v * (radius_m / factor)
 
 
 def spin_to_scaled(value, unit: str = "rpm"):
     """Convert a spin rate from ``unit`` to rad/s (the scaled spin unit)."""
-    return np.asarray(value, dtype=float) * SPIN_UNITS[canonical_unit(unit, "spin")]
+    factor = SPIN_UNITS[canonical_unit(unit, "spin")]
+    return _numeric(value, "spin") * factor
 
 
 def spin_from_scaled(value, unit: str = "rpm"):
     """Convert a spin rate from rad/s to ``unit``."""
-    return np.asarray(value, dtype=float) / SPIN_UNITS[canonical_unit(unit, "spin")]
+    factor = SPIN_UNITS[canonical_unit(unit, "spin")]
+    return _numeric(value, "spin") / factor
 
 
 def to_scaled(state, *, velocity: str = "m/s", spin: str = "rpm", radius_m: float = BALL_RADIUS_M):
     """Convert an (..., 3) state ``[xdot, ydot, omega]`` in physical units to scaled units."""
-    s = np.array(state, dtype=float)
-    if s.shape[-1:] != (3,):
-        raise DataError(f"a state needs 3 components (xdot, ydot, omega) in its last axis; got shape {s.shape}")
+    s = _state_array(state)
     s[..., :2] = velocity_to_scaled(s[..., :2], velocity, radius_m=radius_m)
     s[..., 2] = spin_to_scaled(s[..., 2], spin)
     return s
@@ -145,9 +145,7 @@ def to_scaled(state, *, velocity: str = "m/s", spin: str = "rpm", radius_m: floa
 
 def from_scaled(state, *, velocity: str = "m/s", spin: str = "rpm", radius_m: float = BALL_RADIUS_M):
     """Convert an (..., 3) state in scaled units to ``velocity`` and ``spin`` units."""
-    s = np.array(state, dtype=float)
-    if s.shape[-1:] != (3,):
-        raise DataError(f"a state needs 3 components (xdot, ydot, omega) in its last axis; got shape {s.shape}")
+    s = _state_array(state)
     s[..., :2] = velocity_from_scaled(s[..., :2], velocity, radius_m=radius_m)
     s[..., 2] = spin_from_scaled(s[..., 2], spin)
     return s
@@ -176,10 +174,12 @@ def landing_from_speed_angle_spin(
     array([1063. , -809.8,  219.3])
     """
     s = velocity_to_scaled(speed, speed_unit, radius_m=radius_m)
-    a = np.deg2rad(np.asarray(angle_deg, dtype=float))
-    if np.any((a <= 0) | (a > np.pi / 2)):
-        raise DataError("angle of incidence must be in (0, 90] degrees for a landing")
+    _require(np.isfinite(s) & (s > 0), speed, "landing speed must be positive and finite")
+    angle = _numeric(angle_deg, "angle of incidence")
+    a = np.deg2rad(angle)
+    _require((a > 0) & (a <= np.pi / 2), angle, "angle of incidence must be in (0, 90] degrees for a landing")
     w = spin_to_scaled(spin, spin_unit)
+    _require(np.isfinite(w), spin, "spin must be finite")
     s, a, w = np.broadcast_arrays(s, a, w)
     return np.stack([s * np.cos(a), -s * np.sin(a), w], axis=-1)
 
@@ -196,7 +196,7 @@ def speed_angle_spin(
     The inverse of :func:`landing_from_speed_angle_spin` for a landing; for a
     lift-off the angle is negative (the ball goes up).
     """
-    s = np.asarray(state, dtype=float)
+    s = _state_array(state)
     speed = np.hypot(s[..., 0], s[..., 1])
     angle = np.rad2deg(np.arctan2(-s[..., 1], np.abs(s[..., 0])))
     return {
@@ -208,10 +208,36 @@ def speed_angle_spin(
 
 def tangential_velocity(state):
     """Tangential velocity of the contact point, ``v_P = xdot + omega`` (radii/s), of (..., 3) states."""
-    s = np.asarray(state, dtype=float)
+    s = _state_array(state)
     return s[..., 0] + s[..., 2]
 
 
 def _check_radius(radius_m: float) -> None:
     if not (np.isfinite(radius_m) and radius_m > 0):
         raise DataError(f"ball radius must be a positive length in metres; got {radius_m!r}")
+
+
+def _require(ok: np.ndarray, value, message: str) -> None:
+    """Raise DataError naming the first value where ``ok`` is false (NaN compares false, so fails)."""
+    ok = np.asarray(ok)
+    if not ok.all():
+        vals = np.broadcast_to(np.asarray(value, dtype=float), ok.shape)
+        first = np.argwhere(~ok)[0] if ok.ndim else ()
+        where = f" (element {tuple(int(i) for i in first)})" if ok.ndim else ""
+        raise DataError(f"{message}; got {float(vals[tuple(first)])!r}{where}")
+
+
+def _numeric(value, what: str) -> np.ndarray:
+    """``value`` as a new float array (never the caller's own array), or DataError."""
+    try:
+        return np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{what} must be numeric; {exc}") from None
+
+
+def _state_array(state) -> np.ndarray:
+    """``state`` as a new (..., 3) float array, or DataError."""
+    s = _numeric(state, "a state [xdot, ydot, omega]")
+    if s.shape[-1:] != (3,):
+        raise DataError(f"a state needs 3 components (xdot, ydot, omega) in its last axis; got shape {s.shape}")
+    return s

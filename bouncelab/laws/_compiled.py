@@ -28,8 +28,8 @@ class _CompiledLaw(BounceModel):
 
     @classmethod
     def _kernel_args(cls, theta: np.ndarray) -> tuple[float, float, float]:
-        t = [float(x) for x in theta] + [0.0] * (3 - len(theta))
-        return t[0], t[1], t[2]
+        t = theta.tolist()
+        return (t[0], t[1], t[2]) if len(t) == 3 else (t[0], t[1], 0.0)
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         out = np.empty_like(p)
@@ -41,6 +41,18 @@ class _CompiledLaw(BounceModel):
         kernels().regime(self._law_id, p, *self._kernel_args(theta), codes)
         return codes
 
-    def _error_sums(self, p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, theta: np.ndarray):
-        """Sums of the delta and Delta-q terms over bounces (used by the fitter's objective)."""
-        return kernels().error_sums(self._law_id, p0, pf, inv_norm, *self._kernel_args(theta))
+    def _error_kernel(self, p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray):
+        """A function theta -> (sum of delta terms, sums of the three Delta q terms) on fixed data.
+
+        The fitter's hot path: the kernel, law id and per-landing data (s * phi, used by
+        PennerVarying) are bound once per fit, so each call costs one compiled pass.
+        """
+        k = kernels()
+        error_sums, law_id, args = k.error_sums, self._law_id, self._kernel_args
+        aux = k.speeds_times_angles(p0)
+
+        def sums(theta: np.ndarray) -> tuple[float, float, float, float]:
+            t0, t1, t2 = args(theta)
+            return error_sums(law_id, p0, pf, inv_norm, aux, t0, t1, t2)
+
+        return sums

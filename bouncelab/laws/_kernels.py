@@ -144,21 +144,20 @@ def atan_ratio(num, den):
 
 
 @njit(cache=True, inline="always")
-def penner_angle(xd, yd, k_p):
-    """Penner's angle beta = k_p s phi (radians), capped at pi/2 (a vertical surface)."""
-    s = math.sqrt(xd * xd + yd * yd)
-    phi = atan_ratio(-yd, abs(xd))
-    return min(k_p * s * phi, HALF_PI)
+def speed_times_angle(xd, yd):
+    """s * phi of eq. (penner_angle): landing speed (radii/s) times landing angle (rad)."""
+    return math.sqrt(xd * xd + yd * yd) * atan_ratio(-yd, abs(xd))
 
 
 @njit(cache=True, inline="always")
-def _law(law, xd, yd, w, t0, t1, t2):
+def _law(law, xd, yd, w, sphi, t0, t1, t2):
+    """Dispatch to a law's scalar function; ``sphi`` is s * phi, used by PennerVarying only."""
     if law == RIGID:
         return _rigid(xd, yd, w, t0, t1)
     if law == PENNER_FIXED:
         return _penner(xd, yd, w, t0, t1, t2)
     if law == PENNER_VARYING:
-        return _penner(xd, yd, w, t0, t1, penner_angle(xd, yd, t2))
+        return _penner(xd, yd, w, t0, t1, min(t2 * sphi, HALF_PI))  # beta capped at 90 degrees
     return _tangential(xd, yd, w, t0, t1, t2)
 
 
@@ -166,7 +165,8 @@ def _law(law, xd, yd, w, t0, t1, t2):
 def predict(law, P, t0, t1, t2, out):
     """Lift-off states of every bounce into ``out`` (n, 3)."""
     for i in prange(P.shape[0]):
-        a, b, c, _ = _law(law, P[i, 0], P[i, 1], P[i, 2], t0, t1, t2)
+        sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
+        a, b, c, _ = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)
         out[i, 0] = a
         out[i, 1] = b
         out[i, 2] = c
@@ -176,14 +176,25 @@ def predict(law, P, t0, t1, t2, out):
 def regime(law, P, t0, t1, t2, codes):
     """Regime code of every bounce into ``codes`` (n,) int8."""
     for i in prange(P.shape[0]):
-        codes[i] = _law(law, P[i, 0], P[i, 1], P[i, 2], t0, t1, t2)[3]
+        sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
+        codes[i] = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)[3]
+
+
+@njit(cache=True)
+def speeds_times_angles(P):
+    """s * phi of every landing (precomputed once per fit for PennerVarying)."""
+    out = np.empty(P.shape[0])
+    for i in range(P.shape[0]):
+        out[i] = speed_times_angle(P[i, 0], P[i, 1])
+    return out
 
 
 @njit(cache=True, fastmath=True)
-def error_sums(law, P0, PF, inv_norm, t0, t1, t2):
+def error_sums(law, P0, PF, inv_norm, sphi, t0, t1, t2):
     """Sums over bounces of ||p_F - P_F||/||p_0|| and of |q_F - Q_F|/||p_0|| for each q.
 
     Dividing by n gives delta (eq. error) and Delta q (eq. error_individual).
+    ``sphi`` holds s * phi of each landing (only read for PennerVarying).
     Serial on purpose: for ~10^3 bounces thread start-up costs more than it saves.
     """
     sd = 0.0
@@ -191,7 +202,7 @@ def error_sums(law, P0, PF, inv_norm, t0, t1, t2):
     sy = 0.0
     sw = 0.0
     for i in range(P0.shape[0]):
-        a, b, c, _ = _law(law, P0[i, 0], P0[i, 1], P0[i, 2], t0, t1, t2)
+        a, b, c, _ = _law(law, P0[i, 0], P0[i, 1], P0[i, 2], sphi[i], t0, t1, t2)
         ex = PF[i, 0] - a
         ey = PF[i, 1] - b
         ew = PF[i, 2] - c
@@ -227,6 +238,6 @@ def warm_up() -> None:
     for law in (RIGID, PENNER_FIXED, PENNER_VARYING, TANGENTIAL):
         predict(law, P, 0.5, 0.5, 0.1, out)
         regime(law, P, 0.5, 0.5, 0.1, np.empty(1, np.int8))
-        error_sums(law, P, P, np.ones(1), 0.5, 0.5, 0.1)
+        error_sums(law, P, P, np.ones(1), speeds_times_angles(P), 0.5, 0.5, 0.1)
     eye = np.eye(3)
     affine_predict(P, np.ones(3), 0.0, eye, np.zeros(3), eye, np.zeros(3), out)

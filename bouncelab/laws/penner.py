@@ -80,7 +80,8 @@ class PennerFixed(_CompiledLaw):
 
     @classmethod
     def _kernel_args(cls, theta: np.ndarray) -> tuple[float, float, float]:
-        return float(theta[0]), float(theta[1]), math.radians(float(theta[2]))
+        r, mu, beta_deg = theta.tolist()
+        return r, mu, math.radians(beta_deg)
 
     @classmethod
     def published(cls, campaign: str) -> PennerFixed:

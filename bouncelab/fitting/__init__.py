@@ -1,0 +1,18 @@
+"""Fitting bounce laws: NLopt global search, the paper's procedures, held-out evaluation, comparison."""
+
+from bouncelab.fitting.fit import fit, resolve_bounds
+from bouncelab.fitting.result import FitResult
+from bouncelab.fitting.search import GLOBAL_ALGORITHMS, LOCAL_ALGORITHMS
+from bouncelab.fitting.splits import CrossValidation, cross_validate, infer_settings, split_by_setting
+
+__all__ = [
+    "GLOBAL_ALGORITHMS",
+    "LOCAL_ALGORITHMS",
+    "CrossValidation",
+    "FitResult",
+    "cross_validate",
+    "fit",
+    "infer_settings",
+    "resolve_bounds",
+    "split_by_setting",
+]

@@ -1,0 +1,204 @@
+"""Global search with NLopt followed by a local derivative-free polish.
+
+The paper fitted with MATLAB's genetic algorithm; here NLopt's global
+algorithms stand in for it. The search runs in the unit box (each parameter
+scaled by its bounds) so that r in [0, 1] and k_p in [0, 1e-3] are treated
+alike. delta is piecewise smooth but not differentiable at regime changes, so
+only derivative-free algorithms are offered.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import nlopt
+import numpy as np
+
+from bouncelab.errors import FitError
+
+__all__ = ["GLOBAL_ALGORITHMS", "LOCAL_ALGORITHMS", "SearchOutcome", "global_search"]
+
+#: Global algorithms offered (NLopt names without the prefix).
+GLOBAL_ALGORITHMS = ("CRS2_LM", "ISRES", "ESCH", "DIRECT_L", "MLSL")
+#: Local polishing algorithms offered.
+LOCAL_ALGORITHMS = ("BOBYQA", "SBPLX", "NELDERMEAD")
+
+_STOP = {
+    1: "success",
+    2: "stopval reached",
+    3: "ftol reached",
+    4: "xtol reached",
+    5: "maxeval reached",
+    6: "maxtime reached",
+    -1: "failure",
+    -2: "invalid arguments",
+    -3: "out of memory",
+    -4: "roundoff limited",
+    -5: "forced stop",
+}
+
+
+def _global_code(name: str) -> int:
+    key = name.upper().removeprefix("GN_")
+    if key not in GLOBAL_ALGORITHMS:
+        raise FitError(f"unknown global algorithm {name!r}; choose from {', '.join(GLOBAL_ALGORITHMS)}")
+    return getattr(nlopt, "GN_" + key)
+
+
+def _local_code(name: str) -> int:
+    key = name.upper().removeprefix("LN_")
+    if key not in LOCAL_ALGORITHMS:
+        raise FitError(f"unknown local algorithm {name!r}; choose from {', '.join(LOCAL_ALGORITHMS)}")
+    return getattr(nlopt, "LN_" + key)
+
+
+@dataclass
+class SearchOutcome:
+    """What a search did: best point (unit box), its value, evaluations and stop reasons."""
+
+    x: np.ndarray
+    fun: float
+    n_global: int = 0
+    n_local: int = 0
+    global_stop: str = ""
+    local_stop: str = ""
+    elapsed: float = 0.0
+    algorithms: tuple[str, str] = ("", "")
+    trace: list[tuple[float, ...]] = field(default_factory=list)
+
+
+class _Tracked:
+    """Wrap the objective: count calls and remember the best point seen."""
+
+    def __init__(self, f: Callable[[np.ndarray], float]) -> None:
+        self.f = f
+        self.calls = 0
+        self.best_x: np.ndarray | None = None
+        self.best_f = np.inf
+        self.xs: list[np.ndarray] = []
+        self.fs: list[float] = []
+
+    def __call__(self, x: np.ndarray, grad: np.ndarray) -> float:
+        self.calls += 1
+        v = float(self.f(x))
+        if v != v or v == np.inf:  # NaN or inf: a point the optimizer must avoid
+            v = 1e300
+        self.xs.append(x.copy())
+        self.fs.append(v)
+        if v < self.best_f:
+            self.best_f = v
+            self.best_x = self.xs[-1]
+        return v
+
+    def distinct_best(self, k: int, min_distance: float) -> list[np.ndarray]:
+        """Up to ``k`` best points seen, pairwise at least ``min_distance`` apart (max-norm)."""
+        chosen: list[np.ndarray] = []
+        for i in np.argsort(self.fs, kind="stable"):
+            x = self.xs[i]
+            if all(np.max(np.abs(x - c)) >= min_distance for c in chosen):
+                chosen.append(x)
+                if len(chosen) == k:
+                    break
+        return chosen
+
+
+def _run(opt: nlopt.opt, tracked: _Tracked, x0: np.ndarray) -> str:
+    try:
+        opt.optimize(np.array(x0, dtype=float))
+        return _STOP.get(opt.last_optimize_result(), str(opt.last_optimize_result()))
+    except nlopt.RoundoffLimited:
+        return "roundoff limited"
+    except (ValueError, RuntimeError) as exc:  # NLopt's "failure" / invalid-argument codes
+        if tracked.best_x is None:
+            raise FitError(f"NLopt failed: {exc}") from None
+        return f"failure ({exc})"
+
+
+def global_search(
+    f: Callable[[np.ndarray], float],
+    x0: np.ndarray,
+    *,
+    algorithm: str = "CRS2_LM",
+    local_algorithm: str = "BOBYQA",
+    seed: int = 0,
+    maxeval: int | None = None,
+    local_maxeval: int = 4000,
+    xtol_rel: float = 1e-12,
+    population: int | None = None,
+    polish_starts: int = 3,
+) -> SearchOutcome:
+    """Minimise ``f`` over the unit box: an NLopt global stage, then a local polish from its best point.
+
+    Parameters
+    ----------
+    f
+        Objective of a point in [0, 1]^d.
+    x0
+        Start (inside the box); included in the global stage where the algorithm allows.
+    algorithm, local_algorithm
+        Names from :data:`GLOBAL_ALGORITHMS` and :data:`LOCAL_ALGORITHMS`
+        (``local_algorithm=None`` skips the polish).
+    seed
+        Seed of NLopt's random generator (stochastic algorithms are then repeatable).
+    maxeval
+        Budget of the global stage (default ``400 * d``).
+    local_maxeval, xtol_rel
+        Budget and relative x tolerance of the polish.
+    population
+        Population size of CRS2/ISRES/ESCH/MLSL (NLopt's default when None).
+    polish_starts
+        Number of distinct good points of the global stage to polish locally; a
+        final local run restarts from the best of them.
+    """
+    d = len(x0)
+    start = time.perf_counter()
+    nlopt.srand(int(seed))
+    tracked = _Tracked(f)
+    lb, ub = np.zeros(d), np.ones(d)
+    x0 = np.clip(np.asarray(x0, dtype=float), 0.0, 1.0)
+
+    gcode = _global_code(algorithm)
+    opt = nlopt.opt(gcode, d)
+    opt.set_lower_bounds(lb)
+    opt.set_upper_bounds(ub)
+    opt.set_min_objective(tracked)
+    opt.set_maxeval(int(maxeval if maxeval is not None else 400 * d))
+    if population:
+        opt.set_population(int(population))
+    if gcode == nlopt.GN_MLSL:
+        loc = nlopt.opt(nlopt.LN_BOBYQA, d)
+        loc.set_xtol_rel(1e-4)
+        loc.set_maxeval(200)
+        opt.set_local_optimizer(loc)
+    global_stop = _run(opt, tracked, x0)
+    n_global = tracked.calls
+
+    local_stop = "skipped"
+    if local_algorithm is not None:
+        # Polish several distinct good points of the global stage, then restart from the best:
+        # delta has kinks where bounces change regime, on which a single local run can stall.
+        starts = tracked.distinct_best(polish_starts, 0.05)
+        for i, x_start in enumerate([*starts, None]):
+            loc = nlopt.opt(_local_code(local_algorithm), d)
+            loc.set_lower_bounds(lb)
+            loc.set_upper_bounds(ub)
+            loc.set_min_objective(tracked)
+            loc.set_maxeval(int(local_maxeval))
+            loc.set_xtol_rel(xtol_rel)
+            loc.set_ftol_abs(1e-16)
+            loc.set_initial_step(np.full(d, 0.02 if x_start is not None else 0.002))
+            stop = _run(loc, tracked, tracked.best_x if x_start is None else x_start)
+            if i == 0 or x_start is None:
+                local_stop = stop
+    return SearchOutcome(
+        x=tracked.best_x,
+        fun=tracked.best_f,
+        n_global=n_global,
+        n_local=tracked.calls - n_global,
+        global_stop=global_stop,
+        local_stop=local_stop,
+        elapsed=time.perf_counter() - start,
+        algorithms=(algorithm.upper().removeprefix("GN_"), (local_algorithm or "").upper().removeprefix("LN_")),
+    )

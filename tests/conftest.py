@@ -1,0 +1,26 @@
+"""Shared fixtures."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    return np.random.default_rng(12345)
+
+
+def random_landings(rng: np.random.Generator, n: int = 2000, *, both_directions: bool = True) -> np.ndarray:
+    """Landings spanning the paper's Table 1 ranges (scaled units), optionally in both directions."""
+    xd = rng.uniform(1.0, 2300.0, n)
+    if both_directions:
+        xd *= rng.choice([-1.0, 1.0], n)
+    yd = -rng.uniform(90.0, 1900.0, n)
+    w = rng.uniform(-1700.0, 1700.0, n)
+    return np.column_stack([xd, yd, w])
+
+
+@pytest.fixture
+def landings(rng: np.random.Generator) -> np.ndarray:
+    return random_landings(rng)

@@ -1,0 +1,443 @@
+"""The bounce laws against the paper's equations, worked by hand and by an independent reference."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import bouncelab as bl
+from bouncelab.errors import DataError, NotFittedError, ParameterError
+from bouncelab.laws.base import BounceModel, Parameter
+from tests.conftest import random_landings
+
+RIGID_FAMILY = [
+    bl.Rigid(r=0.54, mu=0.4),
+    bl.PennerFixed(r=0.42, mu=0.85, beta_deg=12.9),
+    bl.PennerVarying(r=0.45, mu=0.97, k_p=1.543e-4),
+    bl.TangentialRestitution(r=0.5, mu=0.3, e_t=0.4),
+]
+
+
+# ------------------------------------------------------------------ independent reference (plain numpy)
+def rigid_reference(p: np.ndarray, r: float, mu: float, e_t: float = 0.0) -> np.ndarray:
+    """Eq. (rigid_bounce) written out with numpy, independently of the compiled kernels."""
+    x, y, w = p.T
+    k = mu * (1 + r)
+    vp = x + w
+    lim = 3.5 * k * np.abs(y) / (1 + e_t)
+    fwd, back = vp > lim, vp < -lim
+    j = -(1 + e_t) * vp / 3.5
+    xf = np.where(fwd, x + k * y, np.where(back, x - k * y, x + j))
+    wf = np.where(fwd, w + 2.5 * k * y, np.where(back, w - 2.5 * k * y, w + 2.5 * j))
+    return np.column_stack([xf, -r * y, wf])
+
+
+def penner_reference(p: np.ndarray, r: float, mu: float, beta: np.ndarray) -> np.ndarray:
+    """Rotate into the tilted frame, bounce rigidly, rotate back; mirror balls moving in -x."""
+    sgn = np.where(p[:, 0] >= 0, 1.0, -1.0)
+    m = p * np.column_stack([sgn, np.ones_like(sgn), sgn])
+    c, s = np.cos(beta), np.sin(beta)
+    rot = np.column_stack([c * m[:, 0] + s * m[:, 1], -s * m[:, 0] + c * m[:, 1], m[:, 2]])
+    out = rigid_reference(rot, r, mu)
+    back = np.column_stack([c * out[:, 0] - s * out[:, 1], s * out[:, 0] + c * out[:, 1], out[:, 2]])
+    return back * np.column_stack([sgn, np.ones_like(sgn), sgn])
+
+
+def kinetic_energy(p: np.ndarray) -> np.ndarray:
+    """Kinetic energy per m R^2: (xdot^2 + ydot^2)/2 + I omega^2 / 2 with I = 2/5 m R^2."""
+    return 0.5 * (p[:, 0] ** 2 + p[:, 1] ** 2) + 0.2 * p[:, 2] ** 2
+
+
+def mirror(p: np.ndarray) -> np.ndarray:
+    return p * np.array([-1.0, 1.0, -1.0])
+
+
+# --------------------------------------------------------------------------- rigid, worked by hand
+class TestRigidByHand:
+    law = bl.Rigid(r=0.5, mu=0.2)  # k = mu (1 + r) = 0.3; slip limit 7/2 k |ydot0| = 1.05 |ydot0|
+
+    def test_slip_forward(self):
+        # v_P = 1000 + 900 = 1900 > 1.05 * 1000 = 1050
+        out = self.law.predict([1000.0, -1000.0, 900.0])
+        np.testing.assert_allclose(out, [1000 - 300, 500, 900 - 750], rtol=1e-13)
+        assert self.law.regime([1000.0, -1000.0, 900.0]) == "slip_forward"
+
+    def test_roll(self):
+        # v_P = 1000 - 500 = 500 < 1050: xF = 5/7*1000 + 2/7*500, omegaF = -5/7*1000 - 2/7*500... sign:
+        # omegaF = -5/7 xdot0 + 2/7 omega0
+        out = self.law.predict([1000.0, -1000.0, -500.0])
+        np.testing.assert_allclose(out, [(5000 + 1000) / 7, 500, (-5000 - 1000) / 7], rtol=1e-13)
+        assert out[0] + out[2] == pytest.approx(0.0, abs=1e-10)
+        assert self.law.regime([1000.0, -1000.0, -500.0]) == "roll"
+
+    def test_slip_backward(self):
+        # v_P = 200 - 1500 = -1300 < -1050
+        out = self.law.predict([200.0, -1000.0, -1500.0])
+        np.testing.assert_allclose(out, [200 + 300, 500, -1500 + 750], rtol=1e-13)
+        assert self.law.regime([200.0, -1000.0, -1500.0]) == "slip_backward"
+
+    def test_published_driver_landing(self):
+        p0 = bl.units.landing_from_speed_angle_spin(93.6, 37.3, 34.9, speed_unit="ft/s", spin_unit="rev/s")
+        law = bl.Rigid.published("A")
+        k = 0.997 * 1.544
+        vp = p0[0] + p0[2]
+        assert abs(vp) < 3.5 * k * abs(p0[1])  # the driver landing grips under this law
+        out = law.predict(p0)
+        np.testing.assert_allclose(out, [(5 * p0[0] - 2 * p0[2]) / 7, -0.544 * p0[1], (2 * p0[2] - 5 * p0[0]) / 7])
+
+
+@pytest.mark.parametrize("law", RIGID_FAMILY[:1] + RIGID_FAMILY[3:], ids=lambda m: type(m).__name__)
+def test_rigid_and_tangential_match_reference(law, landings):
+    e_t = getattr(law, "e_t", 0.0)
+    np.testing.assert_allclose(law.predict(landings), rigid_reference(landings, law.r, law.mu, e_t), rtol=1e-12,
+                               atol=1e-9)
+
+
+def test_penner_fixed_matches_reference(landings):
+    law = bl.PennerFixed(r=0.42, mu=0.85, beta_deg=12.9)
+    beta = np.full(len(landings), math.radians(12.9))
+    np.testing.assert_allclose(law.predict(landings), penner_reference(landings, 0.42, 0.85, beta), rtol=1e-11,
+                               atol=1e-8)
+
+
+def test_penner_varying_matches_reference(landings):
+    law = bl.PennerVarying(r=0.45, mu=0.97, k_p=1.543e-4)
+    s = np.hypot(landings[:, 0], landings[:, 1])
+    phi = np.arctan(-landings[:, 1] / np.abs(landings[:, 0]))
+    beta = np.minimum(1.543e-4 * s * phi, np.pi / 2)
+    np.testing.assert_allclose(law.predict(landings), penner_reference(landings, 0.45, 0.97, beta), rtol=1e-11,
+                               atol=1e-8)
+    np.testing.assert_allclose(law.beta_deg(landings), np.degrees(beta), rtol=1e-12)
+
+
+def test_penner_beta_cap_at_vertical():
+    law = bl.PennerVarying(r=0.5, mu=0.5, k_p=1.0)  # absurdly large: beta capped at 90 degrees
+    assert law.beta_deg([[100.0, -100.0, 0.0]]) == pytest.approx([90.0])
+    out = law.predict([[100.0, -100.0, 0.0]])
+    ref = penner_reference(np.array([[100.0, -100.0, 0.0]]), 0.5, 0.5, np.array([np.pi / 2]))
+    np.testing.assert_allclose(out, ref, atol=1e-9)
+
+
+def test_penner_with_zero_tilt_is_rigid(landings):
+    rigid = bl.Rigid(r=0.3, mu=0.6).predict(landings)
+    np.testing.assert_allclose(bl.PennerFixed(r=0.3, mu=0.6, beta_deg=0.0).predict(landings), rigid, rtol=1e-13,
+                               atol=1e-10)
+    np.testing.assert_allclose(bl.PennerVarying(r=0.3, mu=0.6, k_p=0.0).predict(landings), rigid, rtol=1e-13,
+                               atol=1e-10)
+
+
+def test_penner_tilt_against_travel_reduces_forward_speed():
+    # A frictionless ball on a surface rising towards +x is pushed back: xdotF < xdot0 (mu=0, r=1 is a mirror).
+    p0 = np.array([[1000.0, -500.0, 0.0]])
+    flat = bl.PennerFixed(r=1.0, mu=0.0, beta_deg=0.0).predict(p0)
+    tilted = bl.PennerFixed(r=1.0, mu=0.0, beta_deg=10.0).predict(p0)
+    assert tilted[0, 0] < flat[0, 0]
+    assert np.hypot(*tilted[0, :2]) == pytest.approx(np.hypot(*p0[0, :2]))  # elastic, frictionless: speed kept
+
+
+def test_tangential_restitution():
+    law = bl.TangentialRestitution(r=0.5, mu=0.5, e_t=0.6)
+    p0 = np.array([[500.0, -1000.0, 200.0]])  # v_P = 700, limit 3.5*0.75*1000/1.6 = 1640.6: grips
+    out = law.predict(p0)
+    assert out[0, 0] + out[0, 2] == pytest.approx(-0.6 * 700.0)
+    np.testing.assert_allclose(bl.TangentialRestitution(r=0.5, mu=0.5, e_t=0.0).predict(p0),
+                               bl.Rigid(r=0.5, mu=0.5).predict(p0))
+
+
+# ------------------------------------------------------------------------------- general properties
+@pytest.mark.parametrize("law", RIGID_FAMILY, ids=lambda m: type(m).__name__)
+def test_continuity_across_regime_boundaries(law, rng):
+    """Walk omega0 through every regime change: the lift-off never jumps."""
+    n_changes = 0
+    for _ in range(30):
+        xd, yd = rng.uniform(50, 2000) * rng.choice([-1, 1]), -rng.uniform(100, 1800)
+        w = np.linspace(-6000, 6000, 400001)
+        p = np.column_stack([np.full_like(w, xd), np.full_like(w, yd), w])
+        out = law.predict(p)
+        codes = law.regime(p)
+        changes = np.flatnonzero(codes[1:] != codes[:-1])
+        n_changes += len(changes)
+        step = np.abs(np.diff(out, axis=0)).max(axis=1)
+        # the step at a regime change is as small as a step inside a regime (0.03 rad/s grid)
+        if len(changes):
+            assert step[changes].max() < 0.1
+    assert n_changes >= 30
+
+
+@pytest.mark.parametrize("law", RIGID_FAMILY[:1], ids=lambda m: type(m).__name__)
+def test_rigid_rolling_lifts_off_with_zero_contact_velocity(law, landings):
+    roll = law.regime(landings) == "roll"
+    assert roll.sum() > 100
+    out = law.predict(landings[roll])
+    np.testing.assert_allclose(out[:, 0] + out[:, 2], 0.0, atol=1e-9)
+    slip = ~roll
+    v0 = landings[slip, 0] + landings[slip, 2]
+    vf = law.predict(landings[slip])
+    assert np.all(np.sign(vf[:, 0] + vf[:, 2]) == np.sign(v0))  # slipping balls keep slipping the same way
+
+
+@pytest.mark.parametrize("cls", [bl.Rigid, bl.PennerFixed, bl.PennerVarying, bl.TangentialRestitution])
+def test_no_energy_gain(cls, rng):
+    p = random_landings(rng, 5000)
+    for _ in range(20):
+        params = {s.name: rng.uniform(*s.bounds) for s in cls.parameter_specs}
+        out = cls(**params).predict(p)
+        assert np.all(kinetic_energy(out) <= kinetic_energy(p) * (1 + 1e-12)), params
+
+
+def test_elastic_frictionless_keeps_energy(landings):
+    out = bl.Rigid(r=1.0, mu=0.0).predict(landings)
+    np.testing.assert_allclose(kinetic_energy(out), kinetic_energy(landings), rtol=1e-12)
+
+
+@pytest.mark.parametrize("law", RIGID_FAMILY, ids=lambda m: type(m).__name__)
+def test_mirror_symmetry(law, landings):
+    np.testing.assert_allclose(law.predict(mirror(landings)), mirror(law.predict(landings)), rtol=1e-12, atol=1e-9)
+    swap = {"slip_forward": "slip_backward", "slip_backward": "slip_forward", "roll": "roll"}
+    assert [swap[c] for c in law.regime(landings)] == list(law.regime(mirror(landings)))
+
+
+# ---------------------------------------------------------------------------------- piecewise affine
+def test_piecewise_sides_and_maps():
+    law = bl.PiecewiseAffine.published("A")
+    a = np.array(bl.published.PIECEWISE["A"]["A1"])
+    b = np.array(bl.published.PIECEWISE["A"]["b1"])
+    p_roll = np.array([1000.0, -800.0, 0.0])  # 891 - 610.4 + 0 = 280.6 < 600
+    p_slip = np.array([1000.0, -800.0, 600.0])  # 880.6 > 600
+    np.testing.assert_allclose(law.predict(p_roll), a @ p_roll + b)
+    a2 = np.array(bl.published.PIECEWISE["A"]["A2"])
+    b2 = np.array(bl.published.PIECEWISE["A"]["b2"])
+    np.testing.assert_allclose(law.predict(p_slip), a2 @ p_slip + b2)
+    assert list(law.regime(np.array([p_roll, p_slip]))) == ["roll", "slip"]
+    on_plane = np.array([0.0, 0.0, 600.0])  # exactly on the plane belongs to side 2
+    assert law.regime(np.array([[1e-12, -1e-9, 600.0]]))[0] in ("roll", "slip")
+    np.testing.assert_allclose(law.predict(np.array([[0.0, -1e-300, 600.0]])), [a2 @ on_plane + b2])
+
+
+def test_piecewise_printed_plane_b():
+    law = bl.PiecewiseAffine.published("B")
+    assert law.printed_plane() == pytest.approx((0.377, 2.25, -485.0))
+    scaled = law.replace(normal=2 * law.normal, offset=2 * law.offset)
+    assert scaled.printed_plane() == pytest.approx(law.printed_plane())
+    assert scaled.plane_equation() == law.plane_equation()
+
+
+def test_piecewise_validation():
+    with pytest.raises(ParameterError, match="missing"):
+        bl.PiecewiseAffine(normal=[1, 0, 0], offset=0.0)
+    good = bl.published.piecewise_parameters("A")
+    with pytest.raises(ParameterError, match="shape"):
+        bl.PiecewiseAffine(**{**good, "A1": np.eye(2)})
+    with pytest.raises(ParameterError, match="finite"):
+        bl.PiecewiseAffine(**{**good, "b2": [1.0, np.nan, 0.0]})
+    with pytest.raises(ParameterError, match="zero"):
+        bl.PiecewiseAffine(**{**good, "normal": [0.0, 0.0, 0.0]})
+    law = bl.PiecewiseAffine(**good)
+    with pytest.raises(ValueError):
+        law.A1[0, 0] = 5.0  # stored arrays are read-only
+    assert len(law.parameters) == 28 and law.parameters["A1_13"] == -0.205 and law.parameters["b2_3"] == -267.0
+
+
+# -------------------------------------------------------------------------------- shapes and kinds
+@pytest.mark.parametrize("law", [*RIGID_FAMILY, bl.PiecewiseAffine.published("B")], ids=lambda m: type(m).__name__)
+def test_predict_shapes_and_dataarray(law, landings):
+    p = np.abs(landings[:12]) * np.array([1.0, -1.0, 1.0])
+    flat = law.predict(p)
+    assert flat.shape == (12, 3)
+    np.testing.assert_array_equal(law.predict(p[0]), flat[0])
+    np.testing.assert_array_equal(law.predict(p.reshape(3, 4, 3)), flat.reshape(3, 4, 3))
+    np.testing.assert_array_equal(law.predict(p.tolist()), flat)
+    da = xr.DataArray(p.T[[2, 0, 1]], dims=("component", "bounce"),
+                      coords={"component": ["omega", "xdot", "ydot"], "bounce": np.arange(12) + 100})
+    out = law.predict(da)
+    assert isinstance(out, xr.DataArray)
+    assert out.dims == ("bounce", "component")
+    assert list(out.component.values) == ["xdot", "ydot", "omega"]
+    np.testing.assert_array_equal(out.bounce.values, np.arange(12) + 100)
+    np.testing.assert_array_equal(out.values, flat)
+    reg = law.regime(da)
+    assert isinstance(reg, xr.DataArray) and reg.dims == ("bounce",)
+    assert list(reg.values) == list(law.regime(p))
+    assert law.regime(p[0]).shape == ()
+
+
+@pytest.mark.parametrize("law", [RIGID_FAMILY[0], bl.PiecewiseAffine.published("A")], ids=lambda m: type(m).__name__)
+def test_predict_rejects_bad_arrays(law):
+    good = np.array([[1000.0, -800.0, 100.0], [900.0, -700.0, 0.0]])
+    with pytest.raises(DataError, match=r"row 2.*NaN|NaN.*"):
+        law.predict(np.array([[1000.0, -800.0, 100.0], [np.nan, -700.0, 0.0]]))
+    with pytest.raises(DataError, match="row 2") as err:
+        law.predict(np.array([[1000.0, -800.0, 100.0], [900.0, 5.0, 0.0]]))
+    assert err.value.column == "landing.ydot" and err.value.row == 2
+    with pytest.raises(DataError, match="infinite"):
+        law.predict(np.array([[np.inf, -800.0, 100.0]]))
+    with pytest.raises(DataError, match=r"shape \(n, 3\)"):
+        law.predict(np.ones((4, 2)))
+    with pytest.raises(DataError, match="numeric"):
+        law.predict([["a", "b", "c"]])
+    with pytest.raises(DataError, match="no bounces"):
+        law.predict(np.empty((0, 3)))
+    with pytest.raises(DataError, match="component"):
+        law.predict(xr.DataArray(good, dims=("bounce", "xyz")))
+    before = good.copy()
+    law.predict(good)
+    np.testing.assert_array_equal(good, before)  # input untouched
+
+
+# ------------------------------------------------------------------------------- parameters and state
+def test_unfitted_laws():
+    for cls in (bl.Rigid, bl.PennerFixed, bl.PennerVarying, bl.PiecewiseAffine, bl.TangentialRestitution):
+        law = cls()
+        assert not law.is_fitted
+        assert all(v is None for v in law.parameters.values())
+        with pytest.raises(NotFittedError, match="fit"):
+            law.predict([[1000.0, -800.0, 0.0]])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"r": 1.5, "mu": 0.3}, "'r' = 1.5 is outside"),
+        ({"r": -0.1, "mu": 0.3}, "'r'"),
+        ({"r": 0.5, "mu": -0.3}, "'mu'"),
+        ({"r": 0.5, "mu": np.nan}, "'mu'"),
+        ({"r": "abc", "mu": 0.3}, "must be a number"),
+    ],
+)
+def test_bad_parameters(kwargs, match):
+    with pytest.raises(ParameterError, match=match):
+        bl.Rigid(**kwargs)
+
+
+def test_bad_penner_parameters():
+    with pytest.raises(ParameterError, match="beta_deg"):
+        bl.PennerFixed(r=0.5, mu=0.5, beta_deg=95.0)
+    with pytest.raises(ParameterError, match="k_p"):
+        bl.PennerVarying(r=0.5, mu=0.5, k_p=-1e-4)
+    with pytest.raises(ParameterError, match="e_t"):
+        bl.TangentialRestitution(r=0.5, mu=0.5, e_t=1.2)
+
+
+def test_immutable_and_replace():
+    law = bl.Rigid(r=0.5, mu=0.4)
+    with pytest.raises(AttributeError, match="replace"):
+        law.r = 0.6
+    other = law.replace(mu=0.2)
+    assert other == bl.Rigid(r=0.5, mu=0.2) and law.mu == 0.4
+    with pytest.raises(ParameterError, match="no parameter"):
+        law.replace(nu=1.0)
+    with pytest.raises(ParameterError):
+        law.replace(r=2.0)
+
+
+def test_repr_and_equality():
+    assert repr(bl.Rigid.published("A")) == "Rigid(r=0.544, mu=0.997)"
+    assert repr(bl.Rigid()) == "Rigid(r=None, mu=None)"
+    assert bl.PennerVarying.published("B") == bl.PennerVarying(r=0.222, mu=0.999, k_p=2.973e-4)
+    assert bl.Rigid(r=0.5, mu=0.4) != bl.Rigid(r=0.5, mu=0.41)
+    assert len({bl.Rigid(r=0.5, mu=0.4), bl.Rigid(r=0.5, mu=0.4)}) == 1
+    assert "0.891" in repr(bl.PiecewiseAffine.published("A"))
+
+
+@pytest.mark.parametrize("law", [*RIGID_FAMILY, bl.PiecewiseAffine.published("B"), bl.Rigid()],
+                         ids=lambda m: type(m).__name__)
+def test_json_round_trip(law, tmp_path, landings):
+    text = law.to_json(tmp_path / "law.json")
+    again = bl.BounceModel.from_dict(json.loads(text))
+    assert again == law and type(again) is type(law)
+    assert bl.load_law(tmp_path / "law.json") == law
+    if law.is_fitted:
+        p = np.abs(landings) * np.array([1, -1, 1])
+        np.testing.assert_array_equal(again.predict(p), law.predict(p))
+
+
+def test_from_dict_errors(tmp_path):
+    with pytest.raises(ParameterError, match="unknown law"):
+        bl.BounceModel.from_dict({"law": "Nope", "parameters": {}})
+    with pytest.raises(ParameterError, match="keys"):
+        bl.BounceModel.from_dict({"parameters": {}})
+    with pytest.raises(ParameterError, match="not a PennerFixed"):
+        bl.PennerFixed.from_dict(bl.Rigid(r=0.5, mu=0.5).to_dict())
+    with pytest.raises(ParameterError, match="no parameter"):
+        bl.BounceModel.from_dict({"law": "Rigid", "parameters": {"r": 0.5, "q": 1}})
+    (tmp_path / "bad.json").write_text("{not json")
+    with pytest.raises(ParameterError, match="JSON"):
+        bl.load_law(tmp_path / "bad.json")
+
+
+@pytest.mark.parametrize("campaign", ["A", "B", "a"])
+def test_published_constructors(campaign):
+    key = campaign.upper()
+    t3 = bl.published.TABLE3
+    assert bl.Rigid.published(campaign).parameters == {"r": t3.loc[(key, "Rigid"), "r"],
+                                                       "mu": t3.loc[(key, "Rigid"), "mu"]}
+    assert bl.PennerFixed.published(campaign).beta_deg == t3.loc[(key, "PennerFixed"), "beta_deg"]
+    assert bl.PennerVarying.published(campaign).k_p == t3.loc[(key, "PennerVarying"), "k_p"]
+    pw = bl.PiecewiseAffine.published(campaign)
+    np.testing.assert_array_equal(pw.A2, bl.published.PIECEWISE[key]["A2"])
+    with pytest.raises(ValueError, match="campaigns"):
+        bl.Rigid.published("C")
+
+
+def test_default_bounds():
+    assert bl.Rigid.default_bounds() == {"r": (0.0, 1.0), "mu": (0.0, 1.5)}
+    assert bl.PennerFixed.default_bounds()["beta_deg"] == (0.0, 45.0)
+    assert bl.PennerVarying.default_bounds()["k_p"] == (0.0, bl.laws.K_P_MAX)
+
+
+# ------------------------------------------------------------------------------------ a user's law
+class Frictionless(BounceModel):
+    """pF = [xdot0, -e ydot0, omega0]: the one-small-class extension point."""
+
+    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+    regimes = ("bounce",)
+
+    def __init__(self, e=None):
+        self.e = e
+        super().__init__()
+
+    def _predict(self, p, theta):
+        return p * np.array([1.0, -theta[0], 1.0])
+
+    def _regime(self, p, theta):
+        return np.zeros(len(p), dtype=np.int8)
+
+
+def test_user_defined_law(landings, tmp_path):
+    law = Frictionless(e=0.5)
+    out = law.predict(landings)
+    np.testing.assert_array_equal(out[:, 1], -0.5 * landings[:, 1])
+    assert "Frictionless" in bl.laws.registered_laws()
+    law.to_json(tmp_path / "f.json")
+    assert bl.load_law(tmp_path / "f.json") == law
+    with pytest.raises(ParameterError):
+        Frictionless(e=2.0)
+
+
+# ------------------------------------------------------------------------------- numeric helpers
+def test_fast_atan_and_sincos_accuracy():
+    from numba import njit
+
+    from bouncelab.laws import _kernels
+
+    @njit
+    def run(num, den, x, out):
+        for i in range(num.size):
+            out[i, 0] = _kernels.atan_ratio(num[i], den[i])
+            out[i, 1], out[i, 2] = _kernels.sincos_quadrant(x[i])
+
+    rng = np.random.default_rng(0)
+    num = 10 ** rng.uniform(-4, 4, 100000)
+    den = 10 ** rng.uniform(-4, 4, 100000)
+    den[:5] = 0.0
+    x = rng.uniform(0, np.pi / 2, 100000)
+    x[:3] = [0.0, np.pi / 4, np.pi / 2]
+    out = np.empty((100000, 3))
+    run(num, den, x, out)
+    np.testing.assert_allclose(out[:, 0], np.arctan2(num, den), rtol=5e-16)
+    np.testing.assert_allclose(out[:, 1], np.sin(x), rtol=5e-16, atol=1e-300)
+    np.testing.assert_allclose(out[:, 2], np.cos(x), rtol=5e-16, atol=2e-16)

@@ -1,0 +1,271 @@
+"""Shared validation of bounce-state arrays (bouncelab.data.validation) and the error types."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from bouncelab.data.validation import as_states, check_same_length
+from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+
+P0 = np.array([
+    [100.0, -200.0, 50.0],
+    [300.0, -400.0, -20.0],
+    [500.0, -600.0, 700.0],
+    [50.0, -90.0, 0.0],
+])
+
+
+# --------------------------------------------------------------------------- plain arrays
+def test_list_of_lists():
+    arr, wrap = as_states(P0.tolist())
+    assert arr.dtype == np.float64 and arr.flags.c_contiguous
+    np.testing.assert_array_equal(arr, P0)
+    assert wrap(arr * 2).shape == (4, 3)
+
+
+def test_single_state_shape_3():
+    arr, wrap = as_states([1.0, -2.0, 3.0])
+    assert arr.shape == (1, 3)
+    out = wrap(arr + 1)
+    assert out.shape == (3,)
+    np.testing.assert_array_equal(out, [2.0, -1.0, 4.0])
+    # a per-bounce scalar result comes back 0-d
+    assert wrap(arr[:, 0]).shape == ()
+
+
+def test_integer_input_becomes_float64():
+    arr, _ = as_states(np.array([[1, -2, 3]], dtype=np.int32))
+    assert arr.dtype == np.float64
+    np.testing.assert_array_equal(arr, [[1.0, -2.0, 3.0]])
+
+
+def test_nd_states_flatten_row_major_and_wrap_restores_shape():
+    states = np.arange(2 * 5 * 3, dtype=float).reshape(2, 5, 3)
+    arr, wrap = as_states(states)
+    assert arr.shape == (10, 3)
+    np.testing.assert_array_equal(arr[6], states[1, 1])  # row-major order
+    out = wrap(arr * 10)
+    assert out.shape == (2, 5, 3)
+    np.testing.assert_array_equal(out, states * 10)
+    assert wrap(arr[:, 0]).shape == (2, 5)  # per-bounce results keep the leading shape
+
+
+def test_fortran_order_becomes_c_contiguous():
+    states = np.asfortranarray(P0)
+    arr, _ = as_states(states)
+    assert arr.flags.c_contiguous
+    np.testing.assert_array_equal(arr, P0)
+
+
+# --------------------------------------------------------------------------- DataArrays
+def _labelled(values, comps=("xdot", "ydot", "omega"), dims=("bounce", "component")):
+    coords = {"component": list(comps)}
+    if "bounce" in dims:
+        coords["bounce"] = np.arange(10, 10 + values.shape[dims.index("bounce")])
+    return xr.DataArray(values, dims=dims, coords=coords)
+
+
+@pytest.mark.parametrize("order", [(0, 1, 2), (2, 0, 1), (1, 2, 0), (2, 1, 0)])
+def test_dataarray_any_component_order(order):
+    comps = [("xdot", "ydot", "omega")[i] for i in order]
+    da = _labelled(P0[:, order], comps)
+    arr, _ = as_states(da)
+    np.testing.assert_array_equal(arr, P0)  # always xdot, ydot, omega
+
+
+@pytest.mark.parametrize("order", [(0, 1, 2), (2, 0, 1)])
+def test_dataarray_component_first(order):
+    comps = [("xdot", "ydot", "omega")[i] for i in order]
+    da = _labelled(P0[:, order].T, comps, dims=("component", "bounce"))
+    arr, wrap = as_states(da)
+    np.testing.assert_array_equal(arr, P0)
+    out = wrap(arr)
+    assert out.dims == ("bounce", "component")
+    assert list(out["component"].values) == ["xdot", "ydot", "omega"]
+    assert list(out["unit"].values) == ["radius/s", "radius/s", "rad/s"]
+    np.testing.assert_array_equal(out["bounce"].values, np.arange(10, 14))
+    np.testing.assert_array_equal(out.values, P0)
+
+
+def test_dataarray_component_in_the_middle_of_three_dims():
+    states = np.random.default_rng(0).normal(size=(2, 4, 3)) * 100
+    states[..., 1] = -np.abs(states[..., 1]) - 1
+    # stored as (setting, component, repeat) with components omega, xdot, ydot
+    stored = states[..., [2, 0, 1]].transpose(0, 2, 1)
+    da = xr.DataArray(stored, dims=("setting", "component", "repeat"),
+                      coords={"component": ["omega", "xdot", "ydot"], "setting": ["s1", "s2"]})
+    arr, wrap = as_states(da, landing=True)
+    np.testing.assert_array_equal(arr, states.reshape(-1, 3))
+    out = wrap(arr)
+    assert out.dims == ("setting", "repeat", "component")
+    assert list(out["setting"].values) == ["s1", "s2"]
+    np.testing.assert_array_equal(out.values, states)
+
+
+def test_dataarray_without_labels_is_positional():
+    da = xr.DataArray(P0.T, dims=("component", "bounce"))
+    arr, _ = as_states(da)
+    np.testing.assert_array_equal(arr, P0)
+
+
+def test_dataarray_without_component_dim():
+    da = xr.DataArray(P0, dims=("bounce", "comp"))
+    with pytest.raises(DataError, match="'component' dimension"):
+        as_states(da)
+
+
+def test_dataarray_wrong_component_size():
+    da = xr.DataArray(np.zeros((4, 2)), dims=("bounce", "component"))
+    with pytest.raises(DataError, match="3 components"):
+        as_states(da)
+
+
+@pytest.mark.parametrize("labels", [("xdot", "ydot", "spin"), ("xdot", "xdot", "omega"), ("x", "y", "w")])
+def test_dataarray_bad_component_labels(labels):
+    with pytest.raises(DataError, match="component labels"):
+        as_states(_labelled(P0, labels))
+
+
+def test_dataarray_extra_component_label():
+    da = xr.DataArray(np.zeros((2, 4)), dims=("bounce", "component"),
+                      coords={"component": ["xdot", "ydot", "omega", "vp"]})
+    with pytest.raises(DataError):
+        as_states(da)
+
+
+def test_dataarray_nan_row_and_column_follow_the_labels():
+    values = P0.T[[2, 0, 1]].copy()  # (component, bounce) with omega, xdot, ydot
+    values[0, 2] = np.nan  # omega of the third bounce
+    da = _labelled(values, ("omega", "xdot", "ydot"), dims=("component", "bounce"))
+    with pytest.raises(DataError) as info:
+        as_states(da, "landing")
+    assert info.value.row == 3
+    assert info.value.column == "landing.omega"
+
+
+def test_dataarray_input_not_modified():
+    da = _labelled(P0[:, [2, 0, 1]].T.copy(), ("omega", "xdot", "ydot"), dims=("component", "bounce"))
+    before = da.copy(deep=True)
+    as_states(da)
+    xr.testing.assert_identical(da, before)
+
+
+# --------------------------------------------------------------------------- bad values
+@pytest.mark.parametrize(("row", "col", "value", "what"), [
+    (0, 0, np.nan, "NaN"), (2, 1, np.inf, "infinite"), (3, 2, -np.inf, "infinite"), (1, 2, np.nan, "NaN"),
+])
+def test_nonfinite_names_row_and_column(row, col, value, what):
+    bad = P0.copy()
+    bad[row, col] = value
+    before = bad.copy()
+    with pytest.raises(DataError, match=what) as info:
+        as_states(bad, "liftoff")
+    err = info.value
+    assert err.row == row + 1  # 1-based
+    assert err.column == f"liftoff.{('xdot', 'ydot', 'omega')[col]}"
+    assert f"row {row + 1}" in str(err)
+    np.testing.assert_array_equal(bad, before)  # nothing changed
+
+
+def test_nonfinite_first_bad_row_reported_and_count():
+    bad = P0.copy()
+    bad[1, 2] = np.nan
+    bad[3, 0] = np.nan
+    with pytest.raises(DataError, match=r"2 bounce\(s\)") as info:
+        as_states(bad)
+    assert info.value.row == 2
+
+
+def test_nonfinite_row_in_nd_input_is_the_flattened_row():
+    bad = np.tile(P0[0], (2, 3, 1))
+    bad[1, 0, 1] = np.nan  # flattened row 4
+    with pytest.raises(DataError) as info:
+        as_states(bad)
+    assert info.value.row == 4
+    assert info.value.column == "landing.ydot"
+
+
+@pytest.mark.parametrize("ydot", [0.0, 5.0])
+def test_landing_moving_up_is_rejected(ydot):
+    bad = P0.copy()
+    bad[2, 1] = ydot
+    with pytest.raises(DataError, match="ydot must be negative") as info:
+        as_states(bad, "landing", landing=True)
+    assert info.value.row == 3
+    assert info.value.column == "landing.ydot"
+    # the same values are fine when they are not a landing
+    arr, _ = as_states(bad, "liftoff")
+    assert arr[2, 1] == ydot
+
+
+def test_landing_error_carries_the_name():
+    bad = P0.copy()
+    bad[0, 1] = 1.0
+    with pytest.raises(DataError) as info:
+        as_states(bad, "p0", landing=True)
+    assert info.value.column == "p0.ydot"
+
+
+@pytest.mark.parametrize("bad", [np.zeros((0, 3)), []])
+def test_empty(bad):
+    with pytest.raises(DataError):
+        as_states(bad)
+
+
+def test_empty_message():
+    with pytest.raises(DataError, match="no bounces"):
+        as_states(np.zeros((0, 3)), "landing")
+
+
+@pytest.mark.parametrize("bad", [5.0, [1.0, 2.0], np.zeros((4, 2)), np.zeros((4, 4)), np.zeros((3, 1))])
+def test_wrong_shape(bad):
+    with pytest.raises(DataError, match=r"shape \(n, 3\)"):
+        as_states(bad)
+
+
+@pytest.mark.parametrize("bad", [[["a", "b", "c"]], [[1.0, 2.0, 3.0], [1.0, 2.0]], [[1 + 2j, -1, 0]]])
+def test_non_numeric(bad):
+    with pytest.raises(DataError, match="numeric"):
+        as_states(bad)
+
+
+def test_file_is_named():
+    bad = P0.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(DataError) as info:
+        as_states(bad, file="bounces.csv")
+    assert info.value.file == "bounces.csv"
+    assert "bounces.csv" in str(info.value)
+
+
+def test_check_same_length():
+    check_same_length(P0, P0 + 1, "a", "b")
+    with pytest.raises(DataError, match="a has shape"):
+        check_same_length(P0, P0[:3], "a", "b")
+
+
+# --------------------------------------------------------------------------- errors
+def test_error_hierarchy():
+    assert issubclass(DataError, BouncelabError) and issubclass(DataError, ValueError)
+    assert issubclass(ParameterError, BouncelabError) and issubclass(ParameterError, ValueError)
+    assert issubclass(NotFittedError, ParameterError)
+    assert issubclass(FitError, BouncelabError) and issubclass(FitError, ValueError)
+    assert not issubclass(DataError, ParameterError)
+
+
+def test_data_error_message_names_where():
+    err = DataError("bad value", file="f.csv", column="vx0", row=7)
+    assert str(err) == "file 'f.csv', column 'vx0', row 7: bad value"
+    assert (err.file, err.column, err.row, err.message) == ("f.csv", "vx0", 7, "bad value")
+    assert str(DataError("plain")) == "plain"
+    assert str(DataError("x", row=1)) == "row 1: x"
+
+
+def test_data_error_file_path_is_stringified():
+    from pathlib import Path
+
+    err = DataError("m", file=Path("/tmp/a.nc"))
+    assert err.file == "/tmp/a.nc"
+    assert "'/tmp/a.nc'" in str(err)
