@@ -1,4 +1,4 @@
-"""Analyses of bounce data: measurement error from tracked video frames, and more.
+"""Analyses of bounce data: measurement error, repeatability and contact-point velocities.
 
 Submodules
 ----------
@@ -7,4 +7,51 @@ trajectories
 measurement
     The paper's extraction of landing and lift-off states with their 95 %
     intervals from tracked frames (:func:`measure_bounce`).
+repeatability
+    Per-launcher-setting means and Student-t confidence intervals of the mean
+    at landing and lift-off (:func:`repeatability`, the paper's Appendix
+    Fig. 9) and how often lift-off intervals are wider
+    (:func:`repeatability_summary`).
+tangential
+    Contact-point velocity ``v_P = xdot + omega`` at landing and lift-off
+    (:func:`tangential_velocities`, the paper's Fig. 7) and counts of slip,
+    roll, ``v_P`` and spin reversals and near-rolling lift-offs
+    (:func:`tangential_summary`, :func:`tangential_crosstab`).
 """
+
+from __future__ import annotations
+
+from bouncelab.analysis.measurement import (
+    ContactDetection,
+    SpinEstimate,
+    VelocityEstimate,
+    detect_contact,
+    estimate_spin,
+    estimate_velocity,
+    interval_coverage,
+    measure_bounce,
+)
+from bouncelab.analysis.repeatability import repeatability, repeatability_summary
+from bouncelab.analysis.tangential import (
+    tangential_crosstab,
+    tangential_summary,
+    tangential_velocities,
+)
+from bouncelab.analysis.trajectories import simulate_tracked_bounce
+
+__all__ = [
+    "ContactDetection",
+    "SpinEstimate",
+    "VelocityEstimate",
+    "detect_contact",
+    "estimate_spin",
+    "estimate_velocity",
+    "interval_coverage",
+    "measure_bounce",
+    "repeatability",
+    "repeatability_summary",
+    "simulate_tracked_bounce",
+    "tangential_crosstab",
+    "tangential_summary",
+    "tangential_velocities",
+]

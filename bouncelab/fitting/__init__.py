@@ -1,5 +1,6 @@
 """Fitting bounce laws: NLopt global search, the paper's procedures, held-out evaluation, comparison."""
 
+from bouncelab.fitting.compare import PAPER_LAWS, Comparison, compare
 from bouncelab.fitting.fit import fit, resolve_bounds
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.search import GLOBAL_ALGORITHMS, LOCAL_ALGORITHMS
@@ -8,8 +9,11 @@ from bouncelab.fitting.splits import CrossValidation, cross_validate, infer_sett
 __all__ = [
     "GLOBAL_ALGORITHMS",
     "LOCAL_ALGORITHMS",
+    "PAPER_LAWS",
+    "Comparison",
     "CrossValidation",
     "FitResult",
+    "compare",
     "cross_validate",
     "fit",
     "infer_settings",

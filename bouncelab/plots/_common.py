@@ -1,0 +1,169 @@
+"""Shared plumbing of the figures: lazy matplotlib, labels, styles, input checks, the synthetic-data note."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data.campaign import campaign_arrays
+from bouncelab.data.units import COMPONENTS
+from bouncelab.errors import DataError
+
+#: Marker and colour of each measured slip/roll class (the paper's Fig. 8: roll = triangles, slip = circles).
+CLASS_STYLE = {
+    "roll": {"marker": "^", "color": "tab:blue", "label": "roll"},
+    "slip": {"marker": "o", "color": "tab:orange", "label": "slip"},
+}
+#: Colours of landing and lift-off quantities (the paper's Fig. 6: green inbound, red outbound).
+STATE_COLOR = {"landing": "tab:green", "liftoff": "tab:red"}
+
+_SYMBOL = {"xdot": r"\dot{x}", "ydot": r"\dot{y}", "omega": r"\omega"}
+_UNIT = {"xdot": "radii/s", "ydot": "radii/s", "omega": "rad/s"}
+_SUFFIX = {"landing": "0", "liftoff": "F"}
+_NOTE_GID = "bouncelab-synthetic-note"
+NOTE_TEXT = "synthetic surrogate data"
+_INSTALL = "plotting needs matplotlib: pip install bouncelab[plot]"
+
+
+def pyplot():
+    """Import and return ``matplotlib.pyplot``, on the Agg backend when there is no display.
+
+    A backend the user chose (``MPLBACKEND``, matplotlibrc, ``matplotlib.use``, a
+    notebook) is left alone; only an unresolved backend on a headless machine is
+    set to the non-interactive Agg.
+    """
+    try:
+        import matplotlib
+    except ImportError as exc:  # pragma: no cover - exercised only without the extra
+        raise ImportError(_INSTALL) from exc
+    if "matplotlib.pyplot" not in sys.modules and _headless():
+        chosen = getattr(matplotlib.rcParams, "_get_backend_or_none", lambda: None)()
+        if chosen is None and not os.environ.get("MPLBACKEND"):
+            matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _headless() -> bool:
+    if sys.platform in ("darwin", "win32"):
+        return False
+    return not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def label(component: str, state: str = "landing", *, prefix: str = "", units: bool = True) -> str:
+    """Axis label such as ``'$\\dot{x}_0$ [radii/s]'`` or ``'$\\omega_F$ [rad/s]'``."""
+    text = f"{prefix}${_SYMBOL[component]}_{_SUFFIX[state]}$"
+    return f"{text} [{_UNIT[component]}]" if units else text
+
+
+def symbol(component: str) -> str:
+    """``'$\\dot{x}$'`` etc., for Delta q annotations."""
+    return f"${_SYMBOL[component]}$"
+
+
+def campaign_name(attrs: dict) -> str:
+    name = str(attrs.get("campaign", "") or "").strip()
+    return f"Campaign {name}" if name else "Campaign"
+
+
+def campaign_data(data: Any, *, name: str = "data") -> tuple[np.ndarray, np.ndarray, dict]:
+    """Landing, lift-off (n, 3) and attrs of a campaign Dataset (or ``(landing, liftoff)`` pair)."""
+    p0, pf, _ = campaign_arrays(data, name=name)
+    if len(p0) == 0:
+        raise DataError(f"{name} holds no bounces; there is nothing to plot")
+    attrs = dict(data.attrs) if isinstance(data, xr.Dataset) else {}
+    return p0, pf, attrs
+
+
+def new_figure(fig: Any, *, nrows: int, ncols: int, figsize: tuple[float, float], **subplot_kw: Any):
+    """A constrained-layout figure (or the caller's empty one) with an ``nrows x ncols`` grid of axes."""
+    plt = pyplot()
+    if fig is None:
+        fig = plt.figure(figsize=figsize, layout="constrained")
+    else:
+        _check_figure(fig)
+        if fig.axes:
+            raise ValueError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)")
+    axes = fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
+    return fig, axes
+
+
+def single_axes(ax: Any, *, figsize: tuple[float, float], projection: str | None = None):
+    """The caller's axes (checked) or a new constrained-layout figure with one axes."""
+    plt = pyplot()
+    if ax is None:
+        fig = plt.figure(figsize=figsize, layout="constrained")
+        ax = fig.add_subplot(projection=projection)
+        return fig, ax
+    from matplotlib.axes import Axes
+
+    if not isinstance(ax, Axes):
+        raise TypeError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
+    if projection == "3d" and getattr(ax, "name", "") != "3d":
+        raise ValueError("ax must be a 3-D axes: fig.add_subplot(projection='3d')")
+    return ax.figure, ax
+
+
+def _check_figure(fig: Any) -> None:
+    from matplotlib.figure import Figure
+
+    if not isinstance(fig, Figure):
+        raise TypeError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
+
+
+def finish(fig: Any, attrs: dict, title: str) -> Any:
+    """Set the title and, for synthetic data, the visible note; return ``fig``."""
+    if title:
+        fig.suptitle(title, fontsize="large")
+    add_synthetic_note(fig, attrs)
+    return fig
+
+
+def is_synthetic(attrs: dict) -> bool:
+    return attrs.get("data_kind") == "synthetic surrogate"
+
+
+def add_synthetic_note(fig: Any, attrs: dict) -> None:
+    """Write "synthetic surrogate data" in the bottom-right corner, outside the axes, once per figure."""
+    if not is_synthetic(attrs) or any(t.get_gid() == _NOTE_GID for t in fig.texts):
+        return
+    engine = fig.get_layout_engine()
+    if engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
+        engine.set(rect=(0.0, 0.035, 1.0, 0.965))  # keep a strip at the bottom free for the note
+    fig.text(
+        0.995, 0.006, NOTE_TEXT, ha="right", va="bottom", fontsize="small", style="italic",
+        color="firebrick", gid=_NOTE_GID,
+    )
+
+
+def has_synthetic_note(fig: Any) -> bool:
+    """True when the figure carries the synthetic-data note."""
+    return any(t.get_gid() == _NOTE_GID and t.get_text() == NOTE_TEXT for t in fig.texts)
+
+
+def scatter_alpha(n: int) -> float:
+    """Opaque for a few points, translucent for dense scatters."""
+    return float(np.clip(1.2 - 0.15 * np.log10(max(n, 1)) * 2, 0.35, 0.9))
+
+
+def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) -> Path:
+    """Save ``fig`` to ``path`` (format from the suffix, parent folders created); return the path.
+
+    Further keyword arguments go to :meth:`matplotlib.figure.Figure.savefig`.
+    """
+    _check_figure(fig)
+    path = Path(path)
+    if not path.suffix:
+        raise ValueError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi, **kwargs)
+    return path
+
+
+__all__ = ["CLASS_STYLE", "COMPONENTS", "STATE_COLOR", "has_synthetic_note", "save_figure"]

@@ -1,0 +1,280 @@
+"""bouncelab.fit: recovery, optimality against brute force, the paper's procedures, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import differential_evolution
+
+import bouncelab as bl
+from bouncelab.errors import DataError, FitError, ParameterError
+from bouncelab.fitting.objective import ErrorMeasure
+from tests.conftest import random_landings
+from tests.test_laws import Frictionless
+
+
+def landings_plus_x(rng, n):
+    return np.abs(random_landings(rng, n)) * np.array([1.0, -1.0, 1.0])
+
+
+def noisy(law, p0, rng, level=0.01):
+    """Lift-off from ``law`` plus Gaussian noise of ``level`` times |p0| per component."""
+    return law.predict(p0) + level * np.linalg.norm(p0, axis=1, keepdims=True) * rng.standard_normal(p0.shape)
+
+
+@pytest.fixture(scope="module")
+def campaign_a():
+    return bl.load_campaign("A")
+
+
+# ----------------------------------------------------------------------------------- recovery
+@pytest.mark.parametrize(
+    ("truth", "tol"),
+    [
+        (bl.Rigid(r=0.55, mu=0.35), {"r": 0.01, "mu": 0.01}),
+        (bl.PennerFixed(r=0.42, mu=0.3, beta_deg=12.9), {"r": 0.02, "mu": 0.02, "beta_deg": 0.5}),
+        (bl.PennerVarying(r=0.45, mu=0.3, k_p=1.5e-4), {"r": 0.02, "mu": 0.02, "k_p": 1e-5}),
+        (bl.TangentialRestitution(r=0.5, mu=0.3, e_t=0.4), {"r": 0.01, "mu": 0.02, "e_t": 0.05}),
+    ],
+    ids=lambda v: type(v).__name__ if isinstance(v, bl.BounceModel) else "",
+)
+def test_parameter_recovery(truth, tol, rng):
+    p0 = landings_plus_x(rng, 600)
+    res = bl.fit(type(truth), (p0, noisy(truth, p0, rng)))
+    for name, t in tol.items():
+        assert res.model.parameters[name] == pytest.approx(getattr(truth, name), abs=t), name
+    assert res.delta < 0.03
+
+
+def test_piecewise_recovery(rng):
+    truth = bl.PiecewiseAffine.published("A")
+    p0 = landings_plus_x(rng, 800) * np.array([0.5, 0.5, 0.5])
+    pf = noisy(truth, p0, rng, 0.003)
+    res = bl.fit(bl.PiecewiseAffine, (p0, pf))
+    # the plane may move within the gap between bounces, but the maps must come back
+    np.testing.assert_allclose(res.model.A1, truth.A1, atol=0.03)
+    np.testing.assert_allclose(res.model.A2, truth.A2, atol=0.03)
+    assert np.mean(res.model.regime(p0) == truth.regime(p0)) > 0.98
+    assert res.delta < 0.01
+
+
+# --------------------------------------------------------------------- optimality vs brute force
+def test_rigid_no_worse_than_dense_grid(rng):
+    p0 = landings_plus_x(rng, 60)
+    pf = noisy(bl.Rigid(r=0.4, mu=0.5), p0, rng, 0.08)
+    res = bl.fit(bl.Rigid, (p0, pf))
+    measure = ErrorMeasure(bl.Rigid(), p0, pf)
+    r, mu = np.meshgrid(np.linspace(0, 1, 301), np.linspace(0, 1.5, 451))
+    grid = min(measure.errors(np.array([a, b]))[0] for a, b in zip(r.ravel(), mu.ravel(), strict=True))
+    assert res.delta <= grid + 1e-12
+
+
+@pytest.mark.parametrize("cls", [bl.PennerFixed, bl.PennerVarying, bl.TangentialRestitution])
+def test_no_worse_than_differential_evolution(cls, rng):
+    p0 = landings_plus_x(rng, 40)
+    truth = cls(**{s.name: 0.5 * (s.bounds[0] + s.bounds[1]) for s in cls.parameter_specs})
+    pf = noisy(truth, p0, rng, 0.1)
+    res = bl.fit(cls, (p0, pf))
+    measure = ErrorMeasure(cls(), p0, pf)
+    bounds = [s.bounds for s in cls.parameter_specs]
+    best = min(differential_evolution(lambda t: measure.errors(t)[0], bounds, tol=1e-12, seed=s).fun
+               for s in range(3))
+    assert res.delta <= best + 1e-9
+
+
+def test_result_delta_is_metric_of_model(campaign_a):
+    res = bl.fit(bl.PennerFixed, campaign_a)
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    assert res.delta == pytest.approx(bl.delta(p0, pf, res.model.predict(p0)), rel=1e-12)
+    np.testing.assert_allclose(res.delta_q, bl.delta_q(p0, pf, res.model.predict(p0)), rtol=1e-12)
+    assert res.objective == "delta" and res.objective_value == pytest.approx(res.delta, rel=1e-12)
+    assert res.n_evaluations == res.n_global + res.n_local > 0
+    assert res.elapsed > 0 and res.stop_reason
+
+
+# ------------------------------------------------------------------------------ reproducibility
+@pytest.mark.parametrize("algorithm", ["DIRECT_L", "CRS2_LM", "ISRES", "ESCH", "MLSL"])
+def test_same_seed_same_result(algorithm, campaign_a):
+    a = bl.fit(bl.Rigid, campaign_a, algorithm=algorithm, seed=3)
+    b = bl.fit(bl.Rigid, campaign_a, algorithm=algorithm, seed=3)
+    assert a.model == b.model and a.n_evaluations == b.n_evaluations
+    assert a.algorithm.startswith(algorithm)
+
+
+def test_input_law_is_not_changed(campaign_a):
+    start = bl.Rigid(r=0.3, mu=0.3)
+    res = bl.fit(start, campaign_a)
+    assert start == bl.Rigid(r=0.3, mu=0.3)
+    assert res.model != start
+
+
+# ------------------------------------------------------------------------------ objectives
+def test_component_objective_minimises_that_component(campaign_a):
+    by_delta = bl.fit(bl.Rigid, campaign_a)
+    by_omega = bl.fit(bl.Rigid, campaign_a, objective="omega")
+    assert by_omega.objective == "delta_omega"
+    assert by_omega.delta_q[2] <= by_delta.delta_q[2] + 1e-12
+    assert by_omega.delta >= by_delta.delta - 1e-12
+    mixed = bl.fit(bl.Rigid, campaign_a, objective={"delta": 1.0, "omega": 2.0})
+    assert mixed.objective_value == pytest.approx(mixed.delta + 2 * mixed.delta_q[2], rel=1e-10)
+
+
+@pytest.mark.parametrize("bad", ["energy", {}, {"delta": -1.0}, {"spin": 1.0}, 3])
+def test_bad_objective(bad, campaign_a):
+    with pytest.raises(FitError):
+        bl.fit(bl.Rigid, campaign_a, objective=bad)
+
+
+# ------------------------------------------------------------------------------- bounds
+def test_fixed_parameter_and_bounds(campaign_a):
+    res = bl.fit(bl.PennerFixed, campaign_a, bounds={"beta_deg": (15.0, 15.0)})
+    assert res.model.beta_deg == 15.0
+    res2 = bl.fit(bl.Rigid, campaign_a, bounds={"mu": (0.0, 0.1)})
+    assert res2.model.mu == pytest.approx(0.1)
+    assert res2.at_bounds == {"mu": "upper"}
+    assert any("upper bound" in n for n in res2.notes)
+    assert "at upper bound" in res2.report()
+
+
+def test_flat_objective_is_reported(rng):
+    """With friction so high that every bounce grips, mu is not determined: say so."""
+    p0 = landings_plus_x(rng, 200)
+    p0[:, 2] = -p0[:, 0] + rng.uniform(-50, 50, len(p0))  # v_P near 0: everything rolls for mu > ~0.05
+    pf = noisy(bl.Rigid(r=0.5, mu=1.0), p0, rng, 0.01)
+    res = bl.fit(bl.Rigid, (p0, pf), bounds={"mu": (0.5, 1.5)})
+    assert "mu" in res.insensitive
+    assert any("arbitrary" in n for n in res.notes)
+    assert "not determined by the data" in res.report()
+
+
+@pytest.mark.parametrize(
+    ("bounds", "match"),
+    [
+        ({"r": (0.0, 1.2)}, "physical range"),
+        ({"mu": (-0.5, 1.0)}, "physical range"),
+        ({"mu": (1.0, 0.5)}, "reversed"),
+        ({"nu": (0.0, 1.0)}, "no parameter"),
+        ({"r": (0.0, np.nan)}, "finite"),
+        ({"r": "abc"}, "pair"),
+    ],
+)
+def test_bad_bounds(bounds, match, campaign_a):
+    with pytest.raises(ParameterError, match=match):
+        bl.fit(bl.Rigid, campaign_a, bounds=bounds)
+
+
+def test_start_outside_bounds(campaign_a):
+    with pytest.raises(ParameterError, match="outside the bounds"):
+        bl.fit(bl.Rigid(r=0.9, mu=0.5), campaign_a, bounds={"r": (0.0, 0.5)})
+
+
+# ------------------------------------------------------------------------------ bad input
+def test_bad_data():
+    p0 = np.array([[1000.0, -800.0, 100.0]] * 5)
+    with pytest.raises(FitError, match="too few"):
+        bl.fit(bl.PennerFixed, (p0[:3], p0[:3] * 0.5))
+    bad = p0.copy()
+    bad[2, 1] = np.nan
+    with pytest.raises(DataError, match="row 3"):
+        bl.fit(bl.Rigid, (bad, p0))
+    with pytest.raises(DataError, match="shape"):
+        bl.fit(bl.Rigid, (p0, p0[:4]))
+    with pytest.raises(DataError):
+        bl.fit(bl.Rigid, "not data")
+    with pytest.raises(FitError, match="model"):
+        bl.fit("Rigid", (p0, p0))
+
+
+def test_bad_methods_and_algorithms(campaign_a):
+    with pytest.raises(FitError, match="unknown method"):
+        bl.fit(bl.Rigid, campaign_a, method="annealing")
+    with pytest.raises(FitError, match="structured"):
+        bl.fit(bl.PennerFixed, campaign_a, method="structured")
+    with pytest.raises(FitError, match="PiecewiseAffine"):
+        bl.fit(bl.Rigid, campaign_a, method="svm")
+    with pytest.raises(FitError, match="global algorithm"):
+        bl.fit(bl.Rigid, campaign_a, algorithm="GN_MAGIC")
+    with pytest.raises(FitError, match="local algorithm"):
+        bl.fit(bl.Rigid, campaign_a, local_algorithm="LBFGS")
+    with pytest.raises(FitError, match="minimises delta"):
+        bl.fit(bl.PiecewiseAffine, campaign_a, objective="omega")
+
+
+def test_piecewise_class_too_small(rng):
+    p0 = landings_plus_x(rng, 40)
+    p0[:, 2] = 3000.0  # every bounce backspins hard: all slip
+    pf = bl.Rigid(r=0.5, mu=0.1).predict(p0)
+    with pytest.raises(FitError, match="both classes"):
+        bl.fit(bl.PiecewiseAffine, (p0, pf), method="svm")
+    with pytest.raises(FitError, match="too few"):
+        bl.fit(bl.PiecewiseAffine, (p0[:10], pf[:10]))
+
+
+# ------------------------------------------------------------------------- paper's procedures
+def test_structured_rigid(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    res = bl.fit(bl.Rigid, campaign_a, method="structured")
+    r_ls = -(pf[:, 1] @ p0[:, 1]) / (p0[:, 1] @ p0[:, 1])
+    assert res.model.r == pytest.approx(r_ls, rel=1e-12)
+    # mu is the best for that r: no other mu on a fine grid does better
+    measure = ErrorMeasure(bl.Rigid(), p0, pf)
+    grid = min(measure.errors(np.array([r_ls, m]))[0] for m in np.linspace(0, 1.5, 3001))
+    assert res.delta <= grid + 1e-12
+    # and the global fit, free in r too, is at least as good
+    assert bl.fit(bl.Rigid, campaign_a).delta <= res.delta + 1e-12
+    lsq = bl.fit(bl.Rigid, campaign_a, method="structured", mu_objective="lstsq")
+    assert lsq.model.r == res.model.r and lsq.model.mu != res.model.mu
+    with pytest.raises(FitError, match="mu_objective"):
+        bl.fit(bl.Rigid, campaign_a, method="structured", mu_objective="l1")
+
+
+def test_svm_procedure(campaign_a):
+    res = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm")
+    law = res.model
+    assert law.normal[2] in (1.0, -1.0)  # the paper's printed form: omega coefficient 1
+    assert "omega0 =" in law.plane_equation()
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    labels = bl.classify_slip_roll(p0, pf)
+    assert res.mismatched == pytest.approx(np.mean(law.regime(p0) != labels))
+    assert np.mean(law.regime(p0)[labels == "slip"] == "slip") > 0.5  # side 2 is the slip side
+    # each side's map is the least-squares fit on that side
+    side = law.regime(p0) == "slip"
+    X = np.column_stack([p0[side], np.ones(side.sum())])
+    coef = np.linalg.lstsq(X, pf[side], rcond=None)[0]
+    np.testing.assert_allclose(law.A2, coef[:3].T, rtol=1e-9, atol=1e-12)
+
+
+def test_plane_search_beats_svm(campaign_a):
+    svm = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm")
+    plane = bl.fit(bl.PiecewiseAffine, campaign_a)
+    assert plane.method == "plane"
+    assert plane.delta < svm.delta
+    assert plane.mismatched is not None
+
+
+# ------------------------------------------------------------------------------- held out
+def test_held_out_errors(campaign_a):
+    train, test = bl.split_by_setting(campaign_a, seed=1)
+    res = bl.fit(bl.PennerFixed, train, test=test)
+    assert res.n_test == test.sizes["bounce"] and res.n_train == train.sizes["bounce"]
+    p0, pf = test.landing.values, test.liftoff.values
+    assert res.test_delta == pytest.approx(bl.delta(p0, pf, res.model.predict(p0)), rel=1e-12)
+    assert set(res.errors.index.get_level_values("data")) == {"train", "test"}
+    assert "held out" in res.report()
+
+
+def test_user_defined_law_is_fitted(rng):
+    p0 = landings_plus_x(rng, 100)
+    pf = Frictionless(e=0.37).predict(p0) + rng.normal(0, 1.0, p0.shape)
+    res = bl.fit(Frictionless, (p0, pf))
+    assert res.model.e == pytest.approx(0.37, abs=0.005)
+
+
+def test_report_and_dict(campaign_a):
+    res = bl.fit(bl.Rigid, campaign_a)
+    text = res.report()
+    for piece in ("[[Fit]] Rigid", "evaluations", "r ", "mu ", "delta", "roll", "slip", "DIRECT_L"):
+        assert piece in text
+    d = res.to_dict()
+    assert d["law"]["law"] == "Rigid" and d["delta"] == res.delta
+    assert "FitResult(Rigid(" in repr(res)

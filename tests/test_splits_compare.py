@@ -1,0 +1,122 @@
+"""Held-out evaluation (split, cross-validation, inferred settings) and bouncelab.compare."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from sklearn.metrics import adjusted_rand_score
+
+import bouncelab as bl
+from bouncelab.errors import DataError, FitError
+
+
+@pytest.fixture(scope="module")
+def campaign_b():
+    return bl.load_campaign("B")
+
+
+def test_split_by_setting(campaign_b):
+    train, test = bl.split_by_setting(campaign_b, seed=4)
+    settings = campaign_b.setting.values
+    counts = pd.Series(test.setting.values).value_counts()
+    assert (counts == 1).all()
+    assert set(test.setting.values) == {s for s in set(settings) if (settings == s).sum() > 1}
+    assert train.sizes["bounce"] + test.sizes["bounce"] == campaign_b.sizes["bounce"]
+    assert not set(train.bounce.values) & set(test.bounce.values)
+    again = bl.split_by_setting(campaign_b, seed=4)[1]
+    np.testing.assert_array_equal(again.bounce.values, test.bounce.values)
+    other = bl.split_by_setting(campaign_b, seed=5)[1]
+    assert not np.array_equal(other.bounce.values, test.bounce.values)
+
+
+def test_split_needs_settings(campaign_b):
+    with pytest.raises(DataError, match="infer"):
+        bl.split_by_setting(campaign_b.drop_vars("setting"))
+    with pytest.raises(DataError, match="Dataset"):
+        bl.split_by_setting((campaign_b.landing.values, campaign_b.liftoff.values))
+    single = campaign_b.assign_coords(setting=("bounce", np.arange(campaign_b.sizes["bounce"])))
+    with pytest.raises(DataError, match="two or more"):
+        bl.split_by_setting(single)
+
+
+@pytest.mark.parametrize("campaign", ["A", "B"])
+def test_infer_settings_recovers_surrogate_settings(campaign):
+    ds = bl.load_campaign(campaign)
+    labels = bl.infer_settings(ds)
+    assert adjusted_rand_score(ds.setting.values, labels) > 0.97
+    known = bl.infer_settings(ds, n_settings=len(np.unique(ds.setting.values)))
+    assert adjusted_rand_score(ds.setting.values, known) > 0.97
+    assert labels[0] == 1 and set(labels) == set(range(1, labels.max() + 1))
+
+
+def test_infer_settings_errors(campaign_b):
+    with pytest.raises(DataError, match="n_settings"):
+        bl.infer_settings(campaign_b, n_settings=0)
+    with pytest.raises(DataError, match="threshold"):
+        bl.infer_settings(campaign_b, threshold=-1)
+
+
+def test_cross_validate_groups_settings(campaign_b):
+    cv = bl.cross_validate(bl.Rigid, campaign_b, k=4, seed=2)
+    assert len(cv.folds) == 4
+    assert cv.folds["n_test"].sum() == campaign_b.sizes["bounce"]
+    assert cv.delta == pytest.approx(cv.folds["test_delta"].mean())
+    assert np.isfinite(cv.delta_std) and cv.delta_std > 0
+    assert "held-out delta" in repr(cv)
+    with pytest.raises(FitError, match="k must be"):
+        bl.cross_validate(bl.Rigid, campaign_b, k=1)
+
+
+def test_cross_validation_folds_never_share_a_setting(campaign_b, monkeypatch):
+    import sys
+
+    fitmod = sys.modules["bouncelab.fitting.fit"]
+
+    seen = []
+    real_fit = fitmod.fit
+
+    def spy(model, data, **kw):
+        seen.append((set(data.setting.values), set(kw["test"].setting.values)))
+        return real_fit(model, data, **kw)
+
+    monkeypatch.setattr(fitmod, "fit", spy)
+    bl.cross_validate(bl.Rigid, campaign_b, k=3)
+    assert len(seen) == 3
+    for train_settings, test_settings in seen:
+        assert not train_settings & test_settings
+
+
+def test_compare_tables(campaign_b):
+    cmp = bl.compare(campaign_b, ["Rigid", bl.PennerFixed, bl.PiecewiseAffine()])
+    assert list(cmp.table.index) == ["Rigid", "PennerFixed", "PiecewiseAffine"]
+    assert cmp.campaign == "B"
+    for name, res in cmp.results.items():
+        assert cmp.table.loc[name, "train_delta"] == res.delta
+    assert cmp.table.loc["PennerFixed", "beta_deg"] == cmp.results["PennerFixed"].model.beta_deg
+    paper = cmp.published()
+    assert paper.loc["Rigid", "delta"] == 0.350 and paper.loc["PiecewiseAffine", "delta"] == 0.0784
+    md = cmp.to_markdown()
+    assert "| delta |" in md and "(35 %)" in md and "synthetic surrogate" in md
+    pw = cmp.piecewise_table()
+    assert list(pw.index) == ["overall", "roll", "slip"] and 0 <= pw.loc["overall", "mismatched"] <= 1
+    sbs = cmp.side_by_side()
+    assert ("delta", "paper") in sbs.columns and sbs.loc["Rigid", ("r", "paper")] == 0.260
+
+
+def test_compare_with_split(campaign_b):
+    cmp = bl.compare(campaign_b, ["Rigid"], split="setting", seed=1)
+    assert "test_delta" in cmp.table.columns
+    assert cmp.results["Rigid"].n_test == len(np.unique(campaign_b.setting.values))
+    assert "held-out" in cmp.to_markdown()
+
+
+def test_compare_errors(campaign_b):
+    with pytest.raises(FitError, match="unknown law"):
+        bl.compare(campaign_b, ["Bouncy"])
+    with pytest.raises(FitError, match="once"):
+        bl.compare(campaign_b, ["Rigid", bl.Rigid])
+    with pytest.raises(FitError, match="split"):
+        bl.compare(campaign_b, ["Rigid"], split="random")
+    with pytest.raises(FitError, match="at least one"):
+        bl.compare(campaign_b, [])
