@@ -10,6 +10,7 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
+from benchmarks import numpy_reference
 from bouncelab.errors import DataError, NotFittedError, ParameterError
 from bouncelab.laws.base import BounceModel, Parameter
 from tests.conftest import random_landings
@@ -22,29 +23,9 @@ RIGID_FAMILY = [
 ]
 
 
-# ------------------------------------------------------------------ independent reference (plain numpy)
-def rigid_reference(p: np.ndarray, r: float, mu: float, e_t: float = 0.0) -> np.ndarray:
-    """Eq. (rigid_bounce) written out with numpy, independently of the compiled kernels."""
-    x, y, w = p.T
-    k = mu * (1 + r)
-    vp = x + w
-    lim = 3.5 * k * np.abs(y) / (1 + e_t)
-    fwd, back = vp > lim, vp < -lim
-    j = -(1 + e_t) * vp / 3.5
-    xf = np.where(fwd, x + k * y, np.where(back, x - k * y, x + j))
-    wf = np.where(fwd, w + 2.5 * k * y, np.where(back, w - 2.5 * k * y, w + 2.5 * j))
-    return np.column_stack([xf, -r * y, wf])
-
-
-def penner_reference(p: np.ndarray, r: float, mu: float, beta: np.ndarray) -> np.ndarray:
-    """Rotate into the tilted frame, bounce rigidly, rotate back; mirror balls moving in -x."""
-    sgn = np.where(p[:, 0] >= 0, 1.0, -1.0)
-    m = p * np.column_stack([sgn, np.ones_like(sgn), sgn])
-    c, s = np.cos(beta), np.sin(beta)
-    rot = np.column_stack([c * m[:, 0] + s * m[:, 1], -s * m[:, 0] + c * m[:, 1], m[:, 2]])
-    out = rigid_reference(rot, r, mu)
-    back = np.column_stack([c * out[:, 0] - s * out[:, 1], s * out[:, 0] + c * out[:, 1], out[:, 2]])
-    return back * np.column_stack([sgn, np.ones_like(sgn), sgn])
+# The independent reference: plain NumPy written from the paper's equations (also the benchmarks' peer).
+rigid_reference = numpy_reference.rigid
+penner_reference = numpy_reference.penner
 
 
 def kinetic_energy(p: np.ndarray) -> np.ndarray:

@@ -216,8 +216,9 @@ def tangential_summary(data: Any, *, near_zero: float | None = None) -> pd.DataF
         :func:`bouncelab.classify_slip_roll`). Default ``None``:
         :data:`NEAR_ZERO_FRACTION` (2 %) of the campaign's mean ``|v_P0|``,
         i.e. a lift-off counts as near rolling when its contact-point speed is
-        under 2 % of a typical landing one (~25 radii/s, 0.5 m/s, on the
-        embedded campaigns; about the size of a measurement interval).
+        under 2 % of a typical landing one (about 26 radii/s, 0.55 m/s, on
+        the embedded campaigns, comparable to their measurement-interval
+        half-widths).
 
     Returns
     -------

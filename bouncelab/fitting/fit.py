@@ -117,7 +117,7 @@ def fit(
         DIRECT_L, or CRS2_LM for the plane search) and local polish (BOBYQA,
         SBPLX, NELDERMEAD; default NELDERMEAD; None skips it).
     maxeval
-        Evaluations of the global stage (default 200 per free parameter; 3000
+        Evaluations of the global stage (default 100 per free parameter; 3000
         for the plane search).
     test
         Held-out bounces (a Dataset or pair) on which to report the errors too.
@@ -220,6 +220,19 @@ class _Box:
         t[self._idx] = self._lo_free + u * self._span_free
         return t
 
+    def theta_list(self):
+        """A fast u -> parameter list map (plain floats: this runs once per objective evaluation)."""
+        base = self.start.tolist()
+        pairs = [(int(i), float(self.lo[i]), float(self.hi[i] - self.lo[i])) for i in self._idx]
+
+        def to_list(u: np.ndarray) -> list[float]:
+            t = base.copy()
+            for (i, lo, span), x in zip(pairs, u.tolist(), strict=True):
+                t[i] = lo + x * span
+            return t
+
+        return to_list
+
     def unit(self, theta: np.ndarray) -> np.ndarray:
         return ((theta - self.lo) / np.where(self.free, self.hi - self.lo, 1.0))[self.free]
 
@@ -228,9 +241,10 @@ def _fit_global(law, p0, pf, tst, box, weights, seed, algorithm, local_algorithm
     b = _Box(law, box)
     measure = ErrorMeasure(law, p0, pf)
     w = tuple(float(v) for v in weights)
+    to_list, value = b.theta_list(), measure.value
 
     def f(u: np.ndarray) -> float:
-        return measure.value(b.theta(u), w)
+        return value(to_list(u), w)
 
     d = int(b.free.sum())
     if d == 0:
@@ -238,7 +252,7 @@ def _fit_global(law, p0, pf, tst, box, weights, seed, algorithm, local_algorithm
     else:
         outcome = global_search(
             f, b.unit(b.start), algorithm=algorithm, local_algorithm=local_algorithm, seed=seed,
-            maxeval=maxeval if maxeval is not None else 200 * d,
+            maxeval=maxeval if maxeval is not None else 100 * d,
         )
     theta = b.theta(outcome.x)
     fitted = law.replace(**dict(zip(b.names, (float(v) for v in theta), strict=True)))
@@ -301,7 +315,7 @@ def _fit_structured(law, p0, pf, tst, box, weights, seed, mu_objective, start_ti
     def f(u: np.ndarray) -> float:
         mu = mu_lo + u[0] * (mu_hi - mu_lo)
         if mu_objective == "delta":
-            return float(weights @ measure.errors(np.array([r, mu])))
+            return measure.value([r, mu], tuple(weights))
         pred = law.replace(r=r, mu=mu)._predict(p0, np.array([r, mu]))
         res = (pf - pred)[:, [0, 2]]
         return float((res * res).sum())

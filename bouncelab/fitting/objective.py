@@ -71,8 +71,8 @@ class ErrorMeasure:
         make = getattr(model, "_error_kernel", None)
         self._sums = make(landing, liftoff, self.inv_norm) if make is not None else None
 
-    def value(self, theta: np.ndarray, weights: tuple[float, float, float, float]) -> float:
-        """Weighted sum of the four errors at ``theta`` (the fitter's hot path: plain floats)."""
+    def value(self, theta: list[float], weights: tuple[float, float, float, float]) -> float:
+        """Weighted sum of the four errors at ``theta`` (a list of floats; the fitter's hot path)."""
         if self._sums is not None:
             sd, sx, sy, sw = self._sums(theta)
         else:
@@ -80,11 +80,11 @@ class ErrorMeasure:
         w0, w1, w2, w3 = weights
         return (w0 * sd + w1 * sx + w2 * sy + w3 * sw) / self.n
 
-    def errors(self, theta: np.ndarray) -> np.ndarray:
+    def errors(self, theta) -> np.ndarray:
         """``[delta, Delta xdot, Delta ydot, Delta omega]`` at ``theta``."""
         if self._sums is not None:
-            return np.asarray(self._sums(theta)) / self.n
-        pred = self.model._predict(self.landing, theta)
+            return np.asarray(self._sums(list(map(float, theta)))) / self.n
+        pred = self.model._predict(self.landing, np.asarray(theta, dtype=np.float64))
         err = self.liftoff - pred
         terms = np.column_stack([np.linalg.norm(err, axis=1), np.abs(err)]) * self.inv_norm[:, None]
         return terms.mean(axis=0)

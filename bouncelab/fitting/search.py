@@ -125,9 +125,9 @@ def global_search(
     seed: int = 0,
     maxeval: int | None = None,
     local_maxeval: int = 4000,
-    xtol_rel: float = 1e-12,
+    xtol_rel: float = 1e-10,
     population: int | None = None,
-    polish_starts: int = 3,
+    polish_starts: int = 2,
 ) -> SearchOutcome:
     """Minimise ``f`` over the unit box: an NLopt global stage, then a local polish from its best point.
 
@@ -143,7 +143,7 @@ def global_search(
     seed
         Seed of NLopt's random generator (stochastic algorithms are then repeatable).
     maxeval
-        Budget of the global stage (default ``400 * d``).
+        Budget of the global stage (default ``100 * d``).
     local_maxeval, xtol_rel
         Budget and relative x tolerance of the polish.
     population

@@ -27,22 +27,22 @@ class _CompiledLaw(BounceModel):
     regimes = ("slip_forward", "roll", "slip_backward")
 
     @classmethod
-    def _kernel_args(cls, theta: np.ndarray) -> tuple[float, float, float]:
-        t = theta.tolist()
+    def _kernel_args(cls, t: list[float]) -> tuple[float, float, float]:
+        """The kernel's three scalar arguments from the parameter values (a list, in spec order)."""
         return (t[0], t[1], t[2]) if len(t) == 3 else (t[0], t[1], 0.0)
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         out = np.empty_like(p)
-        kernels().predict(self._law_id, p, *self._kernel_args(theta), out)
+        kernels().predict(self._law_id, p, *self._kernel_args(theta.tolist()), out)
         return out
 
     def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         codes = np.empty(len(p), dtype=np.int8)
-        kernels().regime(self._law_id, p, *self._kernel_args(theta), codes)
+        kernels().regime(self._law_id, p, *self._kernel_args(theta.tolist()), codes)
         return codes
 
     def _error_kernel(self, p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray):
-        """A function theta -> (sum of delta terms, sums of the three Delta q terms) on fixed data.
+        """A function of the parameter values (a list) -> sums of the delta and the three Delta q terms.
 
         The fitter's hot path: the kernel, law id and per-landing data (s * phi, used by
         PennerVarying) are bound once per fit, so each call costs one compiled pass.
@@ -51,7 +51,7 @@ class _CompiledLaw(BounceModel):
         error_sums, law_id, args = k.error_sums, self._law_id, self._kernel_args
         aux = k.speeds_times_angles(p0)
 
-        def sums(theta: np.ndarray) -> tuple[float, float, float, float]:
+        def sums(theta: list[float]) -> tuple[float, float, float, float]:
             t0, t1, t2 = args(theta)
             return error_sums(law_id, p0, pf, inv_norm, aux, t0, t1, t2)
 

@@ -1,7 +1,7 @@
 """Compiled kernels for the built-in laws (numba, compiled lazily and cached on disk).
 
 Each law's mathematics lives in exactly one scalar function here
-(``_rigid``, ``_penner``, ``_tangential``); the array kernels apply it to every
+(``_rigid``, which also serves TangentialRestitution, and ``_penner``); the array kernels apply it to every
 bounce. ``law`` selects the scalar function by an integer id, a branch that is
 perfectly predicted inside the loop and so costs nothing measurable, and lets
 one cached kernel serve every built-in law.
@@ -31,37 +31,20 @@ HALF_PI = 0.5 * math.pi
 
 
 @njit(cache=True, inline="always")
-def _rigid(xd, yd, w, r, mu):
-    """Eq. (rigid_bounce): restitution r, Coulomb friction mu; returns (xF, yF, wF, regime)."""
-    k = mu * (1.0 + r)
-    vp = xd + w
-    lim = -3.5 * k * yd  # 7/2 mu (1 + r) |ydot0|
-    yf = -r * yd
-    if vp > lim:
-        return xd + k * yd, yf, w + 2.5 * k * yd, SLIP_FORWARD
-    if vp < -lim:
-        return xd - k * yd, yf, w - 2.5 * k * yd, SLIP_BACKWARD
-    return (5.0 * xd - 2.0 * w) / 7.0, yf, (2.0 * w - 5.0 * xd) / 7.0, ROLL
+def _rigid(xd, yd, w, r, mu, et=0.0):
+    """Eq. (rigid_bounce), optionally with tangential restitution ``et``; returns (xF, yF, wF, regime).
 
-
-@njit(cache=True, inline="always")
-def _tangential(xd, yd, w, r, mu, et):
-    """Rigid bounce with tangential restitution e_t (Cross): gripping balls reverse v_P.
-
-    Slip throughout while |v_P0| > (7/2) mu (1 + r) |ydot0| / (1 + e_t); otherwise the
-    contact-point velocity leaves as v_PF = -e_t v_P0 (e_t = 0 is the rigid rolling case).
+    All three cases of eq. (rigid_bounce) are one clipped impulse. A tangential impulse J per
+    unit mass changes xdot by J and omega by 5/2 J (I = 2/5 m R^2), so v_P by 7/2 J. The
+    impulse that stops the contact point (or, with et > 0, reverses it to -et v_P) is
+    J = -(1 + et) v_P / 3.5; Coulomb friction caps |J| at mu (1 + r) |ydot0|. Uncapped is the
+    roll case, capped the two slip cases. Branch-free, so the compiler vectorises it.
     """
-    k = mu * (1.0 + r)
-    vp = xd + w
-    lim = -3.5 * k * yd / (1.0 + et)
-    yf = -r * yd
-    if vp > lim:
-        return xd + k * yd, yf, w + 2.5 * k * yd, SLIP_FORWARD
-    if vp < -lim:
-        return xd - k * yd, yf, w - 2.5 * k * yd, SLIP_BACKWARD
-    # tangential impulse J (per unit mass) with dxdot = J, domega = 2.5 J, dv_P = 3.5 J = -(1 + e_t) v_P
-    j = -(1.0 + et) * vp / 3.5
-    return xd + j, yf, w + 2.5 * j, ROLL
+    cap = -mu * (1.0 + r) * yd  # mu (1 + r) |ydot0|, as ydot0 < 0
+    j_grip = -(1.0 + et) * (xd + w) / 3.5
+    j = min(max(j_grip, -cap), cap)
+    code = SLIP_FORWARD if j_grip < -cap else (SLIP_BACKWARD if j_grip > cap else ROLL)
+    return xd + j, -r * yd, w + 2.5 * j, code
 
 
 # Cephes sin.c coefficients: sin and cos on [0, pi/4] to about 1 ulp. beta lies in [0, pi/2], so
@@ -158,12 +141,14 @@ def _law(law, xd, yd, w, sphi, t0, t1, t2):
         return _penner(xd, yd, w, t0, t1, t2)
     if law == PENNER_VARYING:
         return _penner(xd, yd, w, t0, t1, min(t2 * sphi, HALF_PI))  # beta capped at 90 degrees
-    return _tangential(xd, yd, w, t0, t1, t2)
+    return _rigid(xd, yd, w, t0, t1, t2)  # TANGENTIAL: t2 is e_t
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def predict(law, P, t0, t1, t2, out):
-    """Lift-off states of every bounce into ``out`` (n, 3)."""
+# Below this many bounces a serial loop wins: waking the thread pool costs up to a millisecond.
+PARALLEL_MIN = 20_000
+
+
+def _predict_loop(P, t0, t1, t2, out, law):
     for i in prange(P.shape[0]):
         sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
         a, b, c, _ = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)
@@ -172,12 +157,28 @@ def predict(law, P, t0, t1, t2, out):
         out[i, 2] = c
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def regime(law, P, t0, t1, t2, codes):
-    """Regime code of every bounce into ``codes`` (n,) int8."""
+def _regime_loop(P, t0, t1, t2, codes, law):
     for i in prange(P.shape[0]):
         sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
         codes[i] = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)[3]
+
+
+_predict_serial = njit(cache=True, fastmath=True)(_predict_loop)
+_predict_parallel = njit(cache=True, fastmath=True, parallel=True)(_predict_loop)
+_regime_serial = njit(cache=True, fastmath=True)(_regime_loop)
+_regime_parallel = njit(cache=True, fastmath=True, parallel=True)(_regime_loop)
+
+
+def predict(law, P, t0, t1, t2, out):
+    """Lift-off states of every bounce into ``out`` (n, 3)."""
+    kernel = _predict_parallel if P.shape[0] >= PARALLEL_MIN else _predict_serial
+    kernel(P, t0, t1, t2, out, law)
+
+
+def regime(law, P, t0, t1, t2, codes):
+    """Regime code of every bounce into ``codes`` (n,) int8."""
+    kernel = _regime_parallel if P.shape[0] >= PARALLEL_MIN else _regime_serial
+    kernel(P, t0, t1, t2, codes, law)
 
 
 @njit(cache=True)
@@ -214,9 +215,7 @@ def error_sums(law, P0, PF, inv_norm, sphi, t0, t1, t2):
     return sd, sx, sy, sw
 
 
-@njit(cache=True, parallel=True, fastmath=True)
-def affine_predict(P, normal, offset, A1, b1, A2, b2, out):
-    """Piecewise-affine law: A1 p + b1 where normal . p < offset, else A2 p + b2."""
+def _affine_loop(P, normal, offset, A1, b1, A2, b2, out):
     for i in prange(P.shape[0]):
         x = P[i, 0]
         y = P[i, 1]
@@ -231,13 +230,25 @@ def affine_predict(P, normal, offset, A1, b1, A2, b2, out):
             out[i, j] = A[j, 0] * x + A[j, 1] * y + A[j, 2] * w + b[j]
 
 
+_affine_serial = njit(cache=True, fastmath=True)(_affine_loop)
+_affine_parallel = njit(cache=True, fastmath=True, parallel=True)(_affine_loop)
+
+
+def affine_predict(P, normal, offset, A1, b1, A2, b2, out):
+    """Piecewise-affine law: A1 p + b1 where normal . p < offset, else A2 p + b2."""
+    kernel = _affine_parallel if P.shape[0] >= PARALLEL_MIN else _affine_serial
+    kernel(P, normal, offset, A1, b1, A2, b2, out)
+
+
 def warm_up() -> None:
     """Compile (or load from the cache) every kernel once, e.g. before timing."""
-    P = np.array([[100.0, -100.0, 10.0]])
+    P = np.array([[100.0, -100.0, 10.0]] * PARALLEL_MIN)
     out = np.empty_like(P)
     for law in (RIGID, PENNER_FIXED, PENNER_VARYING, TANGENTIAL):
-        predict(law, P, 0.5, 0.5, 0.1, out)
-        regime(law, P, 0.5, 0.5, 0.1, np.empty(1, np.int8))
-        error_sums(law, P, P, np.ones(1), speeds_times_angles(P), 0.5, 0.5, 0.1)
+        for rows in (P, P[:1]):  # the parallel and the serial kernel
+            predict(law, rows, 0.5, 0.5, 0.1, out[: len(rows)])
+            regime(law, rows, 0.5, 0.5, 0.1, np.empty(len(rows), np.int8))
+        error_sums(law, P[:1], P[:1], np.ones(1), speeds_times_angles(P[:1]), 0.5, 0.5, 0.1)
     eye = np.eye(3)
-    affine_predict(P, np.ones(3), 0.0, eye, np.zeros(3), eye, np.zeros(3), out)
+    for rows in (P, P[:1]):
+        affine_predict(rows, np.ones(3), 0.0, eye, np.zeros(3), eye, np.zeros(3), out[: len(rows)])

@@ -79,9 +79,8 @@ class PennerFixed(_CompiledLaw):
         super().__init__()
 
     @classmethod
-    def _kernel_args(cls, theta: np.ndarray) -> tuple[float, float, float]:
-        r, mu, beta_deg = theta.tolist()
-        return r, mu, math.radians(beta_deg)
+    def _kernel_args(cls, t: list[float]) -> tuple[float, float, float]:
+        return t[0], t[1], math.radians(t[2])
 
     @classmethod
     def published(cls, campaign: str) -> PennerFixed:

@@ -1,0 +1,68 @@
+"""Throughput of ``predict`` for the rigid family on 10^6 bounces, against plain NumPy.
+
+Run: ``python benchmarks/bench_predict.py`` (about 20 s). Both sides are timed in the same
+run on the same landings; the table gives million bounces per second (median of repeats)
+and the ratio. Target (issue 3): at least 50 million bounces/s for every rigid-family law.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bouncelab as bl
+from benchmarks import numpy_reference
+
+LAWS = {
+    "Rigid": (bl.Rigid(r=0.544, mu=0.997), (0.544, 0.997)),
+    "PennerFixed": (bl.PennerFixed(r=0.42, mu=0.852, beta_deg=12.9), (0.42, 0.852, 12.9)),
+    "PennerVarying": (bl.PennerVarying(r=0.448, mu=0.969, k_p=1.543e-4), (0.448, 0.969, 1.543e-4)),
+    "TangentialRestitution": (bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.3), (0.5, 0.4, 0.3)),
+}
+
+
+def landings(n: int, seed: int = 0) -> np.ndarray:
+    """Landings spanning the paper's Table 1 (both campaigns), in scaled units."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n), rng.uniform(-410, 1700, n)])
+
+
+def best_of(f, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("-n", type=int, default=1_000_000)
+    ap.add_argument("--repeats", type=int, default=15)
+    args = ap.parse_args(argv)
+    p = landings(args.n)
+    rows = []
+    for name, (law, theta) in LAWS.items():
+        law.predict(p[:10])  # compile or load the cached kernel outside the timing
+        ours = best_of(lambda law=law: law.predict(p), args.repeats)
+        peer = best_of(lambda name=name, theta=theta: numpy_reference.predict(name, p, theta), max(3, args.repeats // 3))
+        same = np.allclose(law.predict(p), numpy_reference.predict(name, p, theta), rtol=1e-10, atol=1e-8)
+        rows.append({"law": name, "bouncelab": args.n / ours / 1e6, "numpy": args.n / peer / 1e6, "agree": same})
+    print(f"predict on {args.n:,} bounces, {os.cpu_count()} cores (million bounces per second, median)")
+    print(f"{'law':<24}{'bouncelab':>12}{'NumPy':>10}{'ratio':>9}  target >= 50  results agree")
+    for r in rows:
+        ok = "met" if r["bouncelab"] >= 50 else "NOT MET"
+        print(f"{r['law']:<24}{r['bouncelab']:>12.1f}{r['numpy']:>10.1f}{r['bouncelab'] / r['numpy']:>8.1f}x  "
+              f"{ok:<12} {r['agree']}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()
