@@ -52,7 +52,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     for name, (law, theta) in LAWS.items():
         law.predict(p[:10])  # compile or load the cached kernel outside the timing
         ours = best_of(lambda law=law: law.predict(p), args.repeats)
-        peer = best_of(lambda name=name, theta=theta: numpy_reference.predict(name, p, theta), max(3, args.repeats // 3))
+        peer = best_of(lambda name=name, theta=theta: numpy_reference.predict(name, p, theta),
+                       max(3, args.repeats // 3))
         same = np.allclose(law.predict(p), numpy_reference.predict(name, p, theta), rtol=1e-10, atol=1e-8)
         rows.append({"law": name, "bouncelab": args.n / ours / 1e6, "numpy": args.n / peer / 1e6, "agree": same})
     print(f"predict on {args.n:,} bounces, {os.cpu_count()} cores (million bounces per second, median)")

@@ -278,3 +278,24 @@ def test_report_and_dict(campaign_a):
     d = res.to_dict()
     assert d["law"]["law"] == "Rigid" and d["delta"] == res.delta
     assert "FitResult(Rigid(" in repr(res)
+
+
+def test_svm_hyperplane_option(campaign_a):
+    hyper = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="hyperplane")
+    sv = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm")
+    assert "decision boundary" in hyper.notes[0] and "support vectors by least squares" in sv.notes[0]
+    assert not np.allclose(hyper.model.normal, sv.model.normal)
+    with pytest.raises(FitError, match="svm_plane"):
+        bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="median")
+
+
+def test_plane_search_recovers_the_surrogates_true_plane():
+    """The surrogates are made from the published laws, so their true plane is known."""
+    for campaign in ("A", "B"):
+        ds = bl.load_campaign(campaign)
+        fitted = bl.fit(bl.PiecewiseAffine, ds).model
+        truth = bl.PiecewiseAffine.published(campaign)
+        p0 = ds.landing.values
+        agree = np.mean(fitted.regime(p0) == truth.regime(p0))
+        svm_agree = np.mean(bl.fit(bl.PiecewiseAffine, ds, method="svm").model.regime(p0) == truth.regime(p0))
+        assert agree > 0.97 and agree > svm_agree

@@ -82,6 +82,7 @@ def fit(
     maxeval: int | None = None,
     test: Any = None,
     svm_C: float = 1.0,
+    svm_plane: str = "support_vectors",
     min_side: int = pw.MIN_SIDE,
     mu_objective: str = "delta",
 ) -> FitResult:
@@ -123,6 +124,10 @@ def fit(
         Held-out bounces (a Dataset or pair) on which to report the errors too.
     svm_C
         Regularisation of the SVM (methods "svm" and, for its start, "plane").
+    svm_plane
+        Method "svm": ``"support_vectors"`` (least-squares plane through the
+        support vectors, the paper's words) or ``"hyperplane"`` (the SVM's own
+        decision boundary); see :func:`bouncelab.fitting.piecewise.fit_svm`.
     min_side
         Fewest bounces allowed on each side of the piecewise law's plane.
     mu_objective
@@ -161,7 +166,7 @@ def fit(
         if len(p0) < 2 * min_side:
             raise FitError(f"{len(p0)} bounces are too few for a piecewise-affine law (need {2 * min_side})")
         return _fit_piecewise(law, p0, pf, tst, method or "plane", seed, algorithm, local_algorithm, maxeval,
-                              svm_C, min_side, start_time)
+                              svm_C, svm_plane, min_side, start_time)
     if method in ("svm", "plane"):
         raise FitError(f"method {method!r} is for PiecewiseAffine, not {type(law).__name__}")
     if method == "structured" and type(law) is not Rigid:
@@ -339,12 +344,15 @@ def _fit_structured(law, p0, pf, tst, box, weights, seed, mu_objective, start_ti
 
 
 # ---------------------------------------------------------------------------- piecewise affine
-def _fit_piecewise(law, p0, pf, tst, method, seed, algorithm, local_algorithm, maxeval, svm_C, min_side, start_time):
+def _fit_piecewise(law, p0, pf, tst, method, seed, algorithm, local_algorithm, maxeval, svm_C, svm_plane, min_side,
+                   start_time):
     if method == "svm":
-        res = pw.fit_svm(p0, pf, C=svm_C, min_side=min_side)
+        res = pw.fit_svm(p0, pf, C=svm_C, min_side=min_side, plane=svm_plane)
         outcome = SearchOutcome(x=np.empty(0), fun=np.nan, global_stop="SVM converged")
         algo = f"SVC(kernel='linear', C={svm_C:g}) + least squares"
-        notes = [f"plane through {len(res.svm_support)} support vectors by least squares (the paper's procedure)"]
+        notes = [f"plane through {len(res.svm_support)} support vectors by least squares (the paper's procedure)"
+                 if svm_plane == "support_vectors" else
+                 f"plane = the SVM's decision boundary ({len(res.svm_support)} support vectors)"]
     else:
         res = pw.fit_plane_search(
             p0, pf, seed=seed, algorithm=algorithm or DEFAULT_PLANE_ALGORITHM,

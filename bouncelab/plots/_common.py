@@ -148,8 +148,19 @@ def has_synthetic_note(fig: Any) -> bool:
 
 
 def scatter_alpha(n: int) -> float:
-    """Opaque for a few points, translucent for dense scatters."""
-    return float(np.clip(1.2 - 0.15 * np.log10(max(n, 1)) * 2, 0.35, 0.9))
+    """Opaque for a few points, translucent for dense scatters (0.9 at 10 points, 0.6 at 300, 0.45 at 3000)."""
+    return float(np.clip(1.1 - 0.2 * np.log10(max(n, 1)), 0.4, 0.9))
+
+
+def class_handles(counts: dict[str, int], *, markersize: float = 7.0) -> list:
+    """Opaque legend proxies for the slip/roll classes, labelled with their counts."""
+    from matplotlib.lines import Line2D
+
+    return [
+        Line2D([], [], marker=style["marker"], color=style["color"], linestyle="none", markersize=markersize,
+               label=f"{style['label']} ({counts.get(name, 0)})")
+        for name, style in CLASS_STYLE.items()
+    ]
 
 
 def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) -> Path:

@@ -1,0 +1,1 @@
+"""The ``bouncelab`` command line: reproduce, fit, predict, info."""

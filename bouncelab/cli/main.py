@@ -1,0 +1,266 @@
+"""``bouncelab`` command line.
+
+Commands
+--------
+``bouncelab reproduce``  the paper's whole analysis: tables, fitted laws, figures, index.html
+``bouncelab fit``        fit one law to a campaign and print the report (optionally save the law)
+``bouncelab predict``    lift-off states from landing states, in any units
+``bouncelab info``       what a campaign file (or the embedded default) holds
+
+Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
+that cannot be done as asked; 1 anything unexpected (a bug: please report it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+EXIT_OK, EXIT_UNEXPECTED, EXIT_USAGE, EXIT_DATA, EXIT_FIT = 0, 1, 2, 3, 4
+
+
+def _load(source: str, args: argparse.Namespace):
+    from bouncelab.data.io import load_campaign
+
+    columns = json.loads(args.columns) if getattr(args, "columns", None) else None
+    units = {}
+    if getattr(args, "velocity_unit", None):
+        units["velocity"] = args.velocity_unit
+    if getattr(args, "spin_unit", None):
+        units["spin"] = args.spin_unit
+    return load_campaign(source, columns=columns, units=units or None)
+
+
+def _add_data_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--columns", help='JSON column mapping, e.g. \'{"landing": ["vx0","vy0","w0"], '
+                                      '"liftoff": ["vx1","vy1","w1"], "setting": "cond"}\'')
+    p.add_argument("--velocity-unit", help="velocity unit of the file (m/s, ft/s, mph, km/h, radius/s)")
+    p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from bouncelab import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="bouncelab",
+        description="Golf-ball bounce laws: fit, compare and use them (Biber et al.'s analysis, reproducible).",
+        epilog="Exit codes: 0 ok, 2 bad command line, 3 bad data file, 4 fit or law error, 1 unexpected.",
+    )
+    parser.add_argument("--version", action="version", version=f"bouncelab {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    rep = sub.add_parser("reproduce", help="run the paper's whole analysis and write a report",
+                         description="Fit the paper's four laws, write tables (markdown, CSV), laws (JSON), "
+                                     "figures (PNG) and index.html.")
+    rep.add_argument("--campaign", nargs="+", default=None, metavar="A|B",
+                     help="embedded campaigns to analyse (default: A B unless --data is given)")
+    rep.add_argument("--data", nargs="+", default=[], metavar="FILE", help="bounce-data files to analyse")
+    rep.add_argument("--out", default="report", help="output directory (default: report)")
+    rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
+    rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
+    rep.add_argument("--quiet", action="store_true", help="no progress display")
+    _add_data_options(rep)
+
+    fit = sub.add_parser("fit", help="fit one law and print the fit report")
+    fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine or TangentialRestitution")
+    fit.add_argument("data", nargs="?", default="A", help="A, B (embedded) or a data file (default: A)")
+    fit.add_argument("--method", help="global (default), structured (Rigid), plane (default) or svm (PiecewiseAffine)")
+    fit.add_argument("--objective", default="delta", help="delta (default), xdot, ydot or omega")
+    fit.add_argument("--algorithm", help="NLopt global algorithm: DIRECT_L, CRS2_LM, ISRES, ESCH, MLSL")
+    fit.add_argument("--seed", type=int, default=0)
+    fit.add_argument("--bounds", help='JSON bounds, e.g. \'{"mu": [0, 3]}\'')
+    fit.add_argument("--save", metavar="FILE", help="write the fitted law as JSON")
+    fit.add_argument("--json", action="store_true", help="print the result as JSON instead of a report")
+    _add_data_options(fit)
+
+    pred = sub.add_parser("predict", help="lift-off states from landing states",
+                          description="Give landings as numbers (--landing) or a file of rows (--input), in the "
+                                      "units you name; lift-offs are printed in the same units.")
+    pred.add_argument("law", help="a law JSON file (from 'fit --save') or a law name with --published A|B")
+    pred.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
+                      help="use the paper's published values of the named law for campaign A or B")
+    pred.add_argument("--landing", nargs=3, type=float, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
+                      help="one landing state; repeat for more")
+    pred.add_argument("--speed-angle-spin", nargs=3, type=float, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
+                      help="one landing as speed, angle of incidence below the horizontal (deg) and backspin")
+    pred.add_argument("--input", metavar="FILE", help="CSV/whitespace file with three columns xdot0 ydot0 omega0")
+    pred.add_argument("--velocity-unit", default="radius/s", help="unit of velocities (default radius/s)")
+    pred.add_argument("--spin-unit", default="rad/s", help="unit of spin (default rad/s)")
+    pred.add_argument("--radius-mm", type=float, default=21.35, help="ball radius in mm (default 21.35)")
+
+    info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
+    info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
+    _add_data_options(info)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``bouncelab`` command; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return EXIT_USAGE
+    from bouncelab.errors import DataError, FitError, ParameterError
+
+    try:
+        return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
+    except (DataError, FileNotFoundError, IsADirectoryError) as exc:
+        print(f"bouncelab {args.command}: data error: {exc}", file=sys.stderr)
+        return EXIT_DATA
+    except (FitError, ParameterError) as exc:
+        print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
+        return EXIT_FIT
+    except json.JSONDecodeError as exc:
+        print(f"bouncelab {args.command}: an option's JSON is malformed: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except ImportError as exc:
+        print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from bouncelab.cli.reproduce import reproduce
+
+    campaigns = args.campaign if args.campaign is not None else ([] if args.data else ["A", "B"])
+    report = reproduce(
+        campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
+        progress=not args.quiet, load=lambda src: _load(src, args),
+    )
+    print(f"report written to {report.index}")
+    return EXIT_OK
+
+
+def _law_class(name: str):
+    from bouncelab.errors import ParameterError
+    from bouncelab.laws import registered_laws
+
+    laws = registered_laws()
+    if name not in laws:
+        raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(sorted(laws))}")
+    return laws[name]
+
+
+def _fit(args: argparse.Namespace) -> int:
+    from bouncelab.fitting import fit
+
+    data = _load(args.data, args)
+    bounds = {k: tuple(v) for k, v in json.loads(args.bounds).items()} if args.bounds else None
+    res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
+              algorithm=args.algorithm, bounds=bounds)
+    if args.save:
+        res.model.to_json(args.save)
+    if args.json:
+        print(json.dumps(res.to_dict(), indent=2, default=float))
+    else:
+        print(res.report())
+        if args.save:
+            print(f"law written to {args.save}")
+    return EXIT_OK
+
+
+def _read_rows(path: str) -> np.ndarray:
+    from bouncelab.errors import DataError
+
+    p = Path(path)
+    if not p.exists():
+        raise FileNotFoundError(f"no such file: {path}")
+    rows = []
+    for lineno, line in enumerate(p.read_text().splitlines(), start=1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        parts = text.replace(",", " ").replace(";", " ").split()
+        if len(parts) != 3:
+            raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
+                            file=path, row=len(rows) + 1)
+        try:
+            rows.append([float(v) for v in parts])
+        except ValueError:
+            if not rows:
+                continue  # a header line
+            raise DataError(f"line {lineno} is not numeric: {text!r}", file=path, row=len(rows) + 1) from None
+    if not rows:
+        raise DataError("no landing rows found", file=path)
+    return np.array(rows)
+
+
+def _predict(args: argparse.Namespace) -> int:
+    from bouncelab.data import units
+    from bouncelab.errors import DataError
+    from bouncelab.laws import load_law
+
+    if args.published:
+        law = _law_class(args.law).published(args.published)
+    elif Path(args.law).suffix == ".json" or Path(args.law).exists():
+        law = load_law(args.law)
+    else:
+        raise DataError(f"{args.law!r} is neither a law JSON file nor used with --published A|B")
+    radius = args.radius_mm / 1000.0
+    chunks = []
+    if args.landing:
+        chunks.append(units.to_scaled(np.array(args.landing), velocity=args.velocity_unit, spin=args.spin_unit,
+                                      radius_m=radius))
+    if args.speed_angle_spin:
+        sas = np.array(args.speed_angle_spin)
+        chunks.append(units.landing_from_speed_angle_spin(
+            sas[:, 0], sas[:, 1], sas[:, 2], speed_unit=args.velocity_unit, spin_unit=args.spin_unit, radius_m=radius))
+    if args.input:
+        chunks.append(units.to_scaled(_read_rows(args.input), velocity=args.velocity_unit, spin=args.spin_unit,
+                                      radius_m=radius))
+    if not chunks:
+        raise DataError("give landings with --landing XDOT YDOT OMEGA, --speed-angle-spin or --input FILE")
+    landing = np.vstack(chunks)
+    liftoff = units.from_scaled(law.predict(landing), velocity=args.velocity_unit, spin=args.spin_unit,
+                                radius_m=radius)
+    landing_out = units.from_scaled(landing, velocity=args.velocity_unit, spin=args.spin_unit, radius_m=radius)
+    regimes = law.regime(landing)
+    v, s = args.velocity_unit, args.spin_unit
+    print(f"# law: {law!r}")
+    print(f"# xdot0[{v}] ydot0[{v}] omega0[{s}] -> xdotF[{v}] ydotF[{v}] omegaF[{s}] regime")
+    for p0, pf, reg in zip(landing_out, liftoff, regimes, strict=True):
+        print(" ".join(f"{x:.6g}" for x in (*p0, *pf)) + f" {reg}")
+    return EXIT_OK
+
+
+def _info(args: argparse.Namespace) -> int:
+    sources = [args.data] if args.data else ["A", "B"]
+    for src in sources:
+        ds = _load(src, args)
+        print(describe(ds))
+    return EXIT_OK
+
+
+def describe(ds: Any) -> str:
+    """A short text description of a campaign Dataset."""
+    n = ds.sizes["bounce"]
+    lines = [f"campaign {ds.attrs.get('campaign', '?')!s}: {n} bounces, data kind: {ds.attrs.get('data_kind')}"]
+    if ds.attrs.get("warning"):
+        lines.append(f"  note: {ds.attrs['warning']}")
+    lines.append(f"  surface: {ds.attrs.get('surface', '')}")
+    lines.append(f"  source: {ds.attrs.get('source', '')}")
+    if "setting" in ds.coords:
+        counts = np.unique(ds["setting"].values, return_counts=True)[1]
+        lines.append(f"  launcher settings: {len(counts)} (repeats per setting: {sorted(set(counts.tolist()))})")
+    else:
+        lines.append("  launcher settings: not recorded")
+    for var in ("landing", "liftoff"):
+        lo = ds[var].min("bounce").values
+        hi = ds[var].max("bounce").values
+        ranges = ", ".join(f"{c} [{a:.4g}, {b:.4g}]" for c, a, b in zip(("xdot", "ydot", "omega"), lo, hi, strict=True))
+        lines.append(f"  {var}: {ranges} (radii/s, rad/s)")
+    pis = [v for v in ("landing_pi", "liftoff_pi") if v in ds.data_vars]
+    lines.append(f"  prediction intervals: {', '.join(pis) if pis else 'none'}")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

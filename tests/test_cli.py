@@ -1,0 +1,158 @@
+"""The command line: happy paths, and errors a shell user can act on."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import bouncelab as bl
+from bouncelab.cli.main import EXIT_DATA, EXIT_FIT, EXIT_OK, EXIT_USAGE, main
+from bouncelab.data import units
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_info(capsys):
+    code, out, _ = run(capsys, "info")
+    assert code == EXIT_OK
+    assert "campaign A: 330 bounces" in out and "campaign B: 693 bounces" in out
+    assert "synthetic surrogate" in out and "launcher settings: 55" in out
+
+
+def test_fit_and_save(capsys, tmp_path):
+    path = tmp_path / "law.json"
+    code, out, _ = run(capsys, "fit", "PennerFixed", "B", "--save", str(path), "--seed", "2")
+    assert code == EXIT_OK
+    assert "[[Fit]] PennerFixed" in out and "beta_deg" in out
+    law = bl.load_law(path)
+    assert law == bl.fit(bl.PennerFixed, bl.load_campaign("B"), seed=2).model
+    code, out, _ = run(capsys, "fit", "Rigid", "A", "--json", "--bounds", '{"mu": [0, 0.2]}')
+    assert code == EXIT_OK and '"at_bounds"' in out and '"mu": "upper"' in out
+
+
+def test_predict_published_in_scaled_units(capsys):
+    code, out, _ = run(capsys, "predict", "Rigid", "--published", "A", "--landing", "1000", "-800", "200",
+                       "--landing", "500", "-300", "900")
+    assert code == EXIT_OK
+    rows = [line.split() for line in out.splitlines() if not line.startswith("#")]
+    got = np.array([[float(v) for v in r[3:6]] for r in rows])
+    want = bl.Rigid.published("A").predict([[1000, -800, 200], [500, -300, 900]])
+    np.testing.assert_allclose(got, want, rtol=1e-5)
+    assert rows[0][6] in ("roll", "slip_forward", "slip_backward")
+
+
+def test_predict_physical_units_and_file(capsys, tmp_path):
+    law_path = tmp_path / "law.json"
+    bl.PennerFixed.published("B").to_json(law_path)
+    inp = tmp_path / "landings.csv"
+    inp.write_text("vx,vy,spin\n20,-15,3000\n# a comment\n30;-10;-500\n")
+    code, out, _ = run(capsys, "predict", str(law_path), "--input", str(inp), "--velocity-unit", "m/s",
+                       "--spin-unit", "rpm")
+    assert code == EXIT_OK
+    rows = np.array([[float(v) for v in line.split()[:6]] for line in out.splitlines() if not line.startswith("#")])
+    scaled = units.to_scaled([[20, -15, 3000], [30, -10, -500]], velocity="m/s", spin="rpm")
+    want = units.from_scaled(bl.PennerFixed.published("B").predict(scaled), velocity="m/s", spin="rpm")
+    np.testing.assert_allclose(rows[:, 3:], want, rtol=1e-5)
+    np.testing.assert_allclose(rows[:, :3], [[20, -15, 3000], [30, -10, -500]], rtol=1e-5)
+
+
+def test_predict_speed_angle_spin(capsys):
+    code, out, _ = run(capsys, "predict", "PiecewiseAffine", "--published", "A", "--speed-angle-spin", "93.6", "37.3",
+                       "34.9", "--velocity-unit", "ft/s", "--spin-unit", "rev/s")
+    assert code == EXIT_OK
+    row = [float(v) for v in out.splitlines()[-1].split()[:6]]
+    p0 = units.landing_from_speed_angle_spin(93.6, 37.3, 34.9, speed_unit="ft/s", spin_unit="rev/s")
+    want = units.from_scaled(bl.PiecewiseAffine.published("A").predict(p0), velocity="ft/s", spin="rev/s")
+    np.testing.assert_allclose(row[3:], want, rtol=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("argv", "code", "needle"),
+    [
+        (["fit", "Rigid", "nonexistent.csv"], EXIT_DATA, "nonexistent.csv"),
+        (["fit", "Bouncy", "A"], EXIT_FIT, "unknown law"),
+        (["fit", "Rigid", "A", "--bounds", "{mu: 1"], EXIT_USAGE, "JSON"),
+        (["fit", "Rigid", "A", "--bounds", '{"r": [0, 2]}'], EXIT_FIT, "physical range"),
+        (["fit", "Rigid", "A", "--method", "svm"], EXIT_FIT, "PiecewiseAffine"),
+        (["predict", "Rigid", "--published", "A", "--landing", "1000", "5", "0"], EXIT_DATA, "ydot"),
+        (["predict", "Rigid", "--published", "A", "--landing", "1", "-1", "0", "--velocity-unit", "knots"],
+         EXIT_DATA, "unknown velocity unit"),
+        (["predict", "Rigid", "--published", "A"], EXIT_DATA, "give landings"),
+        (["predict", "nolaw.json", "--landing", "1", "-1", "0"], EXIT_DATA, "nolaw.json"),
+        (["info", "missing.nc"], EXIT_DATA, "missing.nc"),
+    ],
+)
+def test_errors(capsys, argv, code, needle):
+    got, _, err = run(capsys, *argv)
+    assert got == code
+    assert needle in err
+    assert "Traceback" not in err
+
+
+def test_no_command_prints_help(capsys):
+    code, out, _ = run(capsys)
+    assert code == EXIT_USAGE and "reproduce" in out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["fit", "Rigid", "A", "--seed", "many"], ["predict", "Rigid", "--published", "C", "--landing", "1", "-1", "0"]],
+)
+def test_bad_option_is_usage_error(argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == EXIT_USAGE
+    assert "usage: bouncelab" in capsys.readouterr().err
+
+
+def test_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "bouncelab", "--version"], capture_output=True, text=True, check=True)
+    assert proc.stdout.strip() == f"bouncelab {bl.__version__}"
+
+
+def test_reproduce_campaign_a(tmp_path, capsys):
+    code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", str(tmp_path / "rep"))
+    assert code == EXIT_OK
+    rep = tmp_path / "rep"
+    index = (rep / "index.html").read_text()
+    for name in ("fig3_landing_space", "fig6_pi_widths", "fig7_tangential", "fig8_predictions",
+                 "fig9_repeatability", "fig10_slices"):
+        png = rep / "figures" / f"A_{name}.png"
+        assert png.stat().st_size > 10_000
+        assert f"figures/A_{name}.png" in index
+    table3 = (rep / "tables" / "A_table3.md").read_text()
+    assert "(31.9 %)" in table3 and "TangentialRestitution" in table3
+    assert "(7.27 %)" in (rep / "tables" / "A_table2.md").read_text()
+    for law in ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine"):
+        bl.load_law(rep / "laws" / f"A_{law}.json")
+    assert "SYNTHETIC SURROGATE" in index
+    assert "[ 1/9] loading A" in err and "done" in err
+
+
+def test_reproduce_own_file_without_settings(tmp_path, capsys):
+    ds = bl.load_campaign("B")
+    p0, pf = ds.landing.values[:300], ds.liftoff.values[:300]
+    csv = tmp_path / "my_bounces.csv"
+    header = "vx0,vy0,w0,vx1,vy1,w1"
+    np.savetxt(csv, np.column_stack([p0, pf]), delimiter=",", header=header, comments="")
+    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--out", str(tmp_path / "rep"), "--no-figures",
+                         "--quiet")
+    assert code == EXIT_OK and err == ""
+    index = (tmp_path / "rep" / "index.html").read_text()
+    assert "inferred by clustering" in index
+    assert (tmp_path / "rep" / "tables" / "my_bounces_table3.md").exists()
+
+
+def test_reproduce_bad_file(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("vx0,vy0,w0,vx1,vy1,w1\n100,-200,30,50,60,10\n100,abc,30,50,60,10\n")
+    code, _, err = run(capsys, "reproduce", "--data", str(bad), "--out", str(tmp_path / "rep"), "--quiet")
+    assert code == EXIT_DATA
+    assert "bad.csv" in err and "row 2" in err
