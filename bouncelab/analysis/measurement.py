@@ -92,8 +92,25 @@ _INTERVALS = ("prediction", "confidence")
 _METHODS = ("differences", "positions")
 
 
+class _Interval:
+    """``lower`` and ``upper`` ends of an estimate ``value +- half_width``."""
+
+    value: float
+    half_width: float
+
+    @property
+    def lower(self) -> float:
+        """Lower end of the interval."""
+        return self.value - self.half_width
+
+    @property
+    def upper(self) -> float:
+        """Upper end of the interval."""
+        return self.value + self.half_width
+
+
 @dataclass(frozen=True)
-class VelocityEstimate:
+class VelocityEstimate(_Interval):
     """A velocity estimated at one time, with the half-width of its interval.
 
     Attributes
@@ -118,19 +135,9 @@ class VelocityEstimate:
     interval: str
     method: str
 
-    @property
-    def lower(self) -> float:
-        """Lower end of the interval."""
-        return self.value - self.half_width
-
-    @property
-    def upper(self) -> float:
-        """Upper end of the interval."""
-        return self.value + self.half_width
-
 
 @dataclass(frozen=True)
-class SpinEstimate:
+class SpinEstimate(_Interval):
     """Mean of spin samples with the half-width of the Student-t CI of the mean.
 
     Attributes
@@ -152,16 +159,6 @@ class SpinEstimate:
     std: float
     n: int
     level: float
-
-    @property
-    def lower(self) -> float:
-        """Lower end of the interval."""
-        return self.value - self.half_width
-
-    @property
-    def upper(self) -> float:
-        """Upper end of the interval."""
-        return self.value + self.half_width
 
 
 @dataclass(frozen=True)

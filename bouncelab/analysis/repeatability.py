@@ -27,7 +27,7 @@ import pandas as pd
 import xarray as xr
 from scipy import stats
 
-from bouncelab.data.campaign import campaign_arrays
+from bouncelab.data.campaign import campaign_arrays, setting_labels
 from bouncelab.data.units import COMPONENTS
 from bouncelab.errors import DataError
 
@@ -131,10 +131,10 @@ def repeatability(
     if n_bounces == 0:
         raise DataError("the data hold no bounces")
     if settings is not None:
-        labels = _check_settings(settings, n_bounces)
+        labels = setting_labels(settings, n_bounces)
         source = "argument"
     elif setting is not None:
-        labels = _check_settings(setting, n_bounces)
+        labels = setting_labels(setting, n_bounces)
         source = "data"
     elif infer:
         from bouncelab.fitting.splits import infer_settings
@@ -285,29 +285,6 @@ def _check_level(level: float) -> float:
     if not 0.0 < value < 1.0:
         raise DataError(f"level must be a confidence level in (0, 1); got {level!r}")
     return value
-
-
-def _check_settings(settings: Any, n: int) -> np.ndarray:
-    """Setting labels as a 1-D array of ints or strings, one per bounce."""
-    s = np.asarray(settings)
-    if s.shape != (n,):
-        raise DataError(f"settings must have one label per bounce ({n}); got shape {s.shape}", column="setting")
-    if s.dtype.kind == "f":
-        if not np.isfinite(s).all():
-            row = int(np.argmax(~np.isfinite(s)))
-            raise DataError("setting label is missing (NaN)", column="setting", row=row + 1)
-        if np.all(s == np.round(s)):
-            s = s.astype(np.int64)
-    elif s.dtype.kind in "iu":
-        s = s.astype(np.int64)
-    elif s.dtype.kind == "O":
-        missing = [i for i, v in enumerate(s) if v is None or (isinstance(v, float) and v != v)]
-        if missing:
-            raise DataError("setting label is missing (None or NaN)", column="setting", row=missing[0] + 1)
-        s = s.astype(str)
-    elif s.dtype.kind == "S":
-        s = s.astype(str)
-    return s
 
 
 def _setting_order(labels: np.ndarray) -> np.ndarray:

@@ -78,12 +78,18 @@ def _write_table(df: pd.DataFrame, md: str, stem: Path, files: list[Path]) -> No
     files += [stem.with_suffix(".csv"), stem.with_suffix(".md")]
 
 
-def _frame_markdown(df: pd.DataFrame, digits: int = 4) -> str:
+def _frame_markdown(df: pd.DataFrame, percent: bool = False) -> str:
+    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent."""
+
+    def cell(v: Any) -> str:
+        if not isinstance(v, float | np.floating):
+            return str(v)
+        return f"{100 * v:.3g} %" if percent else f"{v:.4g}"
+
     cols = [str(c) for c in df.columns]
     lines = ["| " + " | ".join([str(df.index.name or ""), *cols]) + " |", "|" + "---|" * (len(cols) + 1)]
     for idx, row in df.iterrows():
-        cells = [f"{v:.{digits}g}" if isinstance(v, float | np.floating) else str(v) for v in row]
-        lines.append("| " + " | ".join([str(idx), *cells]) + " |")
+        lines.append("| " + " | ".join([str(idx), *map(cell, row)]) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -229,7 +235,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         cvt = pd.DataFrame(rows).T
         cvt.index.name = "law"
         md = (f"### Cross-validated delta, campaign {name} (5 folds grouped by launcher setting)\n\n"
-              + _percent_markdown(cvt))
+              + _frame_markdown(cvt, percent=True))
         _write_table(cvt, md, tables / f"{name}_crossvalidation", files)
         section["tables"]["Cross-validation (beyond the paper)"] = md
 
@@ -258,7 +264,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             pit = pd.DataFrame(widths)
             pit.index.name = "component"
             md = (f"### Median 95 % prediction-interval width / campaign mean |q|, campaign {name}\n\n"
-                  + _percent_markdown(pit))
+                  + _frame_markdown(pit, percent=True))
             _write_table(pit, md, tables / f"{name}_prediction_intervals", files)
             section["tables"]["Prediction intervals"] = md
 
@@ -316,14 +322,6 @@ def _figures(name, ds, cmp, pw, test, rep, folder: Path, files: list[Path]) -> d
         files.append(path)
         made[caption] = path
     return made
-
-
-def _percent_markdown(df: pd.DataFrame) -> str:
-    cols = [str(c) for c in df.columns]
-    lines = ["| " + " | ".join([str(df.index.name or ""), *cols]) + " |", "|" + "---|" * (len(cols) + 1)]
-    for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([str(idx), *[f"{100 * v:.3g} %" for v in row]]) + " |")
-    return "\n".join(lines) + "\n"
 
 
 def _table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:

@@ -27,7 +27,7 @@ from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, can
 from bouncelab.data.validation import as_states, check_same_length
 from bouncelab.errors import DataError
 
-__all__ = ["CONVENTIONS", "campaign_arrays", "make_campaign", "validate_campaign"]
+__all__ = ["CONVENTIONS", "campaign_arrays", "make_campaign", "setting_labels", "validate_campaign"]
 
 #: Text stored in every campaign's attrs so a file explains its own sign conventions.
 CONVENTIONS = (
@@ -111,23 +111,7 @@ def make_campaign(
         "unit": ("component", list(COMPONENT_UNITS)),
     }
     if setting is not None:
-        s = np.asarray(setting)
-        if s.shape != (n,):
-            raise DataError(f"setting must have one label per bounce ({n}); got shape {s.shape}", column="setting")
-        if s.dtype.kind == "f":
-            if not np.isfinite(s).all():
-                row = int(np.argmax(~np.isfinite(s)))
-                raise DataError("setting label is missing (NaN)", column="setting", row=row + 1)
-            if np.all(s == np.round(s)):
-                s = s.astype(np.int64)
-        if s.dtype.kind in "iu":
-            s = s.astype(np.int64)  # netCDF3 stores int32; keep one dtype through a round trip
-        if s.dtype.kind == "O":
-            missing = [i for i, v in enumerate(s) if v is None or (isinstance(v, float) and v != v)]
-            if missing:
-                raise DataError("setting label is missing (None or NaN)", column="setting", row=missing[0] + 1)
-        if s.dtype.kind in "OS":
-            s = s.astype(str)
+        s = setting_labels(setting, n)
         coords["setting"] = ("bounce", s, {"long_name": "launcher setting"})
     all_attrs = {
         "campaign": str(campaign),
@@ -139,6 +123,37 @@ def make_campaign(
     all_attrs.update(attrs or {})
     all_attrs["conventions"] = CONVENTIONS
     return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
+
+
+def setting_labels(setting: Any, n: int) -> np.ndarray:
+    """Launcher-setting labels as a length-n array of int64 or str, validated.
+
+    Whole-number floats become int64 (netCDF3 stores int32: one dtype survives a
+    round trip); objects and bytes become str.
+
+    Raises
+    ------
+    DataError
+        Wrong length, or a missing label (NaN or None), naming the row.
+    """
+    s = np.asarray(setting)
+    if s.shape != (n,):
+        raise DataError(f"setting must have one label per bounce ({n}); got shape {s.shape}", column="setting")
+    if s.dtype.kind == "f":
+        if not np.isfinite(s).all():
+            row = int(np.argmax(~np.isfinite(s)))
+            raise DataError("setting label is missing (NaN)", column="setting", row=row + 1)
+        if np.all(s == np.round(s)):
+            s = s.astype(np.int64)
+    if s.dtype.kind in "iu":
+        s = s.astype(np.int64)
+    if s.dtype.kind == "O":
+        missing = [i for i, v in enumerate(s) if v is None or (isinstance(v, float) and v != v)]
+        if missing:
+            raise DataError("setting label is missing (None or NaN)", column="setting", row=missing[0] + 1)
+    if s.dtype.kind in "OS":
+        s = s.astype(str)
+    return s
 
 
 def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
@@ -226,9 +241,7 @@ def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray
         p0, _ = as_states(data[0], "landing", landing=True)
         pf, _ = as_states(data[1], "liftoff")
         check_same_length(p0, pf, "landing", "liftoff")
-        setting = None if len(data) == 2 or data[2] is None else np.asarray(data[2])
-        if setting is not None and setting.shape != (p0.shape[0],):
-            raise DataError(f"setting must have one label per bounce ({p0.shape[0]}); got shape {setting.shape}")
+        setting = None if len(data) == 2 or data[2] is None else setting_labels(data[2], p0.shape[0])
         return p0, pf, setting
     raise DataError(
         f"{name} must be a campaign Dataset or a (landing, liftoff) pair of (n, 3) arrays; "
