@@ -45,6 +45,7 @@ _LAZY = {
     "split_by_setting": "bouncelab.fitting",
     "cross_validate": "bouncelab.fitting",
     "infer_settings": "bouncelab.fitting",
+    "bootstrap": "bouncelab.fitting",
 }
 
 __all__ = [

@@ -133,7 +133,8 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     for law in ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine"):
         bl.load_law(rep / "laws" / f"A_{law}.json")
     assert "SYNTHETIC SURROGATE" in index
-    assert "[ 1/9] loading A" in err and "done" in err
+    assert "[ 1/10] loading A" in err and "done" in err
+    assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
 
 
 def test_reproduce_own_file_without_settings(tmp_path, capsys):

@@ -7,7 +7,8 @@ For every campaign (the embedded surrogates "A" and "B", or data files):
   the tangential-restitution law and the paper's own two-stage procedure for Rigid);
 * Table 2 layout: the piecewise-affine law on the paper's split (one bounce per launcher
   setting held out), by the paper's SVM procedure and by bouncelab's delta-optimal plane;
-* beyond the paper: 5-fold cross-validated delta of every law, grouped by launcher setting;
+* beyond the paper: 5-fold cross-validated delta of every law, grouped by launcher setting, and
+  bootstrap intervals of the rigid family's parameters (resampling whole launcher settings);
 * the analyses: repeatability per setting, tangential-velocity counts, prediction-interval widths;
 * the fitted laws as JSON, every table as markdown and CSV, the figures as PNG;
 * one ``index.html`` showing it all.
@@ -29,7 +30,10 @@ import xarray as xr
 
 from bouncelab.errors import DataError
 
-__all__ = ["Report", "reproduce"]
+__all__ = ["BOOTSTRAP_RESAMPLES", "Report", "reproduce"]
+
+#: Resamples of the parameter bootstrap in the report (about 4 s per campaign on two cores).
+BOOTSTRAP_RESAMPLES = 100
 
 
 @dataclass
@@ -94,7 +98,7 @@ def _frame_markdown(df: pd.DataFrame, percent: bool = False) -> str:
 
 
 def _steps_per_campaign(figures: bool) -> int:
-    return 7 + (1 if figures else 0)  # load, 6 analysis steps, figures
+    return 8 + (1 if figures else 0)  # load, 7 analysis steps, figures
 
 
 def reproduce(
@@ -166,7 +170,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
               files: list[Path]) -> dict[str, Any]:
     from bouncelab.analysis.repeatability import repeatability, repeatability_summary
     from bouncelab.analysis.tangential import tangential_summary
-    from bouncelab.fitting import compare, cross_validate, fit, infer_settings, split_by_setting
+    from bouncelab.fitting import bootstrap, compare, cross_validate, fit, infer_settings, split_by_setting
     from bouncelab.fitting.compare import PAPER_LAWS
     from bouncelab.laws import PiecewiseAffine, Rigid, registered_laws
 
@@ -238,6 +242,18 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
               + _frame_markdown(cvt, percent=True))
         _write_table(cvt, md, tables / f"{name}_crossvalidation", files)
         section["tables"]["Cross-validation (beyond the paper)"] = md
+
+    with step(f"{name}: parameter uncertainty, bootstrap over launcher settings (beyond the paper)"):
+        frames = {}
+        for law in ("Rigid", "PennerVarying", "PennerFixed"):
+            boot = bootstrap(registered_laws()[law], ds, n=BOOTSTRAP_RESAMPLES, seed=seed)
+            frames[law] = boot.summary()
+        boot_table = pd.concat(frames, names=["law", "parameter"])
+        md = (f"### Parameter uncertainty, campaign {name}: {BOOTSTRAP_RESAMPLES} bootstrap resamples of whole "
+              "launcher settings (95 % percentile intervals)\n\n")
+        md += _frame_markdown(boot_table.reset_index().set_index("law"))
+        _write_table(boot_table, md, tables / f"{name}_bootstrap", files)
+        section["tables"]["Parameter uncertainty (beyond the paper)"] = md
 
     with step(f"{name}: repeatability per launcher setting"):
         rep = repeatability(ds)

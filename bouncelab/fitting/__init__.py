@@ -5,14 +5,17 @@ from bouncelab.fitting.fit import fit, resolve_bounds
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.search import GLOBAL_ALGORITHMS, LOCAL_ALGORITHMS
 from bouncelab.fitting.splits import CrossValidation, cross_validate, infer_settings, split_by_setting
+from bouncelab.fitting.uncertainty import Bootstrap, bootstrap
 
 __all__ = [
     "GLOBAL_ALGORITHMS",
     "LOCAL_ALGORITHMS",
     "PAPER_LAWS",
+    "Bootstrap",
     "Comparison",
     "CrossValidation",
     "FitResult",
+    "bootstrap",
     "compare",
     "cross_validate",
     "fit",

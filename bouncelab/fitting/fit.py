@@ -261,48 +261,72 @@ def _fit_global(law, p0, pf, tst, box, weights, seed, algorithm, local_algorithm
         )
     theta = b.theta(outcome.x)
     fitted = law.replace(**dict(zip(b.names, (float(v) for v in theta), strict=True)))
-    at_bounds, insensitive = _diagnose(f, outcome.x, b)
-    notes = _notes(fitted, at_bounds, insensitive, box)
+    at_bounds, flat = _diagnose(f, outcome.x, b)
+    notes = _notes(fitted, at_bounds, flat, box)
     return _result(
-        fitted, "global", weights, float(f(outcome.x)), p0, pf, tst, box, at_bounds, insensitive, outcome,
+        fitted, "global", weights, float(f(outcome.x)), p0, pf, tst, box, at_bounds, flat, outcome,
         f"{outcome.algorithms[0]} + {outcome.algorithms[1] or 'no polish'}", seed, notes, start_time,
     )
 
 
-def _diagnose(f, x: np.ndarray, b: _Box) -> tuple[dict[str, str], list[str]]:
-    """Parameters on a bound, and parameters the objective does not constrain near the optimum."""
-    free_names = [n for n, fr in zip(b.names, b.free, strict=True) if fr]
-    at, flat = {}, []
+def _diagnose(f, x: np.ndarray, b: _Box) -> tuple[dict[str, str], dict[str, tuple[float, float]]]:
+    """Parameters on a bound, and the range over which each flat parameter leaves the objective unchanged.
+
+    A parameter is flat when moving it by 1 % of its box width either way changes the objective by
+    less than 1e-9 of its value; its range is then found by bisection in each direction.
+    """
+    free_idx = np.flatnonzero(b.free)
+    at, flat = {}, {}
     f0 = f(x)
-    for i, name in enumerate(free_names):
+    tol = 1e-9 * max(abs(f0), 1e-12)
+
+    def same(i: int, value: float) -> bool:
+        y = x.copy()
+        y[i] = value
+        return abs(f(y) - f0) <= tol
+
+    for i, k in enumerate(free_idx):
+        name = b.names[k]
         if x[i] <= 1e-6:
             at[name] = "lower"
         elif x[i] >= 1 - 1e-6:
             at[name] = "upper"
-        changes = []
-        for step in (-0.01, 0.01):
-            y = x.copy()
-            y[i] = np.clip(y[i] + step, 0.0, 1.0)
-            if y[i] != x[i]:
-                changes.append(abs(f(y) - f0))
-        if changes and max(changes) <= 1e-9 * max(abs(f0), 1e-12):
-            flat.append(name)
+        steps = [v for v in (x[i] - 0.01, x[i] + 0.01) if 0.0 <= v <= 1.0]
+        if not steps or not all(same(i, v) for v in steps):
+            continue
+        ends = []
+        for end in (0.0, 1.0):
+            if same(i, end):
+                ends.append(end)
+                continue
+            inside, outside = x[i], end
+            for _ in range(30):
+                mid = 0.5 * (inside + outside)
+                inside, outside = (mid, outside) if same(i, mid) else (inside, mid)
+            ends.append(inside)
+        lo, span = b.lo[k], b.hi[k] - b.lo[k]
+        flat[name] = (float(lo + ends[0] * span), float(lo + ends[1] * span))
     return at, flat
 
 
-def _notes(fitted: BounceModel, at_bounds: dict[str, str], insensitive: list[str], box) -> list[str]:
+def _notes(fitted: BounceModel, at_bounds: dict[str, str], flat: dict[str, tuple[float, float]], box) -> list[str]:
     notes = []
     for name, side in at_bounds.items():
+        if name in flat:
+            continue
         lo, hi = box[name]
         notes.append(
             f"{name} ended on its {side} bound ({lo if side == 'lower' else hi:g}); the best value may lie "
             f"outside the search box - widen it with bounds={{'{name}': (low, high)}} if that is physical"
         )
-    for name in insensitive:
+    for name, (lo, hi) in flat.items():
         why = ""
         if name == "mu":
-            why = " (with friction this high every bounce grips, and any larger mu gives the same prediction)"
-        notes.append(f"the objective does not change with {name} near the optimum{why}: its value is arbitrary")
+            why = " (friction this high makes every bounce grip, so any larger mu predicts the same)"
+        notes.append(
+            f"the objective is the same for every {name} in [{lo:.6g}, {hi:.6g}]{why}: the data do not determine "
+            f"{name} within that range, and the reported value is one point of it"
+        )
     return notes
 
 
@@ -333,13 +357,13 @@ def _fit_structured(law, p0, pf, tst, box, weights, seed, mu_objective, start_ti
         outcome, mu = SearchOutcome(x=np.zeros(1), fun=f(np.zeros(1)), global_stop="mu fixed"), mu_lo
     fitted = law.replace(r=r, mu=mu)
     b = _Box(fitted, {**box, "r": (r, r)})
-    at_bounds, insensitive = _diagnose(lambda u: float(weights @ measure.errors(b.theta(u))), b.unit(b.start), b)
+    at_bounds, flat = _diagnose(lambda u: float(weights @ measure.errors(b.theta(u))), b.unit(b.start), b)
     if r in (r_lo, r_hi) and r_lo < r_hi:
         at_bounds["r"] = "lower" if r == r_lo else "upper"
     notes = [f"r = {r:.6g} from least squares on ydot; mu chosen with r fixed, minimising {mu_objective}"]
-    notes += _notes(fitted, at_bounds, insensitive, box)
+    notes += _notes(fitted, at_bounds, flat, box)
     value = float(weights @ measure.errors(np.array([r, mu])))
-    return _result(fitted, "structured", weights, value, p0, pf, tst, box, at_bounds, insensitive, outcome,
+    return _result(fitted, "structured", weights, value, p0, pf, tst, box, at_bounds, flat, outcome,
                    f"least squares + {outcome.algorithms[0] or 'none'}", seed, notes, start_time)
 
 
@@ -366,7 +390,7 @@ def _fit_piecewise(law, p0, pf, tst, method, seed, algorithm, local_algorithm, m
         ]
     fitted = res.model
     measure_delta = float(error_table(p0, pf, fitted.predict(p0)).loc["all", "delta"])
-    result = _result(fitted, method, objective_weights("delta"), measure_delta, p0, pf, tst, {}, {}, [], outcome,
+    result = _result(fitted, method, objective_weights("delta"), measure_delta, p0, pf, tst, {}, {}, {}, outcome,
                      algo, seed, notes, start_time)
     result.mismatched = pw.mismatched_fraction(fitted, p0, pf)
     if tst is not None:
@@ -379,7 +403,7 @@ def _errors(model: BounceModel, p0: np.ndarray, pf: np.ndarray) -> pd.DataFrame:
     return error_table(p0, pf, model.predict(p0), classify_slip_roll(p0, pf))
 
 
-def _result(fitted, method, weights, value, p0, pf, tst, box, at_bounds, insensitive, outcome, algo, seed, notes,
+def _result(fitted, method, weights, value, p0, pf, tst, box, at_bounds, flat, outcome, algo, seed, notes,
             start_time) -> FitResult:
     train = _errors(fitted, p0, pf)
     tables = {"train": train}
@@ -404,7 +428,7 @@ def _result(fitted, method, weights, value, p0, pf, tst, box, at_bounds, insensi
         n_test=0 if tst is None else len(tst[0]),
         bounds=dict(box),
         at_bounds=at_bounds,
-        insensitive=insensitive,
+        insensitive=flat,
         n_evaluations=outcome.n_global + outcome.n_local,
         n_global=outcome.n_global,
         n_local=outcome.n_local,

@@ -44,8 +44,10 @@ class FitResult:
     at_bounds
         Parameters that ended within 1e-6 of the box width of a bound, name -> "lower"/"upper".
     insensitive
-        Parameters the objective hardly depends on near the optimum (a 1 % change of the
-        box width changes it by less than 1e-9): their values are not determined by the data.
+        Parameters the objective does not depend on near the optimum (a 1 % change of the
+        box width changes it by less than 1e-9 of its value), mapped to the range
+        ``(low, high)`` over which the objective stays the same: within it the data do not
+        determine the parameter.
     n_evaluations, n_global, n_local
         Objective evaluations, in all and per stage.
     elapsed
@@ -76,7 +78,7 @@ class FitResult:
     n_test: int = 0
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
     at_bounds: dict[str, str] = field(default_factory=dict)
-    insensitive: list[str] = field(default_factory=list)
+    insensitive: dict[str, tuple[float, float]] = field(default_factory=dict)
     n_evaluations: int = 0
     n_global: int = 0
     n_local: int = 0
@@ -123,7 +125,8 @@ class FitResult:
                 elif name in self.at_bounds:
                     flag = f"  (at {self.at_bounds[name]} bound)"
                 if name in self.insensitive:
-                    flag += "  (not determined by the data)"
+                    lo_f, hi_f = self.insensitive[name]
+                    flag += f"  (not determined by the data: same fit for {lo_f:.4g} to {hi_f:.4g})"
                 unit = specs[name].unit if name in specs else ""
                 unit = "" if unit == "1" else f" {unit}"
                 lines.append(f"    {name:<9} = {value:.6g}{unit:<10} bounds [{lo:g}, {hi:g}]{flag}")
@@ -161,7 +164,7 @@ class FitResult:
             "n_test": self.n_test,
             "bounds": {k: list(v) for k, v in self.bounds.items()},
             "at_bounds": dict(self.at_bounds),
-            "insensitive": list(self.insensitive),
+            "insensitive": {k: list(v) for k, v in self.insensitive.items()},
             "n_evaluations": self.n_evaluations,
             "elapsed_s": self.elapsed,
             "stop_reason": self.stop_reason,

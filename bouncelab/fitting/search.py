@@ -69,6 +69,9 @@ class SearchOutcome:
     trace: list[tuple[float, ...]] = field(default_factory=list)
 
 
+_NO_GRAD = np.empty(0)
+
+
 class _Tracked:
     """Wrap the objective: count calls and remember the best point seen."""
 
@@ -116,6 +119,42 @@ def _run(opt: nlopt.opt, tracked: _Tracked, x0: np.ndarray) -> str:
         return f"failure ({exc})"
 
 
+def _scan_coordinate(tracked: _Tracked, i: int, points: int) -> None:
+    """Evaluate the objective along coordinate ``i`` from the best point, and probe plateau edges.
+
+    The best point may sit on a plateau (the objective constant in ``x[i]``) whose edge hides
+    a narrow valley: just past the value of ``x[i]`` where one more bounce changes regime. Each
+    change between the plateau value and another value along the scan is bisected to that
+    edge, and the points just past it are evaluated.
+    """
+    base = tracked.best_x.copy()
+    f_best = tracked.best_f
+    grid = np.linspace(0.0, 1.0, points)
+    values = []
+    for g in grid:
+        y = base.copy()
+        y[i] = g
+        values.append(tracked(y, _NO_GRAD))
+    tol = 1e-13 * max(abs(f_best), 1e-300)
+    on_plateau = [abs(v - f_best) <= tol for v in values]
+    for k in range(points - 1):
+        if on_plateau[k] == on_plateau[k + 1]:
+            continue
+        inside, outside = (grid[k], grid[k + 1]) if on_plateau[k] else (grid[k + 1], grid[k])
+        for _ in range(40):  # bisect to the plateau's edge
+            mid = 0.5 * (inside + outside)
+            y = base.copy()
+            y[i] = mid
+            if abs(tracked(y, _NO_GRAD) - f_best) <= tol:
+                inside = mid
+            else:
+                outside = mid
+        for frac in (1e-9, 1e-7, 1e-5, 1e-3):  # just past the edge, where a valley may start
+            y = base.copy()
+            y[i] = np.clip(inside + (outside - inside) / max(abs(outside - inside), 1e-300) * frac, 0.0, 1.0)
+            tracked(y, _NO_GRAD)
+
+
 def global_search(
     f: Callable[[np.ndarray], float],
     x0: np.ndarray,
@@ -128,6 +167,8 @@ def global_search(
     xtol_rel: float = 1e-10,
     population: int | None = None,
     polish_starts: int = 2,
+    scan_points: int = 41,
+    scan_rounds: int = 2,
 ) -> SearchOutcome:
     """Minimise ``f`` over the unit box: an NLopt global stage, then a local polish from its best point.
 
@@ -151,6 +192,10 @@ def global_search(
     polish_starts
         Number of distinct good points of the global stage to polish locally; a
         final local run restarts from the best of them.
+    scan_points, scan_rounds
+        After the polish, each parameter is scanned over its whole range at
+        ``scan_points`` points from the best point, and the polish resumed from
+        anything better, up to ``scan_rounds`` times (``scan_rounds=0`` skips it).
     """
     d = len(x0)
     start = time.perf_counter()
@@ -177,10 +222,8 @@ def global_search(
 
     local_stop = "skipped"
     if local_algorithm is not None:
-        # Polish several distinct good points of the global stage, then restart from the best:
-        # delta has kinks where bounces change regime, on which a single local run can stall.
-        starts = tracked.distinct_best(polish_starts, 0.05)
-        for i, x_start in enumerate([*starts, None]):
+
+        def polish(x_start: np.ndarray, step: float) -> str:
             loc = nlopt.opt(_local_code(local_algorithm), d)
             loc.set_lower_bounds(lb)
             loc.set_upper_bounds(ub)
@@ -188,10 +231,25 @@ def global_search(
             loc.set_maxeval(int(local_maxeval))
             loc.set_xtol_rel(xtol_rel)
             loc.set_ftol_abs(1e-16)
-            loc.set_initial_step(np.full(d, 0.02 if x_start is not None else 0.002))
-            stop = _run(loc, tracked, tracked.best_x if x_start is None else x_start)
-            if i == 0 or x_start is None:
-                local_stop = stop
+            loc.set_initial_step(np.full(d, step))
+            return _run(loc, tracked, x_start)
+
+        # Polish several distinct good points of the global stage, then restart from the best:
+        # delta has kinks where bounces change regime, on which a single local run can stall.
+        for x_start in tracked.distinct_best(polish_starts, 0.05):
+            local_stop = polish(x_start, 0.02)
+        local_stop = polish(tracked.best_x, 0.002)
+        # Scan each parameter across its whole range from the best point. Where a parameter
+        # stops mattering (friction so high that every bounce grips) delta has a plateau that
+        # a local search cannot leave, next to a narrow, slightly lower valley; this finds it.
+        for _ in range(scan_rounds):
+            before = tracked.best_f
+            for i in range(d):
+                _scan_coordinate(tracked, i, scan_points)
+            if tracked.best_f < before:
+                local_stop = polish(tracked.best_x, 0.002)
+            if tracked.best_f >= before:
+                break
     return SearchOutcome(
         x=tracked.best_x,
         fun=tracked.best_f,

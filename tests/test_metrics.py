@@ -1,0 +1,91 @@
+"""delta and Delta q (eqs. error and error_individual), worked by hand, and their per-class tables."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import bouncelab as bl
+from bouncelab.errors import DataError
+
+# Two bounces with landing norms 5 and 13, prediction errors (0, 0, 0.5) and (3, 4, 12).
+P0 = np.array([[3.0, -4.0, 0.0], [5.0, -12.0, 0.0]])
+PF = np.array([[1.0, 1.0, 0.0], [10.0, 10.0, 10.0]])
+PRED = np.array([[1.0, 1.0, 0.5], [7.0, 6.0, -2.0]])
+
+
+def test_delta_by_hand():
+    # (0.5 / 5 + 13 / 13) / 2
+    assert bl.delta(P0, PF, PRED) == pytest.approx((0.1 + 1.0) / 2, rel=1e-15)
+
+
+def test_delta_q_by_hand():
+    expected = [(0 / 5 + 3 / 13) / 2, (0 / 5 + 4 / 13) / 2, (0.5 / 5 + 12 / 13) / 2]
+    np.testing.assert_allclose(bl.delta_q(P0, PF, PRED), expected, rtol=1e-15)
+
+
+def test_perfect_prediction_and_symmetry():
+    assert bl.delta(P0, PF, PF) == 0.0
+    assert bl.delta(P0, PF, PRED) == bl.delta(P0, PRED, PF)  # the norm of the difference is symmetric
+    # delta_q never exceeds delta component-wise, and delta <= sum of delta_q (triangle inequality)
+    assert bl.delta(P0, PF, PRED) <= bl.delta_q(P0, PF, PRED).sum() + 1e-15
+    assert np.all(bl.delta_q(P0, PF, PRED) <= bl.delta(P0, PF, PRED) + 1e-15)
+
+
+def test_scaling_by_landing_norm():
+    """Doubling every landing halves both measures (the errors are relative to ||p0||)."""
+    assert bl.delta(2 * P0, PF, PRED) == pytest.approx(bl.delta(P0, PF, PRED) / 2)
+    np.testing.assert_allclose(bl.delta_q(2 * P0, PF, PRED), bl.delta_q(P0, PF, PRED) / 2)
+
+
+def test_accepts_dataarrays():
+    da = xr.DataArray(P0.T, dims=("component", "bounce"), coords={"component": ["xdot", "ydot", "omega"]})
+    assert bl.delta(da, PF, PRED) == bl.delta(P0, PF, PRED)
+
+
+def test_error_table_by_class():
+    table = bl.error_table(P0, PF, PRED, ["roll", "slip"])
+    assert list(table.index) == ["all", "roll", "slip"]
+    assert table.loc["roll", "delta"] == pytest.approx(0.1)
+    assert table.loc["slip", "delta"] == pytest.approx(1.0)
+    assert table.loc["slip", "delta_omega"] == pytest.approx(12 / 13)
+    assert table.loc["all", "delta"] == pytest.approx(bl.delta(P0, PF, PRED))
+    assert list(table["n"]) == [2, 1, 1]
+    assert list(bl.error_table(P0, PF, PRED).index) == ["all"]
+
+
+def test_score_breakdowns():
+    ds = bl.load_campaign("A")
+    law = bl.Rigid.published("A")
+    by_class = bl.score(law, ds)
+    assert set(by_class.index) == {"all", "roll", "slip"}
+    assert by_class.loc["roll", "n"] + by_class.loc["slip", "n"] == 330
+    by_regime = bl.score(law, ds, by="regime")
+    assert set(by_regime.index) - {"all"} <= set(law.regimes)
+    overall = bl.score(law, ds, by=None)
+    assert overall.loc["all", "delta"] == pytest.approx(
+        bl.delta(ds.landing.values, ds.liftoff.values, law.predict(ds.landing.values)))
+    with pytest.raises(ValueError, match="by must be"):
+        bl.score(law, ds, by="setting")
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        ((P0, PF, PRED[:1]), "shape"),
+        ((P0, PF[:, :2], PRED), r"shape \(n, 3\)"),
+        ((P0 * np.array([1, -1, 1]), PF, PRED), "ydot must be negative"),
+        ((P0, np.where(PF == 10.0, np.nan, PF), PRED), "liftoff.xdot"),
+    ],
+)
+def test_bad_input(args, match):
+    with pytest.raises(DataError, match=match):
+        bl.delta(*args)
+    with pytest.raises(DataError, match=match):
+        bl.delta_q(*args)
+
+
+def test_bad_classes():
+    with pytest.raises(DataError, match="one label per bounce"):
+        bl.error_table(P0, PF, PRED, ["roll"])
