@@ -1,0 +1,6 @@
+bouncelab fit PennerFixed B --save penner_B.json
+echo "exit code $?"
+cat penner_B.json
+bouncelab fit Rigid A --method structured --seed 3
+echo "exit code $?"
+bouncelab fit PiecewiseAffine B --json | head -n 20

@@ -1,0 +1,5 @@
+bouncelab --help
+echo "----"
+bouncelab fit --help
+echo "----"
+bouncelab predict --help

@@ -1,0 +1,4 @@
+bouncelab reproduce --campaign B --no-figures --quiet --out report
+echo "exit code $?"
+ls report report/laws
+cat report/tables/B_table2.md

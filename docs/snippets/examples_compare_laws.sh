@@ -1,0 +1,1 @@
+python "$REPO/examples/compare_laws.py" | tail -n 7

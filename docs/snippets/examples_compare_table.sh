@@ -1,0 +1,1 @@
+python "$REPO/examples/compare_laws.py" | sed -n '/^| r |/,/^| Delta omega/p'

@@ -1,0 +1,1 @@
+python "$REPO/examples/fit_campaign.py" | tail -n 38

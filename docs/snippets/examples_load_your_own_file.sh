@@ -1,0 +1,1 @@
+python "$REPO/examples/load_your_own_file.py"

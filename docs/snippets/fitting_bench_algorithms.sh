@@ -1,0 +1,3 @@
+cd "$REPO"
+date -u "+%Y-%m-%d %H:%M UTC"
+python benchmarks/bench_algorithms.py

@@ -1,0 +1,10 @@
+import bouncelab as bl
+
+ds = bl.load_campaign("A")
+res = bl.fit(bl.Rigid, ds, bounds={"mu": (1.2, 3.0)})   # a box where every bounce grips
+print(repr(res))
+print("at_bounds:", res.at_bounds, " insensitive:", res.insensitive)
+for note in res.notes:
+    print("note:", note)
+print(res.errors.loc["train"].round(4))
+print(sorted(res.to_dict()))

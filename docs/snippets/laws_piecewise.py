@@ -1,0 +1,9 @@
+import bouncelab as bl
+
+law = bl.PiecewiseAffine.published("B")
+print(law.printed_plane())
+print(law.plane_equation())
+print(law.normal, law.offset)
+print(law.parameter_names()[:6], "...")
+landing = [[1000.0, -800.0, 600.0], [300.0, -200.0, -300.0]]
+print(law.regime(landing), law.predict(landing).round(1))

@@ -1,0 +1,8 @@
+import bouncelab as bl
+
+for cls in (bl.Rigid, bl.PennerFixed, bl.PennerVarying, bl.TangentialRestitution):
+    print(f"{cls.__name__}: regimes {cls.regimes}")
+    for p in cls.parameter_specs:
+        print(f"    {p.name:<9} unit {p.unit:<9} default bounds {p.bounds!s:<16} physical range {p.physical}"
+              f"  - {p.description}")
+print(f"PiecewiseAffine: regimes {bl.PiecewiseAffine.regimes}, {len(bl.PiecewiseAffine.parameter_names())} numbers")

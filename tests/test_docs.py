@@ -1,0 +1,89 @@
+"""The documentation builds offline with ``mkdocs build --strict`` and its API pages list the key names."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+SNIPPETS = DOCS / "snippets"
+
+# API page -> identifiers (mkdocstrings anchors) that must be on it.
+API_NAMES = {
+    "api/laws": ["bouncelab.laws.BounceModel", "bouncelab.laws.Rigid", "bouncelab.laws.PennerFixed",
+                 "bouncelab.laws.PennerVarying", "bouncelab.laws.PiecewiseAffine",
+                 "bouncelab.laws.TangentialRestitution", "bouncelab.laws.load_law", "bouncelab.laws.Parameter"],
+    "api/fitting": ["bouncelab.fitting.fit.fit", "bouncelab.fitting.FitResult", "bouncelab.fitting.compare.compare",
+                    "bouncelab.fitting.Comparison", "bouncelab.fitting.split_by_setting",
+                    "bouncelab.fitting.cross_validate", "bouncelab.fitting.infer_settings",
+                    "bouncelab.fitting.piecewise.fit_svm"],
+    "api/data": ["bouncelab.data.io.load_campaign", "bouncelab.data.io.save_campaign",
+                 "bouncelab.data.units.to_scaled", "bouncelab.data.units.landing_from_speed_angle_spin",
+                 "bouncelab.data.campaign.make_campaign", "bouncelab.data.surrogate.generate_surrogate",
+                 "bouncelab.data.published", "bouncelab.errors.DataError"],
+    "api/metrics": ["bouncelab.metrics.delta", "bouncelab.metrics.delta_q", "bouncelab.metrics.error_table",
+                    "bouncelab.metrics.score"],
+    "api/analysis": ["bouncelab.analysis.measurement.measure_bounce",
+                     "bouncelab.analysis.measurement.interval_coverage",
+                     "bouncelab.analysis.repeatability.repeatability",
+                     "bouncelab.analysis.tangential.tangential_summary",
+                     "bouncelab.analysis.trajectories.simulate_tracked_bounce"],
+    "api/plots": ["bouncelab.plots.plot_tangential", "bouncelab.plots.plot_landing_space",
+                  "bouncelab.plots.plot_predictions", "bouncelab.plots.save_figure"],
+    "api/cli": ["bouncelab.cli.main.main", "bouncelab.cli.reproduce.reproduce"],
+    "api": ["bouncelab"],
+}
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    pytest.importorskip("mkdocs", reason="mkdocs is not installed (pip install -e '.[docs]')")
+    pytest.importorskip("mkdocstrings", reason="mkdocstrings is not installed (pip install -e '.[docs]')")
+    out = tmp_path_factory.mktemp("site")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(ROOT / "mkdocs.yml"), "-d", str(out)],
+        cwd=ROOT, capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 0, f"mkdocs build --strict failed:\n{proc.stdout}\n{proc.stderr}"
+    return out
+
+
+def test_build_is_strict_clean(site: Path) -> None:
+    for page in ("", "quickstart", "conventions", "laws", "fitting", "data", "analysis", "cli", "examples", "api"):
+        assert (site / page / "index.html").is_file(), f"page {page or 'index'} was not built"
+
+
+@pytest.mark.parametrize("page", sorted(API_NAMES))
+def test_api_pages_list_key_names(site: Path, page: str) -> None:
+    html = (site / page / "index.html").read_text(encoding="utf-8")
+    ids = set(re.findall(r'id="([^"]+)"', html))
+    missing = [name for name in API_NAMES[page] if name not in ids]
+    assert not missing, f"{page}: not documented: {missing}"
+
+
+def test_no_network_assets(site: Path) -> None:
+    for path in site.rglob("*.html"):
+        text = path.read_text(encoding="utf-8")
+        remote = re.findall(r'<(?:script|link)[^>]*(?:src|href)="(https?://[^"]+)"', text)
+        assert not remote, f"{path.relative_to(site)} loads {remote}: the docs must work offline"
+
+
+def test_snippet_outputs_are_present_and_included() -> None:
+    sources = {p.stem for p in SNIPPETS.iterdir() if p.suffix in (".py", ".sh") and p.name != "run.py"}
+    outputs = {p.stem for p in SNIPPETS.glob("*.out")}
+    assert sources - outputs == set(), "snippets never run: python docs/snippets/run.py"
+    assert outputs - sources == set(), "outputs without a snippet"
+    pages = "\n".join(p.read_text(encoding="utf-8") for p in DOCS.rglob("*.md"))
+    included = set(re.findall(r'--8<-- "([^"]+)"', pages))
+    unused = sorted(s for s in sources if not ({f"{s}.py", f"{s}.sh", f"{s}.out"} & included))
+    assert not unused, f"snippets not used on any page: {unused}"
+
+
+def test_figures_are_small() -> None:
+    for png in (DOCS / "img").glob("*.png"):
+        assert png.stat().st_size < 200_000, f"{png.name} is {png.stat().st_size} bytes; keep figures < 200 kB"
