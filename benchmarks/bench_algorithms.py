@@ -3,7 +3,7 @@
 Run: ``python benchmarks/bench_algorithms.py`` (a few minutes; ``--problems 12`` for a quick look).
 Random fitting problems (each rigid-family law, 20 to 700 bounces, noise 2 to 20 % of |p0|, random
 true parameters) are solved by every global algorithm followed by every local polish, through
-``bouncelab.fitting.search.global_search`` with fit()'s budget (100 evaluations per parameter);
+``bouncelab.fitting.search.global_search`` with fit()'s default budget (``default_maxeval``);
 the best known minimum of each problem is the lowest value found by any of them or by
 ``scipy.optimize.differential_evolution`` (tol=1e-12, two seeds). A run fails when its delta is
 more than 1e-9 above that. The table gives failures and median evaluations per combination.
@@ -23,6 +23,7 @@ from scipy.optimize import differential_evolution
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bouncelab as bl
+from bouncelab.fitting.fitter import default_maxeval
 from bouncelab.fitting.objective import ErrorMeasure
 from bouncelab.fitting.search import GLOBAL_ALGORITHMS, LOCAL_ALGORITHMS, global_search
 
@@ -53,12 +54,12 @@ def main(argv: list[str] | None = None) -> dict:
     evals: dict = {c: [] for c in combos}
     times: dict = {c: [] for c in combos}
     for i in range(args.problems):
-        _, _, f, d = problem(rng, i)
+        _, n, f, d = problem(rng, i)
         found = {}
         for combo in combos:
             t = time.perf_counter()
             out = global_search(f, np.full(d, 0.5), algorithm=combo[0], local_algorithm=combo[1], seed=i,
-                                maxeval=100 * d)
+                                maxeval=default_maxeval(d, n))
             times[combo].append(time.perf_counter() - t)
             found[combo] = out.fun
             evals[combo].append(out.n_global + out.n_local)

@@ -75,9 +75,15 @@ __all__ = [
 ]
 
 
+# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli).
+_SUBPACKAGES = ("analysis", "cli", "data", "fitting", "laws", "plots")
+
+
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
         return getattr(importlib.import_module(_LAZY[name]), name)
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"bouncelab.{name}")
     raise AttributeError(f"module 'bouncelab' has no attribute {name!r}")
 
 

@@ -151,6 +151,19 @@ def test_reproduce_own_file_without_settings(tmp_path, capsys):
     assert (tmp_path / "rep" / "tables" / "my_bounces_table3.md").exists()
 
 
+def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
+    ds = bl.load_campaign("A")
+    csv = tmp_path / "artificial_turf.csv"
+    np.savetxt(csv, np.column_stack([ds.landing.values, ds.liftoff.values]), delimiter=",",
+               header="vx0,vy0,w0,vx1,vy1,w1", comments="")
+    code, _, _ = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "--out", str(tmp_path / "rep"),
+                     "--no-figures", "--quiet")
+    assert code == EXIT_OK
+    assert "(31.9 %)" in (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
+    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "B", "--out", str(tmp_path / "r2"))
+    assert code == EXIT_DATA and "one --label per --data file" in err
+
+
 def test_reproduce_bad_file(tmp_path, capsys):
     bad = tmp_path / "bad.csv"
     bad.write_text("vx0,vy0,w0,vx1,vy1,w1\n100,-200,30,50,60,10\n100,abc,30,50,60,10\n")

@@ -55,7 +55,7 @@ def measured(ds_a) -> xr.Dataset:
 
 
 def _rep(n_settings: int = 4, campaign: str = "R", data_kind: str = "measured") -> xr.Dataset:
-    """A small Dataset in the format of bouncelab.analysis.repeatability.repeatability."""
+    """A small Dataset in the format of bouncelab.analysis.repeats.repeatability."""
     rng = np.random.default_rng(0)
     mean = rng.normal(0.0, 300.0, (n_settings, 2, 3))
     hw = rng.uniform(5.0, 40.0, (n_settings, 2, 3))
@@ -295,7 +295,7 @@ def test_repeatability_from_half_width_only_and_bad_inputs():
 
 
 def test_repeatability_from_a_campaign(ds_a):
-    pytest.importorskip("bouncelab.analysis.repeatability")
+    pytest.importorskip("bouncelab.analysis.repeats")
     fig = plot_repeatability(ds_a)
     n_settings = len(np.unique(ds_a["setting"].values))
     assert all(len(ax.containers[0].lines[0].get_xdata()) == n_settings for ax in fig.axes)

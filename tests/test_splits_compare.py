@@ -69,9 +69,7 @@ def test_cross_validate_groups_settings(campaign_b):
 
 
 def test_cross_validation_folds_never_share_a_setting(campaign_b, monkeypatch):
-    import sys
-
-    fitmod = sys.modules["bouncelab.fitting.fit"]
+    import bouncelab.fitting.fitter as fitmod
 
     seen = []
     real_fit = fitmod.fit

@@ -31,7 +31,7 @@ from bouncelab.analysis.measurement import (
     interval_coverage,
     measure_bounce,
 )
-from bouncelab.analysis.repeatability import repeatability, repeatability_summary
+from bouncelab.analysis.repeats import repeatability, repeatability_summary
 from bouncelab.analysis.tangential import (
     tangential_crosstab,
     tangential_summary,

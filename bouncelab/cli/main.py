@@ -60,6 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--campaign", nargs="+", default=None, metavar="A|B",
                      help="embedded campaigns to analyse (default: A B unless --data is given)")
     rep.add_argument("--data", nargs="+", default=[], metavar="FILE", help="bounce-data files to analyse")
+    rep.add_argument("--label", nargs="+", default=None, metavar="NAME",
+                     help="a name for each --data file (default: the file name); A or B puts the paper's "
+                          "published values for that campaign beside the results")
     rep.add_argument("--out", default="report", help="output directory (default: report)")
     rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
     rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
@@ -129,11 +132,20 @@ def main(argv: list[str] | None = None) -> int:
 
 def _reproduce(args: argparse.Namespace) -> int:
     from bouncelab.cli.reproduce import reproduce
+    from bouncelab.errors import DataError
 
     campaigns = args.campaign if args.campaign is not None else ([] if args.data else ["A", "B"])
+    labels = dict(zip(args.data, args.label or [], strict=False))
+    if args.label is not None and len(args.label) != len(args.data):
+        raise DataError(f"give one --label per --data file: {len(args.data)} file(s), {len(args.label)} label(s)")
+
+    def load(src: str):
+        ds = _load(src, args)
+        return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
+
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
-        progress=not args.quiet, load=lambda src: _load(src, args),
+        progress=not args.quiet, load=load,
     )
     print(f"report written to {report.index}")
     return EXIT_OK

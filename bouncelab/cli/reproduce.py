@@ -168,10 +168,10 @@ def reproduce(
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,
               files: list[Path]) -> dict[str, Any]:
-    from bouncelab.analysis.repeatability import repeatability, repeatability_summary
+    from bouncelab.analysis.repeats import repeatability, repeatability_summary
     from bouncelab.analysis.tangential import tangential_summary
     from bouncelab.fitting import bootstrap, compare, cross_validate, fit, infer_settings, split_by_setting
-    from bouncelab.fitting.compare import PAPER_LAWS
+    from bouncelab.fitting.comparison import PAPER_LAWS
     from bouncelab.laws import PiecewiseAffine, Rigid, registered_laws
 
     section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {}}

@@ -73,13 +73,15 @@ def make_campaign(
         describes the arrays' scaled units), and a ``data_kind`` given here is
         checked like the argument.
 
-    The arrays are copied: changing the caller's arrays afterwards does not
-    change (or invalidate) the campaign.
-
     Raises
     ------
     DataError
         On any bad array (shape, NaN, a landing with ``ydot >= 0``, ...).
+
+    Notes
+    -----
+    The arrays are copied: changing the caller's arrays afterwards does not
+    change (or invalidate) the campaign.
     """
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")

@@ -37,6 +37,19 @@ How a surrogate is made (all random draws from one seeded
    interval widths are about 5 % of the mean value as the paper reports; the
    recorded value is the true one plus Gaussian noise of standard deviation
    half-width / 1.96, so the stored intervals are honest 95 % intervals.
+
+What the surrogates do not reproduce (the noise is Gaussian and never truncated):
+
+* Launcher scatter and measurement noise take some values past Table 1's
+  printed ranges: 65 landing spins of A and 133 of B lie outside its spin
+  range, and 29 near-vertical landings of B have a small negative ``xdot0``.
+* The published law B itself predicts ``ydotF <= 0`` (no lift-off) for a few
+  steep, high-backspin landings inside Table 1, and with turf noise 13 bounces
+  of surrogate B leave with ``ydotF <= 0``.
+* The slip/roll labels follow the published plane only up to noise, so the
+  fraction of bounces on the "wrong" side of the plane (12 % for A, 19 % for B
+  with the generating law) is higher than the paper's 7.27 % and 9.59 %; the
+  paper's own data evidently had less turf scatter near the plane.
 """
 
 from __future__ import annotations

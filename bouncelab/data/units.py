@@ -193,8 +193,10 @@ def speed_angle_spin(
 ) -> Mapping[str, np.ndarray]:
     """Speed, angle to the horizontal (degrees, positive downward) and spin of (..., 3) states.
 
-    The inverse of :func:`landing_from_speed_angle_spin` for a landing; for a
-    lift-off the angle is negative (the ball goes up).
+    ``state`` must be in scaled units (radii/s, rad/s), as everywhere in bouncelab;
+    ``speed_unit`` and ``spin_unit`` choose only the units of the *result*. The
+    inverse of :func:`landing_from_speed_angle_spin` for a landing; for a lift-off
+    the angle is negative (the ball goes up).
     """
     s = _state_array(state)
     speed = np.hypot(s[..., 0], s[..., 1])

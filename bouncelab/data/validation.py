@@ -131,7 +131,7 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
             row = int(np.argmax(up))
             raise DataError(
                 f"landing ydot must be negative (y points up, a landing moves down); "
-                f"got {arr[row, 1]!r} ({int(up.sum())} bounce(s) affected)",
+                f"got {float(arr[row, 1])!r} ({int(up.sum())} bounce(s) affected)",
                 file=file, column=f"{name}.ydot", row=row + 1,
             )
 

@@ -153,7 +153,7 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, *
     """
     from sklearn.model_selection import GroupKFold
 
-    from bouncelab.fitting.fit import fit
+    from bouncelab.fitting.fitter import fit
 
     setting = _settings_of(data)
     n_groups = len(pd.unique(setting))

@@ -17,7 +17,7 @@ import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
-from bouncelab.fitting.fit import _as_model, fit
+from bouncelab.fitting.fitter import _as_model, fit
 
 __all__ = ["Bootstrap", "bootstrap"]
 

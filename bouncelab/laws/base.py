@@ -193,7 +193,8 @@ class BounceModel:
 
         Returns
         -------
-        Same kind and shape as ``landing``.
+        numpy.ndarray or xarray.DataArray
+            Lift-off states, of the same kind and shape as ``landing``.
 
         Raises
         ------

@@ -47,6 +47,8 @@ class PiecewiseAffine(BounceModel):
     b1, b2 : array_like (3,), optional
         Offsets in radii/s, radii/s, rad/s.
 
+    Notes
+    -----
     All six are given together or not at all (an unfitted law).
 
     Examples

@@ -43,6 +43,8 @@ class Rigid(_CompiledLaw):
     mu : float, optional
         Coefficient of friction, dimensionless, >= 0 (search bounds [0, 1.5]).
 
+    Notes
+    -----
     States are in scaled units: velocities in ball radii per second, spin in rad/s.
 
     Examples

@@ -37,10 +37,6 @@ def plot_predictions(
         a boolean mask over the bounces of ``data``. Each panel's Delta q is then
         also given on these bounces.
 
-    Markers follow the measured class: roll = triangles, slip = circles. The solid
-    line is prediction = observation. Each panel is annotated with the law's
-    Delta q for that component (eq. error_individual) on the bounces shown.
-
     Raises
     ------
     TypeError
@@ -49,6 +45,12 @@ def plot_predictions(
         A law has no parameters yet.
     DataError
         Bad data or test mask.
+
+    Notes
+    -----
+    Markers follow the measured class: roll = triangles, slip = circles. The solid
+    line is prediction = observation. Each panel is annotated with the law's
+    Delta q for that component (eq. error_individual) on the bounces shown.
     """
     p0, pf, attrs = c.campaign_data(data)
     named = _named_laws(laws)
@@ -169,7 +171,7 @@ def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title:
     Parameters
     ----------
     rep
-        The output of ``bouncelab.analysis.repeatability.repeatability``: a Dataset with
+        The output of ``bouncelab.analysis.repeats.repeatability``: a Dataset with
         dimensions (setting, state, component), state = ["landing", "liftoff"], and
         variables ``mean``, ``ci_low``, ``ci_high`` (or ``half_width``) and ``n``.
         A campaign Dataset with a ``setting`` coordinate is accepted too and
@@ -183,10 +185,10 @@ def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title:
     if isinstance(rep, xr.Dataset) and "landing" in rep.data_vars and "mean" not in rep.data_vars:
         campaign = rep
         try:
-            from bouncelab.analysis.repeatability import repeatability
+            from bouncelab.analysis.repeats import repeatability
         except ImportError as exc:
             raise ImportError(
-                "summarising a campaign needs bouncelab.analysis.repeatability, which could not be imported; "
+                "summarising a campaign needs bouncelab.analysis.repeats, which could not be imported; "
                 "pass the Dataset returned by repeatability(data) instead"
             ) from exc
         rep = repeatability(campaign, level=level)

@@ -3,7 +3,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 import bouncelab as bl
-from bouncelab.analysis.repeatability import repeatability
+from bouncelab.analysis.repeats import repeatability
 from bouncelab.fitting.piecewise import fit_svm
 from bouncelab.plots import plot_landing_space, plot_repeatability, plot_tangential, save_figure
 

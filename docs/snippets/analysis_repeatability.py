@@ -1,6 +1,6 @@
 import bouncelab as bl
 from bouncelab.analysis import repeatability_summary
-from bouncelab.analysis.repeatability import repeatability
+from bouncelab.analysis.repeats import repeatability
 
 rep = repeatability(bl.load_campaign("A"))
 print(dict(rep.sizes), rep.attrs["settings_source"])

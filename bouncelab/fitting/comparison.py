@@ -12,7 +12,7 @@ import xarray as xr
 
 from bouncelab.data import published
 from bouncelab.errors import FitError
-from bouncelab.fitting.fit import fit
+from bouncelab.fitting.fitter import fit
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
 from bouncelab.laws.base import BounceModel, registered_laws
