@@ -215,6 +215,27 @@ def error_sums(law, P0, PF, inv_norm, sphi, t0, t1, t2):
     return sd, sx, sy, sw
 
 
+@njit(cache=True, fastmath=True)
+def unit_objective(law, P0, PF, inv_norm, sphi, u, spec, weights):
+    """The fitter's objective at a point ``u`` of the unit box, in one compiled call.
+
+    ``spec`` rows: base values, lower bounds, spans, kernel scale factors (degrees to
+    radians) and free flags of the three kernel parameters; free parameters take their
+    values from ``u`` in order. Returns the ``weights``-weighted sum of delta and Delta q.
+    """
+    t = np.empty(3)
+    j = 0
+    for k in range(3):
+        if spec[4, k] > 0.0:
+            t[k] = spec[1, k] + u[j] * spec[2, k]
+            j += 1
+        else:
+            t[k] = spec[0, k]
+        t[k] *= spec[3, k]
+    sd, sx, sy, sw = error_sums(law, P0, PF, inv_norm, sphi, t[0], t[1], t[2])
+    return (weights[0] * sd + weights[1] * sx + weights[2] * sy + weights[3] * sw) / P0.shape[0]
+
+
 def _affine_loop(P, normal, offset, A1, b1, A2, b2, out):
     for i in prange(P.shape[0]):
         x = P[i, 0]
@@ -249,6 +270,8 @@ def warm_up() -> None:
             predict(law, rows, 0.5, 0.5, 0.1, out[: len(rows)])
             regime(law, rows, 0.5, 0.5, 0.1, np.empty(len(rows), np.int8))
         error_sums(law, P[:1], P[:1], np.ones(1), speeds_times_angles(P[:1]), 0.5, 0.5, 0.1)
+        unit_objective(law, P[:1], P[:1], np.ones(1), speeds_times_angles(P[:1]), np.full(3, 0.5),
+                       np.ones((5, 3)), np.ones(4))
     eye = np.eye(3)
     for rows in (P, P[:1]):
         affine_predict(rows, np.ones(3), 0.0, eye, np.zeros(3), eye, np.zeros(3), out[: len(rows)])

@@ -78,9 +78,7 @@ class PennerFixed(_CompiledLaw):
         self.beta_deg = beta_deg
         super().__init__()
 
-    @classmethod
-    def _kernel_args(cls, t: list[float]) -> tuple[float, float, float]:
-        return t[0], t[1], math.radians(t[2])
+    _kernel_scale = (1.0, 1.0, math.pi / 180.0)  # the kernel takes beta in radians
 
     @classmethod
     def published(cls, campaign: str) -> PennerFixed:
