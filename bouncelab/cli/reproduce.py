@@ -16,7 +16,6 @@ For every campaign (the embedded surrogates "A" and "B", or data files):
 
 from __future__ import annotations
 
-import html
 import sys
 import time
 from collections.abc import Callable
@@ -28,6 +27,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
 from bouncelab.errors import DataError
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "Report", "reproduce"]
@@ -80,21 +80,6 @@ def _write_table(df: pd.DataFrame, md: str, stem: Path, files: list[Path]) -> No
     df.to_csv(stem.with_suffix(".csv"))
     stem.with_suffix(".md").write_text(md)
     files += [stem.with_suffix(".csv"), stem.with_suffix(".md")]
-
-
-def _frame_markdown(df: pd.DataFrame, percent: bool = False) -> str:
-    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent."""
-
-    def cell(v: Any) -> str:
-        if not isinstance(v, float | np.floating):
-            return str(v)
-        return f"{100 * v:.3g} %" if percent else f"{v:.4g}"
-
-    cols = [str(c) for c in df.columns]
-    lines = ["| " + " | ".join([str(df.index.name or ""), *cols]) + " |", "|" + "---|" * (len(cols) + 1)]
-    for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([str(idx), *map(cell, row)]) + " |")
-    return "\n".join(lines) + "\n"
 
 
 def _steps_per_campaign(figures: bool) -> int:
@@ -161,7 +146,7 @@ def reproduce(
         report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files)
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
-        report.index.write_text(_index_html(report))
+        report.index.write_text(index_html(report))
         report.files.append(report.index)
     return report
 
@@ -219,7 +204,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
                                  "mismatched": (res.mismatched if data_name == "train" else res.test_mismatched)
                                  if subset == "all" else np.nan})
         t2 = pd.DataFrame(rows).set_index(["method", "data", "subset"])
-        md = _table2_markdown(name, pw, ds)
+        md = table2_markdown(name, pw, ds)
         _write_table(t2, md, tables / f"{name}_table2", files)
         section["tables"]["Table 2: piecewise-affine law, held-out bounces"] = md
         section["piecewise"] = pw
@@ -239,7 +224,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         cvt = pd.DataFrame(rows).T
         cvt.index.name = "law"
         md = (f"### Cross-validated delta, campaign {name} (5 folds grouped by launcher setting)\n\n"
-              + _frame_markdown(cvt, percent=True))
+              + frame_markdown(cvt, percent=True))
         _write_table(cvt, md, tables / f"{name}_crossvalidation", files)
         section["tables"]["Cross-validation (beyond the paper)"] = md
 
@@ -251,7 +236,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         boot_table = pd.concat(frames, names=["law", "parameter"])
         md = (f"### Parameter uncertainty, campaign {name}: {BOOTSTRAP_RESAMPLES} bootstrap resamples of whole "
               "launcher settings (95 % percentile intervals)\n\n")
-        md += _frame_markdown(boot_table.reset_index().set_index("law"))
+        md += frame_markdown(boot_table.reset_index().set_index("law"))
         _write_table(boot_table, md, tables / f"{name}_bootstrap", files)
         section["tables"]["Parameter uncertainty (beyond the paper)"] = md
 
@@ -262,14 +247,14 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         rep_df.to_csv(tables / f"{name}_repeatability.csv")
         files.append(tables / f"{name}_repeatability.csv")
         md = (f"### Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting\n\n"
-              + _frame_markdown(summ))
+              + frame_markdown(summ))
         _write_table(summ, md, tables / f"{name}_repeatability_summary", files)
         section["tables"]["Repeatability"] = md
         section["repeatability"] = rep
 
     with step(f"{name}: tangential velocities and prediction intervals"):
         tang = tangential_summary(ds)
-        md = f"### Tangential velocity v_P = xdot + omega, campaign {name}\n\n" + _frame_markdown(tang)
+        md = f"### Tangential velocity v_P = xdot + omega, campaign {name}\n\n" + frame_markdown(tang)
         _write_table(tang, md, tables / f"{name}_tangential", files)
         section["tables"]["Tangential velocities"] = md
         if "landing_pi" in ds.data_vars:
@@ -280,7 +265,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             pit = pd.DataFrame(widths)
             pit.index.name = "component"
             md = (f"### Median 95 % prediction-interval width / campaign mean |q|, campaign {name}\n\n"
-                  + _frame_markdown(pit, percent=True))
+                  + frame_markdown(pit, percent=True))
             _write_table(pit, md, tables / f"{name}_prediction_intervals", files)
             section["tables"]["Prediction intervals"] = md
 
@@ -338,117 +323,3 @@ def _figures(name, ds, cmp, pw, test, rep, folder: Path, files: list[Path]) -> d
         files.append(path)
         made[caption] = path
     return made
-
-
-def _table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
-    from bouncelab.data import published
-
-    camp = str(ds.attrs.get("campaign", "")).upper()
-    paper = published.TABLE2.loc[camp] if camp in published.CAMPAIGNS else None
-    lines = [f"### Piecewise-affine law, campaign {name}: errors on the held-out bounces "
-             "(one per launcher setting); the paper's Table 2 in brackets\n"]
-    head = ["quantity"]
-    for label in pw:
-        head += [f"{label}: overall", "roll", "slip"]
-    lines.append("| " + " | ".join(head) + " |")
-    lines.append("|" + "---|" * len(head))
-    for q in ("n", "delta", "delta_xdot", "delta_ydot", "delta_omega", "mismatched"):
-        cells = [q]
-        for res in pw.values():
-            t = res.errors.loc["test"]
-            for subset in ("all", "roll", "slip"):
-                if q == "mismatched":
-                    v = res.test_mismatched if subset == "all" else None
-                else:
-                    v = t.loc[subset, q] if subset in t.index else None
-                if v is None or (isinstance(v, float) and np.isnan(v)):
-                    cells.append("")
-                    continue
-                cell = f"{int(v)}" if q == "n" else f"{100 * v:.3g} %"
-                key = "overall" if subset == "all" else subset
-                if paper is not None and q != "n" and "SVM" in next(k for k, r in pw.items() if r is res):
-                    ref = paper.loc[key, q]
-                    cell += f" ({100 * ref:.3g} %)" if np.isfinite(ref) else ""
-                cells.append(cell)
-        lines.append("| " + " | ".join(cells) + " |")
-    for label, res in pw.items():
-        lines.append(f"\n- {label}: {res.model.plane_equation()} (fitted on {res.n_train} bounces, "
-                     f"delta on them {100 * res.delta:.3g} %)")
-    return "\n".join(lines) + "\n"
-
-
-def _md_to_html(md: str) -> str:
-    """The small markdown subset written here (headings, tables, lists, quotes, paragraphs) as HTML."""
-    out, table = [], []
-
-    def flush():
-        if table:
-            rows = [r.strip().strip("|").split("|") for r in table if not set(r.strip()) <= set("|-: ")]
-            head, body = rows[0], rows[1:]
-            out.append("<table><thead><tr>" + "".join(f"<th>{html.escape(c.strip())}</th>" for c in head)
-                       + "</tr></thead><tbody>"
-                       + "".join("<tr>" + "".join(f"<td>{html.escape(c.strip())}</td>" for c in r) + "</tr>"
-                                 for r in body) + "</tbody></table>")
-            table.clear()
-
-    for line in md.splitlines():
-        if line.startswith("|"):
-            table.append(line)
-            continue
-        flush()
-        if line.startswith("### "):
-            out.append(f"<h3>{html.escape(line[4:])}</h3>")
-        elif line.startswith("> "):
-            out.append(f"<blockquote>{html.escape(line[2:])}</blockquote>")
-        elif line.startswith("- "):
-            out.append(f"<ul><li>{html.escape(line[2:])}</li></ul>")
-        elif line.strip():
-            out.append(f"<p>{html.escape(line)}</p>")
-    flush()
-    return "\n".join(out)
-
-
-_CSS = """
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
-table { border-collapse: collapse; margin: 0.6em 0 1.2em; font-size: 0.9em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; }
-thead { background: #f2f2f2; }
-img { max-width: 100%; border: 1px solid #ddd; margin: 0.4em 0 1.4em; }
-.warning { background: #fff3cd; border: 1px solid #e0c36c; padding: 0.6em 1em; }
-blockquote { color: #555; border-left: 3px solid #ccc; margin: 0.6em 0; padding-left: 0.8em; }
-nav a { margin-right: 1em; }
-"""
-
-
-def _index_html(report: Report) -> str:
-    from bouncelab import __version__
-    from bouncelab.data.published import CITATION
-
-    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
-             f"<style>{_CSS}</style></head><body>",
-             "<h1>bouncelab: golf-ball bounce laws</h1>",
-             f"<p>Reproduction of the analysis of {html.escape(CITATION)} "
-             f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
-             "Delta q (fractions of the landing state's norm, shown in per cent); velocities in ball radii per "
-             "second, spin in rad/s.</p>",
-             "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
-             + "</nav>"]
-    for name, sec in report.sections.items():
-        parts.append(f"<h2 id='{html.escape(name)}'>Campaign {html.escape(name)}</h2>")
-        for note in sec["notes"]:
-            parts.append(f"<p class='warning'>{html.escape(note)}</p>")
-        for _title, md in sec["tables"].items():
-            parts.append(_md_to_html(md))
-        if sec["laws"]:
-            links = ", ".join(f"<a href='{html.escape(p.relative_to(report.out).as_posix())}'>{html.escape(n)}</a>"
-                              for n, p in sec["laws"].items())
-            parts.append(f"<p>Fitted laws (JSON, load with <code>bouncelab.load_law</code>): {links}</p>")
-        for caption, path in sec["figures"].items():
-            rel = html.escape(path.relative_to(report.out).as_posix())
-            cap = html.escape(caption)
-            parts.append(f"<h3>{cap}</h3><a href='{rel}'><img src='{rel}' alt='{cap}'></a>")
-    rels = [html.escape(p.relative_to(report.out).as_posix()) for p in report.files]
-    items = "".join(f"<li><a href='{r}'>{r}</a></li>" for r in rels)
-    parts.append(f"<h2>Files</h2><ul>{items}</ul></body></html>")
-    return "\n".join(parts)

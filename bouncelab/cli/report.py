@@ -1,0 +1,144 @@
+"""Formatting of the ``bouncelab reproduce`` report: markdown tables and the one-page ``index.html``."""
+
+from __future__ import annotations
+
+import html
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+if TYPE_CHECKING:
+    from bouncelab.cli.reproduce import Report
+
+__all__ = ["frame_markdown", "index_html", "md_to_html", "table2_markdown"]
+
+
+def frame_markdown(df: pd.DataFrame, percent: bool = False) -> str:
+    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent."""
+
+    def cell(v: Any) -> str:
+        if not isinstance(v, float | np.floating):
+            return str(v)
+        return f"{100 * v:.3g} %" if percent else f"{v:.4g}"
+
+    cols = [str(c) for c in df.columns]
+    lines = ["| " + " | ".join([str(df.index.name or ""), *cols]) + " |", "|" + "---|" * (len(cols) + 1)]
+    for idx, row in df.iterrows():
+        lines.append("| " + " | ".join([str(idx), *map(cell, row)]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
+    from bouncelab.data import published
+
+    camp = str(ds.attrs.get("campaign", "")).upper()
+    paper = published.TABLE2.loc[camp] if camp in published.CAMPAIGNS else None
+    lines = [f"### Piecewise-affine law, campaign {name}: errors on the held-out bounces "
+             "(one per launcher setting); the paper's Table 2 in brackets\n"]
+    head = ["quantity"]
+    for label in pw:
+        head += [f"{label}: overall", "roll", "slip"]
+    lines.append("| " + " | ".join(head) + " |")
+    lines.append("|" + "---|" * len(head))
+    for q in ("n", "delta", "delta_xdot", "delta_ydot", "delta_omega", "mismatched"):
+        cells = [q]
+        for res in pw.values():
+            t = res.errors.loc["test"]
+            for subset in ("all", "roll", "slip"):
+                if q == "mismatched":
+                    v = res.test_mismatched if subset == "all" else None
+                else:
+                    v = t.loc[subset, q] if subset in t.index else None
+                if v is None or (isinstance(v, float) and np.isnan(v)):
+                    cells.append("")
+                    continue
+                cell = f"{int(v)}" if q == "n" else f"{100 * v:.3g} %"
+                key = "overall" if subset == "all" else subset
+                if paper is not None and q != "n" and "SVM" in next(k for k, r in pw.items() if r is res):
+                    ref = paper.loc[key, q]
+                    cell += f" ({100 * ref:.3g} %)" if np.isfinite(ref) else ""
+                cells.append(cell)
+        lines.append("| " + " | ".join(cells) + " |")
+    for label, res in pw.items():
+        lines.append(f"\n- {label}: {res.model.plane_equation()} (fitted on {res.n_train} bounces, "
+                     f"delta on them {100 * res.delta:.3g} %)")
+    return "\n".join(lines) + "\n"
+
+
+def md_to_html(md: str) -> str:
+    """The small markdown subset written here (headings, tables, lists, quotes, paragraphs) as HTML."""
+    out, table = [], []
+
+    def flush():
+        if table:
+            rows = [r.strip().strip("|").split("|") for r in table if not set(r.strip()) <= set("|-: ")]
+            head, body = rows[0], rows[1:]
+            out.append("<table><thead><tr>" + "".join(f"<th>{html.escape(c.strip())}</th>" for c in head)
+                       + "</tr></thead><tbody>"
+                       + "".join("<tr>" + "".join(f"<td>{html.escape(c.strip())}</td>" for c in r) + "</tr>"
+                                 for r in body) + "</tbody></table>")
+            table.clear()
+
+    for line in md.splitlines():
+        if line.startswith("|"):
+            table.append(line)
+            continue
+        flush()
+        if line.startswith("### "):
+            out.append(f"<h3>{html.escape(line[4:])}</h3>")
+        elif line.startswith("> "):
+            out.append(f"<blockquote>{html.escape(line[2:])}</blockquote>")
+        elif line.startswith("- "):
+            out.append(f"<ul><li>{html.escape(line[2:])}</li></ul>")
+        elif line.strip():
+            out.append(f"<p>{html.escape(line)}</p>")
+    flush()
+    return "\n".join(out)
+
+
+_CSS = """
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
+table { border-collapse: collapse; margin: 0.6em 0 1.2em; font-size: 0.9em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+thead { background: #f2f2f2; }
+img { max-width: 100%; border: 1px solid #ddd; margin: 0.4em 0 1.4em; }
+.warning { background: #fff3cd; border: 1px solid #e0c36c; padding: 0.6em 1em; }
+blockquote { color: #555; border-left: 3px solid #ccc; margin: 0.6em 0; padding-left: 0.8em; }
+nav a { margin-right: 1em; }
+"""
+
+
+def index_html(report: Report) -> str:
+    from bouncelab import __version__
+    from bouncelab.data.published import CITATION
+
+    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
+             f"<style>{_CSS}</style></head><body>",
+             "<h1>bouncelab: golf-ball bounce laws</h1>",
+             f"<p>Reproduction of the analysis of {html.escape(CITATION)} "
+             f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
+             "Delta q (fractions of the landing state's norm, shown in per cent); velocities in ball radii per "
+             "second, spin in rad/s.</p>",
+             "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
+             + "</nav>"]
+    for name, sec in report.sections.items():
+        parts.append(f"<h2 id='{html.escape(name)}'>Campaign {html.escape(name)}</h2>")
+        for note in sec["notes"]:
+            parts.append(f"<p class='warning'>{html.escape(note)}</p>")
+        for _title, md in sec["tables"].items():
+            parts.append(md_to_html(md))
+        if sec["laws"]:
+            links = ", ".join(f"<a href='{html.escape(p.relative_to(report.out).as_posix())}'>{html.escape(n)}</a>"
+                              for n, p in sec["laws"].items())
+            parts.append(f"<p>Fitted laws (JSON, load with <code>bouncelab.load_law</code>): {links}</p>")
+        for caption, path in sec["figures"].items():
+            rel = html.escape(path.relative_to(report.out).as_posix())
+            cap = html.escape(caption)
+            parts.append(f"<h3>{cap}</h3><a href='{rel}'><img src='{rel}' alt='{cap}'></a>")
+    rels = [html.escape(p.relative_to(report.out).as_posix()) for p in report.files]
+    items = "".join(f"<li><a href='{r}'>{r}</a></li>" for r in rels)
+    parts.append(f"<h2>Files</h2><ul>{items}</ul></body></html>")
+    return "\n".join(parts)
