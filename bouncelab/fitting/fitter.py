@@ -333,31 +333,29 @@ def _fit_structured(law, p0, pf, tst, box, weights, seed, mu_objective, start_ti
     mu_lo, mu_hi = box["mu"]
     # Step 1: ydotF = -r ydot0 by least squares.
     r = float(np.clip(-(pf[:, 1] @ p0[:, 1]) / (p0[:, 1] @ p0[:, 1]), r_lo, r_hi))
-    # Step 2: mu with r fixed.
+    # Step 2: mu with r fixed, minimising delta (or the squared xdot and omega residuals).
     measure = ErrorMeasure(law, p0, pf)
+    b = _Box(law.replace(r=r, mu=None), {**box, "r": (r, r)})
+    by_delta = measure.unit_function(b.start, b.lo, b.hi - b.lo, b.free.astype(np.float64), weights)
 
     def f(u: np.ndarray) -> float:
-        mu = mu_lo + u[0] * (mu_hi - mu_lo)
         if mu_objective == "delta":
-            return measure.value([r, mu], tuple(weights))
-        pred = law.replace(r=r, mu=mu)._predict(p0, np.array([r, mu]))
-        res = (pf - pred)[:, [0, 2]]
+            return by_delta(u)
+        res = (pf - law._predict(p0, b.theta(u)))[:, [0, 2]]
         return float((res * res).sum())
 
     if mu_hi > mu_lo:
         outcome = global_search(f, np.array([0.5]), algorithm=DEFAULT_ALGORITHM, local_algorithm="NELDERMEAD",
                                 seed=seed, maxeval=200)
-        mu = mu_lo + float(outcome.x[0]) * (mu_hi - mu_lo)
     else:
-        outcome, mu = SearchOutcome(x=np.zeros(1), fun=f(np.zeros(1)), global_stop="mu fixed"), mu_lo
-    fitted = law.replace(r=r, mu=mu)
-    b = _Box(fitted, {**box, "r": (r, r)})
-    at_bounds, flat = _diagnose(lambda u: float(weights @ measure.errors(b.theta(u))), b.unit(b.start), b)
+        outcome = SearchOutcome(x=np.empty(0), fun=f(np.empty(0)), global_stop="mu fixed")
+    fitted = law.replace(**dict(zip(b.names, b.theta(outcome.x).tolist(), strict=True)))
+    at_bounds, flat = _diagnose(by_delta, outcome.x, b)
     if r in (r_lo, r_hi) and r_lo < r_hi:
         at_bounds["r"] = "lower" if r == r_lo else "upper"
     notes = [f"r = {r:.6g} from least squares on ydot; mu chosen with r fixed, minimising {mu_objective}"]
     notes += _notes(fitted, at_bounds, flat, box)
-    value = float(weights @ measure.errors(np.array([r, mu])))
+    value = float(by_delta(outcome.x))
     return _result(fitted, "structured", weights, value, p0, pf, tst, box, at_bounds, flat, outcome,
                    f"least squares + {outcome.algorithms[0] or 'none'}", seed, notes, start_time)
 
