@@ -14,6 +14,8 @@ import xarray as xr
 
 from bouncelab.data import io as bio
 from bouncelab.data.campaign import make_campaign
+from bouncelab.data.io import excel as io_excel
+from bouncelab.data.io import load as io_load
 from bouncelab.data.io import load_campaign, save_campaign
 from bouncelab.errors import DataError
 
@@ -193,7 +195,7 @@ def test_excel_bad_cell_names_cell(tmp_path):
 def test_excel_needs_openpyxl(tmp_path, monkeypatch):
     path = tmp_path / "book.xlsx"
     pd.DataFrame(COLS).to_excel(path, index=False)
-    monkeypatch.setattr(bio, "_module_available", lambda name: False)
+    monkeypatch.setattr(io_excel, "_module_available", lambda name: False)
     with pytest.raises(ImportError, match=r"pip install bouncelab\[excel\]"):
         load_campaign(path)
 
@@ -368,13 +370,13 @@ def test_save_failure_keeps_existing_file(tmp_path, monkeypatch):
 
 def test_embedded_names_use_package_file(tmp_path, monkeypatch):
     path = save_campaign(make_full_campaign(SETTING), tmp_path / "campaign_A.nc")
-    monkeypatch.setattr(bio, "_embedded_file", lambda name: path if name == "A" else None)
+    monkeypatch.setattr(io_load, "_embedded_file", lambda name: path if name == "A" else None)
     ds = load_campaign(" a ")
     xr.testing.assert_identical(ds, make_full_campaign(SETTING))
 
 
 def test_embedded_missing_file_message(monkeypatch, tmp_path):
-    monkeypatch.setattr(bio.resources, "files", lambda pkg: tmp_path)
+    monkeypatch.setattr(io_load.resources, "files", lambda pkg: tmp_path)
     with pytest.raises(FileNotFoundError, match=r"campaign_B\.nc"):
         load_campaign("B")
 

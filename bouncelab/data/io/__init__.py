@@ -1,0 +1,164 @@
+"""Reading and writing bounce campaigns: CSV, TSV, text, Excel, MATLAB and netCDF.
+
+:func:`load_campaign` turns a measurement file (one row per bounce) into a
+campaign :class:`xarray.Dataset` in the paper's scaled units (see
+:mod:`bouncelab.data.units` and :mod:`bouncelab.data.campaign`);
+:func:`save_campaign` writes a campaign to netCDF so that :func:`load_campaign`
+reads it back bit for bit.
+
+Sources
+-------
+``"A"`` or ``"B"`` (a *string*, any case)
+    The campaign embedded in the package (``bouncelab/data/files/campaign_A.nc``
+    and ``campaign_B.nc``). Any other string, and any :class:`pathlib.Path`
+    (so ``Path("A")`` is the file ``A``), is a file path.
+``.csv``, ``.tsv``, ``.txt``
+    Text table, first non-blank line is the header. The delimiter is sniffed
+    (tab, semicolon, comma, else runs of whitespace). Lines starting with ``#``
+    or ``%`` and blank lines are skipped. Encoding UTF-8 (a BOM is fine), else
+    Latin-1. With a semicolon, tab or whitespace delimiter a decimal comma
+    (``1,5``) is accepted. In a whitespace-delimited file a header name must not
+    contain spaces, except a bracketed unit (``vx0 [m/s]`` is fine).
+``.xlsx`` (``.xls``)
+    First sheet, or ``sheet=`` (name or 0-based index); the first non-empty row
+    is the header. Needs ``openpyxl`` (``pip install bouncelab[excel]``); ``.xls``
+    needs ``xlrd``.
+``.mat`` (MATLAB v5/v7, not v7.3)
+    Each numeric vector of length n is a column named after the variable; an
+    (n, k) matrix ``M`` gives columns ``M_1`` ... ``M_k`` (rows are bounces); a
+    cell array of strings is a text column (e.g. the setting); the fields of a
+    struct (``S.vx0``) or of a 1 x n struct array (``table2struct(T)``) are
+    columns named after the field (``S.vx0`` if two structs share the field
+    name). MATLAB ``table`` objects cannot be read: save
+    ``table2struct(T, 'ToScalar', true)`` instead.
+``.nc``, ``.netcdf``
+    A file written by :func:`save_campaign` (it has ``landing`` and ``liftoff``
+    variables) is loaded as is, attributes included. Any other netCDF file is a
+    table: each 1-D variable is a column (an (n, k) variable gives ``V_1`` ...
+    ``V_k``).
+
+Columns
+-------
+A file holds one row per bounce and, for landing (touch-down, subscript 0) and
+lift-off (subscript F), the horizontal velocity ``xdot``, the vertical
+velocity ``ydot`` and the spin ``omega``; optionally a launcher setting (test
+condition) label and the half-widths of the 95 % prediction intervals.
+
+With ``columns=None`` the columns are found from the synonyms in
+:data:`COLUMN_SYNONYMS`. Names are compared after *normalisation*: lower case,
+``ω`` read as ``omega`` and ``ẋ`` as ``xdot``, and everything but letters and
+digits removed, so ``"X_dot 0"``, ``"xdot0"`` and ``"x-dot-0"`` are the same
+name. A header may end in a unit, which is not part of the name:
+``"vx0 [m/s]"``, ``"Vx0 (m/s)"``, ``"omega0_rpm"``, ``"spin (rev/min)"``,
+``"vx0 m/s"``. A name is *stem* + *phase* or, for a phase of two or more
+characters and a stem of two or more, *phase* + *stem* (``in_vx``, not
+``i_vx``; ``w_in``, not ``in_w``) or *phase* + *stem* + *phase*:
+
+==========  =================================================================
+stem        ``xdot``: xdot, dx, dxdt, vx, velx, xvel, xvelocity, velocityx, u,
+            ux, horizontalvelocity, horizontalspeed, hvel, vh, vhoriz,
+            vhorizontal
+            ``ydot``: ydot, dy, dydt, vy, vely, yvel, yvelocity, velocityy, v,
+            uy, verticalvelocity, verticalspeed, vvel, vv, vvert, vvertical
+            ``omega``: omega, w, om, spin, spinrate, angularvelocity, angvel,
+            omegaz, wz
+landing     0, i, in, inb, inbound, incoming, incident, impact, land, landing,
+            pre, before, initial, init, touchdown, td
+lift-off    f, 1, out, outb, outbound, outgoing, rebound, lift, liftoff, post,
+            after, final, takeoff, lo
+==========  =================================================================
+
+so the landing ``xdot`` is found under ``xdot0``, ``x_dot_0``, ``vx0``,
+``vx_in``, ``u0``, ``xdot_in``, ``inbound_vx``, ``Landing Vx [m/s]``,
+``Inbound horizontal velocity (m/s)``..., the lift-off one under ``xdotF``,
+``vxF``, ``vx_out``, ``vx1``, ``outbound_vx``..., the spins under ``omega0``,
+``w0``, ``spin0``, ``spin_in``, ``omegaF``, ``wF``, ``spin_out``... The
+prediction-interval half-widths are the same names followed (or preceded) by
+``pi``, ``pi95``, ``hw``, ``halfwidth``, ``ci``, ``ci95``, ``err``, ``error``,
+``unc`` or ``uncertainty`` (``vx0_pi``, ``omegaF_err``); they are used only
+when all three of a state are present. The setting column is one of
+``setting(s)``, ``setting_id``, ``setting_no``, ``setting_number``,
+``launcher_setting(s)``, ``condition(s)``, ``condition_id``,
+``test_condition(s)``, ``group``, ``group_id``, ``setup``, ``config``,
+``configuration``, ``case``, ``test_case``; numeric labels become integers
+(``"01"`` becomes 1), other labels stay strings. If a role matches no column
+or several, :func:`load_campaign` raises a
+:class:`~bouncelab.errors.DataError` that lists the file's columns and spells
+out the ``columns=`` argument to pass. A typical file that needs no argument::
+
+    Test condition,Vx0 (m/s),Vy0 (m/s),Spin0 (rpm),VxF (m/s),VyF (m/s),SpinF (rpm)
+    1,20.1,-15.2,3000,9.5,5.1,1500
+    1,19.8,-15.0,3050,9.7,5.0,1480
+
+With ``columns=`` given, it maps roles to the file's names::
+
+    load_campaign("bounces.csv", columns={
+        "landing": ["Vx in", "Vy in", "Spin in"],      # xdot0, ydot0, omega0
+        "liftoff": ["Vx out", "Vy out", "Spin out"],   # xdotF, ydotF, omegaF
+        "setting": "Test",                              # optional
+        "landing_pi": ["dVx in", "dVy in", "dSpin in"], # optional
+        "liftoff_pi": ["dVx out", "dVy out", "dSpin out"],
+    })
+
+Requested names are matched with the same tolerance (``"vx in"`` finds
+``"VX_IN [m/s]"``); a name that matches two file columns is an error unless it
+is spelled exactly as one of them. ``landing`` and ``liftoff`` are required;
+only the roles listed are read.
+
+Units
+-----
+Values are converted to scaled units (radii/s, rad/s) with the ball radius
+``ball_radius_m``. The unit of a column is given by ``units=``
+(``{"velocity": "m/s", "spin": "rpm"}``, either key optional, applying to the
+prediction intervals too) and/or by the file: the unit at the end of the
+column's header name or, failing that, a *units row* right under the header (a
+row whose cells are units such as ``m/s``, ``rpm``). If both are given for a
+column and disagree, the load fails; each column may have its own unit, and
+the units read are recorded in the ``source_units`` attr. Known units are those of
+:mod:`bouncelab.data.units` (velocity: m/s, ft/s, mph, km/h, radius/s = 1/s
+= s^-1; spin: rad/s, rpm = rev/min = rot per min, rev/s = Hz, deg/s; ``1/s`` on a
+spin column means rad/s). With no unit anywhere, velocities are taken as
+radii/s and spins as rad/s, but a file whose median landing ``|ydot0|`` is
+below 20 radii/s (0.43 m/s, no real golf landing) is refused as probably in
+physical units. Whatever the units, a velocity above 10 000 radii/s (213 m/s)
+or a spin above 5 000 rad/s (48 000 rpm) is refused as a unit mistake.
+Examples::
+
+    load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})
+    load_campaign("bounces.xlsx", sheet="Campaign B", units={"spin": "rev/s"})
+    load_campaign("scaled.txt")                      # radii/s and rad/s
+
+A campaign netCDF file is already in scaled units: ``columns=`` and
+``units=`` are refused, its stored ``ball_radius_m`` is kept, and
+``campaign=``/``surface=`` replace the stored names only when given.
+
+Errors
+------
+Every problem with the file is a :class:`~bouncelab.errors.DataError` whose
+message names the file, the column as spelled in the file and the data row
+(the first row under the header is row 1; blank and comment lines are not
+counted, and the message also gives the line of a text file or the cell of a
+spreadsheet). Nothing is written or kept when a load fails.
+"""
+
+from bouncelab.data.io.load import EMBEDDED_CAMPAIGNS, SUPPORTED_SUFFIXES, load_campaign
+from bouncelab.data.io.save import save_campaign
+
+# COLUMN_SYNONYMS, and the synonym table's internals (``_role_of``...), which stay importable
+# from here as when this package was one module.
+from bouncelab.data.io.synonyms import _PHASES as _PHASES
+from bouncelab.data.io.synonyms import _SETTING_NAMES as _SETTING_NAMES
+from bouncelab.data.io.synonyms import _STATE_KEYS as _STATE_KEYS
+from bouncelab.data.io.synonyms import _STEMS as _STEMS
+from bouncelab.data.io.synonyms import COLUMN_SYNONYMS
+from bouncelab.data.io.synonyms import _build_state_keys as _build_state_keys
+from bouncelab.data.io.synonyms import _normalize as _normalize
+from bouncelab.data.io.synonyms import _role_of as _role_of
+
+__all__ = [
+    "COLUMN_SYNONYMS",
+    "EMBEDDED_CAMPAIGNS",
+    "SUPPORTED_SUFFIXES",
+    "load_campaign",
+    "save_campaign",
+]

@@ -1,0 +1,78 @@
+"""Reading ``.xlsx`` (openpyxl) and ``.xls`` (xlrd) workbooks: one sheet, first non-empty row as header."""
+
+from __future__ import annotations
+
+import zipfile
+from pathlib import Path
+
+from bouncelab.data.io.optional_packages import _module_available
+from bouncelab.data.io.table import _finish_table, _is_empty_cell, _Table
+from bouncelab.errors import DataError
+
+_EXCEL_SUFFIXES = (".xlsx", ".xls")
+
+
+def _col_letter(j: int) -> str:
+    out = ""
+    j += 1
+    while j:
+        j, r = divmod(j - 1, 26)
+        out = chr(65 + r) + out
+    return out
+
+
+def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
+    suffix = path.suffix.lower()
+    if suffix == ".xlsx" and not _module_available("openpyxl"):
+        raise ImportError(
+            f"reading the Excel file {file!r} needs openpyxl: pip install bouncelab[excel]"
+        )
+    if suffix == ".xls" and not _module_available("xlrd"):
+        raise ImportError(
+            f"reading the old-style Excel file {file!r} needs xlrd: pip install xlrd "
+            "(or save it as .xlsx and pip install bouncelab[excel])"
+        )
+    import pandas as pd
+
+    try:
+        with pd.ExcelFile(path) as xf:
+            names = list(xf.sheet_names)
+            if sheet is None:
+                sheet = 0
+            if isinstance(sheet, int) and not isinstance(sheet, bool):
+                if not 0 <= sheet < len(names):
+                    raise DataError(
+                        f"sheet index {sheet} out of range; the workbook's sheets are {names}",
+                        file=file,
+                    )
+                sheet_name = names[sheet]
+            elif str(sheet) in names:
+                sheet_name = str(sheet)
+            else:
+                raise DataError(f"no sheet {sheet!r}; the workbook's sheets are {names}", file=file)
+            df = pd.read_excel(xf, sheet_name=sheet_name, header=None, dtype=object)
+    except DataError:
+        raise
+    except (ValueError, OSError, KeyError, zipfile.BadZipFile) as exc:
+        raise DataError(f"cannot read it as an Excel workbook: {exc}", file=file) from None
+
+    grid = df.values.tolist()
+    sheet_rows = list(range(1, len(grid) + 1))
+    keep = [k for k, r in enumerate(grid) if not all(_is_empty_cell(c) for c in r)]
+    if not keep:
+        raise DataError(f"sheet {sheet_name!r} is empty (no header, no data)", file=file)
+    header = grid[keep[0]]
+    names_ = ["" if _is_empty_cell(c) else str(c).strip() for c in header]
+    while names_ and not names_[-1]:
+        names_.pop()
+    data_idx = keep[1:]
+    rows = [grid[k] for k in data_idx]
+    col_of = {n: j for j, n in enumerate(names_) if n}
+
+    def locate(i: int, col: str) -> str:
+        r = sheet_rows[data_idx[i]]
+        if col in col_of:
+            return f"cell {_col_letter(col_of[col])}{r} of sheet {sheet_name!r}"
+        return f"row {r} of sheet {sheet_name!r}"
+
+    return _finish_table(file, names_, rows, locate=locate, blank=_is_empty_cell, strict_width=False)

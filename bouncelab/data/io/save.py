@@ -1,0 +1,95 @@
+""":func:`save_campaign`: writing a campaign to netCDF so that loading it gives it back bit for bit."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data.campaign import validate_campaign
+from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
+from bouncelab.data.io.optional_packages import _module_available
+from bouncelab.errors import DataError
+
+
+def _netcdf_engine() -> str:
+    if _module_available("netCDF4"):
+        return "netcdf4"
+    if _module_available("h5netcdf"):
+        return "h5netcdf"
+    return "scipy"
+
+
+def _check_attr(key: str, value: Any, file: str) -> None:
+    ok = isinstance(value, str | float | np.floating | np.integer) or (
+        isinstance(value, int) and not isinstance(value, bool)
+    )
+    if isinstance(value, list | tuple | np.ndarray):
+        arr = np.asarray(value)
+        ok = arr.ndim == 1 and arr.dtype.kind in "iuf"
+    if not ok:
+        raise DataError(
+            f"attribute {key!r} = {value!r} cannot be stored in netCDF "
+            "(use a string, a number or a 1-D list of numbers)", file=file,
+        )
+
+
+def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
+    """Write a campaign to a netCDF file that :func:`~bouncelab.data.io.load_campaign` reads back exactly.
+
+    Values, the ``setting`` coordinate (numbers or strings), the prediction
+    intervals and the attrs all survive the round trip bit for bit. The file
+    is written to a temporary name and renamed, so a failed save leaves no
+    file (and an existing file untouched).
+
+    Parameters
+    ----------
+    ds
+        A campaign Dataset (it is checked with
+        :func:`~bouncelab.data.campaign.validate_campaign`; only the campaign
+        variables, coordinates and attrs are written).
+    path
+        Destination, ending in ``.nc`` or ``.netcdf``. Its directory must exist.
+    engine
+        xarray netCDF engine; default ``"netcdf4"`` or ``"h5netcdf"`` if
+        installed, else ``"scipy"`` (netCDF-3, always available).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    DataError
+        ``ds`` is not a valid campaign, an attr cannot be stored, or the
+        suffix is not a netCDF one; no file is created.
+    FileNotFoundError
+        The destination directory does not exist.
+    """
+    path = Path(path).expanduser()
+    file = os.fspath(path)
+    if path.suffix.lower() not in _NETCDF_SUFFIXES:
+        raise DataError(
+            f"save_campaign writes netCDF; give the file a .nc suffix (got {path.suffix or 'none'!r})",
+            file=file,
+        )
+    parent = path.parent
+    if not parent.is_dir():
+        raise FileNotFoundError(f"cannot save {file!r}: the directory {os.fspath(parent)!r} does not exist")
+    checked = validate_campaign(ds, file=file)
+    for key, value in checked.attrs.items():
+        _check_attr(key, value, file)
+    fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
