@@ -117,9 +117,15 @@ def _check_figure(fig: Any) -> None:
         raise TypeError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
 
 
-def finish(fig: Any, attrs: dict, title: str) -> Any:
-    """Set the title and, for synthetic data, the visible note; return ``fig``."""
-    if title:
+def finish(fig: Any, attrs: dict, title: str, *, ax: Any = None) -> Any:
+    """Set the title and, for synthetic data, the visible note; return ``fig``.
+
+    With ``ax`` (a single axes drawn into a figure the caller owns) the title goes on the
+    axes instead of the figure.
+    """
+    if ax is not None:
+        ax.set_title(title)
+    elif title:
         fig.suptitle(title, fontsize="large")
     add_synthetic_note(fig, attrs)
     return fig

@@ -157,11 +157,7 @@ def plot_tangential(
     ax.legend(handles=handles, fontsize="small", loc="best", framealpha=0.9)
     if title is None:
         title = f"{c.campaign_name(attrs)}: tangential velocity of the contact point"
-    if own:
-        return c.finish(fig, attrs, title)
-    ax.set_title(title)
-    c.add_synthetic_note(fig, attrs)
-    return fig
+    return c.finish(fig, attrs, title, ax=None if own else ax)
 
 
 def plot_slices(data: Any, *, fig: Any = None, title: str | None = None, by_class: bool = True):

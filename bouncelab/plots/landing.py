@@ -149,11 +149,7 @@ def plot_landing_space(
         ax.legend(handles=handles, loc="upper left", fontsize="small", framealpha=0.85)
     if title is None:
         title = f"{c.campaign_name(attrs)}: landing conditions by measured slip/roll class"
-    if own:
-        return c.finish(fig, attrs, title)
-    ax.set_title(title)
-    c.add_synthetic_note(fig, attrs)
-    return fig
+    return c.finish(fig, attrs, title, ax=None if own else ax)
 
 
 def _plane_law(law: Any) -> PiecewiseAffine | None:
