@@ -45,9 +45,9 @@ def as_states(
     Returns
     -------
     array, wrap
-        The (n, 3) array and a function that turns an (n, 3) result back into
-        the caller's kind: same leading shape, or a DataArray with the same
-        dimensions and coordinates.
+        The (n, 3) array and a function that turns an (n, 3) result, or an (n,)
+        result with one value per bounce, back into the caller's kind: same
+        leading shape, or a DataArray with the same dimensions and coordinates.
 
     Raises
     ------
@@ -103,12 +103,13 @@ def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | N
     coords = {k: v for k, v in da.coords.items() if "component" not in v.dims}
 
     def wrap(result: np.ndarray) -> xr.DataArray:
-        out = xr.DataArray(
+        if result.ndim == 1:  # one value per bounce
+            return xr.DataArray(result.reshape(lead), dims=other, coords=coords)
+        return xr.DataArray(
             result.reshape(*lead, 3),
             dims=dims,
             coords={**coords, "component": list(COMPONENTS), "unit": ("component", list(COMPONENT_UNITS))},
         )
-        return out
 
     return arr, wrap
 

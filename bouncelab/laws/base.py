@@ -215,11 +215,7 @@ class BounceModel:
         """
         theta = self._theta()
         p, wrap = as_states(landing, "landing", landing=True)
-        names = np.asarray(self.regimes)[self._regime(p, theta)]
-        if hasattr(landing, "dims"):
-            lead = wrap(np.zeros((len(p), 3)))
-            return lead.isel(component=0, drop=True).copy(data=names.reshape(lead.shape[:-1]))
-        return wrap(names[:, None])[..., 0]
+        return wrap(np.asarray(self.regimes)[self._regime(p, theta)])
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         raise NotImplementedError
