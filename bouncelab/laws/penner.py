@@ -7,8 +7,9 @@ import math
 import numpy as np
 
 from bouncelab.data import published as _published
+from bouncelab.data.validation import as_states
 from bouncelab.laws import _ids
-from bouncelab.laws._compiled import _CompiledLaw
+from bouncelab.laws._compiled import _CompiledLaw, kernels
 from bouncelab.laws.base import Parameter
 from bouncelab.laws.rigid import MU_SPEC, R_SPEC
 
@@ -122,15 +123,11 @@ class PennerVarying(_CompiledLaw):
         super().__init__()
 
     def beta_deg(self, landing) -> np.ndarray:
-        """Penner's angle beta (degrees) for each landing."""
-        from bouncelab.data.validation import as_states
-
+        """Penner's angle beta (degrees) for each landing, as the law uses it (capped at 90 degrees)."""
         theta = self._theta()
         p, wrap = as_states(landing, "landing", landing=True)
-        s = np.hypot(p[:, 0], p[:, 1])
-        phi = np.arctan2(-p[:, 1], np.abs(p[:, 0]))
-        beta = np.degrees(np.minimum(theta[2] * s * phi, np.pi / 2))
-        return wrap(beta[:, None])[..., 0] if not hasattr(landing, "dims") else beta
+        sphi = kernels().speeds_times_angles(p)
+        return wrap(np.degrees(np.minimum(theta[2] * sphi, np.pi / 2)))
 
     @classmethod
     def published(cls, campaign: str) -> PennerVarying:
