@@ -1,3 +1,3 @@
 cd "$REPO"
 date -u "+%Y-%m-%d %H:%M UTC"
-python benchmarks/bench_algorithms.py
+python benchmarks/bench_algorithms.py --problems 200 --seed 5

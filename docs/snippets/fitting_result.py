@@ -4,7 +4,5 @@ ds = bl.load_campaign("A")
 res = bl.fit(bl.Rigid, ds, bounds={"mu": (1.2, 3.0)})   # a box where every bounce grips
 print(repr(res))
 print("at_bounds:", res.at_bounds, " insensitive:", res.insensitive)
-for note in res.notes:
-    print("note:", note)
-print(res.errors.loc["train"].round(4))
+print(res)                                               # the report: see the mu line and the note
 print(sorted(res.to_dict()))
