@@ -1,6 +1,6 @@
 """Fit time of the rigid family on one ~700-bounce campaign, against SciPy's differential evolution.
 
-Run: ``python benchmarks/bench_fit.py`` (about a minute). For each law, bouncelab.fit (default
+Run: ``python benchmarks/bench_fit.py`` (about 10 s). For each law, bouncelab.fit (default
 NLopt DIRECT_L + Nelder-Mead, compiled objective) is timed over several seeds, and
 ``scipy.optimize.differential_evolution(tol=1e-12, polish=True)`` on a straightforward NumPy
 delta is timed in the same run on the same data and bounds. Targets (issue 3): median fit under

@@ -112,6 +112,17 @@ def test_bad_option_is_usage_error(argv, capsys):
     assert "usage: bouncelab" in capsys.readouterr().err
 
 
+def test_closed_pipe_is_not_an_error(tmp_path):
+    """`bouncelab predict ... | head` must not end in a BrokenPipeError traceback."""
+    rows = tmp_path / "many.txt"
+    np.savetxt(rows, np.tile([[1000.0, -800.0, 200.0]], (20000, 1)))  # far more output than a pipe holds
+    cmd = f"{sys.executable} -m bouncelab predict Rigid --published A --input {rows} | head -n 3; exit ${{PIPESTATUS[0]}}"
+    proc = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert len(proc.stdout.splitlines()) == 3
+    assert "Traceback" not in proc.stderr and "BrokenPipe" not in proc.stderr
+
+
 def test_module_entry_point():
     proc = subprocess.run([sys.executable, "-m", "bouncelab", "--version"], capture_output=True, text=True, check=True)
     assert proc.stdout.strip() == f"bouncelab {bl.__version__}"

@@ -422,3 +422,16 @@ def test_fast_atan_and_sincos_accuracy():
     np.testing.assert_allclose(out[:, 0], np.arctan2(num, den), rtol=5e-16)
     np.testing.assert_allclose(out[:, 1], np.sin(x), rtol=5e-16, atol=1e-300)
     np.testing.assert_allclose(out[:, 2], np.cos(x), rtol=5e-16, atol=2e-16)
+
+
+@pytest.mark.parametrize(("row", "col", "value", "match"), [(77777, 2, np.nan, "NaN"), (88888, 1, 3.0, "negative"),
+                                                            (99999, 0, np.inf, "infinite")])
+def test_large_arrays_are_checked_too(row, col, value, match):
+    """Past FAST_CHECK_MIN bounces a compiled pass checks the values; errors still name the row."""
+    from bouncelab.data.validation import FAST_CHECK_MIN
+
+    p = np.random.default_rng(0).uniform(1, 100, (2 * FAST_CHECK_MIN, 3)) * np.array([1, -1, 1])
+    p[row, col] = value
+    with pytest.raises(DataError, match=match) as err:
+        bl.Rigid(r=0.5, mu=0.5).predict(p)
+    assert err.value.row == row + 1

@@ -7,7 +7,7 @@ trajectories
 measurement
     The paper's extraction of landing and lift-off states with their 95 %
     intervals from tracked frames (:func:`measure_bounce`).
-repeatability
+repeats
     Per-launcher-setting means and Student-t confidence intervals of the mean
     at landing and lift-off (:func:`repeatability`, the paper's Appendix
     Fig. 9) and how often lift-off intervals are wider

@@ -32,7 +32,7 @@ from bouncelab.errors import DataError
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "Report", "reproduce"]
 
-#: Resamples of the parameter bootstrap in the report (about 4 s per campaign on two cores).
+#: Resamples of the parameter bootstrap in the report (3 to 4 s per campaign here; the refits run one after another).
 BOOTSTRAP_RESAMPLES = 100
 
 

@@ -25,8 +25,8 @@ __all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "fit", "resolve_bound
 
 #: Default global algorithm of the parameter search, chosen by measurement (``benchmarks/bench_algorithms.py``):
 #: on 200 random fitting problems (4 laws, 20 to 700 bounces) every global algorithm did well with a
-#: Nelder-Mead polish and badly with BOBYQA; DIRECT_L and MLSL missed the best known minimum at most once
-#: (at 20 bounces), and DIRECT_L needs no random numbers.
+#: Nelder-Mead polish (MLSL 0 misses of the best known minimum, DIRECT_L and CRS2_LM 1, all at 20 bounces)
+#: and worse with SBPLX (6-13) or BOBYQA (10-17); DIRECT_L needs no random numbers.
 DEFAULT_ALGORITHM = "DIRECT_L"
 #: Default local polish (delta has kinks at regime changes, where BOBYQA's quadratic models stall).
 DEFAULT_LOCAL_ALGORITHM = "NELDERMEAD"
@@ -123,7 +123,7 @@ def fit(
     bounds
         Search box per parameter, name -> (low, high), overriding the law's
         defaults (r in [0, 1], mu in [0, 1.5], beta_deg in [0, 45], k_p in
-        [0, 1e-3]); low == high holds a parameter fixed.
+        [0, 1e-3], e_t in [0, 1]); low == high holds a parameter fixed.
     algorithm, local_algorithm
         NLopt global algorithm (CRS2_LM, ISRES, ESCH, DIRECT_L, MLSL; default
         DIRECT_L, or CRS2_LM for the plane search) and local polish (BOBYQA,

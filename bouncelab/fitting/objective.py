@@ -93,7 +93,7 @@ class ErrorMeasure:
         return f
 
     def value(self, theta: list[float], weights: tuple[float, float, float, float]) -> float:
-        """Weighted sum of the four errors at ``theta`` (a list of floats; the fitter's hot path)."""
+        """Weighted sum of the four errors at ``theta`` (a list of floats, in spec order)."""
         if self._sums is not None:
             sd, sx, sy, sw = self._sums(theta)
         else:

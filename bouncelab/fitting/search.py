@@ -209,7 +209,7 @@ def global_search(
     opt.set_lower_bounds(lb)
     opt.set_upper_bounds(ub)
     opt.set_min_objective(tracked)
-    opt.set_maxeval(int(maxeval if maxeval is not None else 400 * d))
+    opt.set_maxeval(int(maxeval if maxeval is not None else 100 * d))
     if population:
         opt.set_population(int(population))
     if gcode == nlopt.GN_MLSL:

@@ -13,6 +13,7 @@ scaled units with ``ydot0 < 0`` (validated by the caller, not here).
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit, prange
@@ -163,10 +164,24 @@ def _regime_loop(P, t0, t1, t2, codes, law):
         codes[i] = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)[3]
 
 
-_predict_serial = njit(cache=True, fastmath=True)(_predict_loop)
-_predict_parallel = njit(cache=True, fastmath=True, parallel=True)(_predict_loop)
-_regime_serial = njit(cache=True, fastmath=True)(_regime_loop)
-_regime_parallel = njit(cache=True, fastmath=True, parallel=True)(_regime_loop)
+def _serial_and_parallel(loop):
+    """A serial and a parallel compiled variant of ``loop``, each cached under its own name.
+
+    numba keys its on-disk cache by the Python function's qualified name and line, not by
+    the ``parallel`` flag: compiled from one function object, the two variants would share
+    a cache entry and one of them would silently run the other's code.
+    """
+    variants = []
+    for parallel in (False, True):
+        name = f"{loop.__name__}_{'parallel' if parallel else 'serial'}"
+        f = types.FunctionType(loop.__code__, loop.__globals__, name)
+        f.__qualname__ = name
+        variants.append(njit(cache=True, fastmath=True, parallel=parallel)(f))
+    return variants
+
+
+_predict_serial, _predict_parallel = _serial_and_parallel(_predict_loop)
+_regime_serial, _regime_parallel = _serial_and_parallel(_regime_loop)
 
 
 def predict(law, P, t0, t1, t2, out):
@@ -251,8 +266,7 @@ def _affine_loop(P, normal, offset, A1, b1, A2, b2, out):
             out[i, j] = A[j, 0] * x + A[j, 1] * y + A[j, 2] * w + b[j]
 
 
-_affine_serial = njit(cache=True, fastmath=True)(_affine_loop)
-_affine_parallel = njit(cache=True, fastmath=True, parallel=True)(_affine_loop)
+_affine_serial, _affine_parallel = _serial_and_parallel(_affine_loop)
 
 
 def affine_predict(P, normal, offset, A1, b1, A2, b2, out):
