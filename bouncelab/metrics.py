@@ -26,7 +26,7 @@ from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.data.validation import States, as_states, check_same_length
 
-__all__ = ["ERROR_COLUMNS", "delta", "delta_q", "error_table", "score"]
+__all__ = ["ERROR_COLUMNS", "delta", "delta_q", "error_table", "error_terms", "score"]
 
 #: Column names of error tables: delta then Delta q for xdot, ydot, omega.
 ERROR_COLUMNS = ("delta", "delta_xdot", "delta_ydot", "delta_omega")
@@ -41,8 +41,8 @@ def _arrays(landing: States, liftoff: States, predicted: States) -> tuple[np.nda
     return p0, pf, pp
 
 
-def _terms(p0: np.ndarray, pf: np.ndarray, pp: np.ndarray) -> np.ndarray:
-    """Per-bounce (n, 4) terms whose means are delta, Delta xdot, Delta ydot, Delta omega."""
+def error_terms(p0: np.ndarray, pf: np.ndarray, pp: np.ndarray) -> np.ndarray:
+    """Per-bounce (n, 4) terms whose means are delta, Delta xdot, Delta ydot, Delta omega (validated arrays)."""
     inv = 1.0 / np.linalg.norm(p0, axis=1)
     err = pf - pp
     return np.column_stack([np.linalg.norm(err, axis=1), np.abs(err)]) * inv[:, None]
@@ -62,13 +62,13 @@ def delta(landing: States, liftoff: States, predicted: States) -> float:
     0.1
     """
     p0, pf, pp = _arrays(landing, liftoff, predicted)
-    return float(_terms(p0, pf, pp)[:, 0].mean())
+    return float(error_terms(p0, pf, pp)[:, 0].mean())
 
 
 def delta_q(landing: States, liftoff: States, predicted: States) -> np.ndarray:
     r"""Per-component errors :math:`\Delta q` (eq. error_individual), in the order xdot, ydot, omega."""
     p0, pf, pp = _arrays(landing, liftoff, predicted)
-    return _terms(p0, pf, pp)[:, 1:].mean(axis=0)
+    return error_terms(p0, pf, pp)[:, 1:].mean(axis=0)
 
 
 def error_table(
@@ -93,7 +93,7 @@ def error_table(
         :data:`ERROR_COLUMNS` (fractions).
     """
     p0, pf, pp = _arrays(landing, liftoff, predicted)
-    terms = _terms(p0, pf, pp)
+    terms = error_terms(p0, pf, pp)
     rows = {"all": terms}
     if classes is not None:
         labels = np.asarray(classes)

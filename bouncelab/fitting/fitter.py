@@ -7,10 +7,8 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.errors import FitError, ParameterError
 from bouncelab.fitting import piecewise as pw
 from bouncelab.fitting.objective import ErrorMeasure, objective_label, objective_weights
@@ -19,7 +17,7 @@ from bouncelab.fitting.search import SearchOutcome, global_search
 from bouncelab.laws.base import BounceModel
 from bouncelab.laws.piecewise import PiecewiseAffine
 from bouncelab.laws.rigid import Rigid
-from bouncelab.metrics import error_table
+from bouncelab.metrics import error_table, error_terms
 
 __all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "fit", "resolve_bounds"]
 
@@ -392,32 +390,25 @@ def _fit_piecewise(law, p0, pf, tst, method, seed, algorithm, local_algorithm, m
 
 
 # --------------------------------------------------------------------------------- assembling
-def _errors(model: BounceModel, p0: np.ndarray, pf: np.ndarray) -> pd.DataFrame:
-    return error_table(p0, pf, model.predict(p0), classify_slip_roll(p0, pf))
-
-
 def _result(fitted, method, weights, value, p0, pf, tst, box, at_bounds, flat, outcome, algo, seed, notes,
             start_time) -> FitResult:
-    train = _errors(fitted, p0, pf)
-    tables = {"train": train}
-    test_delta = test_dq = None
-    if tst is not None:
-        tables["test"] = _errors(fitted, *tst)
-        test_delta = float(tables["test"].loc["all", "delta"])
-        test_dq = tables["test"].loc["all", ["delta_xdot", "delta_ydot", "delta_omega"]].to_numpy(dtype=float)
-    errors = pd.concat(tables, names=["data", "subset"])
+    def overall(landing: np.ndarray, liftoff: np.ndarray) -> np.ndarray:
+        return error_terms(landing, liftoff, fitted.predict(landing)).mean(axis=0)
+
+    train = overall(p0, pf)
+    test = None if tst is None else overall(*tst)
     stop = outcome.global_stop + (f"; polish: {outcome.local_stop}" if outcome.local_stop else "")
     return FitResult(
         model=fitted,
         method=method,
         objective=objective_label(weights),
         objective_value=value,
-        delta=float(train.loc["all", "delta"]),
-        delta_q=train.loc["all", ["delta_xdot", "delta_ydot", "delta_omega"]].to_numpy(dtype=float),
-        errors=errors,
+        delta=float(train[0]),
+        delta_q=train[1:],
+        data={"train": (p0, pf), **({} if tst is None else {"test": tst})},
         n_train=len(p0),
-        test_delta=test_delta,
-        test_delta_q=test_dq,
+        test_delta=None if test is None else float(test[0]),
+        test_delta_q=None if test is None else test[1:],
         n_test=0 if tst is None else len(tst[0]),
         bounds=dict(box),
         at_bounds=at_bounds,

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
+from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.laws.base import BounceModel
+from bouncelab.metrics import error_table
 
 __all__ = ["FitResult"]
 
@@ -34,7 +37,7 @@ class FitResult:
     errors
         Table of delta and Delta q overall and per measured class (slip/roll),
         for the fitted data and, when given, the held-out data (index
-        ``(data, subset)``).
+        ``(data, subset)``); built on first access.
     test_delta, test_delta_q
         The same on held-out data, or None.
     n_train, n_test
@@ -71,8 +74,8 @@ class FitResult:
     objective_value: float
     delta: float
     delta_q: np.ndarray
-    errors: pd.DataFrame
     n_train: int
+    data: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, repr=False)
     test_delta: float | None = None
     test_delta_q: np.ndarray | None = None
     n_test: int = 0
@@ -90,6 +93,15 @@ class FitResult:
     test_mismatched: float | None = None
     notes: list[str] = field(default_factory=list)
     extras: dict[str, Any] = field(default_factory=dict)
+
+    @cached_property
+    def errors(self) -> pd.DataFrame:
+        """delta and Delta q overall and per measured slip/roll class, on the fitted and held-out data."""
+        tables = {
+            name: error_table(p0, pf, self.model.predict(p0), classify_slip_roll(p0, pf))
+            for name, (p0, pf) in self.data.items()
+        }
+        return pd.concat(tables, names=["data", "subset"])
 
     @property
     def parameters(self) -> dict[str, float | None]:

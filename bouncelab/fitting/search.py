@@ -97,13 +97,13 @@ class _Tracked:
 
     def distinct_best(self, k: int, min_distance: float) -> list[np.ndarray]:
         """Up to ``k`` best points seen, pairwise at least ``min_distance`` apart (max-norm)."""
-        chosen: list[np.ndarray] = []
-        for i in np.argsort(self.fs, kind="stable"):
-            x = self.xs[i]
-            if all(np.max(np.abs(x - c)) >= min_distance for c in chosen):
-                chosen.append(x)
-                if len(chosen) == k:
-                    break
+        xs = np.array(self.xs)[np.argsort(self.fs, kind="stable")]
+        chosen = [xs[0]]
+        for _ in range(k - 1):
+            far = np.all([np.max(np.abs(xs - c), axis=1) >= min_distance for c in chosen], axis=0)
+            if not far.any():
+                break
+            chosen.append(xs[np.argmax(far)])  # the best point far from every chosen one
         return chosen
 
 
