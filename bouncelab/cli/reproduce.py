@@ -171,6 +171,13 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         )
     tables = out / "tables"
 
+    def add(key: str, df: pd.DataFrame, stem: str, title: str, *, percent: bool = False,
+            shown: pd.DataFrame | None = None) -> None:
+        """Write a table as CSV and markdown and show it in the report under ``key``."""
+        md = f"### {title}\n\n" + frame_markdown(df if shown is None else shown, percent=percent)
+        _write_table(df, md, tables / f"{name}_{stem}", files)
+        section["tables"][key] = md
+
     with step(f"{name}: fitting the paper's laws to all bounces (Table 3)"):
         cmp = compare(ds, [*PAPER_LAWS, "TangentialRestitution"], seed=seed)
         structured = fit(Rigid, ds, method="structured", seed=seed)
@@ -223,10 +230,8 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
                          "fitted_delta": float(cv.folds["train_delta"].mean())}
         cvt = pd.DataFrame(rows).T
         cvt.index.name = "law"
-        md = (f"### Cross-validated delta, campaign {name} (5 folds grouped by launcher setting)\n\n"
-              + frame_markdown(cvt, percent=True))
-        _write_table(cvt, md, tables / f"{name}_crossvalidation", files)
-        section["tables"]["Cross-validation (beyond the paper)"] = md
+        add("Cross-validation (beyond the paper)", cvt, "crossvalidation",
+            f"Cross-validated delta, campaign {name} (5 folds grouped by launcher setting)", percent=True)
 
     with step(f"{name}: parameter uncertainty, bootstrap over launcher settings (beyond the paper)"):
         frames = {}
@@ -234,11 +239,9 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             boot = bootstrap(registered_laws()[law], ds, n=BOOTSTRAP_RESAMPLES, seed=seed)
             frames[law] = boot.summary()
         boot_table = pd.concat(frames, names=["law", "parameter"])
-        md = (f"### Parameter uncertainty, campaign {name}: {BOOTSTRAP_RESAMPLES} bootstrap resamples of whole "
-              "launcher settings (95 % percentile intervals)\n\n")
-        md += frame_markdown(boot_table.reset_index().set_index("law"))
-        _write_table(boot_table, md, tables / f"{name}_bootstrap", files)
-        section["tables"]["Parameter uncertainty (beyond the paper)"] = md
+        add("Parameter uncertainty (beyond the paper)", boot_table, "bootstrap",
+            f"Parameter uncertainty, campaign {name}: {BOOTSTRAP_RESAMPLES} bootstrap resamples of whole "
+            "launcher settings (95 % percentile intervals)", shown=boot_table.reset_index().set_index("law"))
 
     with step(f"{name}: repeatability per launcher setting"):
         rep = repeatability(ds)
@@ -246,17 +249,13 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         rep_df = rep.to_dataframe()
         rep_df.to_csv(tables / f"{name}_repeatability.csv")
         files.append(tables / f"{name}_repeatability.csv")
-        md = (f"### Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting\n\n"
-              + frame_markdown(summ))
-        _write_table(summ, md, tables / f"{name}_repeatability_summary", files)
-        section["tables"]["Repeatability"] = md
+        add("Repeatability", summ, "repeatability_summary",
+            f"Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting")
         section["repeatability"] = rep
 
     with step(f"{name}: tangential velocities and prediction intervals"):
         tang = tangential_summary(ds)
-        md = f"### Tangential velocity v_P = xdot + omega, campaign {name}\n\n" + frame_markdown(tang)
-        _write_table(tang, md, tables / f"{name}_tangential", files)
-        section["tables"]["Tangential velocities"] = md
+        add("Tangential velocities", tang, "tangential", f"Tangential velocity v_P = xdot + omega, campaign {name}")
         if "landing_pi" in ds.data_vars:
             widths = {}
             for state in ("landing", "liftoff"):
@@ -264,10 +263,8 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
                 widths[state] = w.median("bounce").to_pandas()
             pit = pd.DataFrame(widths)
             pit.index.name = "component"
-            md = (f"### Median 95 % prediction-interval width / campaign mean |q|, campaign {name}\n\n"
-                  + frame_markdown(pit, percent=True))
-            _write_table(pit, md, tables / f"{name}_prediction_intervals", files)
-            section["tables"]["Prediction intervals"] = md
+            add("Prediction intervals", pit, "prediction_intervals",
+                f"Median 95 % prediction-interval width / campaign mean |q|, campaign {name}", percent=True)
 
     with step(f"{name}: checking the fitted laws reload"):
         from bouncelab.laws import load_law
