@@ -181,3 +181,18 @@ def test_reproduce_bad_file(tmp_path, capsys):
     code, _, err = run(capsys, "reproduce", "--data", str(bad), "--out", str(tmp_path / "rep"), "--quiet")
     assert code == EXIT_DATA
     assert "bad.csv" in err and "row 2" in err
+
+
+def test_predict_ball_radius(capsys):
+    """--radius-mm changes the scaling: the same m/s landing is a different scaled landing."""
+    argv = ["predict", "Rigid", "--published", "A", "--landing", "20", "-15", "3000", "--velocity-unit", "m/s",
+            "--spin-unit", "rpm"]
+    rows = []
+    for radius in ("21.35", "30"):
+        code, out, _ = run(capsys, *argv, "--radius-mm", radius)
+        assert code == EXIT_OK
+        rows.append([float(v) for v in out.splitlines()[-1].split()[3:6]])
+    scaled = units.to_scaled([[20, -15, 3000]], velocity="m/s", spin="rpm", radius_m=0.030)
+    want = units.from_scaled(bl.Rigid.published("A").predict(scaled), velocity="m/s", spin="rpm", radius_m=0.030)
+    np.testing.assert_allclose(rows[1], want[0], rtol=1e-5)
+    assert rows[0] != rows[1]

@@ -304,3 +304,11 @@ def test_plane_search_recovers_the_surrogates_true_plane():
         agree = np.mean(fitted.regime(p0) == truth.regime(p0))
         svm_agree = np.mean(bl.fit(bl.PiecewiseAffine, ds, method="svm").model.regime(p0) == truth.regime(p0))
         assert agree > 0.97 and agree > svm_agree
+
+
+def test_search_options_are_honoured(campaign_a):
+    no_polish = bl.fit(bl.Rigid, campaign_a, local_algorithm=None, maxeval=150)
+    assert no_polish.n_global <= 151 and "no polish" in no_polish.algorithm
+    assert no_polish.delta >= bl.fit(bl.Rigid, campaign_a).delta - 1e-12
+    with pytest.raises(FitError, match="svm_C"):
+        bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_C=0.0)

@@ -92,7 +92,6 @@ class FitResult:
     mismatched: float | None = None
     test_mismatched: float | None = None
     notes: list[str] = field(default_factory=list)
-    extras: dict[str, Any] = field(default_factory=dict)
 
     @cached_property
     def errors(self) -> pd.DataFrame:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import nlopt
 import numpy as np
@@ -66,7 +66,6 @@ class SearchOutcome:
     local_stop: str = ""
     elapsed: float = 0.0
     algorithms: tuple[str, str] = ("", "")
-    trace: list[tuple[float, ...]] = field(default_factory=list)
 
 
 _NO_GRAD = np.empty(0)

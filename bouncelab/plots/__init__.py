@@ -5,19 +5,26 @@
 >>> fig = plot_tangential(bl.load_campaign("A"))          # doctest: +SKIP
 >>> save_figure(fig, "fig7_campaign_A.png")                 # doctest: +SKIP
 
+==========================  =========================================================
+:func:`plot_landing_space`  Fig. 3: landing conditions in 3-D by slip/roll, with the plane
+:func:`plot_pi_widths`      Fig. 6: histograms of the prediction-interval widths
+:func:`plot_tangential`     Fig. 7: contact-point velocity at landing vs lift-off
+:func:`plot_predictions`    Fig. 8: predicted vs observed lift-off, one row per law
+:func:`plot_repeatability`  Fig. 9: mean landing vs mean lift-off per setting, 95 % CIs
+:func:`plot_slices`         Fig. 10: all nine landing/lift-off component slices
+:func:`save_figure`         write a figure to a file
+==========================  =========================================================
+
 Every function returns a :class:`matplotlib.figure.Figure` and never calls ``plt.show()``.
-matplotlib itself is imported only when a figure is drawn.
+matplotlib is imported on first use; on a machine without a display the non-interactive
+Agg backend is used unless a backend was chosen. Figures made from synthetic surrogate
+data carry a visible "synthetic surrogate data" note.
 """
 
-from bouncelab.plots.figures import (
-    plot_landing_space,
-    plot_pi_widths,
-    plot_predictions,
-    plot_repeatability,
-    plot_slices,
-    plot_tangential,
-    save_figure,
-)
+from bouncelab.plots._common import save_figure
+from bouncelab.plots.comparison import plot_predictions, plot_repeatability
+from bouncelab.plots.figures import plot_pi_widths, plot_slices, plot_tangential
+from bouncelab.plots.landing import plot_landing_space
 
 __all__ = [
     "plot_landing_space",

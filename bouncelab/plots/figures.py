@@ -1,20 +1,6 @@
-"""The paper's figures, one function each; every function returns the matplotlib Figure.
-
-==========================  =========================================================
-:func:`plot_landing_space`  Fig. 3: landing conditions in 3-D by slip/roll, with the plane
-:func:`plot_pi_widths`      Fig. 6: histograms of the prediction-interval widths
-:func:`plot_tangential`     Fig. 7: contact-point velocity at landing vs lift-off
-:func:`plot_predictions`    Fig. 8: predicted vs observed lift-off, one row per law
-:func:`plot_repeatability`  Fig. 9: mean landing vs mean lift-off per setting, 95 % CIs
-:func:`plot_slices`         Fig. 10: all nine landing/lift-off component slices
-:func:`save_figure`         write a figure to a file
-==========================  =========================================================
-
-matplotlib is imported on first use (``pip install bouncelab[plot]``); on a machine
-without a display the non-interactive Agg backend is used unless a backend was chosen.
-Nothing here calls ``plt.show()``. Figures made from synthetic surrogate data carry a
-visible "synthetic surrogate data" note.
-"""
+"""Figs. 6, 7 and 10 of the paper: prediction-interval widths, contact-point velocities and all
+landing/lift-off slices (Fig. 3 is in :mod:`bouncelab.plots.landing`, Figs. 8 and 9 in
+:mod:`bouncelab.plots.comparison`)."""
 
 from __future__ import annotations
 
@@ -26,19 +12,8 @@ from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.data.units import COMPONENTS
 from bouncelab.errors import DataError
 from bouncelab.plots import _common as c
-from bouncelab.plots._common import save_figure
-from bouncelab.plots.comparison import plot_predictions, plot_repeatability
-from bouncelab.plots.landing import plot_landing_space
 
-__all__ = [
-    "plot_landing_space",
-    "plot_pi_widths",
-    "plot_predictions",
-    "plot_repeatability",
-    "plot_slices",
-    "plot_tangential",
-    "save_figure",
-]
+__all__ = ["plot_pi_widths", "plot_slices", "plot_tangential"]
 
 
 def plot_pi_widths(data: Any, *, bins: int = 30, fig: Any = None, title: str | None = None):
