@@ -116,7 +116,8 @@ def test_closed_pipe_is_not_an_error(tmp_path):
     """`bouncelab predict ... | head` must not end in a BrokenPipeError traceback."""
     rows = tmp_path / "many.txt"
     np.savetxt(rows, np.tile([[1000.0, -800.0, 200.0]], (20000, 1)))  # far more output than a pipe holds
-    cmd = f"{sys.executable} -m bouncelab predict Rigid --published A --input {rows} | head -n 3; exit ${{PIPESTATUS[0]}}"
+    predict = f"{sys.executable} -m bouncelab predict Rigid --published A --input {rows}"
+    cmd = f"{predict} | head -n 3; exit ${{PIPESTATUS[0]}}"
     proc = subprocess.run(["bash", "-c", cmd], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert len(proc.stdout.splitlines()) == 3
