@@ -1,0 +1,55 @@
+"""Atomic writes keep the old file on failure, keep its mode, and follow symlinks."""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import pytest
+
+from bouncelab.atomic import atomic_path, atomic_write_text
+
+
+def test_failed_write_keeps_previous_file(tmp_path):
+    target = tmp_path / "law.json"
+    target.write_text("old")
+    with pytest.raises(RuntimeError), atomic_path(target) as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("disk full")
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["law.json"]  # no temporary file left
+
+
+def test_new_file_gets_umask_mode_not_0600(tmp_path):
+    old = os.umask(0o022)
+    try:
+        path = atomic_write_text(tmp_path / "new.txt", "x")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+
+
+def test_existing_mode_is_kept(tmp_path):
+    target = tmp_path / "shared.txt"
+    target.write_text("old")
+    target.chmod(0o664)
+    atomic_write_text(target, "new")
+    assert target.read_text() == "new"
+    assert stat.S_IMODE(target.stat().st_mode) == 0o664
+
+
+def test_symlink_is_kept_and_its_target_replaced(tmp_path):
+    real = tmp_path / "real.txt"
+    real.write_text("old")
+    link = tmp_path / "link.txt"
+    link.symlink_to(real)
+    atomic_write_text(link, "new")
+    assert link.is_symlink()
+    assert real.read_text() == "new"
+
+
+def test_missing_folder_and_directory_target_are_refused(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        atomic_write_text(tmp_path / "nope" / "x.txt", "x")
+    with pytest.raises(IsADirectoryError):
+        atomic_write_text(tmp_path, "x")
