@@ -25,11 +25,15 @@ from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
 from bouncelab.laws import (
     BounceModel,
+    CompiledLaw,
+    Parameter,
+    Parameters,
     PennerFixed,
     PennerVarying,
     PiecewiseAffine,
     Rigid,
     TangentialRestitution,
+    fit_method,
     load_law,
 )
 from bouncelab.metrics import delta, delta_q, error_table, score
@@ -44,17 +48,20 @@ _LAZY = {
     "compare": "bouncelab.fitting",
     "split_by_setting": "bouncelab.fitting",
     "cross_validate": "bouncelab.fitting",
-    "infer_settings": "bouncelab.fitting",
+    "infer_settings": "bouncelab.data.settings",
     "bootstrap": "bouncelab.fitting",
 }
 
 __all__ = [
     "BounceModel",
     "BouncelabError",
+    "CompiledLaw",
     "DataError",
     "FitError",
     "NotFittedError",
+    "Parameter",
     "ParameterError",
+    "Parameters",
     "PennerFixed",
     "PennerVarying",
     "PiecewiseAffine",
@@ -65,6 +72,7 @@ __all__ = [
     "delta",
     "delta_q",
     "error_table",
+    "fit_method",
     "load_law",
     "make_campaign",
     "published",

@@ -23,8 +23,9 @@ import numpy as np
 import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.data.validation import States, as_states, check_same_length
+from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
+from bouncelab.data.validation import States, as_states, check_same_length, inverse_norms
+from bouncelab.errors import DataError
 
 __all__ = ["ERROR_COLUMNS", "delta", "delta_q", "error_table", "error_terms", "score"]
 
@@ -41,9 +42,12 @@ def _arrays(landing: States, liftoff: States, predicted: States) -> tuple[np.nda
     return p0, pf, pp
 
 
-def error_terms(p0: np.ndarray, pf: np.ndarray, pp: np.ndarray) -> np.ndarray:
-    """Per-bounce (n, 4) terms whose means are delta, Delta xdot, Delta ydot, Delta omega (validated arrays)."""
-    inv = 1.0 / np.linalg.norm(p0, axis=1)
+def error_terms(p0: np.ndarray, pf: np.ndarray, pp: np.ndarray, inv: np.ndarray | None = None) -> np.ndarray:
+    """Per-bounce (n, 4) terms whose means are delta, Delta xdot, Delta ydot, Delta omega (validated arrays).
+
+    ``inv`` is ``1 / ||p0||`` when already known (:func:`bouncelab.data.validation.inverse_norms`).
+    """
+    inv = inverse_norms(p0) if inv is None else inv
     err = pf - pp
     return np.column_stack([np.linalg.norm(err, axis=1), np.abs(err)]) * inv[:, None]
 
@@ -93,14 +97,18 @@ def error_table(
         :data:`ERROR_COLUMNS` (fractions).
     """
     p0, pf, pp = _arrays(landing, liftoff, predicted)
-    terms = error_terms(p0, pf, pp)
-    rows = {"all": terms}
     if classes is not None:
         labels = np.asarray(classes)
         if labels.shape != (len(p0),):
-            from bouncelab.errors import DataError
-
             raise DataError(f"classes must have one label per bounce ({len(p0)}); got shape {labels.shape}")
+    return _error_table(error_terms(p0, pf, pp), classes)
+
+
+def _error_table(terms: np.ndarray, classes: Any = None) -> pd.DataFrame:
+    """The table of :func:`error_table` from per-bounce terms (internal: no validation)."""
+    rows = {"all": terms}
+    if classes is not None:
+        labels = np.asarray(classes)
         for c in sorted(set(labels.tolist())):
             rows[str(c)] = terms[labels == c]
     table = pd.DataFrame(
@@ -125,14 +133,21 @@ def score(model: Any, data: Any, *, by: str | None = "slip_roll") -> pd.DataFram
         ``"slip_roll"`` (measured slip/roll class, the paper's breakdown),
         ``"regime"`` (the law's own regimes) or ``None`` (overall only).
     """
+    from bouncelab.laws.base import BounceModel
+
+    if not isinstance(model, BounceModel):
+        from bouncelab.errors import ParameterError
+
+        raise ParameterError(f"model must be a bounce law (a BounceModel); got {type(model).__name__}")
+    if by not in (None, "slip_roll", "regime"):
+        raise DataError(f"by must be 'slip_roll', 'regime' or None; got {by!r}")
     p0, pf, _ = campaign_arrays(data)
-    pred = model.predict(p0)
+    theta = model._theta()
+    pred = model._predict(p0, theta)
     if by is None:
         classes = None
     elif by == "slip_roll":
-        classes = classify_slip_roll(p0, pf)
-    elif by == "regime":
-        classes = model.regime(p0)
+        classes = np.asarray(SLIP_ROLL_CLASSES)[_slip_codes(p0, pf)]
     else:
-        raise ValueError(f"by must be 'slip_roll', 'regime' or None; got {by!r}")
-    return error_table(p0, pf, pred, classes)
+        classes = np.asarray(model.regimes)[model._regime(p0, theta)]
+    return _error_table(error_terms(p0, pf, pred), classes)

@@ -31,7 +31,7 @@ EXPECTED: dict[str, list[tuple[list[str], list[str]]]] = {
     "compare_laws.py": [([], [
         "### Laws fitted to campaign B (errors on the held-out bounces",
         "| quantity | Rigid | PennerVarying | PennerFixed | PiecewiseAffine |",
-        "### Piecewise-affine law by class",
+        "### PiecewiseAffine by class",
         "611 bounces fitted, 82 held out",
         "synthetic surrogate",
     ])],

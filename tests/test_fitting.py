@@ -285,10 +285,15 @@ def test_report_and_dict(campaign_a):
     assert "FitResult(Rigid(" in repr(res)
 
 
-def test_svm_hyperplane_option(campaign_a):
+def test_svm_plane_readings(campaign_a):
+    default = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm")
     hyper = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="hyperplane")
-    sv = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm")
-    assert "decision boundary" in hyper.notes[0] and "support vectors by least squares" in sv.notes[0]
+    sv = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="support_vectors")
+    margin = bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="margin_support_vectors")
+    assert default.model == hyper.model and "decision boundary" in hyper.notes[0]
+    assert "all" in sv.notes[0] and "support vectors by least squares" in sv.notes[0]
+    assert "on-margin" in margin.notes[0]
+    assert len(margin.extras["margin_support"]) < len(sv.extras["svm_support"])
     assert not np.allclose(hyper.model.normal, sv.model.normal)
     with pytest.raises(FitError, match="svm_plane"):
         bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_plane="median")

@@ -208,8 +208,10 @@ def test_piecewise_printed_plane_b():
 
 
 def test_piecewise_validation():
-    with pytest.raises(ParameterError, match="missing"):
-        bl.PiecewiseAffine(normal=[1, 0, 0], offset=0.0)
+    partial = bl.PiecewiseAffine(normal=[1, 0, 0], offset=0.0)  # a plane without maps: not fitted yet
+    assert not partial.is_fitted
+    with pytest.raises(NotFittedError, match="A1"):
+        partial.predict([[1000.0, -800.0, 0.0]])
     good = bl.published.piecewise_parameters("A")
     with pytest.raises(ParameterError, match="shape"):
         bl.PiecewiseAffine(**{**good, "A1": np.eye(2)})
@@ -220,7 +222,9 @@ def test_piecewise_validation():
     law = bl.PiecewiseAffine(**good)
     with pytest.raises(ValueError):
         law.A1[0, 0] = 5.0  # stored arrays are read-only
-    assert len(law.parameters) == 28 and law.parameters["A1_13"] == -0.205 and law.parameters["b2_3"] == -267.0
+    assert len(law.parameters) == 6 and law.parameters["A1"][0, 2] == -0.205 and law.parameters["b2"][2] == -267.0
+    flat = law.flat_parameters()
+    assert len(flat) == 28 and flat["A1[0,2]"] == -0.205 and flat["b2[2]"] == -267.0
 
 
 # -------------------------------------------------------------------------------- shapes and kinds

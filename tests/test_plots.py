@@ -19,7 +19,7 @@ from matplotlib.figure import Figure  # noqa: E402
 import bouncelab as bl  # noqa: E402
 from bouncelab.data.campaign import make_campaign  # noqa: E402
 from bouncelab.errors import DataError, NotFittedError  # noqa: E402
-from bouncelab.fitting.piecewise import fit_svm  # noqa: E402
+from bouncelab.laws.plane_fitting import fit_svm  # noqa: E402
 from bouncelab.plots import (  # noqa: E402
     plot_landing_space,
     plot_pi_widths,

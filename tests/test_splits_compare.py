@@ -96,8 +96,9 @@ def test_compare_tables(campaign_b):
     assert paper.loc["Rigid", "delta"] == 0.350 and paper.loc["PiecewiseAffine", "delta"] == 0.0784
     md = cmp.to_markdown()
     assert "| delta |" in md and "(35 %)" in md and "synthetic surrogate" in md
-    pw = cmp.piecewise_table()
+    pw = cmp.by_class("PiecewiseAffine")
     assert list(pw.index) == ["overall", "roll", "slip"] and 0 <= pw.loc["overall", "mismatched"] <= 1
+    assert cmp.table.loc["PiecewiseAffine", "train_mismatched"] == cmp.results["PiecewiseAffine"].mismatched
     sbs = cmp.side_by_side()
     assert ("delta", "paper") in sbs.columns and sbs.loc["Rigid", ("r", "paper")] == 0.260
 

@@ -9,7 +9,7 @@ import pytest
 import bouncelab as bl
 import bouncelab.analysis as analysis
 from bouncelab.analysis import tangential_crosstab, tangential_summary, tangential_velocities
-from bouncelab.analysis.tangential import NEAR_ZERO_FRACTION, SUMMARY_ROWS
+from bouncelab.analysis.contact_velocity import NEAR_ZERO_FRACTION, SUMMARY_ROWS
 from bouncelab.data.campaign import make_campaign
 from bouncelab.errors import DataError
 

@@ -72,5 +72,5 @@ def test_bootstrap_needs_settings(synthetic):
     _, ds = synthetic
     with pytest.raises(FitError, match="infer_settings"):
         bl.bootstrap(bl.Rigid, (ds.landing.values, ds.liftoff.values))
-    with pytest.raises(FitError, match="scalar parameters"):
-        bl.bootstrap(bl.PiecewiseAffine, ds)
+    with pytest.raises(FitError, match="seed"):
+        bl.bootstrap(bl.Rigid, ds, seed=-1)

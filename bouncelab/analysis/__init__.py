@@ -12,7 +12,7 @@ repeats
     at landing and lift-off (:func:`repeatability`, the paper's Appendix
     Fig. 9) and how often lift-off intervals are wider
     (:func:`repeatability_summary`).
-tangential
+contact_velocity
     Contact-point velocity ``v_P = xdot + omega`` at landing and lift-off
     (:func:`tangential_velocities`, the paper's Fig. 7) and counts of slip,
     roll, ``v_P`` and spin reversals and near-rolling lift-offs
@@ -21,6 +21,11 @@ tangential
 
 from __future__ import annotations
 
+from bouncelab.analysis.contact_velocity import (
+    tangential_crosstab,
+    tangential_summary,
+    tangential_velocities,
+)
 from bouncelab.analysis.measurement import (
     ContactDetection,
     SpinEstimate,
@@ -32,11 +37,6 @@ from bouncelab.analysis.measurement import (
     measure_bounce,
 )
 from bouncelab.analysis.repeats import repeatability, repeatability_summary
-from bouncelab.analysis.tangential import (
-    tangential_crosstab,
-    tangential_summary,
-    tangential_velocities,
-)
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
 
 __all__ = [

@@ -76,7 +76,7 @@ def repeatability(
     infer
         When neither ``settings`` nor a ``setting`` coordinate is available,
         infer the settings by clustering the landing conditions
-        (:func:`bouncelab.fitting.splits.infer_settings` with its defaults) and
+        (:func:`bouncelab.data.settings.infer_settings` with its defaults) and
         warn; with ``infer=False`` raise instead.
 
     Returns
@@ -137,7 +137,7 @@ def repeatability(
         labels = setting_labels(setting, n_bounces)
         source = "data"
     elif infer:
-        from bouncelab.fitting.splits import infer_settings
+        from bouncelab.data.settings import infer_settings
 
         labels = infer_settings(data)
         source = "inferred by clustering"

@@ -71,9 +71,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_data_options(rep)
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
-    fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine or TangentialRestitution")
+    fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine, TangentialRestitution or "
+                                 "a user law's module:Class (case-insensitive)")
     fit.add_argument("data", nargs="?", default="A", help="A, B (embedded) or a data file (default: A)")
-    fit.add_argument("--method", help="global (default), structured (Rigid), plane (default) or svm (PiecewiseAffine)")
+    fit.add_argument("--method", help="a fitting method of the law: global (every law), structured (Rigid), "
+                                      "plane (PiecewiseAffine's default) or svm (PiecewiseAffine)")
     fit.add_argument("--objective", default="delta", help="delta (default), xdot, ydot or omega")
     fit.add_argument("--algorithm", help="NLopt global algorithm: DIRECT_L, CRS2_LM, ISRES, ESCH, MLSL")
     fit.add_argument("--seed", type=int, default=0)
@@ -158,13 +160,24 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 
 def _law_class(name: str):
-    from bouncelab.errors import ParameterError
-    from bouncelab.laws import registered_laws
+    """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
+    the module the user names (a law JSON file, by contrast, never imports code)."""
+    import importlib
 
-    laws = registered_laws()
-    if name not in laws:
-        raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(sorted(laws))}")
-    return laws[name]
+    from bouncelab.errors import ParameterError
+    from bouncelab.laws import law_class
+
+    try:
+        return law_class(name, case_sensitive=False)
+    except ParameterError:
+        if ":" not in name:
+            raise
+    module = name.split(":", 1)[0]
+    try:
+        importlib.import_module(module)
+    except ImportError as exc:
+        raise ParameterError(f"cannot import {module!r} for the law {name!r}: {exc}") from None
+    return law_class(name)
 
 
 def _fit(args: argparse.Namespace) -> int:
@@ -172,8 +185,9 @@ def _fit(args: argparse.Namespace) -> int:
 
     data = _load(args.data, args)
     bounds = {k: tuple(v) for k, v in json.loads(args.bounds).items()} if args.bounds else None
+    options = {} if args.algorithm is None else {"algorithm": args.algorithm}  # an option of the search methods
     res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
-              algorithm=args.algorithm, bounds=bounds)
+              bounds=bounds, **options)
     if args.save:
         res.model.to_json(args.save)
     if args.json:

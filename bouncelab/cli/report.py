@@ -42,13 +42,14 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
         head += [f"{label}: overall", "roll", "slip"]
     lines.append("| " + " | ".join(head) + " |")
     lines.append("|" + "---|" * len(head))
-    for q in ("n", "delta", "delta_xdot", "delta_ydot", "delta_omega", "mismatched"):
+    diagnostics = list(dict.fromkeys(k for res in pw.values() for k in res.test_diagnostics))
+    for q in ("n", "delta", "delta_xdot", "delta_ydot", "delta_omega", *diagnostics):
         cells = [q]
         for res in pw.values():
             t = res.errors.loc["test"]
             for subset in ("all", "roll", "slip"):
-                if q == "mismatched":
-                    v = res.test_mismatched if subset == "all" else None
+                if q in diagnostics:
+                    v = res.test_diagnostics.get(q) if subset == "all" else None
                 else:
                     v = t.loc[subset, q] if subset in t.index else None
                 if v is None or (isinstance(v, float) and np.isnan(v)):
@@ -56,13 +57,15 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
                     continue
                 cell = f"{int(v)}" if q == "n" else f"{100 * v:.3g} %"
                 key = "overall" if subset == "all" else subset
-                if paper is not None and q != "n" and "SVM" in next(k for k, r in pw.items() if r is res):
+                if (paper is not None and q != "n" and q in paper.columns
+                        and "SVM" in next(k for k, r in pw.items() if r is res)):
                     ref = paper.loc[key, q]
                     cell += f" ({100 * ref:.3g} %)" if np.isfinite(ref) else ""
                 cells.append(cell)
         lines.append("| " + " | ".join(cells) + " |")
     for label, res in pw.items():
-        lines.append(f"\n- {label}: {res.model.plane_equation()} (fitted on {res.n_train} bounces, "
+        law_line = "; ".join(res.model._summary_lines()[:2])
+        lines.append(f"\n- {label}: {law_line} (fitted on {res.n_train} bounces, "
                      f"delta on them {100 * res.delta:.3g} %)")
     return "\n".join(lines) + "\n"
 

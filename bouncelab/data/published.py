@@ -37,6 +37,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from bouncelab.errors import DataError, ParameterError
+
 __all__ = [
     "CAMPAIGNS",
     "CITATION",
@@ -46,6 +48,8 @@ __all__ = [
     "TABLE2",
     "TABLE3",
     "check_campaign",
+    "paper_by_class",
+    "paper_values",
     "piecewise_parameters",
     "rigid_family_parameters",
 ]
@@ -150,10 +154,10 @@ DRIVER_LANDING = {"speed": 93.6, "speed_unit": "ft/s", "angle_deg": 37.3, "spin"
 
 
 def check_campaign(campaign: str) -> str:
-    """Return ``"A"`` or ``"B"`` for a campaign name, or raise ValueError."""
-    key = str(campaign).strip().upper()
+    """Return ``"A"`` or ``"B"`` for a campaign name, or raise :class:`~bouncelab.DataError`."""
+    key = str(campaign).strip().upper() if isinstance(campaign, str) else None
     if key not in CAMPAIGNS:
-        raise ValueError(f"the paper has campaigns 'A' and 'B'; got {campaign!r}")
+        raise DataError(f"the paper has campaigns 'A' and 'B'; got {campaign!r}")
     return key
 
 
@@ -162,7 +166,7 @@ def rigid_family_parameters(campaign: str, law: str) -> dict[str, float]:
     names = {"Rigid": ("r", "mu"), "PennerVarying": ("r", "mu", "k_p"), "PennerFixed": ("r", "mu", "beta_deg")}
     key = check_campaign(campaign)
     if law not in names:
-        raise ValueError(f"Table 3 has the laws {list(names)}; got {law!r}")
+        raise ParameterError(f"Table 3 has the laws {list(names)}; got {law!r}")
     row = TABLE3.loc[(key, law)]
     return {name: float(row[name]) for name in names[law]}
 
@@ -178,3 +182,28 @@ def piecewise_parameters(campaign: str) -> dict:
         "A2": np.array(p["A2"]),
         "b2": np.array(p["b2"]),
     }
+
+
+def paper_values(campaign: str, law: str) -> dict[str, float]:
+    """What the paper published for a law (by class name) fitted to all bounces of a campaign.
+
+    Table 3's parameters and errors for the rigid family; Table 2's overall delta
+    for the piecewise-affine law (Table 2 has no overall Delta q); ``{}`` for any
+    other law.
+    """
+    key = check_campaign(campaign)
+    if law in TABLE3.loc[key].index:
+        row = TABLE3.loc[(key, law)]
+        return {k: float(v) for k, v in row.items() if np.isfinite(v)}
+    if law == "PiecewiseAffine":
+        return {"delta": float(TABLE2.loc[(key, "overall"), "delta"]),
+                "mismatched": float(TABLE2.loc[(key, "overall"), "mismatched"])}
+    return {}
+
+
+def paper_by_class(campaign: str, law: str) -> pd.DataFrame | None:
+    """The paper's errors by slip/roll class for a law (Table 2, the piecewise-affine law), or None."""
+    key = check_campaign(campaign)
+    if law == "PiecewiseAffine":
+        return TABLE2.loc[key]
+    return None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from bouncelab.data.validation import States, as_states, check_same_length
+from bouncelab.errors import DataError
 
 __all__ = ["SLIP_ROLL_CLASSES", "classify_slip_roll"]
 
@@ -38,10 +39,19 @@ def classify_slip_roll(landing: States, liftoff: States, *, tol: float = 0.0, co
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
-    if not (np.isfinite(tol) and tol >= 0):
-        raise ValueError(f"tol must be a non-negative number of radii/s; got {tol!r}")
+    try:
+        ok = np.isfinite(tol) and tol >= 0
+    except TypeError:
+        ok = False
+    if not ok:
+        raise DataError(f"tol must be a non-negative number of radii/s; got {tol!r}")
+    c = _slip_codes(p0, pf, tol)
+    return c if codes else np.asarray(SLIP_ROLL_CLASSES)[c]
+
+
+def _slip_codes(p0: np.ndarray, pf: np.ndarray, tol: float = 0.0) -> np.ndarray:
+    """int8 codes (0 roll, 1 slip) of validated (n, 3) arrays; the internal form of :func:`classify_slip_roll`."""
     v0 = p0[:, 0] + p0[:, 2]
     vf = pf[:, 0] + pf[:, 2]
     slip = (np.abs(v0) > tol) & (np.abs(vf) > tol) & (np.sign(v0) == np.sign(vf))
-    c = slip.astype(np.int8)
-    return c if codes else np.asarray(SLIP_ROLL_CLASSES)[c]
+    return slip.astype(np.int8)

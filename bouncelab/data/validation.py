@@ -16,9 +16,15 @@ import xarray as xr
 from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
 from bouncelab.errors import DataError
 
-__all__ = ["States", "as_states", "check_same_length"]
+__all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_same_length", "inverse_norms"]
 
-States = Any  # an (..., 3) array-like or an xarray.DataArray with a "component" dimension
+States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
+
+#: Largest magnitude accepted for a state component, in scaled units (1e8 radii/s is 2135 km/s for the
+#: default ball; 1e8 rad/s is 10^9 rpm): beyond it no bounce is physical, and arithmetic could overflow.
+STATE_LIMIT = 1.0e8
+#: Smallest landing norm ||p0|| (radii/s) by which delta and Delta q may divide.
+NORM_MIN = 1.0e-6
 
 
 def as_states(
@@ -57,9 +63,27 @@ def as_states(
     """
     if isinstance(states, xr.DataArray):
         return _from_dataarray(states, name, landing=landing, file=file)
+    states = _from_labelled(states, name, file)
+    if np.ma.isMaskedArray(states):
+        mask = np.ma.getmaskarray(states)
+        if mask.any():
+            flat = mask.reshape(-1, mask.shape[-1]) if mask.ndim > 1 else mask.reshape(1, -1)
+            row, col = np.argwhere(flat)[0]
+            raise DataError(f"{name} has masked (missing) values ({int(flat.any(axis=1).sum())} bounce(s) "
+                            "affected); remove or fill them first", file=file,
+                            column=f"{name}.{COMPONENTS[col]}" if col < 3 else None, row=int(row) + 1)
+        states = np.ma.getdata(states)
     try:
-        arr = np.asarray(states, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+        raw = np.asarray(states)
+    except (TypeError, ValueError, OverflowError, RecursionError) as exc:
+        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file) from None
+    if raw.dtype.kind in "cbUSVMm":
+        what = {"c": "complex", "b": "boolean", "U": "text", "S": "bytes", "V": "structured", "M": "dates",
+                "m": "time spans"}[raw.dtype.kind]
+        raise DataError(f"{name} must be numeric: real numbers (xdot, ydot, omega); got {what} values", file=file)
+    try:
+        arr = raw.astype(np.float64) if raw.dtype != np.float64 else raw
+    except (TypeError, ValueError, OverflowError) as exc:
         raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file) from None
     if arr.ndim == 0 or arr.shape[-1] != 3:
         raise DataError(
@@ -74,6 +98,39 @@ def as_states(
         return result.reshape((*lead, *result.shape[1:]))  # a tuple: lead may be ()
 
     return flat, wrap
+
+
+def _from_labelled(states: Any, name: str, file: str | None) -> Any:
+    """A pandas DataFrame or Series read by its column (index) names, not their order."""
+    import pandas as pd
+
+    if isinstance(states, pd.DataFrame):
+        labels = [str(c) for c in states.columns]
+        if isinstance(states.columns, pd.RangeIndex) and len(labels) == 3:
+            return states.to_numpy()
+        order = _component_order(labels)
+        if order is None:
+            raise DataError(f"{name} DataFrame columns must be named {list(COMPONENTS)} (any order; a suffix 0 or "
+                            f"F is allowed); got {labels}", file=file)
+        return states.iloc[:, order].to_numpy()
+    if isinstance(states, pd.Series):
+        labels = [str(c) for c in states.index]
+        if isinstance(states.index, pd.RangeIndex):
+            return states.to_numpy()
+        order = _component_order(labels)
+        if order is None:
+            raise DataError(f"{name} Series index must be {list(COMPONENTS)}; got {labels}", file=file)
+        return states.iloc[order].to_numpy()
+    return states
+
+
+def _component_order(labels: list[str]) -> list[int] | None:
+    """Positions of xdot, ydot, omega among ``labels`` (exact names, or with one suffix 0 / F / _0 / _F)."""
+    for suffix in ("", "0", "_0", "F", "_F"):
+        names = [c + suffix for c in COMPONENTS]
+        if all(labels.count(n) == 1 for n in names):
+            return [labels.index(n) for n in names]
+    return None
 
 
 def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | None):
@@ -122,9 +179,10 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
     if arr.shape[0] == 0:
         raise DataError(f"{name} holds no bounces", file=file)
     if arr.shape[0] >= FAST_CHECK_MIN:
+        from bouncelab._parallel import run_chunked
         from bouncelab.data._fast_checks import all_valid
 
-        if all_valid(arr, landing):
+        if all(run_chunked(all_valid, arr.shape[0], arr, landing, STATE_LIMIT)):
             return
     bad = ~np.isfinite(arr)
     if bad.any():
@@ -135,6 +193,14 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
             f"{name} value is {what} ({n_bad} bounce(s) affected)",
             file=file, column=f"{name}.{COMPONENTS[col]}", row=int(row) + 1,
         )
+    big = np.abs(arr) > STATE_LIMIT
+    if big.any():
+        row, col = np.argwhere(big)[0]
+        raise DataError(
+            f"{name} value {float(arr[row, col])!r} is beyond {STATE_LIMIT:g} in scaled units (radii/s, rad/s); "
+            f"no bounce is that fast - are the data in another unit? ({int(big.any(axis=1).sum())} bounce(s) "
+            "affected)", file=file, column=f"{name}.{COMPONENTS[col]}", row=int(row) + 1,
+        )
     if landing:
         up = arr[:, 1] >= 0
         if up.any():
@@ -144,6 +210,27 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
                 f"got {float(arr[row, 1])!r} ({int(up.sum())} bounce(s) affected)",
                 file=file, column=f"{name}.ydot", row=row + 1,
             )
+
+
+def inverse_norms(p0: np.ndarray, name: str = "landing", file: str | None = None) -> np.ndarray:
+    """``1 / ||p0||`` of every landing (the weights of delta and Delta q), computed without underflow.
+
+    Raises
+    ------
+    DataError
+        A landing whose norm is below :data:`NORM_MIN` radii/s (its error could not be weighed).
+    """
+    m = np.max(np.abs(p0), axis=1)
+    safe = np.where(m > 0, m, 1.0)
+    norm = m * np.sqrt(np.einsum("ij,ij->i", p0 / safe[:, None], p0 / safe[:, None]))
+    small = norm < NORM_MIN
+    if small.any():
+        row = int(np.argmax(small))
+        raise DataError(
+            f"{name} state has norm {float(norm[row]):.3g} radii/s, below {NORM_MIN:g}: delta and Delta q divide "
+            f"each bounce's error by it ({int(small.sum())} bounce(s) affected)", file=file, row=row + 1,
+        )
+    return 1.0 / norm
 
 
 def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -> None:

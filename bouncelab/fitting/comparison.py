@@ -1,4 +1,9 @@
-"""``bouncelab.compare``: fit several laws to one campaign and lay them out as the paper's tables."""
+"""``bouncelab.compare``: fit several laws to one campaign and lay them out as the paper's tables.
+
+Everything law-specific comes from the laws: their parameters (scalars get a
+column each, arrays a one-line summary), their diagnostics, and, for the
+paper's campaigns, the values the paper published for laws of those names.
+"""
 
 from __future__ import annotations
 
@@ -11,20 +16,19 @@ import pandas as pd
 import xarray as xr
 
 from bouncelab.data import published
-from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import fit
+from bouncelab.errors import FitError, ParameterError
+from bouncelab.fitting.fitter import _as_model, check_seed, fit
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
-from bouncelab.laws.base import BounceModel, registered_laws
+from bouncelab.fitting.tasks import map_tasks
+from bouncelab.laws.base import BounceModel, law_class, law_name
 from bouncelab.metrics import ERROR_COLUMNS
 
 __all__ = ["PAPER_LAWS", "Comparison", "compare"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
 PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
-_PARAM_COLUMNS = ("r", "mu", "k_p", "beta_deg", "e_t")
-_LABELS = {"beta_deg": "beta [deg]", "k_p": "k_p [s/radius]", "delta_xdot": "Delta xdot", "delta_ydot": "Delta ydot",
-           "delta_omega": "Delta omega", "mismatched": "mismatched", "n": "bounces"}
+_LABELS = {"delta_xdot": "Delta xdot", "delta_ydot": "Delta ydot", "delta_omega": "Delta omega", "n": "bounces"}
 
 
 @dataclass
@@ -36,9 +40,10 @@ class Comparison:
     results
         Law name -> :class:`~bouncelab.FitResult`.
     table
-        One row per law: scalar parameters, then delta and Delta q on the fitted
-        data (``train_*``) and, with a split, on the held-out data (``test_*``).
-        Fractions, not per cent.
+        One row per law: its parameters (scalars as numbers, arrays summarised as
+        text), then delta and Delta q on the fitted data (``train_*``) and, with a
+        split, on the held-out data (``test_*``), then the laws' diagnostics
+        (``train_<name>``, ``test_<name>``). Fractions, not per cent.
     campaign
         "A" or "B" when the data are (a surrogate of) one of the paper's campaigns, else None.
     """
@@ -48,39 +53,58 @@ class Comparison:
     campaign: str | None = None
     split: str | None = None
     notes: list[str] = field(default_factory=list)
+    units: dict[str, str] = field(default_factory=dict)
 
-    def piecewise_table(self) -> pd.DataFrame | None:
-        """The Table 2 layout for the piecewise law: errors overall, on roll and on slip, and mismatched."""
-        res = self.results.get("PiecewiseAffine")
-        if res is None:
-            return None
-        which = "test" if res.n_test else "train"
+    def _which(self) -> str:
+        return "test" if self.split else "train"
+
+    def parameter_columns(self) -> list[str]:
+        """Columns of :attr:`table` that hold parameters."""
+        err = {f"{p}_{c}" for p in ("train", "test") for c in ERROR_COLUMNS}
+        diag = {f"{p}_{k}" for r in self.results.values() for p in ("train", "test")
+                for k in (*r.diagnostics, *r.test_diagnostics)}
+        return [c for c in self.table.columns if c not in err and c not in diag]
+
+    def _diagnostic_names(self) -> list[str]:
+        names: list[str] = []
+        for r in self.results.values():
+            for k in (r.test_diagnostics if self.split else r.diagnostics):
+                if k not in names:
+                    names.append(k)
+        return names
+
+    def by_class(self, law: str) -> pd.DataFrame:
+        """The Table 2 layout for one law: errors overall, on roll and on slip, and its diagnostics (overall).
+
+        On the held-out bounces with a split, else on the fitted ones.
+        """
+        if law not in self.results:
+            raise FitError(f"no law {law!r} in this comparison; it has {list(self.results)}")
+        res = self.results[law]
+        which = self._which()
         t = res.errors.loc[which].loc[:, ["n", *ERROR_COLUMNS]].rename(index={"all": "overall"})
-        t["mismatched"] = np.nan
-        t.loc["overall", "mismatched"] = res.test_mismatched if res.n_test else res.mismatched
+        diags = res.test_diagnostics if which == "test" else res.diagnostics
+        for key, value in diags.items():
+            t[key] = np.nan
+            t.loc["overall", key] = value
         t.attrs["data"] = which
         return t
 
     def published(self) -> pd.DataFrame | None:
-        """The paper's published values for the same laws (Table 3, and Table 2's overall delta)."""
+        """The paper's published values for the same laws (Table 3, and Table 2's overall figures)."""
         if self.campaign is None:
             return None
-        rows = {}
-        for law in self.table.index:
-            if law in published.TABLE3.loc[self.campaign].index:
-                rows[law] = published.TABLE3.loc[(self.campaign, law)]
-            elif law == "PiecewiseAffine":
-                t2 = published.TABLE2.loc[self.campaign]
-                rows[law] = pd.Series({"delta": t2.loc["overall", "delta"]})  # Table 2 has no overall Delta q
-        out = pd.DataFrame(rows).T.reindex(columns=[c for c in (*_PARAM_COLUMNS, *ERROR_COLUMNS)
-                                                    if c in published.TABLE3.columns or c in ERROR_COLUMNS])
+        rows = {law: published.paper_values(self.campaign, law) for law in self.table.index}
+        out = pd.DataFrame(rows).T
+        out = out.reindex(index=list(self.table.index))
         out.index.name = "law"
         return out
 
     def side_by_side(self) -> pd.DataFrame:
         """Our values beside the paper's: columns (quantity, source) with source "bouncelab" and "paper"."""
-        ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in ERROR_COLUMNS})
-        cols = [c for c in (*_PARAM_COLUMNS, *ERROR_COLUMNS) if c in ours.columns]
+        ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS,
+                                                                              *self._diagnostic_names())})
+        cols = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *self._diagnostic_names()) if c in ours.columns]
         frames = {"bouncelab": ours[cols]}
         paper = self.published()
         if paper is not None:
@@ -88,49 +112,57 @@ class Comparison:
         out = pd.concat(frames, axis=1).swaplevel(axis=1)
         return out.reindex(columns=pd.MultiIndex.from_product([cols, list(frames)]))
 
-    def _which(self) -> str:
-        return "test" if self.split else "train"
+    def _label(self, q: str) -> str:
+        unit = self.units.get(q, "1")
+        return _LABELS.get(q, q if unit == "1" else f"{q} [{unit}]")
 
     def to_markdown(self, digits: int = 3) -> str:
         """The comparison as markdown, laid out as the paper's Tables 3 and 2.
 
         Rows are quantities and columns laws; each cell reads ``ours (paper)``
-        where the paper published a value. Errors are in per cent, as printed in the paper.
+        where the paper published a value. Errors and fractions are in per cent,
+        as printed in the paper. Every law with diagnostics also gets its table by
+        slip/roll class (the Table 2 layout).
         """
         title = f"campaign {self.campaign}" if self.campaign else "this campaign"
         which = "held-out" if self.split else "fitted"
         paper = self.published()
-        ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in ERROR_COLUMNS})
-        quantities = [c for c in (*_PARAM_COLUMNS, *ERROR_COLUMNS) if c in ours.columns and ours[c].notna().any()]
+        diag = self._diagnostic_names()
+        ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS, *diag)})
+        quantities = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *diag)
+                      if c in ours.columns and ours[c].notna().any()]
         lines = [f"### Laws fitted to {title} (errors on the {which} bounces; the paper's values in brackets)\n"]
         lines.append("| quantity | " + " | ".join(ours.index) + " |")
         lines.append("|---|" + "---|" * len(ours.index))
         for q in quantities:
             cells = []
             for law in ours.index:
-                cell = _fmt(ours.loc[law, q], q, digits)
+                cell = _fmt(ours.loc[law, q], q, digits, percent=q in ERROR_COLUMNS or q in diag)
                 if cell and paper is not None and law in paper.index and q in paper.columns:
-                    ref = _fmt(paper.loc[law, q], q, digits)
+                    ref = _fmt(paper.loc[law, q], q, digits, percent=q in ERROR_COLUMNS or q in diag)
                     cell += f" ({ref})" if ref else ""
                 cells.append(cell)
-            lines.append(f"| {_LABELS.get(q, q)} | " + " | ".join(cells) + " |")
-        pw = self.piecewise_table()
-        if pw is not None:
-            lines.append(f"\n### Piecewise-affine law by class (Table 2 layout; errors on the {pw.attrs['data']} "
-                         "bounces, the paper's in brackets)\n")
-            t2 = published.TABLE2.loc[self.campaign] if self.campaign else None
+            lines.append(f"| {self._label(q)} | " + " | ".join(cells) + " |")
+        for law, res in self.results.items():
+            if not (res.test_diagnostics if self.split else res.diagnostics):
+                continue
+            t = self.by_class(law)
+            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces, "
+                         "the paper's in brackets)\n")
+            ref = None if self.campaign is None else published.paper_by_class(self.campaign, law)
             cols = ["overall", "roll", "slip"]
             lines.append("| quantity | " + " | ".join(cols) + " |")
             lines.append("|---|" + "---|" * len(cols))
-            for q in ("n", *ERROR_COLUMNS, "mismatched"):
+            extra = [c for c in t.columns if c not in ("n", *ERROR_COLUMNS)]
+            for q in ("n", *ERROR_COLUMNS, *extra):
                 cells = []
                 for sub in cols:
-                    cell = _fmt(pw.loc[sub, q], q, digits) if sub in pw.index else ""
-                    if cell and t2 is not None and q != "n":
-                        ref = _fmt(t2.loc[sub, q], q, digits)
-                        cell += f" ({ref})" if ref else ""
+                    cell = _fmt(t.loc[sub, q], q, digits, percent=q != "n") if sub in t.index else ""
+                    if cell and ref is not None and q != "n" and q in ref.columns and sub in ref.index:
+                        r = _fmt(ref.loc[sub, q], q, digits, percent=True)
+                        cell += f" ({r})" if r else ""
                     cells.append(cell)
-                lines.append(f"| {_LABELS.get(q, q)} | " + " | ".join(cells) + " |")
+                lines.append(f"| {self._label(q)} | " + " | ".join(cells) + " |")
         for note in self.notes:
             lines.append(f"\n> {note}")
         return "\n".join(lines) + "\n"
@@ -142,29 +174,36 @@ class Comparison:
         return self.to_markdown()
 
 
-def _fmt(v: Any, name: str, digits: int) -> str:
+def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     if isinstance(v, str):
         return v
     if v is None or (isinstance(v, float) and np.isnan(v)):
         return ""
-    if name in (*ERROR_COLUMNS, "mismatched"):
-        return f"{100 * v:.{digits}g} %"
     if name == "n":
         return f"{int(v)}"
+    if percent:
+        return f"{100 * v:.{digits}g} %"
     return f"{v:.{digits}g}"
 
 
 def _law_instance(law: Any) -> BounceModel:
     if isinstance(law, str):
-        known = registered_laws()
-        if law not in known:
-            raise FitError(f"unknown law {law!r}; known laws: {sorted(known)}")
-        return known[law]()
-    if isinstance(law, type) and issubclass(law, BounceModel):
-        return law()
-    if isinstance(law, BounceModel):
-        return law
+        try:
+            return law_class(law)()
+        except ParameterError as exc:
+            raise FitError(str(exc)) from None
+    if (isinstance(law, type) and issubclass(law, BounceModel)) or isinstance(law, BounceModel):
+        return _as_model(law)
     raise FitError(f"laws must be names, classes or instances of bounce laws; got {law!r}")
+
+
+def _summarise(value: Any) -> Any:
+    """A table cell for a parameter: the number, or a one-line text for an array."""
+    if value is None:
+        return np.nan
+    if np.ndim(value) == 0:
+        return float(value)
+    return np.array2string(np.asarray(value), precision=3, separator=", ", max_line_width=10_000).replace("\n", "")
 
 
 def compare(
@@ -173,6 +212,7 @@ def compare(
     *,
     split: str | None = None,
     seed: int = 0,
+    executor: Any = None,
     **fit_kwargs: Any,
 ) -> Comparison:
     """Fit several laws to the same bounces and tabulate them as the paper's Tables 3 and 2.
@@ -190,6 +230,8 @@ def compare(
         on the rest and scored on both (as its Table 2).
     seed
         Seed of the split and of every fit.
+    executor
+        Where to run the fits (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` for every law (e.g. ``objective``).
 
@@ -201,27 +243,36 @@ def compare(
     """
     if split not in (None, "setting"):
         raise FitError(f"split must be None or 'setting'; got {split!r}")
+    seed = check_seed(seed)
+    if isinstance(laws, str | BounceModel) or isinstance(laws, type):
+        laws = [laws]
     models = [_law_instance(law) for law in laws]
     if not models:
         raise FitError("give at least one law to compare")
-    names = [type(m).__name__ for m in models]
+    names = [law_name(m) for m in models]
     if len(set(names)) != len(names):
         raise FitError(f"each law may appear once; got {names}")
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
-    results, rows = {}, {}
-    for name, model in zip(names, models, strict=True):
-        res = fit(model, train, test=test, seed=seed, **fit_kwargs)
-        results[name] = res
-        row = {p: v for p, v in res.model.parameters.items() if p in _PARAM_COLUMNS}
-        for prefix, table in (("train", "train"), ("test", "test")):
-            if table in res.errors.index.get_level_values(0):
+    fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs) for m in models], executor)
+    results = dict(zip(names, fits, strict=True))
+    rows, units = {}, {}
+    for name, res in results.items():
+        row: dict[str, Any] = {}
+        for pname, p in res.model.params.items():
+            row[pname] = _summarise(p.value)
+            units[pname] = p.unit
+        for prefix in ("train", "test"):
+            if prefix in res.errors.index.get_level_values(0):
                 for c in ERROR_COLUMNS:
-                    row[f"{prefix}_{c}"] = res.errors.loc[(table, "all"), c]
+                    row[f"{prefix}_{c}"] = res.errors.loc[(prefix, "all"), c]
+        row.update({f"train_{k}": v for k, v in res.diagnostics.items()})
+        row.update({f"test_{k}": v for k, v in res.test_diagnostics.items()})
         rows[name] = row
-    table = pd.DataFrame(rows).T
-    table = table.reindex(columns=[c for c in (*_PARAM_COLUMNS, *[f"{p}_{c}" for p in ("train", "test")
-                                                                    for c in ERROR_COLUMNS])
-                                   if c in table.columns])
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    params = [c for c in table.columns if c in units]
+    errs = [f"{p}_{c}" for p in ("train", "test") for c in ERROR_COLUMNS if f"{p}_{c}" in table.columns]
+    rest = [c for c in table.columns if c not in params and c not in errs]
+    table = table[params + errs + rest]
     table.index.name = "law"
     campaign = None
     if isinstance(data, xr.Dataset) and str(data.attrs.get("campaign", "")).upper() in published.CAMPAIGNS:
@@ -231,4 +282,10 @@ def compare(
         notes.append("These bounces are a synthetic surrogate made from the paper's published piecewise-affine "
                      "law, not the paper's measurements: agreement with the paper's numbers is expected only "
                      "roughly.")
-    return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes)
+    return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes, units=units)
+
+
+def _fit_task(task: tuple) -> FitResult:
+    """One law's fit in :func:`compare` (a module-level function, so executors can pickle it)."""
+    model, train, test, seed, fit_kwargs = task
+    return fit(model, train, test=test, seed=seed, **fit_kwargs)

@@ -18,7 +18,7 @@ import numpy as np
 from bouncelab.errors import FitError
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["ErrorMeasure", "objective_weights"]
+__all__ = ["ErrorMeasure", "objective_label", "objective_weights"]
 
 _NAMES = {"delta": 0, "xdot": 1, "ydot": 2, "omega": 3,
           "delta_xdot": 1, "delta_ydot": 2, "delta_omega": 3}
@@ -55,57 +55,35 @@ def objective_label(weights: np.ndarray) -> str:
 
 
 class ErrorMeasure:
-    """delta and Delta q of a law family on fixed data, as a function of the parameter vector.
+    """delta and Delta q of a law on fixed data, as a function of its flat parameter vector.
 
-    Uses the law's compiled one-pass kernel when it has one (the built-in rigid
-    family), otherwise ``predict`` and NumPy; either way one call returns all
-    four errors.
+    A convenience over the law's one objective hook,
+    :meth:`~bouncelab.BounceModel._error_function` (compiled for compiled laws).
+
+    Examples
+    --------
+    >>> import numpy as np, bouncelab as bl
+    >>> ds = bl.load_campaign("A")
+    >>> m = ErrorMeasure(bl.Rigid(), ds.landing.values, ds.liftoff.values)
+    >>> bool(m.errors(np.array([0.5, 0.3]))[0] > 0)
+    True
     """
 
-    def __init__(self, model: Any, landing: np.ndarray, liftoff: np.ndarray) -> None:
+    def __init__(self, model: Any, landing: Any, liftoff: Any) -> None:
+        from bouncelab.data.validation import as_states, check_same_length, inverse_norms
+
         self.model = model
-        self.landing = landing
-        self.liftoff = liftoff
-        self.inv_norm = 1.0 / np.linalg.norm(landing, axis=1)
-        self.n = len(landing)
-        make = getattr(model, "_error_kernel", None)
-        self._sums = make(landing, liftoff, self.inv_norm) if make is not None else None
+        self.landing, _ = as_states(landing, "landing", landing=True)
+        self.liftoff, _ = as_states(liftoff, "liftoff")
+        check_same_length(self.landing, self.liftoff, "landing", "liftoff")
+        self.inv_norm = inverse_norms(self.landing)
+        self.n = len(self.landing)
+        self._sums = model._error_function(self.landing, self.liftoff, self.inv_norm)
 
-    def unit_function(self, base: np.ndarray, lo: np.ndarray, span: np.ndarray, free: np.ndarray,
-                      weights: np.ndarray):
-        """The objective as a function of the free parameters scaled to the unit box.
+    def errors(self, theta: Any) -> np.ndarray:
+        """``[delta, Delta xdot, Delta ydot, Delta omega]`` at ``theta`` (flat parameter vector)."""
+        return np.asarray(self._sums(np.ascontiguousarray(theta, dtype=np.float64)), dtype=np.float64) / self.n
 
-        Parameters are ``base`` where not ``free``, else ``lo + u * span`` (in order);
-        the result is the ``weights``-weighted sum of the four errors. Compiled laws
-        evaluate it in one compiled call.
-        """
-        make = getattr(self.model, "_unit_objective", None)
-        if make is not None:
-            return make(self.landing, self.liftoff, self.inv_norm, base, lo, span, free, weights)
-        idx = np.flatnonzero(free)
-        w = tuple(float(v) for v in weights)
-
-        def f(u: np.ndarray) -> float:
-            theta = np.array(base, dtype=np.float64)
-            theta[idx] = lo[idx] + u * span[idx]
-            return self.value(theta.tolist(), w)
-
-        return f
-
-    def value(self, theta: list[float], weights: tuple[float, float, float, float]) -> float:
-        """Weighted sum of the four errors at ``theta`` (a list of floats, in spec order)."""
-        if self._sums is not None:
-            sd, sx, sy, sw = self._sums(theta)
-        else:
-            sd, sx, sy, sw = self.errors(theta) * self.n
-        w0, w1, w2, w3 = weights
-        return (w0 * sd + w1 * sx + w2 * sy + w3 * sw) / self.n
-
-    def errors(self, theta) -> np.ndarray:
-        """``[delta, Delta xdot, Delta ydot, Delta omega]`` at ``theta``."""
-        if self._sums is not None:
-            return np.asarray(self._sums(list(map(float, theta)))) / self.n
-        pred = self.model._predict(self.landing, np.asarray(theta, dtype=np.float64))
-        err = self.liftoff - pred
-        terms = np.column_stack([np.linalg.norm(err, axis=1), np.abs(err)]) * self.inv_norm[:, None]
-        return terms.mean(axis=0)
+    def value(self, theta: Any, weights: Any) -> float:
+        """Weighted sum of the four errors at ``theta``."""
+        return float(np.dot(np.asarray(weights, dtype=np.float64), self.errors(theta)))

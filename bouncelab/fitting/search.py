@@ -158,7 +158,7 @@ def global_search(
     f: Callable[[np.ndarray], float],
     x0: np.ndarray,
     *,
-    algorithm: str = "CRS2_LM",
+    algorithm: str | None = "CRS2_LM",
     local_algorithm: str = "BOBYQA",
     seed: int = 0,
     maxeval: int | None = None,
@@ -179,7 +179,8 @@ def global_search(
         Start (inside the box); included in the global stage where the algorithm allows.
     algorithm, local_algorithm
         Names from :data:`GLOBAL_ALGORITHMS` and :data:`LOCAL_ALGORITHMS`
-        (``local_algorithm=None`` skips the polish).
+        (``algorithm=None`` skips the global stage: ``x0`` is evaluated and polished;
+        ``local_algorithm=None`` skips the polish).
     seed
         Seed of NLopt's random generator (stochastic algorithms are then repeatable).
     maxeval
@@ -203,20 +204,24 @@ def global_search(
     lb, ub = np.zeros(d), np.ones(d)
     x0 = np.clip(np.asarray(x0, dtype=float), 0.0, 1.0)
 
-    gcode = _global_code(algorithm)
-    opt = nlopt.opt(gcode, d)
-    opt.set_lower_bounds(lb)
-    opt.set_upper_bounds(ub)
-    opt.set_min_objective(tracked)
-    opt.set_maxeval(int(maxeval if maxeval is not None else 100 * d))
-    if population:
-        opt.set_population(int(population))
-    if gcode == nlopt.GN_MLSL:
-        loc = nlopt.opt(nlopt.LN_BOBYQA, d)
-        loc.set_xtol_rel(1e-4)
-        loc.set_maxeval(200)
-        opt.set_local_optimizer(loc)
-    global_stop = _run(opt, tracked, x0)
+    if algorithm is None:
+        tracked(x0, _NO_GRAD)
+        global_stop = "no global stage"
+    else:
+        gcode = _global_code(algorithm)
+        opt = nlopt.opt(gcode, d)
+        opt.set_lower_bounds(lb)
+        opt.set_upper_bounds(ub)
+        opt.set_min_objective(tracked)
+        opt.set_maxeval(int(maxeval if maxeval is not None else 100 * d))
+        if population:
+            opt.set_population(int(population))
+        if gcode == nlopt.GN_MLSL:
+            loc = nlopt.opt(nlopt.LN_BOBYQA, d)
+            loc.set_xtol_rel(1e-4)
+            loc.set_maxeval(200)
+            opt.set_local_optimizer(loc)
+        global_stop = _run(opt, tracked, x0)
     n_global = tracked.calls
 
     local_stop = "skipped"
@@ -235,7 +240,7 @@ def global_search(
 
         # Polish several distinct good points of the global stage, then restart from the best:
         # delta has kinks where bounces change regime, on which a single local run can stall.
-        for x_start in tracked.distinct_best(polish_starts, 0.05):
+        for x_start in (tracked.distinct_best(polish_starts, 0.05) if polish_starts > 0 else []):
             local_stop = polish(x_start, 0.02)
         local_stop = polish(tracked.best_x, 0.002)
         # Scan each parameter across its whole range from the best point. Where a parameter
@@ -257,5 +262,5 @@ def global_search(
         global_stop=global_stop,
         local_stop=local_stop,
         elapsed=time.perf_counter() - start,
-        algorithms=(algorithm.upper().removeprefix("GN_"), (local_algorithm or "").upper().removeprefix("LN_")),
+        algorithms=((algorithm or "").upper().removeprefix("GN_"), (local_algorithm or "").upper().removeprefix("LN_")),
     )

@@ -1,5 +1,4 @@
-"""Held-out evaluation: the paper's one-bounce-per-setting test set, grouped cross-validation,
-and launcher settings inferred by clustering when a campaign does not record them."""
+"""Held-out evaluation: the paper's one-bounce-per-setting test set and grouped cross-validation."""
 
 from __future__ import annotations
 
@@ -13,55 +12,7 @@ import xarray as xr
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import DataError, FitError
 
-__all__ = ["CrossValidation", "cross_validate", "infer_settings", "split_by_setting"]
-
-
-def infer_settings(data: Any, *, n_settings: int | None = None, threshold: float = 0.3) -> np.ndarray:
-    """Launcher-setting labels inferred by clustering the landing conditions.
-
-    The paper notes that its data cluster by the launcher's discrete dials. The
-    landings are standardised (each component to unit variance) and grouped by
-    agglomerative clustering (scikit-learn): Ward linkage into ``n_settings``
-    clusters when the number is known, otherwise average linkage cut where
-    clusters are ``threshold`` standard deviations apart.
-
-    On the embedded surrogates (whose true settings are known) the default
-    recovers the settings with an adjusted Rand index of 1.00 (A) and 0.99 (B).
-
-    Parameters
-    ----------
-    data
-        A campaign Dataset or ``(landing, liftoff)`` pair.
-    n_settings
-        Number of settings, if known.
-    threshold
-        Average-linkage distance, in standard deviations of the landing
-        conditions, at which to cut when ``n_settings`` is None.
-
-    Returns
-    -------
-    numpy.ndarray
-        (n,) integer labels 1..k, numbered in order of first appearance.
-    """
-    from sklearn.cluster import AgglomerativeClustering
-    from sklearn.preprocessing import StandardScaler
-
-    p0, _, _ = campaign_arrays(data)
-    if n_settings is not None and not 1 <= int(n_settings) <= len(p0):
-        raise DataError(f"n_settings must be between 1 and the number of bounces ({len(p0)}); got {n_settings}")
-    if n_settings is None and not (np.isfinite(threshold) and threshold > 0):
-        raise DataError(f"threshold must be a positive number of standard deviations; got {threshold!r}")
-    if len(p0) < 2:
-        return np.ones(len(p0), dtype=np.int64)
-    z = StandardScaler().fit_transform(p0)
-    if n_settings is not None:
-        model = AgglomerativeClustering(n_clusters=int(n_settings), linkage="ward")
-    else:
-        model = AgglomerativeClustering(n_clusters=None, distance_threshold=float(threshold), linkage="average")
-    raw = model.fit_predict(z)
-    _, first = np.unique(raw, return_index=True)
-    order = {lab: i + 1 for i, lab in enumerate(raw[np.sort(first)])}
-    return np.array([order[v] for v in raw], dtype=np.int64)
+__all__ = ["CrossValidation", "cross_validate", "split_by_setting"]
 
 
 def _settings_of(data: Any) -> np.ndarray:
@@ -95,8 +46,10 @@ def split_by_setting(data: xr.Dataset, seed: int = 0) -> tuple[xr.Dataset, xr.Da
     """
     if not isinstance(data, xr.Dataset):
         raise DataError("split_by_setting needs a campaign Dataset (with a 'setting' coordinate)")
+    from bouncelab.fitting.fitter import check_seed
+
     setting = _settings_of(data)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     test_idx = []
     for s in pd.unique(setting):
         members = np.flatnonzero(setting == s)
@@ -132,7 +85,8 @@ class CrossValidation:
                 f"+- {self.delta_std:.4f}, fitted delta {self.folds['train_delta'].mean():.4f})")
 
 
-def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, **fit_kwargs: Any) -> CrossValidation:
+def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, executor: Any = None,
+                   **fit_kwargs: Any) -> CrossValidation:
     """Grouped k-fold cross-validation by launcher setting.
 
     All repeats of a setting fall in the same fold, so a law is always scored
@@ -148,30 +102,52 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, *
         Number of folds (at most the number of settings).
     seed
         Seed of the fold assignment and of each fit.
+    executor
+        Where to run the folds (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` (e.g. ``objective``, ``method``).
+
+    Returns
+    -------
+    CrossValidation
+        One row per fold: bounces, fitted and held-out delta and Delta q, and the
+        law's diagnostics on the held-out bounces (``test_<name>``).
     """
     from sklearn.model_selection import GroupKFold
 
-    from bouncelab.fitting.fitter import fit
+    from bouncelab.fitting.fitter import _as_model, check_seed
+    from bouncelab.fitting.tasks import map_tasks
 
+    law = _as_model(model)
+    seed = check_seed(seed)
     setting = _settings_of(data)
     n_groups = len(pd.unique(setting))
-    if not 2 <= k <= n_groups:
-        raise FitError(f"k must be between 2 and the number of settings ({n_groups}); got {k}")
+    if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 2 <= k <= n_groups:
+        raise FitError(f"k must be an integer between 2 and the number of settings ({n_groups}); got {k!r}")
     try:
-        splitter = GroupKFold(n_splits=k, shuffle=True, random_state=seed)
+        splitter = GroupKFold(n_splits=k, shuffle=True, random_state=seed % 2**32)
     except TypeError:  # scikit-learn < 1.6 has no shuffling GroupKFold: shuffle the group labels instead
         splitter = GroupKFold(n_splits=k)
         uniq = pd.unique(setting)
         perm = dict(zip(uniq, np.random.default_rng(seed).permutation(len(uniq)), strict=True))
         setting = np.array([perm[s] for s in setting])
-    rows = []
-    for i, (tr, te) in enumerate(splitter.split(np.zeros(len(setting)), groups=setting)):
-        res = fit(model, data.isel(bounce=tr), test=data.isel(bounce=te), seed=seed, **fit_kwargs)
-        rows.append({"fold": i + 1, "n_train": len(tr), "n_test": len(te), "train_delta": res.delta,
-                     "test_delta": res.test_delta, **{f"test_{c}": v for c, v in
-                                                      zip(("delta_xdot", "delta_ydot", "delta_omega"),
-                                                          res.test_delta_q, strict=True)}})
-    law = type(model).__name__ if not isinstance(model, type) else model.__name__
-    return CrossValidation(folds=pd.DataFrame(rows).set_index("fold"), law=law)
+    folds = splitter.split(np.zeros(len(setting)), groups=setting)
+    tasks = [(i + 1, law, data.isel(bounce=tr), data.isel(bounce=te), seed, fit_kwargs)
+             for i, (tr, te) in enumerate(folds)]
+    rows = map_tasks(_fold, tasks, executor)
+    from bouncelab.laws.base import law_name
+
+    return CrossValidation(folds=pd.DataFrame(rows).set_index("fold"), law=law_name(law))
+
+
+def _fold(task: tuple) -> dict[str, Any]:
+    """One fold of :func:`cross_validate` (a module-level function, so executors can pickle it)."""
+    from bouncelab.fitting.fitter import fit
+
+    i, law, train, test, seed, fit_kwargs = task
+    res = fit(law, train, test=test, seed=seed, **fit_kwargs)
+    return {"fold": i, "n_train": res.n_train, "n_test": res.n_test, "train_delta": res.delta,
+            "test_delta": res.test_delta,
+            **{f"test_{c}": v for c, v in zip(("delta_xdot", "delta_ydot", "delta_omega"), res.test_delta_q,
+                                              strict=True)},
+            **{f"test_{key}": v for key, v in res.test_diagnostics.items()}}

@@ -4,7 +4,8 @@ The paper reports each fitted parameter as a single number. Refitting on
 resampled campaigns shows how far the data pin each one down. Repeats of one
 launcher setting are not independent (they share the setting's landing
 conditions), so by default whole settings are resampled with replacement (a
-cluster bootstrap); with ``by="bounce"`` single bounces are.
+cluster bootstrap); with ``by="bounce"`` single bounces are. Array parameters
+are resampled number by number (element names such as ``A1[0,2]``).
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import _as_model, fit
+from bouncelab.fitting.fitter import _as_model, check_seed, fit
+from bouncelab.fitting.tasks import map_tasks
+from bouncelab.laws.base import law_name
 
 __all__ = ["Bootstrap", "bootstrap"]
 
@@ -29,7 +32,7 @@ class Bootstrap:
     Attributes
     ----------
     estimate
-        Parameters fitted to the full data.
+        Parameters fitted to the full data (every number, by element name for arrays).
     samples
         One row per resample: the refitted parameters and their delta.
     level
@@ -72,6 +75,7 @@ def bootstrap(
     by: str = "setting",
     level: float = 0.95,
     seed: int = 0,
+    executor: Any = None,
     **fit_kwargs: Any,
 ) -> Bootstrap:
     """Bootstrap distribution of a law's fitted parameters.
@@ -79,7 +83,7 @@ def bootstrap(
     Parameters
     ----------
     model
-        A law class or instance with scalar parameters (as for :func:`bouncelab.fit`).
+        A law class or instance (as for :func:`bouncelab.fit`).
     data
         A campaign Dataset (with a ``setting`` coordinate for ``by="setting"``) or a
         ``(landing, liftoff)`` pair (``by="bounce"`` only).
@@ -91,6 +95,9 @@ def bootstrap(
         Confidence level of the percentile intervals in :meth:`Bootstrap.summary`.
     seed
         Seed of the resampling; every refit uses the same fit seed.
+    executor
+        Where to run the refits (see :func:`bouncelab.fitting.tasks.map_tasks`); the
+        resamples are drawn first, so the result does not depend on it.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` (objective, bounds, method ...).
 
@@ -100,34 +107,39 @@ def bootstrap(
     >>> bl.bootstrap(bl.Rigid, bl.load_campaign("A"), n=50).summary()  # doctest: +SKIP
     """
     law = _as_model(model)
+    seed = check_seed(seed)
     if not law.parameter_specs:
-        raise FitError(f"bootstrap is for laws with scalar parameters; {type(law).__name__} has none")
+        raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none")
     if by not in ("setting", "bounce"):
         raise FitError(f"by must be 'setting' or 'bounce'; got {by!r}")
-    if not (isinstance(n, int | np.integer) and n >= 2):
+    if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n >= 2):
         raise FitError(f"n must be an integer of at least 2 resamples; got {n!r}")
-    if not 0 < level < 1:
+    try:
+        ok = 0 < level < 1
+    except TypeError:
+        ok = False
+    if not ok:
         raise FitError(f"level must be in (0, 1); got {level!r}")
     p0, pf, setting = campaign_arrays(data)
     if by == "setting" and setting is None:
         raise FitError("by='setting' needs the launcher setting of each bounce; the data have none "
                        "(add one with bouncelab.infer_settings, or use by='bounce')")
-    full = fit(law, (p0, pf), **fit_kwargs)
-    estimate = {k: float(v) for k, v in full.model.parameters.items()}
-    groups = [np.arange(len(p0))[:, None]] if by == "bounce" else None
-    if by == "setting":
+    full = fit(law, (p0, pf), seed=seed, **fit_kwargs)
+    estimate = dict(full.model.flat_parameters())
+    rng = np.random.default_rng(seed)
+    if by == "bounce":
+        draws = [rng.integers(0, len(p0), len(p0)) for _ in range(int(n))]
+    else:
         labels = np.asarray(setting)
         groups = [np.flatnonzero(labels == s) for s in pd.unique(labels)]
-    rng = np.random.default_rng(seed)
-    rows = []
-    for _ in range(int(n)):
-        if by == "bounce":
-            idx = rng.integers(0, len(p0), len(p0))
-        else:
-            idx = np.concatenate([groups[i] for i in rng.integers(0, len(groups), len(groups))])
-        res = fit(law, (p0[idx], pf[idx]), **fit_kwargs)
-        rows.append({**{k: float(v) for k, v in res.model.parameters.items()}, "delta": res.delta})
-    return Bootstrap(estimate=estimate, samples=pd.DataFrame(rows), level=level, by=by,
-                     law=type(law).__name__)
+        draws = [np.concatenate([groups[i] for i in rng.integers(0, len(groups), len(groups))]) for _ in range(int(n))]
+    tasks = [(law, p0[idx], pf[idx], seed, fit_kwargs) for idx in draws]
+    rows = map_tasks(_refit, tasks, executor)
+    return Bootstrap(estimate=estimate, samples=pd.DataFrame(rows), level=level, by=by, law=law_name(law))
 
 
+def _refit(task: tuple) -> dict[str, float]:
+    """One bootstrap refit (a module-level function, so executors can pickle it)."""
+    law, p0, pf, seed, fit_kwargs = task
+    res = fit(law, (p0, pf), seed=seed, **fit_kwargs)
+    return {**res.model.flat_parameters(), "delta": res.delta}

@@ -1,30 +1,56 @@
 """Bounce laws: landing state in, lift-off state out.
 
-=====================  =====================================================
-:class:`Rigid`          restitution ``r`` and Coulomb friction ``mu`` (eq. rigid_bounce)
-:class:`PennerFixed`    rigid bounce on a surface tilted by a fixed ``beta_deg``
-:class:`PennerVarying`  Penner's tilt ``beta = k_p s phi`` (eq. penner_angle)
-:class:`PiecewiseAffine` two affine maps split by a plane (eqs. disjointA/B)
-:class:`TangentialRestitution` rigid bounce whose gripping balls reverse v_P (beyond the paper)
-=====================  =====================================================
+==============================  =====================================================
+:class:`Rigid`                  restitution ``r`` and Coulomb friction ``mu`` (eq. rigid_bounce)
+:class:`PennerFixed`            rigid bounce on a surface tilted by a fixed ``beta_deg``
+:class:`PennerVarying`          Penner's tilt ``beta = k_p s phi`` (eq. penner_angle)
+:class:`PiecewiseAffine`        two affine maps split by a plane (eqs. disjointA/B)
+:class:`TangentialRestitution`  Walton's hard-sphere law: gripping balls reverse v_P (beyond the paper)
+==============================  =====================================================
+
+Writing a law: subclass :class:`BounceModel` (NumPy maths in ``_predict``) or
+:class:`CompiledLaw` (a numba scalar ``kernel``); declare :class:`Parameter` s;
+register extra fitting procedures with :func:`fit_method`. See docs/laws.md.
 """
 
-from bouncelab.laws.base import BounceModel, Parameter, law_from_dict, load_law, registered_laws
+from bouncelab.laws.base import (
+    BounceModel,
+    FitOutcome,
+    FitProblem,
+    Parameter,
+    Parameters,
+    fit_method,
+    law_class,
+    law_from_dict,
+    law_name,
+    load_law,
+    registered_laws,
+)
+from bouncelab.laws.compiled import CompiledLaw, num_threads, set_num_threads
 from bouncelab.laws.penner import K_P_MAX, PennerFixed, PennerVarying
 from bouncelab.laws.piecewise import PiecewiseAffine
 from bouncelab.laws.rigid import Rigid
-from bouncelab.laws.tangential import TangentialRestitution
+from bouncelab.laws.tangential_restitution import TangentialRestitution
 
 __all__ = [
     "K_P_MAX",
     "BounceModel",
+    "CompiledLaw",
+    "FitOutcome",
+    "FitProblem",
     "Parameter",
+    "Parameters",
     "PennerFixed",
     "PennerVarying",
     "PiecewiseAffine",
     "Rigid",
     "TangentialRestitution",
+    "fit_method",
+    "law_class",
     "law_from_dict",
+    "law_name",
     "load_law",
+    "num_threads",
     "registered_laws",
+    "set_num_threads",
 ]

@@ -1,51 +1,66 @@
-"""Compiled kernels for the built-in laws (numba, compiled lazily and cached on disk).
+"""Compiled scalar kernels of the built-in laws (numba; loaded on first use, cached on disk).
 
-Each law's mathematics lives in exactly one scalar function here
-(``_rigid``, which also serves TangentialRestitution, and ``_penner``); the array kernels apply it to every
-bounce. ``law`` selects the scalar function by an integer id, a branch that is
-perfectly predicted inside the loop and so costs nothing measurable, and lets
-one cached kernel serve every built-in law.
+Each built-in law is a :class:`~bouncelab.laws.CompiledLaw` whose ``kernel`` is
+one function below, ``kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF,
+omegaF, regime)``; :mod:`bouncelab.laws.compiled` builds the array loops around it.
+The mathematics of each law lives in exactly one scalar function (``_impulse``
+for the rigid family, ``_penner`` for Penner's tilted surface). Penner's laws
+also have a dedicated objective loop (:func:`penner_error_sums`) that takes each
+landing's tilt factor precomputed once per fit.
 
-All arrays are C-contiguous float64; ``P[i] = [xdot0, ydot0, omega0]`` in
-scaled units with ``ydot0 < 0`` (validated by the caller, not here).
+States are in scaled units, ``ydot0 < 0`` (validated by the caller, not here).
 """
 
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
-from numba import njit, prange
 
-from bouncelab.laws._ids import (
-    PENNER_FIXED,
-    PENNER_VARYING,
-    RIGID,
-    ROLL,
-    SLIP_BACKWARD,
-    SLIP_FORWARD,
-    TANGENTIAL,
-)
+from bouncelab._jit import jit
+
+# Regime codes of the rigid family (lab frame: "forward" is +x).
+SLIP_FORWARD = 0
+ROLL = 1
+SLIP_BACKWARD = 2
 
 HALF_PI = 0.5 * math.pi
+DEG = math.pi / 180.0
 
 
-@njit(cache=True, inline="always")
-def _rigid(xd, yd, w, r, mu, et=0.0):
-    """Eq. (rigid_bounce), optionally with tangential restitution ``et``; returns (xF, yF, wF, regime).
+@jit(inline="always")
+def _impulse(xd, yd, w, r, mu, et):
+    """Rigid bounce with tangential restitution ``et``; returns (xF, yF, wF, regime).
 
-    All three cases of eq. (rigid_bounce) are one clipped impulse. A tangential impulse J per
-    unit mass changes xdot by J and omega by 5/2 J (I = 2/5 m R^2), so v_P by 7/2 J. The
-    impulse that stops the contact point (or, with et > 0, reverses it to -et v_P) is
-    J = -(1 + et) v_P / 3.5; Coulomb friction caps |J| at mu (1 + r) |ydot0|. Uncapped is the
-    roll case, capped the two slip cases. Branch-free, so the compiler vectorises it.
+    A tangential impulse J per unit mass changes xdot by J and omega by 5/2 J
+    (I = 2/5 m R^2), so v_P by 7/2 J. The impulse that stops the contact point is
+    J_stop = -v_P / 3.5; with tangential restitution (Walton's model) a gripping
+    ball leaves with v_P reversed to -et v_P, i.e. J_grip = (1 + et) J_stop.
+    Coulomb friction caps |J| at mu (1 + r) |ydot0|. Branch-free, so the compiler
+    vectorises it.
+
+    The regime follows the paper's rule applied to the law's own lift-off: the ball
+    slipped throughout when the cap stops it before v_P reaches zero (|J_stop| > cap);
+    otherwise it gripped ("roll"), whether or not it then left with v_P reversed.
     """
     cap = -mu * (1.0 + r) * yd  # mu (1 + r) |ydot0|, as ydot0 < 0
-    j_grip = -(1.0 + et) * (xd + w) / 3.5
+    j_stop = -(xd + w) / 3.5
+    j_grip = (1.0 + et) * j_stop
     j = min(max(j_grip, -cap), cap)
-    code = SLIP_FORWARD if j_grip < -cap else (SLIP_BACKWARD if j_grip > cap else ROLL)
+    code = SLIP_FORWARD if j_stop < -cap else (SLIP_BACKWARD if j_stop > cap else ROLL)
     return xd + j, -r * yd, w + 2.5 * j, code
+
+
+@jit(inline="always")
+def rigid_kernel(xd, yd, w, theta):
+    """Eq. (rigid_bounce); theta = [r, mu]."""
+    return _impulse(xd, yd, w, theta[0], theta[1], 0.0)
+
+
+@jit(inline="always")
+def tangential_kernel(xd, yd, w, theta):
+    """Walton's hard-sphere law; theta = [r, mu, e_t]."""
+    return _impulse(xd, yd, w, theta[0], theta[1], theta[2])
 
 
 # Cephes sin.c coefficients: sin and cos on [0, pi/4] to about 1 ulp. beta lies in [0, pi/2], so
@@ -58,7 +73,7 @@ _PIO2_HI = 1.5707963267948966  # pi/2 split in two doubles for an exact reflecti
 _PIO2_LO = 6.123233995736766e-17
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def _sin_cos_small(x):
     z = x * x
     s = x + x * z * (((((_SC[0] * z + _SC[1]) * z + _SC[2]) * z + _SC[3]) * z + _SC[4]) * z + _SC[5])
@@ -67,7 +82,7 @@ def _sin_cos_small(x):
     return s, c
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def sincos_quadrant(x):
     """(sin x, cos x) for x in [0, pi/2]; within 2 ulp of math.sin / math.cos there."""
     if x <= 0.25 * math.pi:
@@ -76,7 +91,7 @@ def sincos_quadrant(x):
     return c, s
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def _penner(xd, yd, w, r, mu, beta):
     """Rigid bounce on a surface tilted by beta in [0, pi/2] (radians) against the direction of travel.
 
@@ -89,12 +104,13 @@ def _penner(xd, yd, w, r, mu, beta):
     s, c = sincos_quadrant(beta)
     vt = x * c + yd * s  # along the tilted surface (it rises towards +x)
     vn = yd * c - x * s  # along its outward normal (-sin b, cos b): negative on approach
-    vtf, vnf, wf, code = _rigid(vt, vn, om, r, mu)
+    vtf, vnf, wf, code = _impulse(vt, vn, om, r, mu, 0.0)
     xf = vtf * c - vnf * s
     yf = vtf * s + vnf * c
     if sgn < 0.0 and code != ROLL:
         code = 2 - code  # the mirror swaps forward and backward slip
     return sgn * xf, yf, sgn * wf, code
+
 
 # Cephes atan.c coefficients (S. L. Moshier): atan to about 1e-16 relative error, about
 # five times faster here than libm's atan2, which dominated PennerVarying.predict.
@@ -106,7 +122,7 @@ _AQ = (2.485846490142306297962e1, 1.650270098316988542046e2, 4.32881060491290266
        4.853903996359136964868e2, 1.945506571482613964425e2)
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def atan_ratio(num, den):
     """atan(num / den) for num >= 0, den >= 0 (den = 0 gives pi/2); within 2 ulp of math.atan2."""
     if num > _T3P8 * den:
@@ -127,98 +143,57 @@ def atan_ratio(num, den):
     return y + (x * z * p / q + x + more)
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def speed_times_angle(xd, yd):
     """s * phi of eq. (penner_angle): landing speed (radii/s) times landing angle (rad)."""
     return math.sqrt(xd * xd + yd * yd) * atan_ratio(-yd, abs(xd))
 
 
-@njit(cache=True, inline="always")
-def _law(law, xd, yd, w, sphi, t0, t1, t2):
-    """Dispatch to a law's scalar function; ``sphi`` is s * phi, used by PennerVarying only."""
-    if law == RIGID:
-        return _rigid(xd, yd, w, t0, t1)
-    if law == PENNER_FIXED:
-        return _penner(xd, yd, w, t0, t1, t2)
-    if law == PENNER_VARYING:
-        return _penner(xd, yd, w, t0, t1, min(t2 * sphi, HALF_PI))  # beta capped at 90 degrees
-    return _rigid(xd, yd, w, t0, t1, t2)  # TANGENTIAL: t2 is e_t
+@jit(inline="always")
+def fade(xd, scale):
+    """Tilt factor min(|xdot0| / scale, 1) of Penner's continuous variant (1 when scale is 0: published law)."""
+    if scale <= 0.0:
+        return 1.0
+    return min(abs(xd) / scale, 1.0)
 
 
-# Below this many bounces a serial loop wins: waking the thread pool costs up to a millisecond.
-PARALLEL_MIN = 20_000
+@jit(inline="always")
+def penner_fixed_kernel(xd, yd, w, theta):
+    """theta = [r, mu, beta_deg, fade_xdot]."""
+    return _penner(xd, yd, w, theta[0], theta[1], theta[2] * DEG * fade(xd, theta[3]))
 
 
-def _predict_loop(P, t0, t1, t2, out, law):
-    for i in prange(P.shape[0]):
-        sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
-        a, b, c, _ = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)
-        out[i, 0] = a
-        out[i, 1] = b
-        out[i, 2] = c
+@jit(inline="always")
+def penner_varying_kernel(xd, yd, w, theta):
+    """theta = [r, mu, k_p, fade_xdot]; beta = k_p s phi (capped at 90 degrees)."""
+    beta = min(theta[2] * speed_times_angle(xd, yd) * fade(xd, theta[3]), HALF_PI)
+    return _penner(xd, yd, w, theta[0], theta[1], beta)
 
 
-def _regime_loop(P, t0, t1, t2, codes, law):
-    for i in prange(P.shape[0]):
-        sphi = speed_times_angle(P[i, 0], P[i, 1]) if law == PENNER_VARYING else 0.0
-        codes[i] = _law(law, P[i, 0], P[i, 1], P[i, 2], sphi, t0, t1, t2)[3]
-
-
-def _serial_and_parallel(loop):
-    """A serial and a parallel compiled variant of ``loop``, each cached under its own name.
-
-    numba keys its on-disk cache by the Python function's qualified name and line, not by
-    the ``parallel`` flag: compiled from one function object, the two variants would share
-    a cache entry and one of them would silently run the other's code.
-    """
-    variants = []
-    for parallel in (False, True):
-        name = f"{loop.__name__}_{'parallel' if parallel else 'serial'}"
-        f = types.FunctionType(loop.__code__, loop.__globals__, name)
-        f.__qualname__ = name
-        variants.append(njit(cache=True, fastmath=True, parallel=parallel)(f))
-    return variants
-
-
-_predict_serial, _predict_parallel = _serial_and_parallel(_predict_loop)
-_regime_serial, _regime_parallel = _serial_and_parallel(_regime_loop)
-
-
-def predict(law, P, t0, t1, t2, out):
-    """Lift-off states of every bounce into ``out`` (n, 3)."""
-    kernel = _predict_parallel if P.shape[0] >= PARALLEL_MIN else _predict_serial
-    kernel(P, t0, t1, t2, out, law)
-
-
-def regime(law, P, t0, t1, t2, codes):
-    """Regime code of every bounce into ``codes`` (n,) int8."""
-    kernel = _regime_parallel if P.shape[0] >= PARALLEL_MIN else _regime_serial
-    kernel(P, t0, t1, t2, codes, law)
-
-
-@njit(cache=True)
-def speeds_times_angles(P):
-    """s * phi of every landing (precomputed once per fit for PennerVarying)."""
+@jit(nogil=True)
+def penner_tilt_factors(P, varying, scale):
+    """Per landing, the factor multiplying the law's angle parameter: fade (x s phi for PennerVarying)."""
     out = np.empty(P.shape[0])
     for i in range(P.shape[0]):
-        out[i] = speed_times_angle(P[i, 0], P[i, 1])
+        g = fade(P[i, 0], scale)
+        out[i] = g * speed_times_angle(P[i, 0], P[i, 1]) if varying else g
     return out
 
 
-@njit(cache=True, fastmath=True)
-def error_sums(law, P0, PF, inv_norm, sphi, t0, t1, t2):
-    """Sums over bounces of ||p_F - P_F||/||p_0|| and of |q_F - Q_F|/||p_0|| for each q.
+@jit(nogil=True, fastmath=True)
+def penner_error_sums(P0, PF, inv_norm, factor, r, mu, angle, start, stop):
+    """The four error sums of a Penner law with each landing's tilt factor precomputed.
 
-    Dividing by n gives delta (eq. error) and Delta q (eq. error_individual).
-    ``sphi`` holds s * phi of each landing (only read for PennerVarying).
-    Serial on purpose: for ~10^3 bounces thread start-up costs more than it saves.
+    beta_i = min(angle * factor_i, pi/2) with ``angle`` in radians (PennerFixed) or
+    k_p (PennerVarying, whose factors include s * phi).
     """
     sd = 0.0
     sx = 0.0
     sy = 0.0
     sw = 0.0
-    for i in range(P0.shape[0]):
-        a, b, c, _ = _law(law, P0[i, 0], P0[i, 1], P0[i, 2], sphi[i], t0, t1, t2)
+    for i in range(start, stop):
+        beta = min(angle * factor[i], HALF_PI)
+        a, b, c, _ = _penner(P0[i, 0], P0[i, 1], P0[i, 2], r, mu, beta)
         ex = PF[i, 0] - a
         ey = PF[i, 1] - b
         ew = PF[i, 2] - c
@@ -230,62 +205,60 @@ def error_sums(law, P0, PF, inv_norm, sphi, t0, t1, t2):
     return sd, sx, sy, sw
 
 
-@njit(cache=True, fastmath=True)
-def unit_objective(law, P0, PF, inv_norm, sphi, u, spec, weights):
-    """The fitter's objective at a point ``u`` of the unit box, in one compiled call.
-
-    ``spec`` rows: base values, lower bounds, spans, kernel scale factors (degrees to
-    radians) and free flags of the three kernel parameters; free parameters take their
-    values from ``u`` in order. Returns the ``weights``-weighted sum of delta and Delta q.
-    """
-    t = np.empty(3)
-    j = 0
-    for k in range(3):
-        if spec[4, k] > 0.0:
-            t[k] = spec[1, k] + u[j] * spec[2, k]
-            j += 1
-        else:
-            t[k] = spec[0, k]
-        t[k] *= spec[3, k]
-    sd, sx, sy, sw = error_sums(law, P0, PF, inv_norm, sphi, t[0], t[1], t[2])
-    return (weights[0] * sd + weights[1] * sx + weights[2] * sy + weights[3] * sw) / P0.shape[0]
+@jit(inline="always")
+def piecewise_kernel(x, y, w, t):
+    """theta = [normal(3), offset, A1 (9, row-major), b1 (3), A2 (9), b2 (3)]; side 1 where n . p < offset."""
+    if t[0] * x + t[1] * y + t[2] * w < t[3]:
+        o = 4
+        code = 0
+    else:
+        o = 16
+        code = 1
+    xf = t[o] * x + t[o + 1] * y + t[o + 2] * w + t[o + 9]
+    yf = t[o + 3] * x + t[o + 4] * y + t[o + 5] * w + t[o + 10]
+    wf = t[o + 6] * x + t[o + 7] * y + t[o + 8] * w + t[o + 11]
+    return xf, yf, wf, code
 
 
-def _affine_loop(P, normal, offset, A1, b1, A2, b2, out):
-    for i in prange(P.shape[0]):
-        x = P[i, 0]
-        y = P[i, 1]
-        w = P[i, 2]
-        if normal[0] * x + normal[1] * y + normal[2] * w < offset:
-            A = A1
-            b = b1
-        else:
-            A = A2
-            b = b2
-        for j in range(3):
-            out[i, j] = A[j, 0] * x + A[j, 1] * y + A[j, 2] * w + b[j]
+# Prediction loops of Penner's laws. The generic loops of CompiledLaw call the kernel per bounce with
+# the parameter vector; here the tilt's sine and cosine can be computed once per call when the tilt is
+# fixed (no fade), which doubles PennerFixed's throughput. Same scalar functions, same results.
+_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp", "reassoc"}
 
 
-_affine_serial, _affine_parallel = _serial_and_parallel(_affine_loop)
+@jit(inline="always")
+def _penner_beta(xd, yd, angle, varying, scale):
+    g = fade(xd, scale)
+    if varying:
+        return min(angle * speed_times_angle(xd, yd) * g, HALF_PI)
+    return angle * g
 
 
-def affine_predict(P, normal, offset, A1, b1, A2, b2, out):
-    """Piecewise-affine law: A1 p + b1 where normal . p < offset, else A2 p + b2."""
-    kernel = _affine_parallel if P.shape[0] >= PARALLEL_MIN else _affine_serial
-    kernel(P, normal, offset, A1, b1, A2, b2, out)
+@jit(nogil=True, fastmath=_ROW_FLAGS)
+def penner_predict_rows(P, r, mu, angle, varying, scale, out, start, stop):
+    """Lift-off of rows [start, stop) into ``out``; ``angle`` is beta in radians (fixed) or k_p (varying)."""
+    if not varying and scale <= 0.0:
+        for i in range(start, stop):
+            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, angle)
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+    else:
+        for i in range(start, stop):
+            beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
+            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
 
 
-def warm_up() -> None:
-    """Compile (or load from the cache) every kernel once, e.g. before timing."""
-    P = np.array([[100.0, -100.0, 10.0]] * PARALLEL_MIN)
-    out = np.empty_like(P)
-    for law in (RIGID, PENNER_FIXED, PENNER_VARYING, TANGENTIAL):
-        for rows in (P, P[:1]):  # the parallel and the serial kernel
-            predict(law, rows, 0.5, 0.5, 0.1, out[: len(rows)])
-            regime(law, rows, 0.5, 0.5, 0.1, np.empty(len(rows), np.int8))
-        error_sums(law, P[:1], P[:1], np.ones(1), speeds_times_angles(P[:1]), 0.5, 0.5, 0.1)
-        unit_objective(law, P[:1], P[:1], np.ones(1), speeds_times_angles(P[:1]), np.full(3, 0.5),
-                       np.ones((5, 3)), np.ones(4))
-    eye = np.eye(3)
-    for rows in (P, P[:1]):
-        affine_predict(rows, np.ones(3), 0.0, eye, np.zeros(3), eye, np.zeros(3), out[: len(rows)])
+@jit(nogil=True, fastmath=_ROW_FLAGS)
+def penner_regime_rows(P, r, mu, angle, varying, scale, codes, start, stop):
+    """Regime codes of rows [start, stop) into ``codes`` (as :func:`penner_predict_rows`)."""
+    if not varying and scale <= 0.0:
+        for i in range(start, stop):
+            codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, angle)[3]
+    else:
+        for i in range(start, stop):
+            beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
+            codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)[3]

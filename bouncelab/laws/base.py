@@ -1,26 +1,38 @@
-"""The abstract bounce law.
+"""The law protocol: :class:`BounceModel`, its parameters, fitting methods, identity and JSON.
 
 A bounce law maps the landing state ``p0 = [xdot0, ydot0, omega0]`` of a ball to
 its lift-off state ``pF = [xdotF, ydotF, omegaF]`` (scaled units, see
 :mod:`bouncelab.data.units`). :class:`BounceModel` does everything that is the
-same for every law: keyword parameters stored as given, their validation and
-bounds, input validation and broadcasting, regimes, repr, equality and JSON.
-A subclass declares its parameters and supplies two small hooks:
+same for every law: keyword parameters stored as given, their validation,
+input validation and broadcasting (once, at the public entry), regimes, repr,
+equality, JSON and identity. A law owns everything that is law-specific:
 
-``_predict(p, theta)``
-    lift-off states of an (n, 3) array ``p`` of landings, given the parameter
-    vector ``theta`` (in the order of ``parameter_specs``);
-``_regime(p, theta)``
-    the integer regime code (an index into ``regimes``) of each landing.
+``parameter_specs``
+    its parameters, a tuple of :class:`~bouncelab.laws.parameters.Parameter`
+    (scalars or arrays, with search bounds, physical range, unit, description);
+``regimes``
+    the names of its regimes;
+``_predict(p, theta)`` and ``_regime(p, theta)``
+    the maths, on a validated C-contiguous ``(n, 3)`` float64 array ``p`` and the
+    flat parameter vector ``theta`` (all parameters in declaration order, arrays
+    raveled in C order);
+``_error_function(landing, liftoff, inv_norm)``
+    the fitter's objective (a NumPy default here; compiled laws override it);
+``_summary_lines()`` and ``_diagnostics(landing, liftoff)``
+    what reports print about it beyond its parameters;
+methods decorated with :func:`fit_method`
+    its own fitting procedures, beside the generic ``"global"`` search.
 
-Both receive validated C-contiguous float64 arrays and never need to check them.
+Generic code (``fit``, ``FitResult``, ``compare``, ``bootstrap``,
+``cross_validate``, reports, the command line) reads all of it from the law and
+never names one.
 
 Examples
 --------
 A new law is one small class:
 
 >>> import numpy as np
->>> from bouncelab.laws.base import BounceModel, Parameter
+>>> from bouncelab.laws import BounceModel, Parameter
 >>> class Restitution(BounceModel):
 ...     '''Frictionless bounce: pF = [xdot0, -e ydot0, omega0].'''
 ...     parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
@@ -40,68 +52,234 @@ from __future__ import annotations
 
 import inspect
 import json
-import math
-from collections.abc import Mapping
-from dataclasses import dataclass
+import threading
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
 from bouncelab.data.validation import States, as_states
 from bouncelab.errors import NotFittedError, ParameterError
+from bouncelab.laws.parameters import Parameter, Parameters
 
-__all__ = ["BounceModel", "Parameter", "law_from_dict", "load_law", "registered_laws"]
+__all__ = [
+    "DEFAULT_LOCAL_ALGORITHM",
+    "BounceModel",
+    "FitOutcome",
+    "FitProblem",
+    "Parameter",
+    "Parameters",
+    "fit_method",
+    "law_class",
+    "law_from_dict",
+    "law_name",
+    "load_law",
+    "registered_laws",
+]
 
-_REGISTRY: dict[str, type[BounceModel]] = {}
+#: Default local polish of the generic search (delta has kinks at regime changes, where
+#: BOBYQA's quadratic models stall; see benchmarks/bench_algorithms.py).
+DEFAULT_LOCAL_ALGORITHM = "NELDERMEAD"
+
+_FIT_METHOD_ATTR = "__bouncelab_fit_method__"
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """A named scalar parameter of a bounce law.
+# ------------------------------------------------------------------------------ fitting protocol
+class FitProblem(Protocol):
+    """What a law's fitting method receives from :func:`bouncelab.fit` (implemented in ``bouncelab.fitting``).
 
     Attributes
     ----------
-    name
-        Keyword name in the law's constructor.
-    bounds
-        Default search box ``(low, high)`` used by :func:`bouncelab.fit`.
-    physical
-        Range outside which the law is meaningless; values and fit bounds
-        outside it are refused with :class:`~bouncelab.ParameterError`.
-    unit
-        Unit of the value ("1" for dimensionless).
-    description
-        One line for reports.
+    landing, liftoff
+        Validated ``(n, 3)`` C-contiguous float64 arrays of the bounces to fit.
+    inv_norm
+        ``1 / ||p0||`` of every landing (the weights of delta and Delta q).
+    setting
+        Launcher setting of each bounce, or None.
+    n
+        Number of bounces.
+    weights
+        Weights of ``[delta, Delta xdot, Delta ydot, Delta omega]`` in the objective.
+    seed
+        Seed for anything random.
+    box
+        Search box, parameter name -> ``(low, high)`` (arrays for array parameters),
+        the law's defaults updated by the user's ``bounds``.
+    fixed
+        Parameters held in this fit, name -> value.
+    test
+        Held-out ``(landing, liftoff)`` or None (for information; never fitted).
     """
 
-    name: str
-    bounds: tuple[float, float]
-    physical: tuple[float, float]
-    unit: str
-    description: str
+    landing: np.ndarray
+    liftoff: np.ndarray
+    inv_norm: np.ndarray
+    setting: np.ndarray | None
+    n: int
+    weights: np.ndarray
+    seed: int
+    box: dict[str, tuple[Any, Any]]
+    fixed: dict[str, Any]
+    test: tuple[np.ndarray, np.ndarray] | None
 
-    def check(self, value: Any, law: str) -> float:
-        """Return ``value`` as a float, or raise ParameterError naming the law and parameter."""
-        try:
-            v = float(value)
-        except (TypeError, ValueError):
-            raise ParameterError(f"{law} parameter {self.name!r} must be a number; got {value!r}") from None
-        lo, hi = self.physical
-        if not math.isfinite(v) or not lo <= v <= hi:
-            raise ParameterError(
-                f"{law} parameter {self.name!r} = {value!r} is outside its physical range [{lo}, {hi}] "
-                f"({self.description})"
-            )
-        return v
+    def objective(self, law: BounceModel) -> Callable[[np.ndarray], float]:
+        """The weighted mean error as a function of the law's flat parameter vector."""
+
+    def search(self, f: Callable[[np.ndarray], float], x0: np.ndarray, **options: Any) -> Any:
+        """Minimise ``f`` over the unit box ``[0, 1]^d`` from ``x0`` (NLopt global stage + local polish)."""
+
+    def run_global(self, law: BounceModel, **options: Any) -> FitOutcome:
+        """The generic method: global search over the free parameters of ``law`` in ``box``."""
 
 
+@dataclass
+class FitOutcome:
+    """What a fitting method returns to :func:`bouncelab.fit`.
+
+    Attributes
+    ----------
+    model
+        The fitted law.
+    objective_value
+        The objective at the fitted parameters, on the fitted data.
+    algorithm
+        The procedure, in words (e.g. ``"DIRECT_L + NELDERMEAD"``).
+    n_global, n_local
+        Objective evaluations per stage.
+    stop_reason
+        Why the optimizer(s) stopped.
+    at_bounds
+        Parameters (element names for arrays) that ended on a bound, name -> "lower"/"upper".
+    insensitive
+        Parameters the objective does not depend on near the optimum, name -> the
+        range over which it stays the same.
+    stderr
+        Standard errors the method knows, parameter name -> value (array for arrays).
+    notes
+        Anything a user should know about this fit.
+    extras
+        Method-specific results (e.g. support-vector indices), for programs.
+    """
+
+    model: BounceModel
+    objective_value: float
+    algorithm: str
+    n_global: int = 0
+    n_local: int = 0
+    stop_reason: str = ""
+    at_bounds: dict[str, str] = field(default_factory=dict)
+    insensitive: dict[str, tuple[float, float]] = field(default_factory=dict)
+    stderr: dict[str, Any] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    extras: dict[str, Any] = field(default_factory=dict)
+
+
+def fit_method(name: str) -> Callable[[Callable], Callable]:
+    """Register a method of a law class as the fitting method ``name`` of :func:`bouncelab.fit`.
+
+    The method is called as ``method(law, problem, **options)`` with a
+    :class:`FitProblem` and returns a :class:`FitOutcome`; its keyword-only
+    arguments are its options (``bouncelab.fit`` refuses any other).
+
+    Examples
+    --------
+    >>> class MyLaw(BounceModel):  # doctest: +SKIP
+    ...     @fit_method("closed_form")
+    ...     def _fit_closed_form(self, problem, *, damping: float = 0.0) -> FitOutcome: ...
+    """
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ParameterError(f"a fitting method name must be an identifier; got {name!r}")
+
+    def mark(func: Callable) -> Callable:
+        setattr(func, _FIT_METHOD_ATTR, name)
+        return func
+
+    return mark
+
+
+# ------------------------------------------------------------------------------ identity
+_REGISTRY: dict[str, type[BounceModel]] = {}
+_REGISTRY_LOCK = threading.Lock()
+
+
+def _is_builtin(cls: type) -> bool:
+    return cls.__module__ == "bouncelab" or cls.__module__.startswith("bouncelab.")
+
+
+def law_name(cls: type[BounceModel] | BounceModel) -> str:
+    """The name a law is known by: the class name for bouncelab's own laws, ``module:QualName`` otherwise."""
+    cls = cls if isinstance(cls, type) else type(cls)
+    return cls.__name__ if _is_builtin(cls) else f"{cls.__module__}:{cls.__qualname__}"
+
+
+def registered_laws() -> dict[str, type[BounceModel]]:
+    """Every concrete law class known, by :func:`law_name`; user laws also by class name when unambiguous."""
+    with _REGISTRY_LOCK:
+        classes = list(_REGISTRY.values())
+    out = {law_name(c): c for c in classes}
+    short: dict[str, list[type[BounceModel]]] = {}
+    for c in classes:
+        short.setdefault(c.__name__, []).append(c)
+    for name, cands in short.items():
+        if name not in out and len(cands) == 1:
+            out[name] = cands[0]
+    return out
+
+
+def law_class(name: str, *, case_sensitive: bool = True) -> type[BounceModel]:
+    """The law class known by ``name`` (see :func:`law_name`).
+
+    A short name always means bouncelab's own law of that name, never a user's
+    class that happens to share it. A short name that only user classes carry is
+    accepted when exactly one does.
+
+    Raises
+    ------
+    ParameterError
+        Unknown name (with the known ones), an unregistered ``module:QualName``, or
+        a short name shared by several user classes (listing their qualified names).
+    """
+    if not isinstance(name, str) or not name:
+        raise ParameterError(f"a law name must be a non-empty string; got {name!r}")
+    with _REGISTRY_LOCK:
+        classes = list(_REGISTRY.values())
+
+    def same(a: str, b: str) -> bool:
+        return a == b if case_sensitive else a.lower() == b.lower()
+
+    if ":" in name:
+        hits = [c for c in classes if same(f"{c.__module__}:{c.__qualname__}", name)]
+        if len(hits) == 1:
+            return hits[0]
+        raise ParameterError(
+            f"unknown law {name!r}: no such class is defined in this process; import the module that defines it "
+            "first (a law description never imports code)"
+        )
+    builtin = [c for c in classes if _is_builtin(c) and same(c.__name__, name)]
+    if len(builtin) == 1:
+        return builtin[0]
+    users = [c for c in classes if not _is_builtin(c) and same(c.__name__, name)]
+    if len(users) == 1 and not builtin:
+        return users[0]
+    if len(builtin) + len(users) > 1:
+        cands = sorted(f"{c.__module__}:{c.__qualname__}" for c in builtin + users)
+        raise ParameterError(f"the law name {name!r} is ambiguous; use one of the qualified names {cands}")
+    known = sorted(law_name(c) for c in classes)
+    raise ParameterError(f"unknown law {name!r}; known laws: {known}")
+
+
+# ------------------------------------------------------------------------------ the law
 class BounceModel:
     """Abstract bounce law: landing state in, lift-off state out.
 
     Subclasses set ``parameter_specs`` and ``regimes``, store their keyword
     arguments as attributes of the same names in ``__init__`` and then call
-    ``super().__init__()``, and implement ``_predict`` and ``_regime``.
+    ``super().__init__()``, and implement ``_predict`` and ``_regime`` (or set a
+    compiled ``kernel``, see :class:`~bouncelab.laws.CompiledLaw`).
+    Constructor keywords that are not parameters are *options*: stored,
+    serialised and printed, never fitted.
 
     A law is a value: it is immutable once built; :meth:`replace` makes a
     changed copy. A law built without arguments is *unfitted*: its parameters
@@ -109,15 +287,22 @@ class BounceModel:
     until it is fitted (:func:`bouncelab.fit`) or given values.
     """
 
-    #: The law's scalar parameters, in the order of the ``theta`` vector.
+    #: The law's parameters, in the order of the ``theta`` vector.
     parameter_specs: ClassVar[tuple[Parameter, ...]] = ()
     #: Names of the regimes that :meth:`regime` returns, indexed by ``_regime``'s codes.
     regimes: ClassVar[tuple[str, ...]] = ()
+    #: Method :func:`bouncelab.fit` uses when none is named.
+    default_fit_method: ClassVar[str] = "global"
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if not cls.__name__.startswith("_"):
-            _REGISTRY[cls.__name__] = cls
+        if cls.__name__.startswith("_") or cls.__dict__.get("_abstract_law", False):
+            return
+        names = [s.name for s in cls.parameter_specs]
+        if len(set(names)) != len(names):
+            raise ParameterError(f"{cls.__name__} declares a parameter twice: {names}")
+        with _REGISTRY_LOCK:
+            _REGISTRY[f"{cls.__module__}:{cls.__qualname__}"] = cls
 
     def __init__(self) -> None:
         self._validate_parameters()
@@ -128,7 +313,7 @@ class BounceModel:
         for spec in self.parameter_specs:
             value = getattr(self, spec.name)
             if value is not None:
-                object.__setattr__(self, spec.name, spec.check(value, type(self).__name__))
+                object.__setattr__(self, spec.name, spec.check(value, law_name(self)))
 
     def __setattr__(self, name: str, value: Any) -> None:
         if getattr(self, "_frozen", False):
@@ -143,17 +328,42 @@ class BounceModel:
         sig = inspect.signature(cls.__init__)
         return tuple(p for p in sig.parameters if p != "self")
 
+    @classmethod
+    def option_names(cls) -> tuple[str, ...]:
+        """Constructor keywords that are not parameters (stored, serialised, never fitted)."""
+        params = {s.name for s in cls.parameter_specs}
+        return tuple(k for k in cls._keyword_names() if k not in params)
+
     def get_params(self) -> dict[str, Any]:
         """The constructor's keyword arguments as stored (scikit-learn convention)."""
         return {name: getattr(self, name) for name in self._keyword_names()}
 
     @property
-    def parameters(self) -> dict[str, float | None]:
-        """Scalar parameters as a name -> float mapping (``None`` where not set)."""
+    def params(self) -> Parameters:
+        """The parameters as objects (name, value, bounds, physical range, unit, vary, description)."""
+        return Parameters(s.replace(value=getattr(self, s.name)) for s in self.parameter_specs)
+
+    @property
+    def parameters(self) -> dict[str, float | np.ndarray | None]:
+        """Parameter values, name -> float (array for array parameters; ``None`` where not set)."""
         return {spec.name: getattr(self, spec.name) for spec in self.parameter_specs}
 
+    def flat_parameters(self) -> dict[str, float | None]:
+        """Every number of every parameter, by element name (``A1[0,2]``); for tables of any law."""
+        out: dict[str, float | None] = {}
+        for spec in self.parameter_specs:
+            value = getattr(self, spec.name)
+            flat = [None] * spec.size if value is None else np.ravel(value).tolist()
+            out.update(zip(spec.element_names(), flat, strict=True))
+        return out
+
+    @property
+    def options(self) -> dict[str, Any]:
+        """The non-parameter constructor options, as stored."""
+        return {k: getattr(self, k) for k in self.option_names()}
+
     @classmethod
-    def default_bounds(cls) -> dict[str, tuple[float, float]]:
+    def default_bounds(cls) -> dict[str, tuple[Any, Any]]:
         """Default fitting bounds, name -> (low, high)."""
         return {spec.name: spec.bounds for spec in cls.parameter_specs}
 
@@ -171,14 +381,39 @@ class BounceModel:
             )
         return type(self)(**{**self.get_params(), **changes})
 
+    @classmethod
+    def _theta_slices(cls) -> list[tuple[Parameter, slice]]:
+        out, start = [], 0
+        for spec in cls.parameter_specs:
+            out.append((spec, slice(start, start + spec.size)))
+            start += spec.size
+        return out
+
+    @classmethod
+    def theta_size(cls) -> int:
+        """Length of the flat parameter vector."""
+        return sum(s.size for s in cls.parameter_specs)
+
     def _theta(self) -> np.ndarray:
+        """Flat float64 vector of every parameter in spec order (arrays raveled in C order)."""
         missing = [k for k, v in self.parameters.items() if v is None]
         if missing:
             raise NotFittedError(
-                f"{type(self).__name__} has no value for {missing}; pass them to the constructor "
+                f"{law_name(self)} has no value for {missing}; pass them to the constructor "
                 f"or fit the law with bouncelab.fit({type(self).__name__}(), data)"
             )
-        return np.array([getattr(self, s.name) for s in self.parameter_specs], dtype=np.float64)
+        parts = [np.ravel(np.asarray(getattr(self, s.name), dtype=np.float64)) for s in self.parameter_specs]
+        return np.ascontiguousarray(np.concatenate(parts)) if parts else np.empty(0)
+
+    def _with_theta(self, theta: np.ndarray) -> BounceModel:
+        """A new law with the parameters of the flat vector ``theta`` (options kept)."""
+        theta = np.asarray(theta, dtype=np.float64)
+        if theta.shape != (self.theta_size(),):
+            raise ParameterError(f"{law_name(self)} needs {self.theta_size()} numbers; got shape {theta.shape}")
+        values: dict[str, Any] = {}
+        for spec, sl in self._theta_slices():
+            values[spec.name] = float(theta[sl][0]) if spec.is_scalar else theta[sl].reshape(spec.shape).copy()
+        return self.replace(**values)
 
     # ---------------------------------------------------------------- prediction
     def predict(self, landing: States) -> Any:
@@ -188,7 +423,8 @@ class BounceModel:
         ----------
         landing
             Array-like of shape (..., 3) in scaled units (radii/s, radii/s,
-            rad/s) with ``ydot0 < 0``, or an :class:`xarray.DataArray` with a
+            rad/s) with ``ydot0 < 0``, a DataFrame with columns named ``xdot``,
+            ``ydot``, ``omega`` (any order), or an :class:`xarray.DataArray` with a
             ``component`` dimension.
 
         Returns
@@ -199,7 +435,9 @@ class BounceModel:
         Raises
         ------
         DataError
-            Wrong shape, NaN/inf, or a landing with ``ydot0 >= 0`` (row named).
+            Wrong shape, NaN/inf, masked or complex values, magnitudes beyond
+            :data:`bouncelab.data.validation.STATE_LIMIT`, or a landing with
+            ``ydot0 >= 0`` (row named).
         NotFittedError
             Some parameters have no value.
         """
@@ -207,15 +445,16 @@ class BounceModel:
         p, wrap = as_states(landing, "landing", landing=True)
         return wrap(self._predict(p, theta))
 
-    def regime(self, landing: States) -> np.ndarray:
-        """Name of the regime each landing falls in (one of :attr:`regimes`).
+    def regime(self, landing: States, *, codes: bool = False) -> Any:
+        """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
 
-        Returns an array of strings with the leading shape of ``landing``
-        (a labelled DataArray for a DataArray input).
+        Returns an array with the leading shape of ``landing`` (a labelled
+        DataArray for a DataArray input).
         """
         theta = self._theta()
         p, wrap = as_states(landing, "landing", landing=True)
-        return wrap(np.asarray(self.regimes)[self._regime(p, theta)])
+        c = self._regime(p, theta)
+        return wrap(c if codes else np.asarray(self.regimes)[c])
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         raise NotImplementedError
@@ -223,19 +462,83 @@ class BounceModel:
     def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
+    # --------------------------------------------------------------- the objective
+    def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
+                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+        """The fitter's objective hook: a function of ``theta`` giving four sums over the bounces.
+
+        ``[sum ||e_i|| / ||p0_i||, sum |ex_i| / ||p0_i||, sum |ey_i| / ||p0_i||,
+        sum |ew_i| / ||p0_i||]`` with ``e_i = pF_i - predicted_i``; divided by n they
+        are delta (eq. error) and the three Delta q (eq. error_individual). The
+        arguments are validated ``(n, 3)`` arrays and ``1 / ||p0_i||``, fixed for a
+        fit. This default predicts with :meth:`_predict` and sums with NumPy; a
+        compiled law computes the same in one compiled pass.
+        """
+
+        def sums(theta: np.ndarray) -> np.ndarray:
+            err = liftoff - self._predict(landing, theta)
+            terms = np.column_stack([np.sqrt(np.einsum("ij,ij->i", err, err)), np.abs(err)])
+            return inv_norm @ terms
+
+        return sums
+
+    # --------------------------------------------------------------- reports
+    def _summary_lines(self) -> list[str]:
+        """Law-specific lines for reports, beyond the parameter table (default: none)."""
+        return []
+
+    def _diagnostics(self, landing: np.ndarray, liftoff: np.ndarray) -> dict[str, float]:
+        """Law-specific figures on some bounces, for FitResult, compare and reports (default: none)."""
+        return {}
+
+    # --------------------------------------------------------------- fitting methods
+    @fit_method("global")
+    def _fit_global(self, problem: FitProblem, *, algorithm: str | None = None,
+                    local_algorithm: str | None = DEFAULT_LOCAL_ALGORITHM,
+                    maxeval: int | None = None) -> FitOutcome:
+        """NLopt global search over the unit box of the free parameters, then a local polish.
+
+        Options: ``algorithm`` (CRS2_LM, ISRES, ESCH, DIRECT_L, MLSL; default DIRECT_L),
+        ``local_algorithm`` (NELDERMEAD default, BOBYQA, SBPLX; None skips it),
+        ``maxeval`` (evaluations of the global stage).
+        """
+        return problem.run_global(self, algorithm=algorithm, local_algorithm=local_algorithm, maxeval=maxeval)
+
+    @classmethod
+    def fit_methods(cls) -> dict[str, Callable]:
+        """The fitting methods of this law, name -> function (``"global"`` first, then the class's own)."""
+        out: dict[str, Callable] = {}
+        for klass in reversed(cls.__mro__):
+            for value in vars(klass).values():
+                name = getattr(value, _FIT_METHOD_ATTR, None)
+                if name is not None:
+                    out[name] = value
+        return {"global": out.pop("global"), **out} if "global" in out else out
+
     # ------------------------------------------------------------- published laws
     @classmethod
     def published(cls, campaign: str) -> BounceModel:
         """The law with the reference paper's published values for campaign "A" or "B"."""
-        raise NotImplementedError(f"the paper publishes no values for {cls.__name__}")
+        raise ParameterError(f"the paper publishes no values for {law_name(cls)}")
 
     # ------------------------------------------------------------ serialisation
     def to_dict(self) -> dict[str, Any]:
-        """JSON-safe description: ``{"law": name, "parameters": {keyword: value}}``."""
-        params = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.get_params().items()}
+        """JSON-safe description: ``{"law": name, "parameters": {...}, "options": {...}}``.
+
+        ``law`` is :func:`law_name` (the class name for bouncelab's laws,
+        ``module:QualName`` for others).
+        """
         from bouncelab import __version__
 
-        return {"law": type(self).__name__, "parameters": params, "bouncelab_version": __version__}
+        def plain(v: Any) -> Any:
+            return v.tolist() if isinstance(v, np.ndarray) else v
+
+        d: dict[str, Any] = {"law": law_name(self),
+                             "parameters": {k: plain(v) for k, v in self.parameters.items()}}
+        if self.option_names():
+            d["options"] = {k: plain(v) for k, v in self.options.items()}
+        d["bouncelab_version"] = __version__
+        return d
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> BounceModel:
@@ -243,10 +546,12 @@ class BounceModel:
         return law_from_dict(d, expected=None if cls is BounceModel else cls)
 
     def to_json(self, path: str | Path | None = None, **kwargs: Any) -> str:
-        """JSON text of :meth:`to_dict`; also written to ``path`` if given."""
+        """JSON text of :meth:`to_dict`; also written to ``path`` if given (atomically)."""
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            Path(path).write_text(text + "\n")
+            from bouncelab.atomic import atomic_write_text
+
+            atomic_write_text(path, text + "\n")
         return text
 
     # ------------------------------------------------------------ dunder methods
@@ -269,35 +574,50 @@ class BounceModel:
         return all(np.array_equal(np.asarray(a[k], dtype=object), np.asarray(b[k], dtype=object)) for k in a)
 
     def __hash__(self) -> int:
-        return hash((type(self).__name__, json.dumps(self.to_dict()["parameters"], sort_keys=True)))
-
-
-def registered_laws() -> dict[str, type[BounceModel]]:
-    """Every concrete law class known by name (built-in and user-defined)."""
-    return dict(_REGISTRY)
+        d = self.to_dict()
+        return hash((law_name(self), json.dumps([d["parameters"], d.get("options")], sort_keys=True, default=str)))
 
 
 def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = None) -> BounceModel:
-    """Build a law from ``{"law": name, "parameters": {...}}``."""
+    """Build a law from ``{"law": name, "parameters": {...}, "options": {...}}``.
+
+    Raises
+    ------
+    ParameterError
+        Anything wrong with the description: missing keys, an unknown or ambiguous
+        law name, unknown or bad parameter values (never TypeError and the like).
+    """
     if not isinstance(d, Mapping) or "law" not in d or "parameters" not in d:
         raise ParameterError("a law description needs the keys 'law' and 'parameters'")
     name = d["law"]
-    if name not in _REGISTRY:
-        raise ParameterError(f"unknown law {name!r}; known laws: {sorted(_REGISTRY)}")
-    cls = _REGISTRY[name]
+    if not isinstance(name, str):
+        raise ParameterError(f"the law name must be a string; got {name!r}")
+    cls = law_class(name)
     if expected is not None and not issubclass(cls, expected):
         raise ParameterError(f"the description is of a {name}, not a {expected.__name__}")
-    params = dict(d["parameters"])
-    unknown = set(params) - set(cls._keyword_names())
+    kwargs: dict[str, Any] = {}
+    for key in ("parameters", "options"):
+        part = d.get(key, {})
+        if part is None:
+            part = {}
+        if not isinstance(part, Mapping) or not all(isinstance(k, str) for k in part):
+            raise ParameterError(f"{name}: {key!r} must be a mapping of names to values; got {type(part).__name__}")
+        kwargs.update(part)
+    unknown = set(kwargs) - set(cls._keyword_names())
     if unknown:
-        raise ParameterError(f"{name} has no parameter(s) {sorted(unknown)}")
-    return cls(**params)
+        raise ParameterError(f"{name} has no parameter(s) {sorted(unknown)}; it has {list(cls._keyword_names())}")
+    try:
+        return cls(**kwargs)
+    except ParameterError:
+        raise
+    except (TypeError, ValueError, OverflowError, RecursionError, AttributeError) as exc:
+        raise ParameterError(f"{name}: bad parameter values in the description ({type(exc).__name__}: {exc})") from None
 
 
 def load_law(path: str | Path) -> BounceModel:
     """Read a law written by :meth:`BounceModel.to_json`."""
     try:
         d = json.loads(Path(path).read_text())
-    except json.JSONDecodeError as exc:
-        raise ParameterError(f"{path}: not a JSON law description ({exc})") from None
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
+        raise ParameterError(f"{path}: not a JSON law description ({type(exc).__name__}: {exc})") from None
     return law_from_dict(d)

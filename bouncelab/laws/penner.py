@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from bouncelab.data import published as _published
 from bouncelab.data.validation import as_states
-from bouncelab.laws import _ids
-from bouncelab.laws._compiled import _CompiledLaw, kernels
+from bouncelab.errors import ParameterError
 from bouncelab.laws.base import Parameter
+from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, run_chunked, run_rows
 from bouncelab.laws.rigid import MU_SPEC, R_SPEC
 
 __all__ = ["K_P_MAX", "PennerFixed", "PennerVarying"]
@@ -38,10 +40,89 @@ _PENNER_DOC = r"""
     :math:`\omega \to -\omega`); :math:`\dot x_0 = 0` counts as +x. Regimes are
     those of the rigid bounce in the rotated frame, named in the lab frame
     ("slip_forward" means the contact point slides towards +x).
+
+    **The law jumps at** :math:`\dot x_0 = 0`. The tilt always opposes the
+    direction of travel, so it flips as :math:`\dot x_0` changes sign, while
+    :math:`\beta` stays finite there (PennerVarying's :math:`\beta` is even largest
+    at a vertical impact, where :math:`\phi = 90°`). With the published fixed-β law
+    of campaign B, landings (±1, −1000, 0) lift off with :math:`\dot x_F = \mp 257`
+    radii/s: two almost identical landings leave in opposite directions at
+    5.5 m/s. This is the published behaviour and the default. The option
+    ``fade_xdot`` (radii/s) gives a continuous variant: the tilt is multiplied by
+    :math:`\min(|\dot x_0| / \text{fade\_xdot}, 1)`, so it fades linearly to zero as
+    :math:`\dot x_0 \to 0` and is unchanged for :math:`|\dot x_0| \ge` ``fade_xdot``;
+    the law is then continuous at :math:`\dot x_0 = 0` (it is the rigid bounce there).
 """
 
 
-class PennerFixed(_CompiledLaw):
+def _kernels():
+    from bouncelab.laws import _kernels
+
+    return _kernels
+
+
+def _check_fade(value: Any, law: str) -> float | None:
+    if value is None:
+        return None
+    try:
+        v = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s or None; got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s or None; got {value!r}")
+    return v
+
+
+class _Penner(CompiledLaw):
+    """What the two Penner laws share: the tilted-surface kernel, the fade option, a fast objective."""
+
+    regimes = ("slip_forward", "roll", "slip_backward")
+    _varying = False
+
+    def _validate_parameters(self) -> None:
+        super()._validate_parameters()
+        object.__setattr__(self, "fade_xdot", _check_fade(self.fade_xdot, type(self).__name__))
+
+    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
+        return np.append(theta, self.fade_xdot or 0.0)
+
+    def _scalars(self, theta: np.ndarray) -> tuple[float, float, float, bool, float]:
+        angle = float(theta[2]) * (1.0 if self._varying else _kernels().DEG)
+        return float(theta[0]), float(theta[1]), angle, self._varying, float(self.fade_xdot or 0.0)
+
+    # Dedicated loops (same scalar functions as the kernel): a fixed tilt's sine and cosine are
+    # computed once per call, not once per bounce.
+    def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        out = np.empty_like(p)
+        run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(theta), out)
+        return out
+
+    def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        codes = np.empty(len(p), dtype=np.int8)
+        run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(theta), codes)
+        return codes
+
+    def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
+                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+        # Each landing's tilt factor (the fade, times s * phi for PennerVarying) is fixed for a
+        # fit: computed once here, so an evaluation costs one pass without trigonometric inverses.
+        k = _kernels()
+        factor = k.penner_tilt_factors(landing, self._varying, self.fade_xdot or 0.0)
+        sums, n = k.penner_error_sums, len(landing)
+        scale = 1.0 if self._varying else k.DEG
+        if n < PARALLEL_MIN:
+            def f(theta: np.ndarray) -> tuple[float, float, float, float]:
+                return sums(landing, liftoff, inv_norm, factor, theta[0], theta[1], theta[2] * scale, 0, n)
+            return f
+
+        def f_chunked(theta: np.ndarray) -> tuple[float, float, float, float]:
+            parts = run_chunked(sums, n, landing, liftoff, inv_norm, factor, theta[0], theta[1], theta[2] * scale)
+            return tuple(math.fsum(p[i] for p in parts) for i in range(4))
+
+        return f_chunked
+
+
+class PennerFixed(_Penner):
     __doc__ = (
         "Rigid bounce on a surface tilted by a fixed angle ``beta_deg`` (Penner, fixed beta)."
         + _PENNER_DOC
@@ -54,6 +135,9 @@ class PennerFixed(_CompiledLaw):
         Friction coefficient, dimensionless, >= 0 (search bounds [0, 1.5]).
     beta_deg : float, optional
         Tilt of the effective surface in degrees, in [0, 90) (search bounds [0, 45]).
+    fade_xdot : float, optional
+        Option, not a parameter: the scale in radii/s over which the tilt fades to
+        zero as xdot0 -> 0 (None, the default, is the published law).
 
     Examples
     --------
@@ -63,6 +147,14 @@ class PennerFixed(_CompiledLaw):
     >>> p0 = [[1000.0, -800.0, 300.0]]
     >>> bool((PennerFixed(r=0.5, mu=0.4, beta_deg=0.0).predict(p0) == Rigid(r=0.5, mu=0.4).predict(p0)).all())
     True
+
+    The jump at xdot0 = 0 and the continuous variant:
+
+    >>> law = PennerFixed.published("B")
+    >>> law.predict([[1.0, -1000.0, 0.0], [-1.0, -1000.0, 0.0]])[:, 0].round(0)
+    array([-257.,  257.])
+    >>> law.replace(fade_xdot=50.0).predict([[1.0, -1000.0, 0.0], [-1.0, -1000.0, 0.0]])[:, 0].round(1)
+    array([-5.4,  5.4])
     """
     )
 
@@ -71,15 +163,18 @@ class PennerFixed(_CompiledLaw):
         MU_SPEC,
         Parameter("beta_deg", (0.0, 45.0), (0.0, 89.999), "deg", "tilt of the effective surface"),
     )
-    _law_id = _ids.PENNER_FIXED
 
-    def __init__(self, r: float | None = None, mu: float | None = None, beta_deg: float | None = None) -> None:
+    def __init__(self, r: float | None = None, mu: float | None = None, beta_deg: float | None = None,
+                 fade_xdot: float | None = None) -> None:
         self.r = r
         self.mu = mu
         self.beta_deg = beta_deg
+        self.fade_xdot = fade_xdot
         super().__init__()
 
-    _kernel_scale = (1.0, 1.0, math.pi / 180.0)  # the kernel takes beta in radians
+    @property
+    def kernel(self):  # type: ignore[override]
+        return _kernels().penner_fixed_kernel
 
     @classmethod
     def published(cls, campaign: str) -> PennerFixed:
@@ -87,7 +182,7 @@ class PennerFixed(_CompiledLaw):
         return cls(**_published.rigid_family_parameters(campaign, "PennerFixed"))
 
 
-class PennerVarying(_CompiledLaw):
+class PennerVarying(_Penner):
     __doc__ = (
         r"""Rigid bounce on a surface tilted by Penner's angle :math:`\beta = k_p\, s\, \phi`.
 
@@ -106,6 +201,9 @@ class PennerVarying(_CompiledLaw):
     k_p : float, optional
         Turf constant in s/radius (1 / scaled speed), >= 0 (search bounds
         [0, :data:`K_P_MAX`] = [0, 1e-3]).
+    fade_xdot : float, optional
+        Option, not a parameter: the scale in radii/s over which the tilt fades to
+        zero as xdot0 -> 0 (None, the default, is the published law).
     """
     )
 
@@ -114,20 +212,26 @@ class PennerVarying(_CompiledLaw):
         MU_SPEC,
         Parameter("k_p", (0.0, K_P_MAX), (0.0, float("inf")), "s/radius", "Penner's angle per unit speed and angle"),
     )
-    _law_id = _ids.PENNER_VARYING
+    _varying = True
 
-    def __init__(self, r: float | None = None, mu: float | None = None, k_p: float | None = None) -> None:
+    def __init__(self, r: float | None = None, mu: float | None = None, k_p: float | None = None,
+                 fade_xdot: float | None = None) -> None:
         self.r = r
         self.mu = mu
         self.k_p = k_p
+        self.fade_xdot = fade_xdot
         super().__init__()
 
+    @property
+    def kernel(self):  # type: ignore[override]
+        return _kernels().penner_varying_kernel
+
     def beta_deg(self, landing) -> np.ndarray:
-        """Penner's angle beta (degrees) for each landing, as the law uses it (capped at 90 degrees)."""
+        """Penner's angle beta (degrees) for each landing, as the law uses it (capped at 90 degrees, faded)."""
         theta = self._theta()
         p, wrap = as_states(landing, "landing", landing=True)
-        sphi = kernels().speeds_times_angles(p)
-        return wrap(np.degrees(np.minimum(theta[2] * sphi, np.pi / 2)))
+        factor = _kernels().penner_tilt_factors(p, True, self.fade_xdot or 0.0)
+        return wrap(np.degrees(np.minimum(theta[2] * factor, np.pi / 2)))
 
     @classmethod
     def published(cls, campaign: str) -> PennerVarying:

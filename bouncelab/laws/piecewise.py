@@ -1,4 +1,9 @@
-"""The piecewise-affine landing-to-lift-off map of the paper (eqs. disjointA/B)."""
+"""The piecewise-affine landing-to-lift-off map of the paper (eqs. disjointA/B).
+
+The law is here; the procedures that find its plane (the paper's SVM and
+bouncelab's search for the delta-optimal plane) are in
+:mod:`bouncelab.laws.plane_fitting`.
+"""
 
 from __future__ import annotations
 
@@ -8,16 +13,39 @@ import numpy as np
 
 from bouncelab.data import published as _published
 from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import ParameterError
-from bouncelab.laws._compiled import kernels
-from bouncelab.laws.base import BounceModel
+from bouncelab.errors import FitError, ParameterError
+from bouncelab.laws import plane_fitting as pf_
+from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
+from bouncelab.laws.compiled import CompiledLaw
 
-__all__ = ["PiecewiseAffine"]
+__all__ = ["PAPER_FORM_MIN", "PiecewiseAffine"]
 
-_SHAPES = {"normal": (3,), "offset": (), "A1": (3, 3), "b1": (3,), "A2": (3, 3), "b2": (3,)}
+#: The paper's form ``a xdot0 + b ydot0 + omega0 = c`` is printed only when the unit normal's
+#: omega component is at least this large (so |a|, |b| <= 1000); otherwise only the unit form.
+PAPER_FORM_MIN = 1e-3
+
+_INF = float("inf")
+_SPECS = (
+    Parameter("normal", (-1.0, 1.0), (-_INF, _INF), "s/radius, s/radius, s",
+              "normal n of the plane n . p0 = offset splitting landing space (any non-zero scale)", shape=(3,)),
+    Parameter("offset", (-3000.0, 3000.0), (-_INF, _INF), "n . p0", "offset of the plane"),
+    Parameter("A1", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map on side 1 (roll), rows xdotF ydotF omegaF",
+              shape=(3, 3)),
+    Parameter("b1", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset of the map on side 1",
+              shape=(3,)),
+    Parameter("A2", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map on side 2 (slip)", shape=(3, 3)),
+    Parameter("b2", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset of the map on side 2",
+              shape=(3,)),
+)
 
 
-class PiecewiseAffine(BounceModel):
+def _kernel():
+    from bouncelab.laws._kernels import piecewise_kernel
+
+    return piecewise_kernel
+
+
+class PiecewiseAffine(CompiledLaw):
     r"""Two affine maps either side of a plane in landing space.
 
     Eq. (piecewise_fit) with the split of eqs. (disjointA/B):
@@ -39,7 +67,7 @@ class PiecewiseAffine(BounceModel):
     Parameters
     ----------
     normal : array_like (3,), optional
-        Plane normal :math:`\mathbf n` (coefficients of xdot0 [1/radius·s], ydot0, omega0 [s]).
+        Plane normal :math:`\mathbf n` (coefficients of xdot0 [s/radius], ydot0, omega0 [s]).
     offset : float, optional
         Plane offset :math:`c`, in the units of :math:`\mathbf n \cdot \mathbf p_0`.
     A1, A2 : array_like (3, 3), optional
@@ -49,7 +77,12 @@ class PiecewiseAffine(BounceModel):
 
     Notes
     -----
-    All six are given together or not at all (an unfitted law).
+    All six are parameters like any other (arrays), so a fit can hold some of
+    them: ``bouncelab.fit(law, data, fixed=["normal", "offset"])`` refits the two
+    maps with the plane of ``law``. Fitting methods: ``"plane"`` (default, the
+    delta-optimal plane) and ``"svm"`` (the paper's procedure), see
+    :mod:`bouncelab.laws.plane_fitting`; the generic ``"global"`` search also
+    works but is slow in 28 dimensions.
 
     Examples
     --------
@@ -60,7 +93,9 @@ class PiecewiseAffine(BounceModel):
     array(['slip', 'roll'], dtype='<U4')
     """
 
+    parameter_specs = _SPECS
     regimes = ("roll", "slip")
+    default_fit_method = "plane"
 
     def __init__(
         self,
@@ -80,91 +115,191 @@ class PiecewiseAffine(BounceModel):
         super().__init__()
 
     def _validate_parameters(self) -> None:
-        given = {k: getattr(self, k) for k in _SHAPES}
-        missing = [k for k, v in given.items() if v is None]
-        if len(missing) == len(_SHAPES):
-            return
-        if missing:
-            raise ParameterError(f"PiecewiseAffine needs all of {list(_SHAPES)}; missing {missing}")
-        for key, shape in _SHAPES.items():
-            try:
-                arr = np.array(given[key], dtype=np.float64)
-            except (TypeError, ValueError):
-                raise ParameterError(f"PiecewiseAffine parameter {key!r} must be numeric") from None
-            if arr.shape != shape:
-                raise ParameterError(f"PiecewiseAffine parameter {key!r} must have shape {shape}; got {arr.shape}")
-            if not np.isfinite(arr).all():
-                raise ParameterError(f"PiecewiseAffine parameter {key!r} must be finite; got {arr}")
-            if key == "offset":
-                object.__setattr__(self, key, float(arr))
-                continue
-            arr.setflags(write=False)
-            object.__setattr__(self, key, arr)
-        if not np.any(self.normal):
+        super()._validate_parameters()
+        if self.normal is not None and not np.any(self.normal):
             raise ParameterError("PiecewiseAffine plane normal must not be zero")
 
     @property
-    def parameters(self) -> dict[str, float | None]:
-        """All 28 numbers as a flat name -> float mapping.
+    def kernel(self):  # type: ignore[override]
+        return _kernel()
 
-        Names: ``normal_xdot``, ``normal_ydot``, ``normal_omega``, ``offset``,
-        ``A1_ij`` / ``A2_ij`` (row i = lift-off component, column j = landing
-        component, 1-based) and ``b1_i`` / ``b2_i``.
-        """
-        names = self.parameter_names()
-        if self.normal is None:
-            return dict.fromkeys(names)
-        return dict(zip(names, self._flat(), strict=True))
+    # ------------------------------------------------------------------ the plane
+    def plane_unit_form(self) -> tuple[np.ndarray, float]:
+        """The plane as ``(u, d)`` with ``u`` the unit normal: ``u . p0 = d`` (always finite)."""
+        self._require_plane()
+        norm = float(np.linalg.norm(self.normal))
+        return self.normal / norm, float(self.offset) / norm
 
-    @staticmethod
-    def parameter_names() -> list[str]:
-        """Names of :attr:`parameters`, in order."""
-        names = [f"normal_{c}" for c in COMPONENTS] + ["offset"]
-        for side in ("1", "2"):
-            names += [f"A{side}_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
-            names += [f"b{side}_{i}" for i in range(1, 4)]
-        return names
-
-    def _flat(self) -> np.ndarray:
-        return np.concatenate(
-            [self.normal, [self.offset], self.A1.ravel(), self.b1, self.A2.ravel(), self.b2]
-        )
-
-    def _theta(self) -> np.ndarray:
-        if self.normal is None:
-            from bouncelab.errors import NotFittedError
-
-            raise NotFittedError(
-                "PiecewiseAffine has no plane or maps; pass them to the constructor "
-                "or fit the law with bouncelab.fit(PiecewiseAffine(), data)"
-            )
-        return self._flat()
-
-    def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        out = np.empty_like(p)
-        kernels().affine_predict(p, self.normal, self.offset, self.A1, self.b1, self.A2, self.b2, out)
-        return out
-
-    def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        return (p @ self.normal >= self.offset).astype(np.int8)
+    def has_paper_form(self) -> bool:
+        """Whether the plane can be printed as ``a xdot0 + b ydot0 + omega0 = c`` (see :data:`PAPER_FORM_MIN`)."""
+        u, _ = self.plane_unit_form()
+        return abs(u[2]) >= PAPER_FORM_MIN
 
     def printed_plane(self) -> tuple[float, float, float]:
         """The plane as the paper prints it, ``(a, b, c)`` in ``a xdot0 + b ydot0 + omega0 = c``.
 
-        Raises ParameterError if the plane is parallel to the omega axis (no such form).
+        Raises
+        ------
+        ParameterError
+            If the plane is (nearly) parallel to the omega axis, so that form does not exist
+            (unit normal's omega component below :data:`PAPER_FORM_MIN`); use :meth:`plane_unit_form`.
         """
-        self._theta()
-        if self.normal[2] == 0:
-            raise ParameterError("the plane is parallel to the omega axis; it has no 'omega0 = ...' form")
+        if not self.has_paper_form():
+            raise ParameterError("the plane is (nearly) parallel to the omega axis; it has no 'omega0 = ...' form "
+                                 "(use plane_unit_form())")
         a, b, _ = self.normal / self.normal[2]
         c = self.offset / self.normal[2]
         return float(a), float(b), float(c)
 
     def plane_equation(self, digits: int = 3) -> str:
-        """The plane as text, e.g. ``'0.891·xdot0 + 0.763·ydot0 + omega0 = 600'``."""
-        a, b, c = self.printed_plane()
-        side = "" if self.normal[2] > 0 else " (sides swapped: omega coefficient was negative)"
-        return f"{a:.{digits}g}·xdot0 + {b:.{digits}g}·ydot0 + omega0 = {c:.{digits}g}{side}"
+        """The plane as text: the paper's form where it exists, else the unit-normal form (always finite)."""
+        if self.has_paper_form():
+            a, b, c = self.printed_plane()
+            side = "" if self.normal[2] > 0 else " (sides swapped: omega coefficient was negative)"
+            return f"{a:.{digits}g}·xdot0 + {b:.{digits}g}·ydot0 + omega0 = {c:.{digits}g}{side}"
+        return self.plane_unit_equation(digits)
+
+    def plane_unit_equation(self, digits: int = 3) -> str:
+        """The plane as ``u · p0 = d`` with the unit normal ``u``, e.g. ``'0.567·xdot0 + ... = 382'``."""
+        u, d = self.plane_unit_form()
+        terms = " + ".join(f"{v:.{digits}g}·{c}0" for v, c in zip(u, COMPONENTS, strict=True)).replace("+ -", "- ")
+        return f"{terms} = {d:.{digits}g}"
+
+    def _require_plane(self) -> None:
+        if self.normal is None or self.offset is None:
+            from bouncelab.errors import NotFittedError
+
+            raise NotFittedError("PiecewiseAffine has no plane yet; give normal and offset or fit the law")
+
+    # ------------------------------------------------------------------ reports
+    def _summary_lines(self) -> list[str]:
+        if self.normal is None or self.offset is None:
+            return []
+        lines = [f"plane (unit normal): {self.plane_unit_equation(4)}"]
+        if self.has_paper_form():
+            lines.append(f"plane (paper's form): {self.plane_equation(4)}")
+        for side, name, (A, b) in ((1, "roll", (self.A1, self.b1)), (2, "slip", (self.A2, self.b2))):
+            if A is not None and b is not None:
+                lines.append(f"side {side} ({name}): A{side} = {np.array2string(A, precision=3)}".replace("\n", ""))
+                lines.append(f"{'':>16}b{side} = {np.array2string(b, precision=3)}")
+        return lines
+
+    def _diagnostics(self, landing: np.ndarray, liftoff: np.ndarray) -> dict[str, float]:
+        """``mismatched``: fraction of bounces whose measured slip/roll class differs from their side (Table 2)."""
+        if not self.is_fitted:
+            return {}
+        return {"mismatched": pf_._mismatched(self, landing, liftoff)}
+
+    # ------------------------------------------------------------------ fitting
+    def _plane_problem_checks(self, problem: FitProblem, min_side: int) -> tuple[np.ndarray, float] | None:
+        """Common checks of the plane and svm methods; returns the plane held fixed, if any."""
+        if not np.array_equal(problem.weights, [1.0, 0.0, 0.0, 0.0]):
+            raise FitError("the piecewise-affine fit minimises delta; other objectives are not offered for it "
+                           "(use method='global')")
+        try:
+            min_side = int(min_side)
+        except (TypeError, ValueError):
+            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}") from None
+        if min_side < 4:
+            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}")
+        if problem.n < 2 * min_side:
+            raise FitError(f"{problem.n} bounces are too few for a piecewise-affine law (need {2 * min_side})")
+        held = set(problem.fixed)
+        if held - {"normal", "offset"}:
+            raise FitError(f"the plane and svm methods can hold only the plane (normal, offset); "
+                           f"{sorted(held - {'normal', 'offset'})} would need method='global'")
+        if held and held != {"normal", "offset"}:
+            raise FitError("hold both 'normal' and 'offset' (the plane) or neither")
+        if held:
+            return np.asarray(problem.fixed["normal"], dtype=np.float64), float(problem.fixed["offset"])
+        return None
+
+    def _outcome(self, problem: FitProblem, model: PiecewiseAffine, algorithm: str, notes: list[str],
+                 n_global: int = 0, n_local: int = 0, stop: str = "", extras: dict | None = None) -> FitOutcome:
+        value = float(model._error_function(problem.landing, problem.liftoff, problem.inv_norm)(model._theta())[0])
+        return FitOutcome(model=model, objective_value=value / problem.n, algorithm=algorithm, n_global=n_global,
+                          n_local=n_local, stop_reason=stop, notes=notes, extras=extras or {})
+
+    @fit_method("plane")
+    def _fit_plane(self, problem: FitProblem, *, algorithm: str = "CRS2_LM",
+                   local_algorithm: str | None = "NELDERMEAD", maxeval: int = 3000, svm_C: float = 1.0,
+                   min_side: int = pf_.MIN_SIDE, max_search_bounces: int = 20_000) -> FitOutcome:
+        """The plane minimising delta of the whole law (maps by least squares on each side).
+
+        Started from the plane of the law given, if it has one, else from the SVM's
+        hyperplane (trained on at most 5000 bounces). Options: ``algorithm`` and
+        ``local_algorithm`` (NLopt, default CRS2_LM + NELDERMEAD), ``maxeval`` (global
+        budget, 3000), ``svm_C`` (of the start), ``min_side`` (fewest bounces per side,
+        8), ``max_search_bounces`` (above this many bounces the global stage runs on a
+        random subsample of this size and only the polish on all bounces).
+        """
+        p0, pf = problem.landing, problem.liftoff
+        held = self._plane_problem_checks(problem, min_side)
+        min_side = int(min_side)
+        slip = pf_._slip_codes(p0, pf).astype(bool)
+        if held is not None:
+            normal, offset = held
+            model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side)
+            return self._outcome(problem, model, "least squares maps (plane held)",
+                                 ["plane held fixed; both maps by least squares"])
+        try:
+            max_search_bounces = int(max_search_bounces)
+        except (TypeError, ValueError):
+            max_search_bounces = -1
+        if max_search_bounces < 100:
+            raise FitError(f"max_search_bounces must be an integer of at least 100; got {max_search_bounces!r}")
+        notes = ["plane chosen to minimise delta of the whole law (maps by least squares on each side); "
+                 "delta is piecewise constant in the plane, so the search is global but heuristic"]
+        if self.normal is not None and self.offset is not None:
+            start = (np.asarray(self.normal), float(self.offset))
+            notes.append("search started from the plane of the law given")
+        else:
+            try:
+                svm = pf_.fit_svm(p0, pf, C=svm_C, min_side=min_side, plane="hyperplane", max_bounces=5000,
+                                  seed=problem.seed)
+                start = (svm.model.normal, svm.model.offset)
+            except FitError as exc:
+                if "svm_C" in str(exc):
+                    raise
+                start = None
+        found = pf_.search_plane(p0, pf, problem.inv_norm, problem.search, start=start, seed=problem.seed,
+                                 algorithm=algorithm, local_algorithm=local_algorithm, maxeval=int(maxeval),
+                                 min_side=min_side, max_search_bounces=max_search_bounces)
+        normal, offset = pf_.orient_slip_side(p0, slip, found.normal, found.offset)
+        model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side)
+        first, last = found.outcomes[0], found.outcomes[-1]
+        stop = "; ".join(o.global_stop + (f"; polish: {o.local_stop}" if o.local_stop else "") for o in found.outcomes)
+        algo = (f"{first.algorithms[0]} + {first.algorithms[1] or 'no polish'} over the plane; "
+                "least squares maps")
+        return self._outcome(problem, model, algo, notes + found.notes,
+                             n_global=sum(o.n_global for o in found.outcomes),
+                             n_local=sum(o.n_local for o in found.outcomes), stop=stop,
+                             extras={"search": last})
+
+    @fit_method("svm")
+    def _fit_svm(self, problem: FitProblem, *, svm_C: float = 1.0, svm_plane: str = "hyperplane",
+                 svm_scaling: str = "standardize", min_side: int = pf_.MIN_SIDE,
+                 max_svm_bounces: int = 20_000) -> FitOutcome:
+        """The paper's procedure: a linear SVM on the measured slip/roll labels, its plane, least-squares maps.
+
+        Options: ``svm_C`` (box constraint, 1), ``svm_plane`` (``"hyperplane"`` default,
+        ``"support_vectors"``, ``"margin_support_vectors"``), ``svm_scaling``
+        (``"standardize"`` default, ``"none"`` as MATLAB's fitcsvm), ``min_side`` (8),
+        ``max_svm_bounces`` (train on a random subsample above this many bounces; an
+        SVM's cost grows faster than the number of bounces). See
+        :mod:`bouncelab.laws.plane_fitting` for the readings and the evidence.
+        """
+        p0, pf = problem.landing, problem.liftoff
+        held = self._plane_problem_checks(problem, min_side)
+        if held is not None:
+            raise FitError("method 'svm' finds the plane; to hold it use method='plane' with fixed=['normal', "
+                           "'offset']")
+        res = pf_.fit_svm(p0, pf, C=svm_C, min_side=int(min_side), plane=svm_plane, scaling=svm_scaling,
+                          max_bounces=int(max_svm_bounces), seed=problem.seed)
+        algo = f"SVC(kernel='linear', C={res.svm_C:g}) + least squares"
+        return self._outcome(problem, res.model, algo, res.notes, stop="SVM converged" if res.converged else
+                             "SVM iteration limit", extras={"svm_support": res.svm_support,
+                                                            "margin_support": res.margin_support})
 
     @classmethod
     def published(cls, campaign: str) -> PiecewiseAffine:

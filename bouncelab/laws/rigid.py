@@ -2,18 +2,26 @@
 
 from __future__ import annotations
 
-from bouncelab.data import published as _published
-from bouncelab.laws import _ids
-from bouncelab.laws._compiled import _CompiledLaw
-from bouncelab.laws.base import Parameter
+import numpy as np
 
-__all__ = ["Rigid"]
+from bouncelab.data import published as _published
+from bouncelab.errors import FitError
+from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
+from bouncelab.laws.compiled import CompiledLaw
+
+__all__ = ["MU_SPEC", "R_SPEC", "Rigid"]
 
 R_SPEC = Parameter("r", (0.0, 1.0), (0.0, 1.0), "1", "normal coefficient of restitution |ydotF / ydot0|")
 MU_SPEC = Parameter("mu", (0.0, 1.5), (0.0, float("inf")), "1", "Coulomb friction coefficient")
 
 
-class Rigid(_CompiledLaw):
+def _rigid_kernel():
+    from bouncelab.laws._kernels import rigid_kernel
+
+    return rigid_kernel
+
+
+class Rigid(CompiledLaw):
     r"""Instantaneous rigid bounce with restitution ``r`` and Coulomb friction ``mu``.
 
     Eq. (rigid_bounce) of the paper. With :math:`k = \mu (1 + r)` and the
@@ -46,6 +54,8 @@ class Rigid(_CompiledLaw):
     Notes
     -----
     States are in scaled units: velocities in ball radii per second, spin in rad/s.
+    Fitting methods: ``"global"`` (default) and the paper's ``"structured"``
+    procedure (:meth:`_fit_structured`).
 
     Examples
     --------
@@ -54,14 +64,52 @@ class Rigid(_CompiledLaw):
     """
 
     parameter_specs = (R_SPEC, MU_SPEC)
-    _law_id = _ids.RIGID
+    regimes = ("slip_forward", "roll", "slip_backward")
 
     def __init__(self, r: float | None = None, mu: float | None = None) -> None:
         self.r = r
         self.mu = mu
         super().__init__()
 
+    @property
+    def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
+        return _rigid_kernel()
+
     @classmethod
     def published(cls, campaign: str) -> Rigid:
         """Table 3 of the paper: campaign "A" (r=0.544, mu=0.997) or "B" (r=0.260, mu=0.998)."""
         return cls(**_published.rigid_family_parameters(campaign, "Rigid"))
+
+    @fit_method("structured")
+    def _fit_structured(self, problem: FitProblem, *, mu_objective: str = "delta") -> FitOutcome:
+        """The paper's two-stage procedure: r by least squares on ``ydotF = -r ydot0``, then mu with r fixed.
+
+        Options: ``mu_objective`` chooses mu minimising ``"delta"`` (default) or the
+        ``"lstsq"`` sum of squared xdot and omega residuals (the paper's text allows both).
+        """
+        if mu_objective not in ("delta", "lstsq"):
+            raise FitError(f"mu_objective must be 'delta' or 'lstsq'; got {mu_objective!r}")
+        p0, pf = problem.landing, problem.liftoff
+        r_lo, r_hi = problem.box["r"]
+        r = problem.fixed.get("r")
+        if r is None:
+            r = float(np.clip(-(pf[:, 1] @ p0[:, 1]) / (p0[:, 1] @ p0[:, 1]), r_lo, r_hi))
+        start = self.replace(r=r, mu=None)
+
+        def lstsq(theta: np.ndarray) -> float:
+            res = (pf - start._predict(p0, theta))[:, [0, 2]]
+            return float((res * res).sum())
+
+        outcome = problem.run_global(start, hold={"r": r}, algorithm="DIRECT_L", maxeval=200,
+                                     criterion=None if mu_objective == "delta" else lstsq)
+        at_bounds = dict(outcome.at_bounds)
+        if r in (r_lo, r_hi) and r_lo < r_hi:
+            at_bounds["r"] = "lower" if r == r_lo else "upper"
+        notes = [f"r = {r:.6g} from least squares on ydot; mu chosen with r fixed, minimising {mu_objective}",
+                 *outcome.notes]
+        return FitOutcome(
+            model=outcome.model, objective_value=outcome.objective_value,
+            algorithm=f"least squares + {outcome.algorithm.split(' ')[0]}", n_global=outcome.n_global,
+            n_local=outcome.n_local, stop_reason=outcome.stop_reason, at_bounds=at_bounds,
+            insensitive=outcome.insensitive, notes=notes,
+        )

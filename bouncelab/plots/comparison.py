@@ -35,7 +35,8 @@ def plot_predictions(
         Optional held-out bounces to ring in black: a Dataset of bounces (matched
         to ``data`` by their values; any not in ``data`` are added to the plot) or
         a boolean mask over the bounces of ``data``. Each panel's Delta q is then
-        also given on these bounces.
+        also given on these bounces. When a law is given as a fit result, its fitted
+        bounces must not include them (DataError otherwise).
 
     Raises
     ------
@@ -55,6 +56,7 @@ def plot_predictions(
     p0, pf, attrs = c.campaign_data(data)
     named = _named_laws(laws)
     p0, pf, is_test = _with_test(p0, pf, test)
+    _check_held_out(laws, p0, pf, is_test)
     preds = {name: np.asarray(law.predict(p0), dtype=float) for name, law in named.items()}
     classes = classify_slip_roll(p0, pf)
     nrows = len(named)
@@ -130,6 +132,22 @@ def _named_laws(laws: Any) -> dict[str, BounceModel]:
             key, i = f"{base} ({i})", i + 1
         out[key] = model
     return out
+
+
+def _check_held_out(laws: Any, p0: np.ndarray, pf: np.ndarray, is_test: np.ndarray | None) -> None:
+    """Held out must mean held out: a fit result whose fitted bounces include a ringed one is refused."""
+    if is_test is None or not is_test.any():
+        return
+    results = laws.values() if isinstance(laws, Mapping) else laws if isinstance(laws, list | tuple) else [laws]
+    ringed = {np.concatenate([a, b]).tobytes() for a, b in zip(p0[is_test], pf[is_test], strict=True)}
+    for res in results:
+        train = getattr(res, "data", {}).get("train") if isinstance(getattr(res, "data", None), dict) else None
+        if train is None:
+            continue
+        fitted = sum(np.concatenate([a, b]).tobytes() in ringed for a, b in zip(*train, strict=True))
+        if fitted:
+            raise DataError(f"{fitted} of the bounces ringed as held out were fitted by {res.model!r}; "
+                            "fit the law without them (bouncelab.split_by_setting) to show held-out bounces")
 
 
 def _with_test(p0: np.ndarray, pf: np.ndarray, test: Any):

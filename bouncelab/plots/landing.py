@@ -48,7 +48,7 @@ def plot_landing_space(
         clipped to the box spanned by the data.
     support
         Optional support vectors to circle: indices of bounces, a boolean mask, or
-        the object returned by ``bouncelab.fitting.piecewise.fit_svm`` (its
+        the object returned by ``bouncelab.laws.plane_fitting.fit_svm`` (its
         ``.svm_support``). When ``law`` is such an object its support vectors are
         circled too.
     ax

@@ -4,7 +4,7 @@ matplotlib.use("Agg")
 
 import bouncelab as bl
 from bouncelab.analysis.repeats import repeatability
-from bouncelab.fitting.piecewise import fit_svm
+from bouncelab.laws.plane_fitting import fit_svm
 from bouncelab.plots import plot_landing_space, plot_repeatability, plot_tangential, save_figure
 
 a, b = bl.load_campaign("A"), bl.load_campaign("B")

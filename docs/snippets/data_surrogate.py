@@ -2,7 +2,7 @@ import numpy as np
 
 import bouncelab as bl
 from bouncelab.data.surrogate import SurrogateSpec, generate_surrogate
-from bouncelab.fitting.piecewise import mismatched_fraction
+from bouncelab.laws.plane_fitting import mismatched_fraction
 
 print(SurrogateSpec.for_campaign("A"))
 for campaign in "AB":

@@ -1,4 +1,6 @@
-"""Tangential velocity of the contact point at landing and lift-off (the paper's Fig. 7).
+"""Analysis of measured bounces: the velocity of the contact point at landing and lift-off (the paper's Fig. 7).
+
+(Not to be confused with :mod:`bouncelab.laws.tangential_restitution`, a bounce law.)
 
 The paper (Methods, "Distinguishing between slipping and rolling") follows the
 velocity of the lowest point ``P`` of the ball,

@@ -1,0 +1,186 @@
+r"""Compiled laws: write the bounce of one ball as a numba function, get fast arrays loops for free.
+
+A law whose mathematics is a scalar function of one landing subclasses
+:class:`CompiledLaw` and sets ``kernel``, a ``numba.njit`` function
+
+.. code-block:: python
+
+    kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, regime_code)
+
+where ``theta`` is the law's flat float64 parameter vector (every parameter in
+the order of ``parameter_specs``, arrays raveled in C order; override
+``_kernel_theta`` to convert it first, e.g. degrees to radians) and
+``regime_code`` an integer index into the law's ``regimes``. Any number of
+parameters, scalar or array, and of regimes.
+
+From the kernel, :class:`CompiledLaw` builds three compiled loops (prediction,
+regimes, and the fitter's one-pass sums of the error terms,
+:meth:`~bouncelab.BounceModel._error_function`) and caches them on disk. The
+loops release the GIL and run serially over fixed chunks of
+:data:`CHUNK` bounces; from :data:`PARALLEL_MIN` bounces the chunks are shared
+by a small thread pool. Hence:
+
+* results are bit-identical whatever the batch size and the number of threads
+  (every bounce goes through the same compiled code; the error sums add the
+  chunks' partial sums in a fixed order);
+* prediction is safe under ``fork``, ``spawn`` and threads: no OpenMP or TBB
+  runtime is involved, and a forked child starts a fresh pool;
+* the number of threads is the number of CPUs this process may use, or
+  ``BOUNCELAB_NUM_THREADS``, or :func:`set_num_threads`.
+
+Examples
+--------
+A frictionless bounce with restitution ``e``:
+
+>>> import numpy as np
+>>> from numba import njit
+>>> from bouncelab.laws import CompiledLaw, Parameter
+>>> @njit
+... def frictionless(xd, yd, w, theta):
+...     return xd, -theta[0] * yd, w, 0
+>>> class Frictionless(CompiledLaw):
+...     '''pF = [xdot0, -e ydot0, omega0].'''
+...     parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+...     regimes = ("bounce",)
+...     kernel = frictionless
+...     def __init__(self, e=None):
+...         self.e = e
+...         super().__init__()
+>>> Frictionless(e=0.5).predict([[100.0, -200.0, 30.0]])
+array([[100., 100.,  30.]])
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Callable
+from typing import Any, ClassVar
+
+import numpy as np
+
+from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
+from bouncelab.laws.base import BounceModel
+
+__all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
+
+# Per-row floating-point freedoms. They act on the compiled code of one bounce, the same in the
+# vectorised body and the scalar tail of a loop, so a bounce's result does not depend on where it falls
+# (tested). Left out: "afn", which would let a vector maths library approximate functions differently
+# from the scalar ones.
+_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp", "reassoc"}
+
+
+# ------------------------------------------------------------------------------ loops per kernel
+class _Loops:
+    """The compiled array loops built around one kernel."""
+
+    def __init__(self, kernel: Any) -> None:
+        from bouncelab._jit import jit
+
+        @jit(nogil=True, fastmath=_ROW_FLAGS)
+        def predict_rows(P, theta, out, start, stop):
+            for i in range(start, stop):
+                a, b, c, _ = kernel(P[i, 0], P[i, 1], P[i, 2], theta)
+                out[i, 0] = a
+                out[i, 1] = b
+                out[i, 2] = c
+
+        @jit(nogil=True, fastmath=_ROW_FLAGS)
+        def regime_rows(P, theta, codes, start, stop):
+            for i in range(start, stop):
+                codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], theta)[3]
+
+        @jit(nogil=True, fastmath=True)
+        def error_sums(P0, PF, inv_norm, theta, start, stop):
+            sd = 0.0
+            sx = 0.0
+            sy = 0.0
+            sw = 0.0
+            for i in range(start, stop):
+                a, b, c, _ = kernel(P0[i, 0], P0[i, 1], P0[i, 2], theta)
+                ex = PF[i, 0] - a
+                ey = PF[i, 1] - b
+                ew = PF[i, 2] - c
+                g = inv_norm[i]
+                sd += math.sqrt(ex * ex + ey * ey + ew * ew) * g
+                sx += abs(ex) * g
+                sy += abs(ey) * g
+                sw += abs(ew) * g
+            return sd, sx, sy, sw
+
+        self.predict_rows = predict_rows
+        self.regime_rows = regime_rows
+        self.error_sums = error_sums
+
+
+_LOOPS: dict[int, tuple[Any, _Loops]] = {}
+_LOOPS_LOCK = threading.Lock()
+
+
+def loops_for(kernel: Any) -> _Loops:
+    """The compiled loops around ``kernel`` (built once per kernel and process)."""
+    with _LOOPS_LOCK:
+        hit = _LOOPS.get(id(kernel))
+        if hit is None or hit[0] is not kernel:
+            hit = (kernel, _Loops(kernel))
+            _LOOPS[id(kernel)] = hit
+        return hit[1]
+
+
+# ------------------------------------------------------------------------------ the law class
+class CompiledLaw(BounceModel):
+    """A law evaluated by a compiled scalar ``kernel`` (see the module documentation).
+
+    Subclasses set the class attribute ``kernel`` and, like every law,
+    ``parameter_specs``, ``regimes`` and ``__init__``. They may override
+    :meth:`_kernel_theta` to convert the parameter vector for the kernel.
+    Prediction, regimes and the fitter's objective then run compiled; fitting,
+    comparison, reports and JSON work as for any law.
+    """
+
+    #: ``numba.njit`` function ``(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, code)``.
+    kernel: ClassVar[Any] = None
+    _abstract_law = True  # a base for laws, not a law: not registered
+
+    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
+        """The vector the kernel receives, from the parameter vector (default: unchanged)."""
+        return theta
+
+    def _loops(self) -> _Loops:
+        if self.kernel is None:
+            raise NotImplementedError(f"{type(self).__name__} sets no kernel")
+        return loops_for(self.kernel)
+
+    def _kt(self, theta: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(self._kernel_theta(theta), dtype=np.float64)
+
+    def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        out = np.empty_like(p)
+        run_rows(self._loops().predict_rows, len(p), p, self._kt(theta), out)
+        return out
+
+    def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        codes = np.empty(len(p), dtype=np.int8)
+        run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes)
+        return codes
+
+    def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
+                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+        """One compiled pass per call: the four sums of the error terms (see BounceModel)."""
+        sums = self._loops().error_sums
+        n = len(landing)
+        convert = type(self)._kernel_theta is not CompiledLaw._kernel_theta
+        if n < PARALLEL_MIN and not convert:
+            def f(theta: np.ndarray) -> tuple[float, float, float, float]:
+                return sums(landing, liftoff, inv_norm, theta, 0, n)
+            return f
+
+        def f_general(theta: np.ndarray) -> tuple[float, float, float, float]:
+            t = self._kt(theta) if convert else theta
+            parts = run_chunked(sums, n, landing, liftoff, inv_norm, t)
+            if len(parts) == 1:
+                return parts[0]
+            return tuple(math.fsum(p[k] for p in parts) for k in range(4))
+
+        return f_general
