@@ -1,0 +1,74 @@
+"""Fit time of the piecewise-affine law from 10^3 to 10^6 bounces (its delta-optimal plane search).
+
+Run: ``python benchmarks/bench_piecewise.py`` (about a minute; ``--peer-max 100000`` adds the slow peer
+at 10^5, several minutes). Bounces are drawn around campaign B's landings (5 % jitter) with lift-offs
+from the published law B plus noise of 5 % of |p0| per component. For each size the table gives the
+time of ``bouncelab.fit(PiecewiseAffine, data)`` (default method "plane": above ``max_search_bounces``
+= 20 000 bounces its global stage runs on a random subsample and only the local polish on all bounces)
+and its delta; up to ``--peer-max`` bounces the peer, the same search with its global stage on all
+bounces (``max_search_bounces=n``, the search of bouncelab 0.1), is timed in the same run, with the
+ratio of times and the difference of delta. Target (issue 8): 10^6 bounces in under 10 s on 2 cores,
+at the delta of the full search on campaign-sized data (the two are the same search below 20 000).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bouncelab as bl
+
+
+def bounces(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """n bounces like campaign B's: its landings jittered by 5 %, lift-offs from the published law B + noise."""
+    rng = np.random.default_rng(seed)
+    base = bl.load_campaign("B").landing.values
+    p0 = base[rng.integers(0, len(base), n)] * (1 + 0.05 * rng.standard_normal((n, 3)))
+    p0[:, 1] = -np.abs(p0[:, 1])
+    pf = bl.PiecewiseAffine.published("B").predict(p0)
+    pf += 0.05 * np.linalg.norm(p0, axis=1, keepdims=True) * rng.standard_normal((n, 3))
+    return p0, pf
+
+
+def timed(data, **options) -> tuple[float, float]:
+    t = time.perf_counter()
+    res = bl.fit(bl.PiecewiseAffine, data, **options)
+    return time.perf_counter() - t, res.delta
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[1_000, 10_000, 100_000, 1_000_000])
+    ap.add_argument("--peer-max", type=int, default=10_000, help="largest size at which the peer runs")
+    args = ap.parse_args(argv)
+    timed(bounces(700))  # compile or load the kernels outside the timing
+    rows = []
+    for n in args.sizes:
+        data = bounces(n)
+        t, d = timed(data)
+        row = {"n": n, "s": t, "delta": d}
+        if n <= args.peer_max:
+            row["peer_s"], row["peer_delta"] = timed(data, max_search_bounces=max(n, 100))
+        rows.append(row)
+    print(f"piecewise-affine fit (method 'plane'), {os.cpu_count()} cores; peer: global stage on all bounces")
+    print(f"{'bounces':>10}{'bouncelab s':>13}{'delta':>10}{'peer s':>9}{'speed-up':>10}{'delta - peer':>14}"
+          "  <10 s at 10^6")
+    for r in rows:
+        peer = (f"{r['peer_s']:>9.2f}{r['peer_s'] / r['s']:>9.1f}x{r['delta'] - r['peer_delta']:>14.1e}"
+                if "peer_s" in r else f"{'':>9}{'':>10}{'':>14}")
+        target = ("met" if r["s"] < 10 else "NOT") if r["n"] == 1_000_000 else ""
+        print(f"{r['n']:>10,}{r['s']:>13.2f}{r['delta']:>10.5f}{peer}  {target}")
+    ds = bl.load_campaign("B")
+    res = bl.fit(bl.PiecewiseAffine, ds)
+    print(f"campaign B (693 bounces): delta {res.delta:.10f}, {res.model.plane_equation()}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()
