@@ -439,3 +439,70 @@ def test_large_arrays_are_checked_too(row, col, value, match):
     with pytest.raises(DataError, match=match) as err:
         bl.Rigid(r=0.5, mu=0.5).predict(p)
     assert err.value.row == row + 1
+
+
+# ------------------------------------------------------------------------- review fixes (issue 8)
+def test_tangential_regimes_agree_with_its_own_liftoff(landings):
+    """The paper's rule on the law's own lift-off: slip only if v_P keeps its sign (0.1 said slip_forward here)."""
+    law = bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.5)
+    out = law.predict([1000.0, -800.0, 400.0])
+    assert out[0] + out[2] == pytest.approx(-280.0)
+    assert law.regime([1000.0, -800.0, 400.0]) == "roll"
+    for e_t in (0.0, 0.3, 0.9):
+        law = bl.TangentialRestitution(r=0.5, mu=0.3, e_t=e_t)
+        v0 = landings[:, 0] + landings[:, 2]
+        out = law.predict(landings)
+        vf = out[:, 0] + out[:, 2]
+        measured = bl.classify_slip_roll(landings, out, tol=1e-6)  # a rigid roll leaves with v_P ~ 1e-13
+        regime = law.regime(landings)
+        slipping = regime != "roll"
+        assert slipping.sum() > 100 and (~slipping).sum() > 100
+        np.testing.assert_array_equal(np.where(slipping, "slip", "roll"), measured)
+        assert np.all(np.sign(vf[slipping]) == np.sign(v0[slipping]))
+        assert np.all((regime == "slip_forward") == (slipping & (v0 > 0)))
+
+
+def test_penner_jump_at_vertical_impact_and_its_continuous_variant():
+    law = bl.PennerFixed.published("B")
+    p = np.array([[1.0, -1000.0, 0.0], [-1.0, -1000.0, 0.0]])
+    np.testing.assert_allclose(law.predict(p)[:, 0], [-257.0, 257.0], atol=0.5)  # the documented jump
+    assert law.predict(p)[0, 0] == pytest.approx(-257.34, abs=0.01)
+    smooth = law.replace(fade_xdot=50.0)
+    assert np.abs(smooth.predict(p)[:, 0]).max() < 10.0
+    # published behaviour unchanged where |xdot0| >= the fade scale, and the option round-trips
+    far = np.array([[60.0, -1000.0, 10.0], [800.0, -300.0, 100.0], [-75.0, -500.0, -20.0]])
+    np.testing.assert_allclose(smooth.predict(far), law.predict(far), rtol=1e-14, atol=1e-12)
+    assert bl.BounceModel.from_dict(json.loads(smooth.to_json())) == smooth
+    # continuous through xdot0 = 0, for both laws
+    for faded in (smooth, bl.PennerVarying.published("A").replace(fade_xdot=30.0)):
+        x = np.linspace(-2.0, 2.0, 4001)
+        q = np.column_stack([x, np.full_like(x, -900.0), np.full_like(x, 200.0)])
+        assert np.abs(np.diff(faded.predict(q), axis=0)).max() < 1.0
+        assert faded.predict(q[2000:2001])[0, 0] == pytest.approx(bl.Rigid(r=faded.r, mu=faded.mu).predict(
+            q[2000:2001])[0, 0])
+    with pytest.raises(ParameterError, match="fade_xdot"):
+        law.replace(fade_xdot=-1.0)
+    beta = bl.PennerVarying.published("A").replace(fade_xdot=30.0).beta_deg([[15.0, -900.0, 0.0], [0.0, -900.0, 0.0]])
+    assert beta[1] == 0.0 and 0 < beta[0] < bl.PennerVarying.published("A").beta_deg([[15.0, -900.0, 0.0]])[0]
+
+
+def test_plane_prints_finite_when_nearly_parallel_to_omega():
+    good = bl.published.piecewise_parameters("A")
+    law = bl.PiecewiseAffine(**{**good, "normal": [-0.98, 0.2, 1.5e-15], "offset": 430.0})
+    text = law.plane_equation()
+    assert "e+" not in text and "inf" not in text and "nan" not in text
+    assert text.startswith("-0.98·xdot0 + 0.2·ydot0")
+    u, d = law.plane_unit_form()
+    assert np.linalg.norm(u) == pytest.approx(1.0) and np.isfinite(d)
+    with pytest.raises(ParameterError, match="parallel"):
+        law.printed_plane()
+    lines = "\n".join(law._summary_lines())
+    assert "paper's form" not in lines and "unit normal" in lines
+    assert "(paper's form): 0.891·xdot0" in "\n".join(bl.PiecewiseAffine.published("A")._summary_lines())
+
+
+def test_published_campaign_error_is_typed():
+    with pytest.raises(DataError, match="campaigns"):
+        bl.Rigid.published("C")
+    with pytest.raises(ParameterError, match="Table 3"):
+        bl.published.rigid_family_parameters("A", "PiecewiseAffine")

@@ -162,6 +162,8 @@ class FitResult:
                 flag = "  (fixed)" if name in self.fixed else ""
                 lines.append(f"    {name:<9} = {p.format_value(digits=4)}{unit and '  [' + unit.strip() + ']'}"
                              f"{flag}")
+                if p.stderr is not None:
+                    lines.append(f"    {'':<9} +- {p.format_value(p.stderr, digits=3)}")
         return lines
 
     def report(self) -> str:

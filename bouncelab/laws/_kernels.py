@@ -223,7 +223,7 @@ def piecewise_kernel(x, y, w, t):
 # Prediction loops of Penner's laws. The generic loops of CompiledLaw call the kernel per bounce with
 # the parameter vector; here the tilt's sine and cosine can be computed once per call when the tilt is
 # fixed (no fade), which doubles PennerFixed's throughput. Same scalar functions, same results.
-_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp", "reassoc"}
+_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp"}
 
 
 @jit(inline="always")

@@ -64,11 +64,11 @@ from bouncelab.laws.base import BounceModel
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
-# Per-row floating-point freedoms. They act on the compiled code of one bounce, the same in the
-# vectorised body and the scalar tail of a loop, so a bounce's result does not depend on where it falls
-# (tested). Left out: "afn", which would let a vector maths library approximate functions differently
-# from the scalar ones.
-_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp", "reassoc"}
+# Per-row floating-point freedoms: none that could treat a bounce differently in the vectorised body
+# and in the scalar tail of a loop, so a bounce's result does not depend on where it falls in a call
+# (tested). Left out: "reassoc" (the two versions could be reassociated differently) and "afn" (a
+# vector maths library could approximate functions differently from the scalar ones).
+_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp"}
 
 
 # ------------------------------------------------------------------------------ loops per kernel

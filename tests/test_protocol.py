@@ -1,0 +1,347 @@
+"""The law protocol (issue 8): laws defined outside the package are first-class everywhere.
+
+The two worked examples of docs/laws.md (a NumPy law and a compiled law with array parameters and its
+own fitting method) are imported from their snippet files, as a user's module would be.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bouncelab as bl
+from bouncelab.errors import FitError, NotFittedError, ParameterError
+from bouncelab.laws import BounceModel, CompiledLaw, FitOutcome, Parameter, fit_method, law_class, law_name
+
+ROOT = Path(__file__).resolve().parents[1]
+SNIPPETS = ROOT / "docs" / "snippets"
+
+
+def _load(name: str):
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, SNIPPETS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def numpy_law():
+    return _load("laws_new").SpeedRestitution
+
+
+@pytest.fixture(scope="module")
+def compiled_law():
+    return _load("laws_new_compiled").AffineMap
+
+
+@pytest.fixture(scope="module")
+def campaign_b():
+    return bl.load_campaign("B")
+
+
+@pytest.fixture(scope="module")
+def campaign_a():
+    return bl.load_campaign("A")
+
+
+# ------------------------------------------------------------------ the two worked examples, everywhere
+def test_examples_are_user_laws(numpy_law, compiled_law):
+    assert law_name(numpy_law) == "laws_new:SpeedRestitution"
+    assert law_name(compiled_law) == "laws_new_compiled:AffineMap"
+    assert issubclass(compiled_law, CompiledLaw)
+    assert compiled_law.fit_methods().keys() == {"global", "lstsq"}
+    assert numpy_law.fit_methods().keys() == {"global"}
+
+
+def test_numpy_example_fits_and_reports(numpy_law, campaign_b):
+    res = bl.fit(numpy_law, campaign_b)
+    assert res.method == "global" and res.delta < bl.fit(bl.Rigid, campaign_b).delta  # one more parameter
+    text = res.report()
+    for name in ("r0", "v_c", "mu", "radius/s", "laws_new:SpeedRestitution"):
+        assert name in text
+    # the objective the fitter minimised is the law's delta
+    p0, pf = campaign_b.landing.values, campaign_b.liftoff.values
+    assert res.delta == pytest.approx(bl.delta(p0, pf, res.model.predict(p0)), rel=1e-12)
+
+
+def test_compiled_example_own_method_with_stderr(compiled_law, campaign_b):
+    res = bl.fit(compiled_law, campaign_b)
+    assert res.method == "lstsq" and res.algorithm == "linear least squares"
+    p0, pf = campaign_b.landing.values, campaign_b.liftoff.values
+    coef = np.linalg.lstsq(np.column_stack([p0, np.ones(len(p0))]), pf, rcond=None)[0]
+    np.testing.assert_allclose(res.model.A, coef[:3].T, rtol=1e-10)
+    assert res.params["A"].stderr.shape == (3, 3) and np.all(res.params["A"].stderr > 0)
+    assert "+-" in res.report()
+    weighted = bl.fit(compiled_law, campaign_b, weighted=True)
+    assert not np.allclose(weighted.model.A, res.model.A)
+    with pytest.raises(FitError, match="no option"):
+        bl.fit(compiled_law, campaign_b, svm_C=1.0)
+    polished = bl.fit(res.model, campaign_b, method="global", maxeval=300)  # generic search from there
+    assert polished.delta <= res.delta + 1e-12
+
+
+def test_compiled_example_matches_numpy(compiled_law, campaign_b):
+    law = compiled_law(A=np.arange(9.0).reshape(3, 3) / 10, b=[1.0, 2.0, 3.0])
+    p0 = campaign_b.landing.values
+    np.testing.assert_allclose(law.predict(p0), p0 @ law.A.T + law.b, rtol=1e-12)
+    assert set(law.regime(p0)) == {"affine"}
+
+
+def test_examples_compare_bootstrap_cross_validate(numpy_law, compiled_law, campaign_a):
+    cmp = bl.compare(campaign_a, ["Rigid", numpy_law, compiled_law], split="setting")
+    names = ["Rigid", "laws_new:SpeedRestitution", "laws_new_compiled:AffineMap"]
+    assert list(cmp.table.index) == names
+    assert cmp.table.loc[names[1], "v_c"] == cmp.results[names[1]].model.v_c  # its own parameters
+    assert cmp.table.loc[names[2], "A"].startswith("[[")  # array parameters summarised, not dropped
+    md = cmp.to_markdown()
+    assert "| v_c [radius/s] |" in md and "| A |" in md
+    boot = bl.bootstrap(numpy_law, campaign_a, n=4)
+    assert set(boot.summary().index) == {"r0", "v_c", "mu"}
+    boot_arr = bl.bootstrap(compiled_law, campaign_a, n=3)
+    assert "A[2,1]" in boot_arr.summary().index and len(boot_arr.samples) == 3
+    cv = bl.cross_validate(compiled_law, campaign_a, k=3)
+    assert cv.law == names[2] and len(cv.folds) == 3 and np.isfinite(cv.delta)
+    cv2 = bl.cross_validate(numpy_law, campaign_a, k=3)
+    assert (cv2.folds["test_delta"] > 0).all()
+
+
+@pytest.mark.parametrize("which", ["numpy_law", "compiled_law"])
+def test_examples_round_trip_json(which, request, campaign_a, tmp_path):
+    cls = request.getfixturevalue(which)
+    law = bl.fit(cls, campaign_a).model
+    path = tmp_path / "law.json"
+    law.to_json(path)
+    d = json.loads(path.read_text())
+    assert d["law"] == law_name(cls)
+    again = bl.load_law(path)
+    assert again == law and type(again) is cls
+    p0 = campaign_a.landing.values
+    np.testing.assert_array_equal(again.predict(p0), law.predict(p0))
+
+
+def test_examples_in_the_cli(tmp_path):
+    env = dict(os.environ, PYTHONPATH=f"{SNIPPETS}{os.pathsep}{ROOT}")
+    out = subprocess.run([sys.executable, "-m", "bouncelab.cli.main", "fit", "laws_new:SpeedRestitution", "A",
+                          "--save", str(tmp_path / "s.json")], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    assert "v_c" in out.stdout and "laws_new:SpeedRestitution" in out.stdout
+    out = subprocess.run([sys.executable, "-m", "bouncelab.cli.main", "fit", "laws_new_compiled:AffineMap", "B"],
+                         capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    assert "by lstsq" in out.stdout and "+-" in out.stdout
+    out = subprocess.run([sys.executable, "-m", "bouncelab.cli.main", "fit", "rIgId", "A"], capture_output=True,
+                         text=True, env=env)
+    assert out.returncode == 0 and "[[Fit]] Rigid" in out.stdout  # law names are case-insensitive
+
+
+# ------------------------------------------------------------------ identity
+def test_user_class_named_like_a_builtin_does_not_replace_it():
+    class Rigid(BounceModel):  # deliberately the built-in's name
+        parameter_specs = (Parameter("k", (0.0, 1.0), (0.0, 1.0), "1", "k"),)
+        regimes = ("one",)
+
+        def __init__(self, k=None):
+            self.k = k
+            super().__init__()
+
+        def _predict(self, p, theta):
+            return p * theta[0]
+
+        def _regime(self, p, theta):
+            return np.zeros(len(p), np.int8)
+
+    assert law_class("Rigid") is bl.Rigid
+    assert bl.BounceModel.from_dict({"law": "Rigid", "parameters": {"r": 0.5, "mu": 0.4}}) == bl.Rigid(r=0.5, mu=0.4)
+    mine = Rigid(k=0.5)
+    qualified = f"{__name__}:test_user_class_named_like_a_builtin_does_not_replace_it.<locals>.Rigid"
+    assert mine.to_dict()["law"] == qualified
+    assert bl.BounceModel.from_dict(mine.to_dict()) == mine
+    assert bl.laws.registered_laws()["Rigid"] is bl.Rigid
+
+
+def test_ambiguous_and_unknown_names():
+    made = []
+    for module in ("lab_one", "lab_two"):
+        made.append(type("Twin", (BounceModel,), {"__module__": module, "parameter_specs": (), "regimes": (),
+                                                  "__init__": lambda self: BounceModel.__init__(self)}))
+    with pytest.raises(ParameterError, match=r"ambiguous.*lab_one:Twin.*lab_two:Twin"):
+        bl.BounceModel.from_dict({"law": "Twin", "parameters": {}})
+    assert type(bl.BounceModel.from_dict({"law": "lab_two:Twin", "parameters": {}})) is made[1]
+    with pytest.raises(ParameterError, match="import the module"):
+        bl.BounceModel.from_dict({"law": "nowhere.module:Law", "parameters": {}})
+
+
+@pytest.mark.parametrize("bad", [
+    {"law": "Rigid", "parameters": [1, 2]},
+    {"law": "Rigid", "parameters": {"r": [1, 2], "mu": 0.3}},
+    {"law": "Rigid", "parameters": {"r": 10**400, "mu": 0.3}},
+    {"law": "Rigid", "parameters": {"r": {"x": 1}, "mu": 0.3}},
+    {"law": "Rigid", "parameters": {"r": "0.5", "mu": 0.3}},
+    {"law": 3, "parameters": {}},
+    {"law": "PiecewiseAffine", "parameters": {"normal": [[[1]]], "offset": 1, "A1": None, "b1": None,
+                                              "A2": None, "b2": None}},
+    {"law": "Rigid", "parameters": {"r": 0.5, "mu": 0.3}, "options": [1]},
+    [],
+])
+def test_from_dict_raises_parameter_error_only(bad):
+    with pytest.raises(ParameterError):
+        bl.BounceModel.from_dict(bad)
+
+
+def test_deeply_nested_json_is_a_parameter_error(tmp_path):
+    path = tmp_path / "deep.json"
+    path.write_text('{"law": "Rigid", "parameters": {"r": ' + "[" * 100000 + "]" * 100000 + "}}")
+    with pytest.raises(ParameterError):
+        bl.load_law(path)
+
+
+def test_to_json_is_atomic(tmp_path, monkeypatch):
+    path = tmp_path / "law.json"
+    bl.Rigid(r=0.5, mu=0.4).to_json(path)
+    before = path.read_text()
+
+    def fail(*args, **kwargs):
+        raise OSError("disk full")
+
+    import bouncelab.atomic as atomic
+
+    monkeypatch.setattr(atomic.os, "replace", fail)
+    with pytest.raises(OSError, match="disk full"):
+        bl.Rigid(r=0.9, mu=0.1).to_json(path)
+    assert path.read_text() == before  # the previous law is intact
+    assert [p.name for p in tmp_path.iterdir()] == ["law.json"]  # no temporary file left
+
+
+# ------------------------------------------------------------------ parameters and fit options
+def test_parameters_objects():
+    params = bl.PiecewiseAffine.published("A").params
+    assert list(params) == ["normal", "offset", "A1", "b1", "A2", "b2"]
+    assert params["A1"].shape == (3, 3) and params["A1"].size == 9 and params["A1"].value[0, 2] == -0.205
+    assert "description" in params.pretty() and "A1" in repr(params)
+    assert bl.Rigid().params["mu"].value is None and bl.Rigid(r=0.5, mu=0.3).params.valuesdict()["mu"] == 0.3
+    law = bl.PennerFixed(r=0.4, mu=0.3, beta_deg=10.0)
+    assert law._with_theta(law._theta()) == law
+    with pytest.raises(NotFittedError):
+        bl.Rigid(r=0.5)._theta()
+
+
+def test_fixed_and_free(campaign_a):
+    res = bl.fit(bl.PennerFixed(r=0.4, mu=0.3, beta_deg=12.0), campaign_a, fixed=["beta_deg"])
+    assert res.model.beta_deg == 12.0 and res.fixed == {"beta_deg": 12.0} and res.model.r != 0.4
+    res = bl.fit(bl.PennerFixed, campaign_a, fixed={"r": 0.5, "beta_deg": 5.0})
+    assert (res.model.r, res.model.beta_deg) == (0.5, 5.0) and "(fixed)" in res.report()
+    assert res.params["r"].vary is False
+    with pytest.raises(FitError, match="no value"):
+        bl.fit(bl.Rigid, campaign_a, fixed=["r"])
+    with pytest.raises(ParameterError, match="no parameter"):
+        bl.fit(bl.Rigid, campaign_a, fixed={"nu": 1.0})
+    with pytest.raises(ParameterError, match="physical"):
+        bl.fit(bl.Rigid, campaign_a, fixed={"r": 2.0})
+
+    class Held(BounceModel):
+        parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
+                           Parameter("g", (0.0, 2.0), (0.0, 2.0), "1", "spin kept", vary=False))
+        regimes = ("one",)
+
+        def __init__(self, e=None, g=1.0):
+            self.e = e
+            self.g = g
+            super().__init__()
+
+        def _predict(self, p, theta):
+            return p * np.array([1.0, -theta[0], theta[1]])
+
+        def _regime(self, p, theta):
+            return np.zeros(len(p), np.int8)
+
+    held = bl.fit(Held, campaign_a)
+    assert held.model.g == 1.0 and "g" in held.fixed
+    freed = bl.fit(Held, campaign_a, free=["g"])
+    assert freed.model.g != 1.0 and freed.delta < held.delta
+
+
+def test_piecewise_start_values_and_held_plane(campaign_a):
+    published = bl.PiecewiseAffine.published("A")
+    res = bl.fit(published, campaign_a, fixed=["normal", "offset"])
+    np.testing.assert_array_equal(res.model.normal, published.normal)
+    assert res.model.offset == published.offset and res.n_evaluations == 0
+    started = bl.fit(published, campaign_a, maxeval=50)  # the search starts from the law's own plane
+    assert "started from the plane of the law given" in started.report()
+    with pytest.raises(FitError, match="only the plane"):
+        bl.fit(published, campaign_a, fixed=["A1"])
+
+
+def test_unknown_method_and_options_are_named(campaign_a):
+    with pytest.raises(FitError, match=r"'svm' is a method of PiecewiseAffine"):
+        bl.fit(bl.Rigid, campaign_a, method="svm")
+    with pytest.raises(FitError, match=r"method 'structured' of Rigid has no option\(s\) \['algorithm'\]"):
+        bl.fit(bl.Rigid, campaign_a, method="structured", algorithm="CRS2_LM")
+    with pytest.raises(FitError, match="svm_C"):
+        bl.fit(bl.Rigid, campaign_a, svm_C=2.0)  # previously ignored silently
+
+
+@pytest.mark.parametrize("seed", [-1, 2**64, 1.5, "1", True])
+def test_bad_seed_is_a_fit_error(seed, campaign_a):
+    with pytest.raises(FitError, match="seed"):
+        bl.fit(bl.Rigid, campaign_a, seed=seed)
+
+
+def test_held_out_must_be_held_out(campaign_a):
+    train, test = bl.split_by_setting(campaign_a, seed=0)
+    with pytest.raises(FitError, match="held-out bounces must not be fitted"):
+        bl.fit(bl.Rigid, campaign_a, test=test)
+    assert bl.fit(bl.Rigid, train, test=test).n_test == test.sizes["bounce"]
+
+
+def test_validation_happens_once_per_fit(campaign_b, monkeypatch):
+    """Internals call the private hooks: a piecewise fit checks its arrays' values at the entry only.
+
+    (bouncelab 0.1 validated the same arrays 16 times in one piecewise fit.)"""
+    import bouncelab.data.validation as validation
+
+    calls = []
+    real = validation._check_values
+
+    def counting(arr, name, **kwargs):
+        calls.append(name)
+        return real(arr, name, **kwargs)
+
+    monkeypatch.setattr(validation, "_check_values", counting)
+    train, test = bl.split_by_setting(campaign_b, seed=0)
+    calls.clear()
+    res = bl.fit(bl.PiecewiseAffine, train, test=test)
+    _ = res.errors, res.report(), res.mismatched, res.test_mismatched
+    assert sorted(calls) == ["landing", "landing", "liftoff", "liftoff"]  # fitted and held-out, once each
+
+
+def test_fit_outcome_type_is_checked(campaign_a):
+    class Bad(BounceModel):
+        parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+        regimes = ("one",)
+
+        def __init__(self, e=None):
+            self.e = e
+            super().__init__()
+
+        def _predict(self, p, theta):
+            return p
+
+        def _regime(self, p, theta):
+            return np.zeros(len(p), np.int8)
+
+        @fit_method("broken")
+        def _broken(self, problem) -> FitOutcome:
+            return "nothing"
+
+    with pytest.raises(FitError, match="returned str"):
+        bl.fit(Bad, campaign_a, method="broken")
