@@ -5,6 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+try:  # hypothesis profiles of the fuzz tests: small by default, `--hypothesis-profile=fuzz` for 20x more
+    from hypothesis import HealthCheck, settings
+
+    settings.register_profile("bouncelab", max_examples=60, deadline=None,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.register_profile("fuzz", max_examples=1200, deadline=None,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.load_profile("bouncelab")
+except ImportError:  # the test extra is not installed: tests/test_fuzz.py skips itself
+    pass
+
 
 @pytest.fixture
 def rng() -> np.random.Generator:

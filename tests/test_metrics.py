@@ -66,8 +66,24 @@ def test_score_breakdowns():
     overall = bl.score(law, ds, by=None)
     assert overall.loc["all", "delta"] == pytest.approx(
         bl.delta(ds.landing.values, ds.liftoff.values, law.predict(ds.landing.values)))
-    with pytest.raises(ValueError, match="by must be"):
+    with pytest.raises(bl.DataError, match="by must be"):  # the library's own error type
         bl.score(law, ds, by="setting")
+    with pytest.raises(bl.ParameterError, match="bounce law"):
+        bl.score("Rigid", ds)
+
+
+def test_underflowing_landing_is_a_data_error():
+    """bouncelab 0.1: one landing whose norm underflows made delta NaN and fit return the box centre."""
+    p0 = np.array([[1000.0, -800.0, 100.0], [900.0, -700.0, 0.0], [1e-200, -1e-200, 0.0]])
+    pf = p0 * 0.5
+    with pytest.raises(bl.DataError, match=r"norm .* below") as err:
+        bl.delta(p0, pf, pf)
+    assert err.value.row == 3
+    with pytest.raises(bl.DataError, match="row 3"):
+        bl.fit(bl.Rigid, (np.vstack([p0] * 3), np.vstack([pf] * 3)))
+    tiny = np.array([[3e-170, -4e-170, 0.0]])  # no underflow in the norm: computed exactly, then refused
+    with pytest.raises(bl.DataError, match="5e-170"):
+        bl.delta(tiny, tiny, tiny)
 
 
 @pytest.mark.parametrize(

@@ -382,3 +382,35 @@ def test_import_is_lazy_and_headless_backend_is_agg():
     assert _run(code).split() == ["False", "agg"]
     code = "import bouncelab.plots._common as c; c.pyplot(); import matplotlib; print(matplotlib.get_backend())"
     assert _run(code, MPLBACKEND="svg") == "svg"  # a backend the user chose is kept
+
+
+def test_predictions_refuse_fitted_bounces_ringed_as_held_out(ds_a):
+    """Held out must mean held out: a law fitted to a ringed bounce is refused (issue 8)."""
+    train, test = bl.split_by_setting(ds_a, seed=0)
+    with pytest.raises(DataError, match="ringed as held out were fitted"):
+        plot_predictions(ds_a, {"Rigid": bl.fit(bl.Rigid, ds_a)}, test=test)
+    fig = plot_predictions(ds_a, {"Rigid": bl.fit(bl.Rigid, train, test=test)}, test=test)
+    assert len(fig.axes) >= 3
+
+
+@pytest.mark.slow
+def test_reproduce_rings_only_bounces_its_laws_did_not_fit(tmp_path, monkeypatch):
+    """bouncelab 0.1's Fig. 8 ringed "held-out" bounces under laws fitted to all bounces."""
+    import bouncelab.plots as plots
+    from bouncelab.cli.reproduce import reproduce
+
+    seen = []
+    real = plots.plot_predictions
+
+    def spy(data, laws, test=None, **kwargs):
+        seen.append((laws, test))
+        return real(data, laws, test=test, **kwargs)
+
+    monkeypatch.setattr(plots, "plot_predictions", spy)
+    reproduce(campaigns=["A"], out=tmp_path / "rep", progress=False)
+    (laws, test), = seen
+    assert list(laws) == ["Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine"]
+    ringed = {tuple(r) for r in np.column_stack([test.landing.values, test.liftoff.values])}
+    for res in laws.values():
+        fitted = {tuple(r) for r in np.column_stack(res.data["train"])}
+        assert not fitted & ringed and res.n_test == len(ringed)

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from bouncelab.data import published
+from bouncelab.errors import DataError, ParameterError
 
 PAPER = Path("/work/shared/reference/bounce-paper.tex")
 
@@ -214,11 +215,11 @@ def test_check_campaign(name, key):
 
 @pytest.mark.parametrize("bad", ["C", "", "AB", None, 1])
 def test_unknown_campaign(bad):
-    with pytest.raises(ValueError, match="campaigns 'A' and 'B'"):
+    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):  # the library's own error type
         published.check_campaign(bad)
-    with pytest.raises(ValueError, match="campaigns 'A' and 'B'"):
+    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):
         published.piecewise_parameters(bad)
-    with pytest.raises(ValueError, match="campaigns 'A' and 'B'"):
+    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):
         published.rigid_family_parameters(bad, "Rigid")
 
 
@@ -231,7 +232,7 @@ def test_rigid_family_parameters():
 
 
 def test_rigid_family_parameters_unknown_law():
-    with pytest.raises(ValueError, match="PennerFixed"):
+    with pytest.raises(ParameterError, match="PennerFixed"):
         published.rigid_family_parameters("A", "Piecewise")
 
 

@@ -63,7 +63,7 @@ def test_tol():
 
 @pytest.mark.parametrize("tol", [-1.0, float("nan"), float("inf")])
 def test_bad_tol(tol):
-    with pytest.raises(ValueError, match="tol"):
+    with pytest.raises(DataError, match="tol"):  # the library's own error type
         classify_slip_roll([LAND_POS], [[80.0, 100.0, 30.0]], tol=tol)
 
 

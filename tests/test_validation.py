@@ -269,3 +269,62 @@ def test_data_error_file_path_is_stringified():
     err = DataError("m", file=Path("/tmp/a.nc"))
     assert err.file == "/tmp/a.nc"
     assert "'/tmp/a.nc'" in str(err)
+
+
+# ------------------------------------------------------------------ what predict used to misread (issue 7)
+def test_dataframe_columns_are_read_by_name():
+    """bouncelab 0.1 read columns omega, ydot, xdot as xdot, ydot, omega."""
+    import pandas as pd
+
+    import bouncelab as bl
+
+    law = bl.Rigid.published("A")
+    df = pd.DataFrame(P0[:, [2, 1, 0]], columns=["omega", "ydot", "xdot"])
+    np.testing.assert_array_equal(law.predict(df), law.predict(P0))
+    np.testing.assert_array_equal(as_states(pd.DataFrame(P0, columns=["xdot0", "ydot0", "omega0"]))[0], P0)
+    np.testing.assert_array_equal(as_states(pd.DataFrame(P0))[0], P0)  # unnamed (0, 1, 2): by position
+    with pytest.raises(DataError, match="named"):
+        law.predict(pd.DataFrame(P0, columns=["vx", "vy", "w"]))
+    series = pd.Series(P0[0, [2, 0, 1]], index=["omega", "xdot", "ydot"])
+    np.testing.assert_array_equal(as_states(series)[0], P0[:1])
+
+
+def test_masked_values_are_refused():
+    """bouncelab 0.1 predicted from the data under a mask."""
+    masked = np.ma.masked_array(P0, mask=np.zeros_like(P0, dtype=bool))
+    masked[2, 1] = np.ma.masked
+    with pytest.raises(DataError, match="masked") as err:
+        as_states(masked, landing=True)
+    assert err.value.row == 3 and err.value.column == "landing.ydot"
+    np.testing.assert_array_equal(as_states(np.ma.masked_array(P0), landing=True)[0], P0)  # nothing masked
+
+
+@pytest.mark.parametrize(("values", "what"), [(P0 + 1j, "complex"), (P0 > 0, "boolean"), (P0.astype(str), "text")])
+def test_non_real_values_are_refused(values, what):
+    """bouncelab 0.1 dropped the imaginary parts with a warning."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(DataError, match=what):
+            as_states(values, landing=True)
+
+
+@pytest.mark.parametrize("value", [1e308, -1e308, 1.5e8, 1e20])
+def test_magnitudes_beyond_any_bounce_are_refused(value):
+    """bouncelab 0.1 turned 1e308 into an infinite lift-off."""
+    import bouncelab as bl
+    from bouncelab.data.validation import STATE_LIMIT
+
+    bad = P0.copy()
+    bad[1, 0] = value
+    with pytest.raises(DataError, match="another unit") as err:
+        bl.Rigid.published("A").predict(bad)
+    assert err.value.row == 2 and err.value.column == "landing.xdot"
+    big = np.tile(P0, (20_000, 1))  # the compiled check of large arrays too
+    big[-1, 2] = value
+    with pytest.raises(DataError, match="another unit"):
+        as_states(big)
+    edge = P0.copy()
+    edge[0, 2] = STATE_LIMIT
+    assert as_states(edge)[0][0, 2] == STATE_LIMIT

@@ -156,7 +156,8 @@ class PiecewiseAffine(CompiledLaw):
         if self.has_paper_form():
             a, b, c = self.printed_plane()
             side = "" if self.normal[2] > 0 else " (sides swapped: omega coefficient was negative)"
-            return f"{a:.{digits}g}·xdot0 + {b:.{digits}g}·ydot0 + omega0 = {c:.{digits}g}{side}"
+            text = f"{a:.{digits}g}·xdot0 + {b:.{digits}g}·ydot0 + omega0 = {c:.{digits}g}{side}"
+            return text.replace("+ -", "- ")
         return self.plane_unit_equation(digits)
 
     def plane_unit_equation(self, digits: int = 3) -> str:
