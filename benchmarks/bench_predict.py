@@ -3,6 +3,11 @@
 Run: ``python benchmarks/bench_predict.py`` (about 20 s). Both sides are timed in the same
 run on the same landings; the table gives million bounces per second (median of repeats)
 and the ratio. Target (issue 3): at least 50 million bounces/s for every rigid-family law.
+
+``--baseline PATH`` also times the bouncelab found at PATH (a checkout of another version, whose
+``bouncelab`` package is imported from there in a subprocess) on the same landings, alternating
+with this one ``--rounds`` times, and prints this version's throughput as a ratio of it (issue 7's
+target: at least 0.9 of bouncelab 0.1's).
 """
 
 from __future__ import annotations
@@ -42,11 +47,65 @@ def best_of(f, repeats: int) -> float:
     return float(np.median(times))
 
 
+_BASELINE = r"""
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import numpy as np, bouncelab as bl
+assert bl.__file__.startswith(sys.argv[1]), bl.__file__
+rng = np.random.default_rng(0)
+n = int(sys.argv[2])
+p = np.column_stack([rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n), rng.uniform(-410, 1700, n)])
+laws = {"Rigid": bl.Rigid(r=0.544, mu=0.997), "PennerFixed": bl.PennerFixed(r=0.42, mu=0.852, beta_deg=12.9),
+        "PennerVarying": bl.PennerVarying(r=0.448, mu=0.969, k_p=1.543e-4),
+        "TangentialRestitution": bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.3)}
+out = {}
+for name, law in laws.items():
+    law.predict(p)
+    ts = []
+    for _ in range(int(sys.argv[3])):
+        t = time.perf_counter(); law.predict(p); ts.append(time.perf_counter() - t)
+    out[name] = n / float(np.median(ts)) / 1e6
+print(json.dumps(out))
+"""
+
+
+def baseline_rounds(path: str, n: int, repeats: int) -> dict[str, float]:
+    """Throughput of the bouncelab at ``path`` (million bounces/s), in a fresh interpreter."""
+    import json
+    import subprocess
+
+    proc = subprocess.run([sys.executable, "-c", _BASELINE, os.path.abspath(path), str(n), str(repeats)],
+                          capture_output=True, text=True, check=True)
+    return json.loads(proc.stdout)
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-n", type=int, default=1_000_000)
     ap.add_argument("--repeats", type=int, default=15)
+    ap.add_argument("--baseline", help="path of another bouncelab checkout to time side by side")
+    ap.add_argument("--rounds", type=int, default=3, help="alternations with the baseline")
     args = ap.parse_args(argv)
+    if args.baseline:
+        ours: dict[str, list[float]] = {name: [] for name in LAWS}
+        theirs: dict[str, list[float]] = {name: [] for name in LAWS}
+        p = landings(args.n)
+        for law in LAWS.values():
+            law[0].predict(p)
+        for _ in range(args.rounds):
+            for name, (law, _) in LAWS.items():
+                ours[name].append(args.n / best_of(lambda law=law: law.predict(p), args.repeats) / 1e6)
+            for name, value in baseline_rounds(args.baseline, args.n, args.repeats).items():
+                theirs[name].append(value)
+        print(f"predict on {args.n:,} bounces, {os.cpu_count()} cores: this bouncelab against {args.baseline} "
+              f"({args.rounds} alternating rounds; million bounces per second, medians)")
+        print(f"{'law':<24}{'this':>10}{'baseline':>10}{'ratio':>8}  >= 0.9")
+        rows = []
+        for name in LAWS:
+            a, b = float(np.median(ours[name])), float(np.median(theirs[name]))
+            rows.append({"law": name, "bouncelab": a, "baseline": b})
+            print(f"{name:<24}{a:>10.1f}{b:>10.1f}{a / b:>8.2f}  {'met' if a / b >= 0.9 else 'NOT'}")
+        return rows
     p = landings(args.n)
     rows = []
     for name, (law, theta) in LAWS.items():

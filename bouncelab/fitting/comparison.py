@@ -203,7 +203,8 @@ def _summarise(value: Any) -> Any:
         return np.nan
     if np.ndim(value) == 0:
         return float(value)
-    return np.array2string(np.asarray(value), precision=3, separator=", ", max_line_width=10_000).replace("\n", "")
+    return np.array2string(np.asarray(value), separator=", ", max_line_width=10_000,
+                           formatter={"float_kind": lambda v: f"{v:.3g}"}).replace("\n", "")
 
 
 def compare(

@@ -557,7 +557,11 @@ class BounceModel:
     # ------------------------------------------------------------ dunder methods
     def __repr__(self) -> str:
         parts = []
+        sig = inspect.signature(type(self).__init__).parameters
+        options = set(self.option_names())
         for k, v in self.get_params().items():
+            if k in options and v is sig[k].default:  # options at their default are not shown
+                continue
             if isinstance(v, np.ndarray):
                 v = np.array2string(v, precision=4, separator=", ", max_line_width=200).replace("\n", "")
                 parts.append(f"{k}={v}")

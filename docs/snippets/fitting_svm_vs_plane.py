@@ -3,8 +3,8 @@ import numpy as np
 import bouncelab as bl
 
 variants = {                                        # name -> options of bl.fit(PiecewiseAffine, ...)
-    "svm": {"method": "svm"},                       # the paper's: least-squares plane through the support vectors
-    "svm-hp": {"method": "svm", "svm_plane": "hyperplane"},   # the SVM's own decision boundary
+    "svm": {"method": "svm"},                       # the paper's procedure: the SVM's plane (default reading)
+    "svm-sv": {"method": "svm", "svm_plane": "support_vectors"},  # the literal reading: lstsq through all SVs
     "plane": {"method": "plane"},                   # bouncelab's default: the plane minimising delta
 }
 for campaign in "AB":
