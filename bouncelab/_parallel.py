@@ -126,18 +126,21 @@ def _share(fn: Callable, args: tuple, cuts: list[int], results: list | None) -> 
             f.result()
 
 
-def run_rows(fn: Callable, n: int, *args: Any) -> None:
+def run_rows(fn: Callable, n: int, *args: Any) -> list[Any]:
     """Call ``fn(*args, start, stop)`` over ``[0, n)`` for a loop whose rows are independent (prediction).
 
     From :data:`PARALLEL_MIN` rows the range is cut into parts of at least ``CHUNK / 2`` rows, shared
-    by the calling thread and the pool; where the cuts fall cannot change any row's result.
+    by the calling thread and the pool; where the cuts fall cannot change any row's result. Returns
+    the parts' results (e.g. whether their rows were valid).
     """
     threads = num_threads()
     if n < PARALLEL_MIN or threads == 1 or getattr(_local, "in_pool", False):
-        fn(*args, 0, n)
-        return
-    size = max(CHUNK // 2, n // (8 * threads))
-    _share(fn, args, [*range(0, n, size), n], None)
+        return [fn(*args, 0, n)]
+    size = max(CHUNK // 2, n // (16 * threads))
+    cuts = [*range(0, n, size), n]
+    results: list[Any] = [None] * (len(cuts) - 1)
+    _share(fn, args, cuts, results)
+    return results
 
 
 def run_chunked(fn: Callable, n: int, *args: Any) -> list[Any]:

@@ -16,7 +16,7 @@ import xarray as xr
 from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
 from bouncelab.errors import DataError
 
-__all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_same_length", "inverse_norms"]
+__all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_same_length", "check_values", "inverse_norms"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
@@ -33,6 +33,7 @@ def as_states(
     *,
     landing: bool = False,
     file: str | None = None,
+    defer_check: bool = False,
 ) -> tuple[np.ndarray, Callable[[np.ndarray], Any]]:
     """Validate ``states`` and return them as a C-contiguous (n, 3) float64 array.
 
@@ -47,6 +48,10 @@ def as_states(
         If true, also require ``ydot < 0`` (a landing moves downward).
     file
         File the data came from, for error messages.
+    defer_check
+        For arrays of at least :data:`FAST_CHECK_MIN` bounces, leave the value checks
+        (finite, magnitude, sign of ydot) to the caller, which fuses them into its own
+        compiled pass and calls :func:`check_values` if that pass finds a bad value.
 
     Returns
     -------
@@ -62,7 +67,7 @@ def as_states(
         ``ydot >= 0``; the message names the row and component.
     """
     if isinstance(states, xr.DataArray):
-        return _from_dataarray(states, name, landing=landing, file=file)
+        return _from_dataarray(states, name, landing=landing, file=file, defer_check=defer_check)
     states = _from_labelled(states, name, file)
     if np.ma.isMaskedArray(states):
         mask = np.ma.getmaskarray(states)
@@ -92,7 +97,8 @@ def as_states(
         )
     lead = arr.shape[:-1]
     flat = np.ascontiguousarray(arr.reshape(-1, 3))
-    _check_values(flat, name, landing=landing, file=file)
+    if not (defer_check and flat.shape[0] >= FAST_CHECK_MIN):
+        _check_values(flat, name, landing=landing, file=file)
 
     def wrap(result: np.ndarray) -> np.ndarray:
         return result.reshape((*lead, *result.shape[1:]))  # a tuple: lead may be ()
@@ -133,7 +139,7 @@ def _component_order(labels: list[str]) -> list[int] | None:
     return None
 
 
-def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | None):
+def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | None, defer_check: bool = False):
     if "component" not in da.dims:
         raise DataError(
             f"{name} DataArray needs a 'component' dimension (xdot, ydot, omega); "
@@ -154,7 +160,7 @@ def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | N
             values = np.take(values, [labels.index(c) for c in COMPONENTS], axis=axis)
     other = [d for d in da.dims if d != "component"]
     values = np.moveaxis(values, axis, -1)
-    arr, _ = as_states(values, name, landing=landing, file=file)
+    arr, _ = as_states(values, name, landing=landing, file=file, defer_check=defer_check)
     lead = values.shape[:-1]
     dims = (*other, "component")
     coords = {k: v for k, v in da.coords.items() if "component" not in v.dims}
@@ -173,6 +179,11 @@ def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | N
 
 #: From this many bounces on, a compiled single pass checks the values first (3x faster than NumPy).
 FAST_CHECK_MIN = 50_000
+
+
+def check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None = None) -> None:
+    """The value checks of :func:`as_states` on a (n, 3) float64 array (DataError naming row and column)."""
+    _check_values(arr, name, landing=landing, file=file)
 
 
 def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None) -> None:

@@ -234,31 +234,60 @@ def _penner_beta(xd, yd, angle, varying, scale):
     return angle * g
 
 
+_ABS = 0x7FFFFFFFFFFFFFFF  # all bits but the sign
+
+
+@jit(inline="always")
+def valid_bits(x, y, w, limit_bits):
+    """A landing's validity from its values' bits (int64): finite and within the limit, ydot < 0.
+
+    For doubles without the sign bit, the integer order of the bits is the order of the values,
+    and NaN and infinities lie above every finite value; unlike float comparisons, this cannot be
+    changed by fast-math assumptions.
+    """
+    return (((x & _ABS) <= limit_bits) & ((y & _ABS) <= limit_bits) & ((w & _ABS) <= limit_bits)
+            & (y < 0) & ((y & _ABS) != 0))
+
+
 @jit(nogil=True, fastmath=_ROW_FLAGS)
-def penner_predict_rows(P, r, mu, angle, varying, scale, out, start, stop):
-    """Lift-off of rows [start, stop) into ``out``; ``angle`` is beta in radians (fixed) or k_p (varying)."""
+def penner_predict_rows(P, r, mu, angle, varying, scale, out, bits, limit_bits, start, stop):
+    """Lift-off of rows [start, stop) into ``out``; ``angle`` is beta in radians (fixed) or k_p (varying).
+
+    Returns whether every landing of the rows was valid (:func:`valid_bits` of ``bits``, the int64 view of P).
+    """
+    ok = True
     if not varying and scale <= 0.0:
         for i in range(start, stop):
+            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
             a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, angle)
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+    elif scale <= 0.0:  # Penner's angle, published (no fade)
+        for i in range(start, stop):
+            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
+            beta = min(angle * speed_times_angle(P[i, 0], P[i, 1]), HALF_PI)
+            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
     else:
         for i in range(start, stop):
+            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
             beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
             a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
+    return ok
 
 
 @jit(nogil=True, fastmath=_ROW_FLAGS)
-def penner_regime_rows(P, r, mu, angle, varying, scale, codes, start, stop):
+def penner_regime_rows(P, r, mu, angle, varying, scale, codes, bits, limit_bits, start, stop):
     """Regime codes of rows [start, stop) into ``codes`` (as :func:`penner_predict_rows`)."""
-    if not varying and scale <= 0.0:
-        for i in range(start, stop):
-            codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, angle)[3]
-    else:
-        for i in range(start, stop):
-            beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
-            codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)[3]
+    ok = True
+    for i in range(start, stop):
+        ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
+        beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
+        codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)[3]
+    return ok

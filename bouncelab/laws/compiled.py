@@ -60,6 +60,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
+from bouncelab.data.validation import STATE_LIMIT, as_states, check_values
 from bouncelab.laws.base import BounceModel
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -77,19 +78,31 @@ class _Loops:
 
     def __init__(self, kernel: Any) -> None:
         from bouncelab._jit import jit
+        from bouncelab.laws._kernels import valid_bits as _valid_bits
 
+        # The row loops also report whether every landing in their rows is valid (finite, within
+        # the limit, ydot < 0): for large arrays the public methods fuse that check into this pass
+        # instead of reading the array once more (see bouncelab.data.validation, defer_check). The
+        # check reads the values' bits as integers (``bits`` is a view of P), which fast-math
+        # assumptions about NaN and infinity cannot touch.
         @jit(nogil=True, fastmath=_ROW_FLAGS)
-        def predict_rows(P, theta, out, start, stop):
+        def predict_rows(P, theta, out, bits, limit_bits, start, stop):
+            ok = True
             for i in range(start, stop):
+                ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
                 a, b, c, _ = kernel(P[i, 0], P[i, 1], P[i, 2], theta)
                 out[i, 0] = a
                 out[i, 1] = b
                 out[i, 2] = c
+            return ok
 
         @jit(nogil=True, fastmath=_ROW_FLAGS)
-        def regime_rows(P, theta, codes, start, stop):
+        def regime_rows(P, theta, codes, bits, limit_bits, start, stop):
+            ok = True
             for i in range(start, stop):
+                ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
                 codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], theta)[3]
+            return ok
 
         @jit(nogil=True, fastmath=True)
         def error_sums(P0, PF, inv_norm, theta, start, stop):
@@ -112,6 +125,11 @@ class _Loops:
         self.predict_rows = predict_rows
         self.regime_rows = regime_rows
         self.error_sums = error_sums
+
+
+def landing_bits(p: np.ndarray) -> tuple[np.ndarray, int]:
+    """The landings' bits as int64 (a view) and the bits of STATE_LIMIT, for the fused value check."""
+    return p.view(np.int64), int(np.float64(STATE_LIMIT).view(np.int64))
 
 
 _LOOPS: dict[int, tuple[Any, _Loops]] = {}
@@ -156,14 +174,40 @@ class CompiledLaw(BounceModel):
         return np.ascontiguousarray(self._kernel_theta(theta), dtype=np.float64)
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        out = np.empty_like(p)
-        run_rows(self._loops().predict_rows, len(p), p, self._kt(theta), out)
-        return out
+        return self._predict_checked(p, theta)[0]
 
     def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        return self._regime_checked(p, theta)[0]
+
+    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Lift-off states, and whether every landing was valid (checked in the same pass)."""
+        out = np.empty_like(p)
+        ok = run_rows(self._loops().predict_rows, len(p), p, self._kt(theta), out, *landing_bits(p))
+        return out, all(ok)
+
+    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
         codes = np.empty(len(p), dtype=np.int8)
-        run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes)
-        return codes
+        ok = run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes, *landing_bits(p))
+        return codes, all(ok)
+
+    def predict(self, landing: Any) -> Any:
+        theta = self._theta()
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
+        out, ok = self._predict_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)  # raises, naming the row and column
+        return wrap(out)
+
+    def regime(self, landing: Any, *, codes: bool = False) -> Any:
+        theta = self._theta()
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
+        c, ok = self._regime_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)
+        return wrap(c if codes else np.asarray(self.regimes)[c])
+
+    predict.__doc__ = BounceModel.predict.__doc__
+    regime.__doc__ = BounceModel.regime.__doc__
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:

@@ -12,7 +12,7 @@ from bouncelab.data import published as _published
 from bouncelab.data.validation import as_states
 from bouncelab.errors import ParameterError
 from bouncelab.laws.base import Parameter
-from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, run_chunked, run_rows
+from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, landing_bits, run_chunked, run_rows
 from bouncelab.laws.rigid import MU_SPEC, R_SPEC
 
 __all__ = ["K_P_MAX", "PennerFixed", "PennerVarying"]
@@ -92,15 +92,15 @@ class _Penner(CompiledLaw):
 
     # Dedicated loops (same scalar functions as the kernel): a fixed tilt's sine and cosine are
     # computed once per call, not once per bounce.
-    def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
         out = np.empty_like(p)
-        run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(theta), out)
-        return out
+        ok = run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(theta), out, *landing_bits(p))
+        return out, all(ok)
 
-    def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
         codes = np.empty(len(p), dtype=np.int8)
-        run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(theta), codes)
-        return codes
+        ok = run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(theta), codes, *landing_bits(p))
+        return codes, all(ok)
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:

@@ -14,6 +14,16 @@ try:
 except bl.ParameterError as exc:
     print("ParameterError:", exc)
 
+# Held parameters: names (at the law's own values) or a mapping name -> value.
+print(bl.fit(bl.PennerFixed(beta_deg=12.9), ds, fixed=["beta_deg"]).model)
+print(bl.fit(bl.PennerFixed, ds, fixed={"r": 0.42, "beta_deg": 12.9}).model)
+
+# Method options are the method's own, checked: the paper's procedure for Rigid takes mu_objective only.
+try:
+    bl.fit(bl.Rigid, ds, method="structured", algorithm="CRS2_LM")
+except bl.FitError as exc:
+    print("FitError:", exc)
+
 # A start: parameters given to the instance start the search (they must lie in the box).
 print(bl.fit(bl.PennerVarying(r=0.45, mu=0.97, k_p=1.5e-4), ds).model)
 
