@@ -7,7 +7,16 @@ silently wrong number. ``DataError`` is for data (arrays, files, campaigns);
 
 from __future__ import annotations
 
-__all__ = ["BouncelabError", "DataError", "FitError", "NotFittedError", "ParameterError"]
+__all__ = [
+    "BouncelabError",
+    "BouncelabWarning",
+    "DataError",
+    "FitError",
+    "LargeResultWarning",
+    "NonphysicalLiftoffWarning",
+    "NotFittedError",
+    "ParameterError",
+]
 
 
 class BouncelabError(Exception):
@@ -56,3 +65,15 @@ class NotFittedError(ParameterError):
 
 class FitError(BouncelabError, ValueError):
     """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
+
+
+class BouncelabWarning(UserWarning):
+    """Base class of every warning bouncelab issues on purpose."""
+
+
+class NonphysicalLiftoffWarning(BouncelabWarning):
+    """A law with the paper's published values predicts lift-offs into the ground or gaining energy."""
+
+
+class LargeResultWarning(BouncelabWarning):
+    """A call builds a much larger result than needed (e.g. regime names for millions of landings)."""

@@ -190,24 +190,20 @@ class CompiledLaw(BounceModel):
         ok = run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes, *landing_bits(p))
         return codes, all(ok)
 
-    def predict(self, landing: Any) -> Any:
-        theta = self._theta()
+    def _predict_flat(self, landing: Any, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
+        # Large arrays: the value checks run inside the compiled prediction pass (see as_states' defer_check).
         p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
         out, ok = self._predict_checked(p, theta)
         if not ok:
             check_values(p, "landing", landing=True)  # raises, naming the row and column
-        return wrap(out)
+        return p, out, wrap
 
-    def regime(self, landing: Any, *, codes: bool = False) -> Any:
-        theta = self._theta()
+    def _regime_flat(self, landing: Any, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
         p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
         c, ok = self._regime_checked(p, theta)
         if not ok:
             check_values(p, "landing", landing=True)
-        return wrap(c if codes else np.asarray(self.regimes)[c])
-
-    predict.__doc__ = BounceModel.predict.__doc__
-    regime.__doc__ = BounceModel.regime.__doc__
+        return p, c, wrap
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
