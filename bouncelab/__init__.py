@@ -50,6 +50,7 @@ _LAZY = {
     "cross_validate": "bouncelab.fitting",
     "infer_settings": "bouncelab.data.settings",
     "bootstrap": "bouncelab.fitting",
+    "BounceRegressor": "bouncelab.estimators",
 }
 
 __all__ = [
@@ -84,7 +85,7 @@ __all__ = [
 
 
 # Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli).
-_SUBPACKAGES = ("analysis", "cli", "data", "fitting", "laws", "plots")
+_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "laws", "plots")
 
 
 def __getattr__(name: str) -> Any:

@@ -338,9 +338,13 @@ class BounceModel:
         params = {s.name for s in cls.parameter_specs}
         return tuple(k for k in cls._keyword_names() if k not in params)
 
-    def get_params(self) -> dict[str, Any]:
-        """The constructor's keyword arguments as stored (scikit-learn convention)."""
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The constructor's keyword arguments as stored (scikit-learn convention; ``deep`` changes nothing)."""
         return {name: getattr(self, name) for name in self._keyword_names()}
+
+    def __sklearn_clone__(self) -> BounceModel:
+        """scikit-learn's ``clone``: a law is an immutable value, so it is its own clone."""
+        return self
 
     @property
     def params(self) -> Parameters:
