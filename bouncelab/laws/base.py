@@ -99,7 +99,9 @@ class FitProblem(Protocol):
     landing, liftoff
         Validated ``(n, 3)`` C-contiguous float64 arrays of the bounces to fit.
     inv_norm
-        ``1 / ||p0||`` of every landing (the weights of delta and Delta q).
+        The weight of each bounce's error in the objective: ``1 / ||p0||`` of every
+        landing (delta and Delta q), or ``1 / h`` from its prediction intervals for a
+        ``"delta_pi"`` objective (:mod:`bouncelab.fitting.objective`).
     setting
         Launcher setting of each bounce, or None.
     n
