@@ -50,6 +50,7 @@ _LAZY = {
     "cross_validate": "bouncelab.fitting",
     "infer_settings": "bouncelab.data.settings",
     "bootstrap": "bouncelab.fitting",
+    "sweep": "bouncelab.fitting",
     "BounceRegressor": "bouncelab.estimators",
 }
 
