@@ -1,0 +1,1 @@
+python "$REPO/benchmarks/bench_cluster.py"
