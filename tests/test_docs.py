@@ -19,11 +19,13 @@ API_NAMES = {
                  "bouncelab.laws.PennerVarying", "bouncelab.laws.PiecewiseAffine",
                  "bouncelab.laws.TangentialRestitution", "bouncelab.laws.load_law", "bouncelab.laws.Parameter",
                  "bouncelab.laws.CompiledLaw", "bouncelab.laws.fit_method", "bouncelab.laws.FitProblem",
-                 "bouncelab.laws.FitOutcome", "bouncelab.laws.Parameters", "bouncelab.laws.plane_fitting.fit_svm"],
+                 "bouncelab.laws.FitOutcome", "bouncelab.laws.Parameters", "bouncelab.laws.plane_fitting.fit_svm",
+                 "bouncelab.laws.nonphysical.LiftoffFlags", "bouncelab.estimators.BounceRegressor"],
     "api/fitting": ["bouncelab.fitting.fitter.fit", "bouncelab.fitting.FitResult",
                     "bouncelab.fitting.comparison.compare",
                     "bouncelab.fitting.Comparison", "bouncelab.fitting.split_by_setting",
-                    "bouncelab.fitting.cross_validate", "bouncelab.fitting.map_tasks"],
+                    "bouncelab.fitting.cross_validate", "bouncelab.fitting.map_tasks",
+                    "bouncelab.fitting.sweep.sweep"],
     "api/data": ["bouncelab.data.io.load_campaign", "bouncelab.data.io.save_campaign",
                  "bouncelab.data.units.to_scaled", "bouncelab.data.units.landing_from_speed_angle_spin",
                  "bouncelab.data.campaign.make_campaign", "bouncelab.data.surrogate.generate_surrogate",
@@ -57,7 +59,8 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_build_is_strict_clean(site: Path) -> None:
-    for page in ("", "quickstart", "conventions", "laws", "fitting", "data", "analysis", "cli", "examples", "api"):
+    for page in ("", "quickstart", "conventions", "laws", "fitting", "data", "analysis", "cli", "examples", "api",
+                 "simulators", "sklearn", "cluster"):
         assert (site / page / "index.html").is_file(), f"page {page or 'index'} was not built"
 
 
