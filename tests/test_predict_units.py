@@ -120,6 +120,25 @@ def test_flags_mark_energy_gain_and_into_ground_without_warning_for_unpublished_
     assert flags.counts() == {"into_ground": 2, "energy_gain": 0, "nonphysical": 2, "n": 2}
 
 
+def test_flags_come_from_the_same_prediction() -> None:
+    calls = []
+
+    class Counted(Booster):
+        def _predict(self, p, theta):
+            calls.append(len(p))
+            return super()._predict(p, theta)
+
+    out, flags = Counted(g=1.5).predict(table1_polar("A", 10), units=SI, form="polar", return_flags=True)
+    assert calls == [10]  # one prediction, no second pass for the flags
+    assert flags.energy_gain.all() and out.shape == (10, 3)
+
+
+def test_masked_physical_landings_refused() -> None:
+    m = np.ma.masked_array([[20.0, 30.0, 100.0], [20.0, 30.0, 100.0]], mask=[[0, 0, 0], [0, 1, 0]])
+    with pytest.raises(DataError, match="masked"):
+        bl.Rigid.published("A").predict(m, units=SI, form="polar")
+
+
 def test_flags_match_an_independent_check_and_keep_the_shape() -> None:
     law = bl.PennerFixed.published("B")
     polar = table1_polar("B", 2000, seed=3)

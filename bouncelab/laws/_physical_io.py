@@ -65,7 +65,9 @@ class PhysicalIO:
                                     f"{self.form_in!r} (any order; a suffix 0 is allowed); got {cols}")
                 landing = landing.iloc[:, order]
             landing = landing.to_numpy()
-        arr = np.asarray(landing)
+        if np.ma.isMaskedArray(landing) and np.ma.getmaskarray(landing).any():
+            raise DataError("landing has masked (missing) values; remove or fill them first")
+        arr = np.asarray(np.ma.getdata(landing))
         if arr.dtype.kind not in "iuf" or arr.ndim == 0 or arr.shape[-1] != 3:
             raise DataError(f"landing must be a real (..., 3) array of {list(names)}; got "
                             f"{arr.dtype} values of shape {arr.shape}")
