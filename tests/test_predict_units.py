@@ -46,6 +46,16 @@ def test_polar_liftoff_angle_is_positive_above_horizontal() -> None:
     np.testing.assert_allclose(out[:, 2], scaled[:, 2] * 60 / (2 * np.pi), rtol=1e-12)
 
 
+def test_speed_angle_spin_gives_positive_liftoff_angles() -> None:
+    law = bl.Rigid.published("A")
+    out = law.predict(units.landing_from_speed_angle_spin([28.5, 10.0], [37.3, 60.0], [2094.0, -500.0]))
+    up = units.speed_angle_spin(out, kind="liftoff")["angle_deg"]
+    assert (up > 0).all()
+    np.testing.assert_allclose(up, -units.speed_angle_spin(out)["angle_deg"])  # the landing convention flips it
+    with pytest.raises(DataError, match="kind"):
+        units.speed_angle_spin(out, kind="up")
+
+
 def test_polar_round_trip_and_mixed_forms() -> None:
     law = bl.PennerVarying.published("A")
     polar = table1_polar("A", 50)

@@ -199,17 +199,24 @@ def speed_angle_spin(
     speed_unit: str = "m/s",
     spin_unit: str = "rpm",
     radius_m: float = BALL_RADIUS_M,
+    kind: str = "landing",
 ) -> Mapping[str, np.ndarray]:
-    """Speed, angle to the horizontal (degrees, positive downward) and spin of (..., 3) states.
+    """Speed, angle to the horizontal (degrees) and spin of (..., 3) states.
 
     ``state`` must be in scaled units (radii/s, rad/s), as everywhere in bouncelab;
-    ``speed_unit`` and ``spin_unit`` choose only the units of the *result*. The
-    inverse of :func:`landing_from_speed_angle_spin` for a landing; for a lift-off
-    the angle is negative (the ball goes up).
+    ``speed_unit`` and ``spin_unit`` choose only the units of the *result*. With
+    ``kind="landing"`` (default) the angle is positive *below* the horizontal (the
+    inverse of :func:`landing_from_speed_angle_spin`); with ``kind="liftoff"`` it is
+    positive *above* it, so a ball that goes up has a positive lift-off angle. Either
+    way it is measured from the horizontal on the side the ball travels (in [-90, 90]);
+    :func:`polar_from_state` keeps the direction of travel too.
     """
+    if kind not in ("landing", "liftoff"):
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
     s = _state_array(state)
     speed = np.hypot(s[..., 0], s[..., 1])
-    angle = np.rad2deg(np.arctan2(-s[..., 1], np.abs(s[..., 0])))
+    sign = -1.0 if kind == "landing" else 1.0
+    angle = np.rad2deg(np.arctan2(sign * s[..., 1], np.abs(s[..., 0])))
     return {
         "speed": velocity_from_scaled(speed, speed_unit, radius_m=radius_m),
         "angle_deg": angle,
