@@ -22,7 +22,14 @@ __version__ = "0.1.0"
 from bouncelab.data import published, units
 from bouncelab.data.campaign import make_campaign, validate_campaign
 from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+from bouncelab.errors import (
+    BouncelabError,
+    DataError,
+    FitError,
+    LawDefinitionError,
+    NotFittedError,
+    ParameterError,
+)
 from bouncelab.laws import (
     BounceModel,
     CompiledLaw,
@@ -58,6 +65,7 @@ __all__ = [
     "CompiledLaw",
     "DataError",
     "FitError",
+    "LawDefinitionError",
     "NotFittedError",
     "Parameter",
     "ParameterError",

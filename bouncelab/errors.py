@@ -56,3 +56,7 @@ class NotFittedError(ParameterError):
 
 class FitError(BouncelabError, ValueError):
     """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
+
+
+class LawDefinitionError(BouncelabError, TypeError):
+    """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""

@@ -345,3 +345,67 @@ def test_fit_outcome_type_is_checked(campaign_a):
 
     with pytest.raises(FitError, match="returned str"):
         bl.fit(Bad, campaign_a, method="broken")
+
+
+class _Scaled(BounceModel):
+    """A two-parameter law whose own methods misbehave on purpose (for the fit contract tests)."""
+
+    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
+                       Parameter("g", (0.0, 2.0), (0.0, 2.0), "1", "spin kept"))
+    regimes = ("one",)
+
+    def __init__(self, e=None, g=None):
+        self.e = e
+        self.g = g
+        super().__init__()
+
+    def _predict(self, p, theta):
+        return p * np.array([1.0, -theta[0], theta[1]])
+
+    def _regime(self, p, theta):
+        return np.zeros(len(p), np.int8)
+
+    @fit_method("ignores_everything")
+    def _ignores(self, problem) -> FitOutcome:
+        law = self.replace(e=0.9, g=1.9)
+        return FitOutcome(model=law, objective_value=problem.objective(law)(law._theta()), algorithm="none")
+
+    @fit_method("holds_e")
+    def _holds_e(self, problem) -> FitOutcome:
+        return problem.run_global(self, hold={"e": 0.2})
+
+
+def test_a_method_that_ignores_fixed_or_bounds_fails(campaign_a):
+    assert bl.fit(_Scaled, campaign_a, method="ignores_everything").model.e == 0.9  # nothing asked: fine
+    with pytest.raises(FitError, match="does not hold parameter 'e'"):
+        bl.fit(_Scaled, campaign_a, method="ignores_everything", fixed={"e": 0.5})
+    with pytest.raises(FitError, match="outside the bounds"):
+        bl.fit(_Scaled, campaign_a, method="ignores_everything", bounds={"g": (0.0, 1.0)})
+    # the piecewise methods find the plane without a box: explicit bounds they cannot honour are an error
+    with pytest.raises(FitError, match="offset"):
+        bl.fit(bl.PiecewiseAffine, campaign_a, bounds={"offset": (0.0, 1.0)})
+
+
+def test_callers_fixed_values_win_over_a_methods_hold(campaign_a):
+    assert bl.fit(_Scaled, campaign_a, method="holds_e").model.e == 0.2
+    assert bl.fit(_Scaled, campaign_a, method="holds_e", fixed={"e": 0.5}).model.e == 0.5
+
+
+def test_law_definition_errors(campaign_a):
+    with pytest.raises(bl.LawDefinitionError, match=r"numba\.njit"):
+        class NotCompiled(CompiledLaw):
+            parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+            regimes = ("one",)
+            kernel = staticmethod(lambda xd, yd, w, theta: (xd, -yd, w, 0))
+
+    class BadCodes(_Scaled):
+        def _regime(self, p, theta):
+            return np.full(len(p), 3, np.int8)
+
+    with pytest.raises(bl.LawDefinitionError, match="regime code 3"):
+        BadCodes(e=0.5, g=1.0).regime(campaign_a.landing.values)
+
+
+def test_docs_compiled_example_refuses_to_hold(compiled_law, campaign_b):
+    with pytest.raises(FitError, match="cannot hold"):
+        bl.fit(compiled_law, campaign_b, fixed={"b": [0.0, 0.0, 0.0]})

@@ -61,7 +61,7 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 
 from bouncelab.data.validation import States, as_states
-from bouncelab.errors import NotFittedError, ParameterError
+from bouncelab.errors import LawDefinitionError, NotFittedError, ParameterError
 from bouncelab.laws.parameters import Parameter, Parameters
 
 __all__ = [
@@ -453,8 +453,15 @@ class BounceModel:
         """
         theta = self._theta()
         p, wrap = as_states(landing, "landing", landing=True)
-        c = self._regime(p, theta)
-        return wrap(c if codes else np.asarray(self.regimes)[c])
+        return wrap(self._regime_output(self._regime(p, theta), codes))
+
+    def _regime_output(self, c: np.ndarray, codes: bool) -> np.ndarray:
+        """Codes or names, after checking the law's codes index its regimes (a law author's bug otherwise)."""
+        if c.size and (int(c.min()) < 0 or int(c.max()) >= len(self.regimes)):
+            bad = int(c.min()) if int(c.min()) < 0 else int(c.max())
+            raise LawDefinitionError(f"{law_name(self)} gave regime code {bad}, but its regimes are "
+                                     f"{list(self.regimes)} (codes 0..{len(self.regimes) - 1})")
+        return c if codes else np.asarray(self.regimes)[c]
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         raise NotImplementedError

@@ -61,6 +61,7 @@ import numpy as np
 
 from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
 from bouncelab.data.validation import STATE_LIMIT, as_states, check_values
+from bouncelab.errors import LawDefinitionError
 from bouncelab.laws.base import BounceModel
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -161,6 +162,15 @@ class CompiledLaw(BounceModel):
     kernel: ClassVar[Any] = None
     _abstract_law = True  # a base for laws, not a law: not registered
 
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        kernel = cls.__dict__.get("kernel")
+        # numba dispatchers keep the Python function; a property loads the kernel lazily (built-ins)
+        if kernel is not None and not isinstance(kernel, property) and not hasattr(kernel, "py_func"):
+            raise LawDefinitionError(
+                f"{cls.__name__}.kernel must be a numba.njit function (kernel(xdot0, ydot0, omega0, theta) -> "
+                f"(xdotF, ydotF, omegaF, code)); got {type(kernel).__name__}. Decorate it with @numba.njit")
+
     def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
         """The vector the kernel receives, from the parameter vector (default: unchanged)."""
         return theta
@@ -204,7 +214,7 @@ class CompiledLaw(BounceModel):
         c, ok = self._regime_checked(p, theta)
         if not ok:
             check_values(p, "landing", landing=True)
-        return wrap(c if codes else np.asarray(self.regimes)[c])
+        return wrap(self._regime_output(c, codes))
 
     predict.__doc__ = BounceModel.predict.__doc__
     regime.__doc__ = BounceModel.regime.__doc__
