@@ -60,7 +60,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from bouncelab.data.validation import States, as_states
+from bouncelab.data.validation import States, as_states, check_values
 from bouncelab.errors import LawDefinitionError, NotFittedError, ParameterError
 from bouncelab.laws.parameters import Parameter, Parameters
 
@@ -442,8 +442,11 @@ class BounceModel:
             Some parameters have no value.
         """
         theta = self._theta()
-        p, wrap = as_states(landing, "landing", landing=True)
-        return wrap(self._predict(p, theta))
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
+        out, ok = self._predict_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)  # raises, naming the row and column
+        return wrap(out)
 
     def regime(self, landing: States, *, codes: bool = False) -> Any:
         """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
@@ -452,8 +455,23 @@ class BounceModel:
         DataArray for a DataArray input).
         """
         theta = self._theta()
-        p, wrap = as_states(landing, "landing", landing=True)
-        return wrap(self._regime_output(self._regime(p, theta), codes))
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
+        c, ok = self._regime_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)
+        return wrap(self._regime_output(c, codes))
+
+    #: Whether :meth:`_predict_checked` and :meth:`_regime_checked` check the landings' values in their
+    #: own pass, so that the public methods can skip a separate pass over large arrays (compiled laws).
+    _fused_value_check: ClassVar[bool] = False
+
+    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+        """:meth:`_predict`, and whether every landing was valid if this law checks them in the same pass."""
+        return self._predict(p, theta), True
+
+    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+        """:meth:`_regime`, and whether every landing was valid (as :meth:`_predict_checked`)."""
+        return self._regime(p, theta), True
 
     def _regime_output(self, c: np.ndarray, codes: bool) -> np.ndarray:
         """Codes or names, after checking the law's codes index its regimes (a law author's bug otherwise)."""

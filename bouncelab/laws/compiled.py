@@ -60,7 +60,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
-from bouncelab.data.validation import STATE_LIMIT, as_states, check_values
+from bouncelab.data.validation import STATE_LIMIT
 from bouncelab.errors import LawDefinitionError
 from bouncelab.laws.base import BounceModel
 
@@ -160,6 +160,7 @@ class CompiledLaw(BounceModel):
 
     #: ``numba.njit`` function ``(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, code)``.
     kernel: ClassVar[Any] = None
+    _fused_value_check = True  # the row loops check the landings (see _Loops)
     _abstract_law = True  # a base for laws, not a law: not registered
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -200,24 +201,6 @@ class CompiledLaw(BounceModel):
         ok = run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes, *landing_bits(p))
         return codes, all(ok)
 
-    def predict(self, landing: Any) -> Any:
-        theta = self._theta()
-        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
-        out, ok = self._predict_checked(p, theta)
-        if not ok:
-            check_values(p, "landing", landing=True)  # raises, naming the row and column
-        return wrap(out)
-
-    def regime(self, landing: Any, *, codes: bool = False) -> Any:
-        theta = self._theta()
-        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
-        c, ok = self._regime_checked(p, theta)
-        if not ok:
-            check_values(p, "landing", landing=True)
-        return wrap(self._regime_output(c, codes))
-
-    predict.__doc__ = BounceModel.predict.__doc__
-    regime.__doc__ = BounceModel.regime.__doc__
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
