@@ -5,8 +5,7 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
-from bouncelab.data.io.optional_packages import _module_available
-from bouncelab.data.io.table import _finish_table, _is_empty_cell, _Table
+from bouncelab.data.io.table import _finish_table, _is_empty_cell, _module_available, _Table
 from bouncelab.errors import DataError
 
 _EXCEL_SUFFIXES = (".xlsx", ".xls")

@@ -11,12 +11,13 @@ from typing import Any
 
 import xarray as xr
 
-from bouncelab.data.io.column_units import _check_units_arg
+from bouncelab.data.io.columns import _check_units_arg
 from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
 from bouncelab.data.io.matlab import _read_mat
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
-from bouncelab.data.io.table_to_campaign import _campaign_from_table
+from bouncelab.data.io.table import _campaign_from_table
 from bouncelab.data.io.text import _read_text
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 
@@ -51,6 +52,7 @@ def load_campaign(
     surface: str | None = None,
     sheet: str | int | None = None,
     ball_radius_m: float = BALL_RADIUS_M,
+    plausible: PlausibleRanges = PLAUSIBLE_RANGES,
 ) -> xr.Dataset:
     """Load a bounce campaign from a file, or one of the embedded campaigns.
 
@@ -77,6 +79,11 @@ def load_campaign(
         Excel sheet name or 0-based index (default: the first sheet).
     ball_radius_m
         Ball radius in metres used to scale velocities.
+    plausible
+        The magnitudes a golf bounce can have
+        (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
+        as a unit mistake. Widen them on purpose with
+        ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
 
     Returns
     -------
@@ -156,5 +163,5 @@ def load_campaign(
         table, columns=columns, units=_check_units_arg(units, file),
         campaign=path.stem if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=radius,
+        source=absolute, ball_radius_m=radius, plausible=plausible,
     )

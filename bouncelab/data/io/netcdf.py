@@ -11,9 +11,8 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.data.campaign import validate_campaign
-from bouncelab.data.io.header_units import _header_unit
-from bouncelab.data.io.optional_packages import _module_available
-from bouncelab.data.io.table import _check_duplicates, _Column, _Table, _table_of_columns
+from bouncelab.data.io.columns import _header_unit
+from bouncelab.data.io.table import _check_duplicates, _Column, _module_available, _Table, _table_of_columns
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 
