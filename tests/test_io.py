@@ -671,11 +671,11 @@ def test_unknown_units(tmp_path):
         ({"w0__3": "abc"}, "w0", 3, "non-numeric value 'abc'"),
         ({"vyF__6": ""}, "vyF", 6, "empty cell"),
         ({"vxF__2": "NA"}, "vxF", 2, "missing value 'NA'"),
-        ({"vx0__4": "nan"}, "vx0", 4, "NaN"),
+        ({"vx0__4": "nan"}, "vx0", 4, "missing value .nan."),
         ({"wF__5": "-inf"}, "wF", 5, "infinite"),
         ({"vy0__2": "0.0"}, "vy0", 2, "must be negative"),
         ({"vy0__5": "3.5"}, "vy0", 5, "must be negative"),
-        ({"setting__1": ""}, "setting", 1, "empty setting cell"),
+        ({"setting__1": ""}, "setting", 1, "missing setting label \\(empty\\)"),
         ({"w0__5": "1.2.3", "vxF__2": "x"}, "vxF", 2, "non-numeric value 'x'"),  # first bad row wins
     ],
 )

@@ -51,6 +51,7 @@ class _Column:
     values: Any  # list of raw cells, or a 1-D ndarray
     unit_text: str | None = None  # unit from the header suffix or a units row
     unit_in_header: bool = False
+    unit_where: str = ""  # where the unit was read, when not the header or a units row
 
     @property
     def full_key(self) -> str:
@@ -122,12 +123,22 @@ def _finish_table(
             continue
         unit = _split_header(name)[1]
         in_header = unit is not None
+        if in_header and units_row[j] and not _same_unit(unit, units_row[j]):
+            raise DataError(
+                f"the header gives the unit {unit!r} but the units row under it says {units_row[j]!r}; "
+                "make them agree or remove one", file=file, column=name,
+            )
         if unit is None and units_row[j]:
             unit = units_row[j]
         values = [r[j] if j < len(r) else "" for r in rows]
         table.columns.append(_Column(name, values, unit, in_header))
     table.n_rows = len(rows)
     return table
+
+
+def _same_unit(a: str, b: str) -> bool:
+    ua, ub = _unit_of(a), _unit_of(b)
+    return a.strip().lower() == b.strip().lower() or (bool(ua) and ua == ub)
 
 
 def _is_units_row(cells: Sequence[Any], blank: Callable[[Any], bool]) -> bool:
@@ -167,7 +178,16 @@ def _is_empty_cell(v: Any) -> bool:
     return v is None or (isinstance(v, float) and math.isnan(v)) or (isinstance(v, str) and not v.strip())
 
 
-_MISSING = {"", "na", "n/a", "null", "none", "-", "--", "?"}
+# Cells a person reads as "no value": spreadsheet error codes and the usual placeholders.
+_MISSING = frozenset({
+    "", "na", "n/a", "n.a.", "nan", "null", "none", "missing", "-", "--", "?",
+    "#n/a", "#na", "#value!", "#ref!", "#div/0!", "#num!", "#name?", "#null!",
+})
+_INT64_MAX = np.iinfo(np.int64).max
+
+
+def _is_missing(v: Any) -> bool:
+    return _is_empty_cell(v) or (isinstance(v, str) and v.strip().lower() in _MISSING)
 
 
 def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]:
@@ -175,13 +195,15 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
     vals = col.values
     if isinstance(vals, np.ndarray) and vals.dtype.kind == "f":
         return vals, None  # NaN and inf are reported by as_states
+    if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
+        return vals.astype(float), None
     out = np.empty(len(vals))
     for i, v in enumerate(vals):
         x: float | None = None
         if table.text_cells and _is_empty_cell(v):
             return out, _err(table, "empty cell; every bounce needs a value", col.name, i)
         if isinstance(v, str):
-            if v.strip().lower() in _MISSING:
+            if _is_missing(v):
                 return out, _err(table, f"missing value {v.strip()!r}; every bounce needs a value",
                                  col.name, i)
             x = _parse_number(v, decimal_comma=table.decimal_comma)
@@ -193,27 +215,108 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
     return out, None
 
 
+_GROUPED = re.compile(r"[+-]?\d{1,3}([.,]\d{3})+")  # "3.000", "3,000": thousands or decimals?
+_COMMA_DECIMAL = re.compile(r"[+-]?\d*,\d+([eE][+-]?\d+)?")
+
+
+def _decimal_convention(table: _Table, cols: list[_Column]) -> None:
+    """Decide whether a text table writes decimals with a comma, refusing files that do not say.
+
+    In a semicolon, tab or whitespace file ``15,2`` is a decimal comma; then ``3.000`` may be a
+    thousands dot (3000) or a decimal (3.0), so it is refused, as is a file mixing ``15,2`` and
+    ``15.2``. ``3,000`` with no other decimal in the file is refused too (3 or 3000?).
+    """
+    if not table.decimal_comma:
+        return
+    comma: tuple[int, str, str] | None = None  # first evidence: (row, column, text)
+    dot: tuple[int, str, str] | None = None
+    grouped: list[tuple[int, str, str]] = []
+    for col in cols:
+        if isinstance(col.values, np.ndarray):
+            continue
+        for i, v in enumerate(col.values):
+            if not isinstance(v, str) or ("," not in v and "." not in v):
+                continue
+            t = v.strip()
+            if _GROUPED.fullmatch(t):
+                grouped.append((i, col.name, t))
+            elif _COMMA_DECIMAL.fullmatch(t):
+                if comma is None or i < comma[0]:
+                    comma = (i, col.name, t)
+            elif "." in t and _parse_number(t) is not None and (dot is None or i < dot[0]):
+                dot = (i, col.name, t)
+    if comma and dot:
+        i, name, t = max(comma, dot)
+        first = min(comma, dot)
+        raise _err(table, f"{t!r} writes its decimals differently from {first[2]!r} (column {first[1]!r}, "
+                   f"row {first[0] + 1}); write every number with the same decimal mark", name, i)
+    table.decimal_comma = comma is not None
+    for i, name, t in sorted(grouped):
+        if comma is not None and "." in t:
+            why = f"the file writes decimals with a comma ({comma[2]!r}), so the dot is a thousands separator or a slip"
+        elif dot is not None and "," in t:
+            why = f"the file writes decimals with a dot ({dot[2]!r}), so the comma is a thousands separator or a slip"
+        elif comma is None and dot is None:
+            mark = "comma" if "," in t else "dot"
+            if mark == "dot":
+                continue  # no decimal comma anywhere: 3.000 is 3.0
+            why = f"nothing else in the file says whether the {mark} is a decimal mark or a thousands separator"
+        else:
+            continue
+        raise _err(table, f"{t!r} is ambiguous: {why}; write it without the separator "
+                   f"({t.replace('.', '').replace(',', '')}) or with the file's decimal mark", name, i)
+
+
 def _setting_values(table: _Table, col: _Column) -> np.ndarray:
+    """Setting labels as written: whole numbers as int64 (exact; as text beyond int64), else strings.
+
+    A missing label (empty, ``n/a``, ``NaN``, ``#N/A``...) is an error naming the cell, not a setting.
+    """
     vals = col.values
-    if isinstance(vals, np.ndarray) and vals.dtype.kind == "f":
-        bad = ~np.isfinite(vals)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise _err(table, f"setting label is {vals[i]!r}; every bounce needs one", col.name, i)
-        return vals
+    if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
+        if vals.dtype.kind == "u" and vals.size and int(vals.max()) > _INT64_MAX:
+            return np.array([str(int(v)) for v in vals])
+        return vals.astype(np.int64)
     labels: list[Any] = []
-    for i, v in enumerate(vals):
-        if _is_empty_cell(v):
-            raise _err(table, "empty setting cell; every bounce needs a setting label", col.name, i)
+    for i, v in enumerate(vals.tolist() if isinstance(vals, np.ndarray) else vals):
+        if _is_missing(v) or (isinstance(v, float) and not math.isfinite(v)):
+            shown = "empty" if _is_empty_cell(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str)
+                                                                                     else v)
+            raise _err(table, f"missing setting label ({shown}); every bounce needs one", col.name, i)
         labels.append(v.strip() if isinstance(v, str) else v)
-    numbers = [
-        _parse_number(v) if isinstance(v, str)
-        else (float(v) if isinstance(v, int | float | np.number) and not isinstance(v, bool) else None)
-        for v in labels
-    ]
-    if all(x is not None and math.isfinite(x) for x in numbers):
+    numbers = [_label_number(v) for v in labels]
+    if all(isinstance(x, int) for x in numbers):
+        if all(abs(x) <= _INT64_MAX for x in numbers):
+            return np.array(numbers, dtype=np.int64)
+        return np.array([str(x) for x in numbers])  # too long for int64: kept exact as text
+    if all(isinstance(x, float) for x in numbers):
         return np.array(numbers, dtype=float)
     return np.array([_label(v) for v in labels])
+
+
+def _label_number(v: Any) -> int | float | None:
+    """A setting label as an exact int, a float (non-whole, up to 15 significant digits), or None."""
+    if isinstance(v, bool | np.bool_):
+        return None
+    if isinstance(v, int | np.integer):
+        return int(v)
+    if isinstance(v, float | np.floating):
+        v = float(v)
+        if v.is_integer() and abs(v) < 2.0**53:
+            return int(v)
+        return v if not v.is_integer() else None
+    if not isinstance(v, str):
+        return None
+    text = v.strip().replace("\u2212", "-")
+    if re.fullmatch(r"[+-]?\d+", text):
+        return int(text)  # exact, however long ("01" is 1)
+    x = _parse_number(text)
+    if x is None or not math.isfinite(x):
+        return None
+    if x.is_integer() and abs(x) < 2.0**53:
+        return int(x)
+    digits = len(re.sub(r"[^0-9]", "", text.lower().split("e")[0]).strip("0"))
+    return x if not x.is_integer() and digits <= 15 else None
 
 
 def _label(v: Any) -> str:
@@ -251,6 +354,7 @@ def _campaign_from_table(
         raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each",
                         file=file, column=longest)
 
+    _decimal_convention(table, [c for role, c in cols.items() if role != "setting"])
     # Cell values: report the first bad cell in row order.
     parsed: dict[str, np.ndarray] = {}
     errors: list[DataError] = []
