@@ -208,7 +208,7 @@ def test_fifo_named_csv_is_refused_without_hanging(tmp_path):
     def load() -> None:
         try:
             bl.load_campaign(fifo)
-        except BaseException as exc:  # noqa: BLE001 - examined below
+        except BaseException as exc:
             result.append(exc)
 
     t = threading.Thread(target=load, daemon=True)
