@@ -155,8 +155,8 @@ def test_reproduce_own_file_without_settings(tmp_path, capsys):
     csv = tmp_path / "my_bounces.csv"
     header = "vx0,vy0,w0,vx1,vy1,w1"
     np.savetxt(csv, np.column_stack([p0, pf]), delimiter=",", header=header, comments="")
-    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--out", str(tmp_path / "rep"), "--no-figures",
-                         "--quiet")
+    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--spin-unit", "rad/s", "--out", str(tmp_path / "rep"),
+                       "--no-figures", "--quiet")
     assert code == EXIT_OK and err == ""
     index = (tmp_path / "rep" / "index.html").read_text()
     assert "inferred by clustering" in index
@@ -168,8 +168,8 @@ def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
     csv = tmp_path / "artificial_turf.csv"
     np.savetxt(csv, np.column_stack([ds.landing.values, ds.liftoff.values]), delimiter=",",
                header="vx0,vy0,w0,vx1,vy1,w1", comments="")
-    code, _, _ = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "--out", str(tmp_path / "rep"),
-                     "--no-figures", "--quiet")
+    code, _, _ = run(capsys, "reproduce", "--data", str(csv), "--spin-unit", "rad/s", "--label", "A",
+                     "--out", str(tmp_path / "rep"), "--no-figures", "--quiet")
     assert code == EXIT_OK
     assert "(31.9 %)" in (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
     code, _, err = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "B", "--out", str(tmp_path / "r2"))
