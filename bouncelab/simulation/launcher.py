@@ -47,7 +47,7 @@ import numpy as np
 
 from bouncelab.data import published
 from bouncelab.data.units import landing_from_speed_angle_spin
-from bouncelab.errors import ParameterError
+from bouncelab.errors import DataError, ParameterError
 
 __all__ = ["DIALS", "LaunchPlan", "LauncherDesign"]
 
@@ -124,7 +124,7 @@ class LauncherDesign:
     def __post_init__(self) -> None:
         try:
             key = published.check_campaign(self.campaign)
-        except ValueError as exc:
+        except DataError as exc:
             raise ParameterError(f"LauncherDesign campaign: {exc}") from None
         object.__setattr__(self, "campaign", key)
         try:
@@ -159,7 +159,7 @@ class LauncherDesign:
         """
         try:
             key = published.check_campaign(campaign)
-        except ValueError as exc:
+        except DataError as exc:
             raise ParameterError(str(exc)) from None
         base = {"A": {"settings": ((55, 6),), "lost": 0}, "B": {"settings": ((35, 12), (47, 6)), "lost": 9}}[key]
         return cls(campaign=key, **{**base, **changes})

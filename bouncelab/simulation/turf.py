@@ -25,7 +25,10 @@ The bounce itself is the law evaluated with the spot's parameters. Any
 parameter vector per bounce in one call may define
 ``predict_per_bounce(landing, theta) -> (liftoff, regime_codes)`` with
 ``landing`` (n, 3) and ``theta`` (n, k) in ``parameter_specs`` order, which
-:meth:`Turf.liftoff` then uses instead of a Python loop over bounces.
+:meth:`Turf.liftoff` then uses; a :class:`~bouncelab.CompiledLaw` (such as a
+compiled contact law) needs nothing more: its scalar kernel is called in one
+compiled loop with each bounce's own parameters. Other laws are called once
+per bounce.
 
 The duration of contact (:class:`ContactDuration`) decides how many camera
 frames the turf hides the ball in; it scatters from spot to spot too.
@@ -41,6 +44,7 @@ import numpy as np
 
 from bouncelab.errors import ParameterError
 from bouncelab.laws.base import BounceModel
+from bouncelab.laws.compiled import CompiledLaw
 
 __all__ = ["ContactDuration", "LogNormal", "Normal", "Turf"]
 
@@ -206,8 +210,9 @@ class Turf:
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
-        """Names of the law's parameters, in the order of the columns of :meth:`spot_parameters`."""
-        return tuple(spec.name for spec in self.law.parameter_specs)
+        """Names of the columns of :meth:`spot_parameters`: the law's numbers in ``theta`` order
+        (``name`` for a scalar parameter, ``name[i,j]`` for the elements of an array parameter)."""
+        return tuple(n for spec in self.law.parameter_specs for n in spec.element_names())
 
     @property
     def nominal(self) -> np.ndarray:
@@ -221,27 +226,52 @@ class Turf:
         return replace(self, **changes)
 
     def spot_parameters(self, z: np.ndarray) -> np.ndarray:
-        """(n, k) law parameters of n spots from (n, k) independent standard normal draws ``z``."""
+        """(n, k) law parameters of n spots from (n, k) independent standard normal draws ``z``.
+
+        Each scattered number is clipped to its parameter's physical range.
+        """
         z = np.asarray(z, dtype=float)
         if self.correlation is not None:
             z = z @ np.linalg.cholesky(np.asarray(self.correlation)).T
-        theta = np.tile(self.nominal, (z.shape[0], 1))
-        for col, spec in enumerate(self.law.parameter_specs):
-            dist = self.scatter.get(spec.name)
-            if dist is not None:
-                lo, hi = spec.physical
-                theta[:, col] = np.clip(dist.apply(theta[0, col], z[:, col]), lo, hi)
+        nominal = self.nominal
+        theta = np.tile(nominal, (z.shape[0], 1))
+        col = 0
+        for spec in self.law.parameter_specs:
+            lo, hi = spec.physical_arrays()
+            for k, name in enumerate(spec.element_names()):
+                dist = self.scatter.get(name)
+                if dist is not None:
+                    theta[:, col] = np.clip(dist.apply(nominal[col], z[:, col]), lo[k], hi[k])
+                col += 1
         return theta
 
     def liftoff(self, landing: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Lift-off states (n, 3) and regime codes (n,) of landings (n, 3) on spots with parameters (n, k)."""
-        per_bounce = getattr(self.law, "predict_per_bounce", None)
+        """Lift-off states (n, 3) and regime codes (n,) of landings (n, 3) on spots with parameters (n, k).
+
+        In order of preference: the law's own ``predict_per_bounce(landing, theta)``; for a
+        :class:`~bouncelab.CompiledLaw`, one compiled loop calling its kernel with each row's
+        parameters; otherwise one call per distinct parameter vector.
+        """
+        landing = np.ascontiguousarray(landing, dtype=np.float64)
+        theta = np.ascontiguousarray(theta, dtype=np.float64)
+        if theta.shape != (len(landing), self.nominal.size):
+            raise ParameterError(
+                f"Turf.liftoff needs one parameter row per landing, shape {(len(landing), self.nominal.size)}; "
+                f"got {theta.shape}"
+            )
+        law = self.law
+        per_bounce = getattr(law, "predict_per_bounce", None)
         if per_bounce is not None:
             out, codes = per_bounce(landing, theta)
             return np.asarray(out, dtype=float), np.asarray(codes, dtype=np.int8)
-        law = self.law
-        if np.all(theta == theta[:1]):  # no scatter: one call
-            return law._predict(landing, theta[0]), law._regime(landing, theta[0]).astype(np.int8)
+        if len(landing) and np.all(theta == theta[:1]):  # no scatter: one call
+            return law._predict(landing, theta[0]), np.asarray(law._regime(landing, theta[0]), dtype=np.int8)
+        if isinstance(law, CompiledLaw) and len(landing):
+            kt = np.ascontiguousarray(np.stack([law._kt(row) for row in theta]))
+            out = np.empty_like(landing)
+            codes = np.empty(len(landing), dtype=np.int8)
+            _per_row_loop(law.kernel)(landing, kt, out, codes)
+            return out, codes
         out = np.empty_like(landing)
         codes = np.empty(len(landing), dtype=np.int8)
         for i in range(len(landing)):
@@ -259,3 +289,26 @@ class Turf:
             "correlation": None if self.correlation is None else [list(r) for r in self.correlation],
             "contact_duration": self.contact.to_dict(),
         }
+
+
+_LOOPS: dict[int, tuple[Any, Any]] = {}
+
+
+def _per_row_loop(kernel: Any) -> Any:
+    """A compiled loop calling ``kernel`` on row ``i`` of the landings with row ``i`` of the parameters."""
+    hit = _LOOPS.get(id(kernel))
+    if hit is None or hit[0] is not kernel:
+        from bouncelab._jit import jit
+
+        @jit(nogil=True)
+        def loop(P, KT, out, codes):  # pragma: no cover - compiled
+            for i in range(P.shape[0]):
+                a, b, c, code = kernel(P[i, 0], P[i, 1], P[i, 2], KT[i])
+                out[i, 0] = a
+                out[i, 1] = b
+                out[i, 2] = c
+                codes[i] = code
+
+        hit = (kernel, loop)
+        _LOOPS[id(kernel)] = hit
+    return hit[1]
