@@ -258,3 +258,26 @@ def test_simulate_campaign_is_exported_lazily():
 
     assert bl.simulate_campaign is bouncelab.simulation.simulate_campaign
     assert "simulate_campaign" in dir(bl)
+
+
+def test_array_parameters_scatter_by_element():
+    turf = Turf(bl.PiecewiseAffine.published("A"), {"offset": Normal(50.0), "A1[1,1]": Normal(0.05)})
+    assert turf.parameter_names[3:5] == ("offset", "A1[0,0]") and len(turf.parameter_names) == 28
+    theta = turf.spot_parameters(np.random.default_rng(0).standard_normal((200, 28)))
+    varied = (theta != theta[0]).any(axis=0)
+    assert {turf.parameter_names[k] for k in np.flatnonzero(varied)} == {"offset", "A1[1,1]"}
+    assert np.std(theta[:, 3]) == pytest.approx(50.0, rel=0.2)
+
+
+@pytest.mark.slow
+def test_array_parameter_turf_simulates_each_spot():
+    law = bl.PiecewiseAffine.published("A")
+    turf = Turf(law, {"offset": Normal(50.0), "A1[1,1]": Normal(0.05)})
+    ds = simulate_campaign(LauncherDesign("A", ((5, 2),)), turf, seed=3)
+    spots = ds["spot_parameters"]
+    for i in range(ds.sizes["bounce"]):
+        one = law.replace(offset=float(spots.sel(parameter="offset")[i]),
+                          A1=spots.sel(parameter=[f"A1[{r},{c}]" for r in range(3) for c in range(3)])[i]
+                          .values.reshape(3, 3))
+        np.testing.assert_allclose(ds["true_liftoff"][i], one.predict(ds["true_landing"][i : i + 1].values)[0],
+                                   rtol=1e-12)
