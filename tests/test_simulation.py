@@ -281,3 +281,16 @@ def test_array_parameter_turf_simulates_each_spot():
                           .values.reshape(3, 3))
         np.testing.assert_allclose(ds["true_liftoff"][i], one.predict(ds["true_landing"][i : i + 1].values)[0],
                                    rtol=1e-12)
+
+
+def test_relative_interval_widths_by_hand():
+    ds, *_ = _hand_case()
+    with pytest.raises(bl.DataError, match="landing_pi"):
+        cal.relative_interval_widths(ds)
+    pis = np.array([[30.0, 40.0, 1.0], [10.0, 20.0, 3.0]])
+    ds = ds.assign(landing_pi=(("bounce", "component"), pis), liftoff_pi=(("bounce", "component"), pis))
+    widths = cal.relative_interval_widths(ds)
+    # mean |landing|: xdot (300 + 400)/2 = 350, ydot 350, omega 0 (no relative width)
+    assert widths.loc["landing", "xdot"] == pytest.approx(20.0 / 350.0)
+    assert np.isnan(widths.loc["landing", "omega"])
+    assert widths.loc["landing", "ydot"] == pytest.approx(30.0 / 350.0)

@@ -60,6 +60,7 @@ __all__ = [
     "meets_target",
     "paper_targets",
     "published_errors",
+    "relative_interval_widths",
     "rolling_liftoff_fraction",
 ]
 
@@ -184,3 +185,29 @@ def meets_target(tables: pd.DataFrame | Iterable[pd.DataFrame]) -> dict[str, Any
         and out["rolling_liftoff_fraction"] < TARGET["rolling_liftoff_fraction"]
     )
     return out
+
+
+def relative_interval_widths(data: Any) -> pd.DataFrame:
+    """Median interval half-width over the campaign mean of ``|q|``, per state and component.
+
+    The paper rescales its prediction-interval widths by "the average measurement across
+    all samples" (its Fig. 5) and finds "most prediction intervals are around 5 % of the
+    mean value of each quantity". Not part of the objective: a check of the camera's noise.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``landing``, ``liftoff``; columns ``xdot``, ``ydot``, ``omega`` (fractions; NaN
+        where the mean of ``|q|`` is 0).
+    """
+    rows = {}
+    for state in ("landing", "liftoff"):
+        key = f"{state}_pi"
+        if key not in getattr(data, "data_vars", {}):
+            raise DataError(f"the campaign has no {key!r}: no intervals to compare")
+        values = np.abs(data[state].transpose("bounce", "component").values)
+        half = data[key].transpose("bounce", "component").values
+        mean = values.mean(axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rows[state] = np.where(mean > 0, np.median(half / np.where(mean > 0, mean, 1.0), axis=0), np.nan)
+    return pd.DataFrame.from_dict(rows, orient="index", columns=["xdot", "ydot", "omega"])
