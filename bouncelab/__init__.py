@@ -50,6 +50,7 @@ _LAZY = {
     "load_campaign": "bouncelab.data.io",
     "save_campaign": "bouncelab.data.io",
     "generate_surrogate": "bouncelab.data.surrogate",
+    "simulate_campaign": "bouncelab.simulation",
     "fit": "bouncelab.fitting",
     "FitResult": "bouncelab.fitting",
     "compare": "bouncelab.fitting",
@@ -91,8 +92,8 @@ __all__ = [
 ]
 
 
-# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli).
-_SUBPACKAGES = ("analysis", "cli", "data", "fitting", "laws", "plots")
+# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
+_SUBPACKAGES = ("analysis", "cli", "data", "fitting", "laws", "plots", "simulation")
 
 
 def __getattr__(name: str) -> Any:
