@@ -84,17 +84,20 @@ def estimate_background(frames: np.ndarray, *, n_samples: int = 15) -> Backgroun
     band = float(np.median(rows[-max(h // 20, 1):]))
     surface_row = None
     if band - dark > 10.0:
-        level = dark + (band - dark) / 3.0
-        above = rows > level
+        half = 0.5 * (dark + band)
+        above = rows > half
         # The strip: the last run of bright rows reaching the bottom edge.
         k = h - 1
         while k >= 0 and above[k]:
             k -= 1
         if k < h - 1:
-            # Sub-pixel: where the row profile crosses the level between rows k and k + 1.
-            a, b = rows[k], rows[k + 1]
-            surface_row = float(k + (level - a) / (b - a)) + 0.5 if b != a else float(k + 1)
-            surface_row = min(surface_row, float(k + 1))
+            # Row k + 1 is the first mostly-turf row; row k is covered by the fraction c of its height,
+            # so the line is at k + 0.5 - c (pixel centres at integer rows).
+            local = float(np.median(rows[k + 1 : k + 5]))
+            c = float(np.clip((rows[k] - dark) / (local - dark), 0.0, 1.0)) if k >= 0 else 0.0
+            # Row k + 1 may itself be partly covered (c' in (0.5, 1]).
+            c1 = float(np.clip((rows[k + 1] - dark) / (local - dark), 0.0, 1.0))
+            surface_row = k + 1.5 - c1 - c
     # The ball's brightness above the background: a high quantile of each sampled frame's foreground.
     tops = [np.partition((frames[i].astype(np.float32) - bg).ravel(), -20)[-20] for i in idx]
     contrast = float(np.median(tops))
@@ -106,7 +109,7 @@ def find_ball(
     background: Background,
     *,
     radius_range: tuple[float, float] | None = None,
-    near: tuple[float, float] | None = None,
+    near: tuple[float, ...] | None = None,
 ) -> Circle | None:
     """Find the ball in one frame, or ``None``.
 
@@ -120,9 +123,12 @@ def find_ball(
         Smallest and largest ball radius to look for, pixels (default: 4 px to
         half the frame height).
     near
-        ``(col, row)`` where the ball is expected (e.g. the previous frame's
-        centre): the Hough search is limited to a window around it, which is
-        faster; the whole frame is searched if nothing is found there.
+        ``(col, row)`` or ``(col, row, radius)`` where the ball is expected
+        (e.g. the previous frame's circle): the Hough search is limited to a
+        window around it, which is faster. If nothing is found there, a given
+        radius makes that circle the starting point of the refinement (a ball
+        half hidden by the turf can escape the Hough transform); otherwise the
+        whole frame is searched.
 
     Returns
     -------
@@ -141,7 +147,11 @@ def find_ball(
         c1, r1 = min(int(near[0]) + m + 1, w), min(int(near[1]) + m + 1, h)
         coarse = _hough(fg[r0:r1, c0:c1], rmin, rmax, background.contrast)
         if coarse is not None:
-            coarse = (coarse[0] + c0, coarse[1] + r0, coarse[2])
+            # A ball cut by the turf can fool the Hough radius; the last frame's radius is a better start.
+            coarse = (coarse[0] + c0, coarse[1] + r0, float(near[2]) if len(near) == 3 else coarse[2])
+    if coarse is None and near is not None and len(near) == 3:
+        # The Hough transform can miss a ball half hidden by the turf: start from where it was.
+        coarse = (float(near[0]), float(near[1]), float(near[2]))
     if coarse is None:
         coarse = _hough(fg, rmin, rmax, background.contrast)
     if coarse is None:

@@ -211,8 +211,10 @@ def render_clip(
     dots, seam = ball_pattern()
     cos_dot = np.cos(dot_radius)
     turf = TURF_LEVEL + TURF_TEXTURE * _smooth_texture(rng, h, w)
-    rows = np.arange(h)[:, None]
-    turf_mask = rows >= surface_row  # the turf strip, in front of the ball
+    rows = np.arange(h, dtype=np.float32)[:, None]
+    # The turf strip in front of the ball, from the surface line down; the row it starts in is
+    # partly covered (pixel centres at integer rows).
+    turf_cover = np.clip(rows + 0.5 - surface_row, 0.0, 1.0)
     n = x.size
     frames = np.empty((n, h, w), dtype=np.uint8)
     subs = 1 if motion_blur == 0 else 5
@@ -229,7 +231,7 @@ def render_clip(
             th = theta[k] + lam * (theta[k] - theta[kk])
             acc += _draw_ball(h, w, c, r, radius_px, th, dots, cos_dot, seam, seam_width, supersample)
         img = img + acc / subs
-        img = np.where(turf_mask, turf, img)
+        img = turf_cover * turf + (1.0 - turf_cover) * img
         if noise > 0:
             img = img + noise * rng.standard_normal((h, w)).astype(np.float32)
         frames[k] = np.clip(np.rint(img), 0, 255).astype(np.uint8)

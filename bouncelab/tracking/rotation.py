@@ -105,8 +105,8 @@ def frame_rotation(
     init = (qc + np.column_stack([cg * rel[:, 0] - sg * rel[:, 1], sg * rel[:, 0] + cg * rel[:, 1]])).astype(np.float32)
     crit = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 40, 0.003)
     q, st, _ = cv2.calcOpticalFlowPyrLK(a, b, p.reshape(-1, 1, 2), init.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN),
-                                        maxLevel=1, criteria=crit, flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
-    back, st2, _ = cv2.calcOpticalFlowPyrLK(b, a, q, p.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN), maxLevel=1,
+                                        maxLevel=0, criteria=crit, flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
+    back, st2, _ = cv2.calcOpticalFlowPyrLK(b, a, q, p.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN), maxLevel=0,
                                             criteria=crit, flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
     q = q.reshape(-1, 2)
     good = (st.ravel() == 1) & (st2.ravel() == 1) & (np.hypot(*(back.reshape(-1, 2) - p).T) < 0.3)

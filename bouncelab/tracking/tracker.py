@@ -106,7 +106,7 @@ def track_clip(
             near = None
             continue
         col[k], row[k], rad[k], low[k] = c.col, c.row, c.radius, c.lowest_row
-        near = (c.col, c.row)
+        near = (c.col, c.row, c.radius)
     found = np.isfinite(col)
     if not found.any():
         raise DataError(f"the ball was not found in any of the {n} frames (is it bright on a dark background, "
