@@ -17,7 +17,8 @@ from bouncelab.analysis.measurement import estimate_spin, measure_bounce
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
-from bouncelab.tracking.tracker import track_clip
+from bouncelab.tracking.frames import read_frames
+from bouncelab.tracking.tracker import check_fps, track_clip
 
 __all__ = ["ClipFailure", "ClipSettings", "TrackedCampaign", "clip_settings", "measure_clip", "measure_clips"]
 
@@ -130,12 +131,15 @@ class TrackedCampaign:
         Per clip name, the :func:`~bouncelab.tracking.track_clip` result.
     failures
         The clips that failed, with the reason.
+    figures
+        Per clip name, the diagnostic figure written.
     """
 
     campaign: xr.Dataset | None
     measurements: dict[str, xr.Dataset] = field(default_factory=dict)
     tracks: dict[str, xr.Dataset] = field(default_factory=dict)
     failures: list[ClipFailure] = field(default_factory=list)
+    figures: dict[str, Path] = field(default_factory=dict)
 
 
 def clip_settings(
@@ -215,6 +219,7 @@ def measure_clips(
     data_kind: str = "measured",
     progress: Callable[[int, int, str], None] | None = None,
     keep_tracks: bool = True,
+    figure_dir: str | Path | None = None,
 ) -> TrackedCampaign:
     """Track and measure many clips (one bounce each) into a campaign Dataset.
 
@@ -241,7 +246,12 @@ def measure_clips(
     progress
         Called as ``progress(done, total, clip)`` after each clip.
     keep_tracks
-        Keep each clip's track in the result (for diagnostic figures).
+        Keep each clip's track in the result.
+    figure_dir
+        Write each tracked clip's diagnostic figure
+        (:func:`~bouncelab.tracking.figure.diagnostic_figure`) there as
+        ``<clip stem>.png`` (needs matplotlib); also for clips whose
+        measurement failed once the ball was tracked.
 
     Returns
     -------
@@ -258,8 +268,11 @@ def measure_clips(
     for k, clip in enumerate(items):
         name = f"clip{k}" if isinstance(clip, np.ndarray) else str(clip)
         s = settings.get(name, ClipSettings(fps=fps))
+        frames = track = m = None
         try:
-            track = track_clip(clip, fps=s.fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
+            check_fps(s.fps, name)  # before reading a long clip for nothing
+            frames = read_frames(clip, name=name)
+            track = track_clip(frames, fps=s.fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
                                name=name)
             if keep_tracks:
                 result.tracks[name] = track
@@ -269,6 +282,14 @@ def measure_clips(
             radii.add(s.ball_radius_m)
         except DataError as exc:
             result.failures.append(ClipFailure(clip=name, reason=str(exc)))
+        if figure_dir is not None and track is not None:
+            import matplotlib.pyplot as plt
+
+            from bouncelab.tracking.figure import diagnostic_figure
+
+            fig = diagnostic_figure(frames, track, m, Path(figure_dir) / f"{Path(name).stem}.png")
+            plt.close(fig)
+            result.figures[name] = Path(figure_dir) / f"{Path(name).stem}.png"
         if progress is not None:
             progress(k + 1, len(items), name)
     if rows:

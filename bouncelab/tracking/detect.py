@@ -142,10 +142,11 @@ def find_ball(
     thr = 0.5 * background.contrast
     coarse = None
     if near is not None:
-        m = int(np.ceil(2.5 * rmax))
+        lo, hi = (0.75 * near[2], 1.3 * near[2]) if len(near) == 3 else (rmin, rmax)
+        m = int(np.ceil(2.5 * hi + 8))
         c0, r0 = max(int(near[0]) - m, 0), max(int(near[1]) - m, 0)
         c1, r1 = min(int(near[0]) + m + 1, w), min(int(near[1]) + m + 1, h)
-        coarse = _hough(fg[r0:r1, c0:c1], rmin, rmax, background.contrast)
+        coarse = _hough(fg[r0:r1, c0:c1], lo, hi, background.contrast)
         if coarse is not None:
             # A ball cut by the turf can fool the Hough radius; the last frame's radius is a better start.
             coarse = (coarse[0] + c0, coarse[1] + r0, float(near[2]) if len(near) == 3 else coarse[2])
@@ -160,12 +161,14 @@ def find_ball(
     if fg[int(np.clip(round(row), 0, h - 1)), int(np.clip(round(col), 0, w - 1))] < 0.2 * thr and \
             _disc_mean(fg, col, row, 0.7 * rad) < 0.5 * thr:
         return None  # a Hough circle on noise, not on a bright ball
-    fit = None
-    for _ in range(2):
+    for _ in range(2):  # a second pass from the refined circle if the rough one was off
         fit = _refine(fg, col, row, rad, background.surface_row)
         if fit is None:
             return None
+        moved = np.hypot(fit[0] - col, fit[1] - row) + abs(fit[2] - rad)
         col, row, rad, n_edge = fit
+        if moved < 0.5:
+            break
     if not (0.7 * rmin <= rad <= 1.3 * rmax):
         return None
     lowest = _lowest_row(fg, col, row, rad)
@@ -245,7 +248,7 @@ def _refine(fg: np.ndarray, col: float, row: float, rad: float, surface_row: flo
     ex, ey = ex[ok].astype(float), ey[ok].astype(float)
     keep = np.ones(ex.size, dtype=bool)
     for _ in range(3):
-        cx, cy, r = _fit_circle(ex[keep], ey[keep])
+        cx, cy, r = _fit_circle(ex[keep], ey[keep], iterations=1)
         res = np.hypot(ex - cx, ey - cy) - r
         scale = max(1.4826 * np.median(np.abs(res[keep] - np.median(res[keep]))), 0.05)
         new = np.abs(res) < 3.0 * scale
@@ -256,20 +259,23 @@ def _refine(fg: np.ndarray, col: float, row: float, rad: float, surface_row: flo
     return cx, cy, r, int(keep.sum())
 
 
-def _fit_circle(x: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
+def _fit_circle(x: np.ndarray, y: np.ndarray, iterations: int = 5) -> tuple[float, float, float]:
     """Least-squares circle: algebraic (Kasa) start, then Gauss-Newton on the geometric distances."""
     xm, ym = x.mean(), y.mean()
     u, v = x - xm, y - ym
-    a = np.column_stack([u, v, np.ones_like(u)])
-    sol, *_ = np.linalg.lstsq(a, u * u + v * v, rcond=None)
+    a = np.stack([u, v, np.ones_like(u)])
+    sol = np.linalg.solve(a @ a.T, a @ (u * u + v * v))
     cx, cy = sol[0] / 2, sol[1] / 2
     r = np.sqrt(max(sol[2] + cx * cx + cy * cy, 1e-12))
-    for _ in range(5):
+    for _ in range(iterations):
         dx, dy = u - cx, v - cy
         d = np.hypot(dx, dy)
         d = np.where(d > 0, d, 1e-12)
-        jac = np.column_stack([-dx / d, -dy / d, -np.ones_like(d)])
-        step, *_ = np.linalg.lstsq(jac, -(d - r), rcond=None)
+        jac = np.stack([-dx / d, -dy / d, -np.ones_like(d)])
+        try:
+            step = np.linalg.solve(jac @ jac.T, jac @ (r - d))
+        except np.linalg.LinAlgError:
+            break
         cx, cy, r = cx + step[0], cy + step[1], r + step[2]
         if np.abs(step).max() < 1e-6:
             break

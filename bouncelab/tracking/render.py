@@ -30,6 +30,7 @@ Geometry and conventions
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -74,6 +75,21 @@ class RenderedClip:
     radius_px: float
     truth: xr.Dataset
     settings: dict[str, Any] = field(default_factory=dict)
+
+    def save(self, path) -> Path:
+        """Write the frames, the frame rate and the true states to a compressed ``.npz`` (atomically).
+
+        :func:`~bouncelab.tracking.read_frames` reads the ``frames``; the file
+        also holds ``fps``, ``true_landing`` and ``true_liftoff`` (scaled units).
+        """
+        import io
+
+        from bouncelab.atomic import atomic_write_bytes
+
+        buf = io.BytesIO()
+        np.savez_compressed(buf, frames=self.frames, fps=self.fps, true_landing=self.landing,
+                            true_liftoff=self.liftoff)
+        return atomic_write_bytes(path, buf.getvalue())
 
     @property
     def landing(self) -> np.ndarray:

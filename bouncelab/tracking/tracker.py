@@ -73,15 +73,7 @@ def track_clip(
         Unreadable source, missing or bad frame rate, or a ball found in no frame.
     """
     label = name or (str(source) if not isinstance(source, np.ndarray) else "array")
-    if fps is None:
-        raise DataError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
-                        "manifest)", file=label)
-    try:
-        fps = float(fps)
-    except (TypeError, ValueError):
-        raise DataError(f"fps must be a number of frames per second; got {fps!r}", file=label) from None
-    if not (np.isfinite(fps) and fps > 0):
-        raise DataError(f"fps must be a positive number of frames per second; got {fps!r}", file=label)
+    fps = check_fps(fps, label)
     if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
         raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label)
     if pixels_per_metre is not None and not (np.isfinite(pixels_per_metre) and pixels_per_metre > 0):
@@ -162,3 +154,17 @@ def track_clip(
         coords={"frame": np.arange(n), "t": ("frame", np.arange(n) * dt, {"units": "s"})},
         attrs=attrs,
     )
+
+
+def check_fps(fps, label: str) -> float:
+    """The frame rate as a positive float, or a DataError naming the clip."""
+    if fps is None:
+        raise DataError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
+                        "manifest)", file=label)
+    try:
+        fps = float(fps)
+    except (TypeError, ValueError):
+        raise DataError(f"fps must be a number of frames per second; got {fps!r}", file=label) from None
+    if not (np.isfinite(fps) and fps > 0):
+        raise DataError(f"fps must be a positive number of frames per second; got {fps!r}", file=label)
+    return fps
