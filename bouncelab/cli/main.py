@@ -6,6 +6,7 @@ Commands
 ``bouncelab fit``        fit one law to a campaign and print the report (optionally save the law)
 ``bouncelab predict``    lift-off states from landing states, in any units
 ``bouncelab info``       what a campaign file (or the embedded default) holds
+``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
 
 Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
 that cannot be done as asked; 1 anything unexpected (a bug: please report it).
@@ -102,6 +103,10 @@ def build_parser() -> argparse.ArgumentParser:
     info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
     info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
     _add_data_options(info)
+
+    from bouncelab.cli.track import add_parser as add_track_parser  # implementation in cli/track.py
+
+    add_track_parser(sub)
     return parser
 
 
@@ -115,6 +120,10 @@ def main(argv: list[str] | None = None) -> int:
     from bouncelab.errors import DataError, FitError, ParameterError
 
     try:
+        if args.command == "track":
+            from bouncelab.cli.track import run as run_track
+
+            return run_track(args)
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except (DataError, FileNotFoundError, IsADirectoryError) as exc:
         print(f"bouncelab {args.command}: data error: {exc}", file=sys.stderr)
