@@ -26,6 +26,7 @@ from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError
 from bouncelab.laws import (
     BounceModel,
     CompiledLaw,
+    CompliantImpact,
     Parameter,
     Parameters,
     PennerFixed,
@@ -33,6 +34,7 @@ from bouncelab.laws import (
     PiecewiseAffine,
     Rigid,
     TangentialRestitution,
+    TurfContact,
     fit_method,
     load_law,
 )
@@ -56,6 +58,7 @@ __all__ = [
     "BounceModel",
     "BouncelabError",
     "CompiledLaw",
+    "CompliantImpact",
     "DataError",
     "FitError",
     "NotFittedError",
@@ -67,6 +70,7 @@ __all__ = [
     "PiecewiseAffine",
     "Rigid",
     "TangentialRestitution",
+    "TurfContact",
     "__version__",
     "classify_slip_roll",
     "delta",
