@@ -154,7 +154,7 @@ class TurfContact(CompiledLaw):
         >>> import numpy as np
         >>> rows = np.array([[6.8, 1.0, 0.3, 0.6, 6.0, 3.0], [6.8, 0.5, 0.3, 0.6, 6.0, 3.0]])
         >>> TurfContact.predict_varying([[300.0, -800.0, 0.0]] * 2, rows)[:, 1].round(1)
-        array([419.6, 601.9])
+        array([419.6, 458.2])
         """
         from bouncelab.laws._contact import predict_per_bounce
 
