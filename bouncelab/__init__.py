@@ -33,6 +33,7 @@ from bouncelab.errors import (
 from bouncelab.laws import (
     BounceModel,
     CompiledLaw,
+    CompliantImpact,
     Parameter,
     Parameters,
     PennerFixed,
@@ -40,6 +41,7 @@ from bouncelab.laws import (
     PiecewiseAffine,
     Rigid,
     TangentialRestitution,
+    TurfContact,
     fit_method,
     load_law,
 )
@@ -64,6 +66,7 @@ __all__ = [
     "BounceModel",
     "BouncelabError",
     "CompiledLaw",
+    "CompliantImpact",
     "DataError",
     "FitError",
     "LawDefinitionError",
@@ -76,6 +79,7 @@ __all__ = [
     "PiecewiseAffine",
     "Rigid",
     "TangentialRestitution",
+    "TurfContact",
     "__version__",
     "classify_slip_roll",
     "delta",

@@ -12,6 +12,7 @@
 :func:`plot_predictions`    Fig. 8: predicted vs observed lift-off, one row per law
 :func:`plot_repeatability`  Fig. 9: mean landing vs mean lift-off per setting, 95 % CIs
 :func:`plot_slices`         Fig. 10: all nine landing/lift-off component slices
+:func:`plot_lever_arm`      where the horizontal impulse acts: Δω/Δẋ of data and laws
 :func:`save_figure`         write a figure to a file
 ==========================  =========================================================
 
@@ -24,10 +25,12 @@ data carry a visible "synthetic surrogate data" note.
 from bouncelab.plots._common import save_figure
 from bouncelab.plots.comparison import plot_predictions, plot_repeatability
 from bouncelab.plots.figures import plot_pi_widths, plot_slices, plot_tangential
+from bouncelab.plots.impulse import plot_lever_arm
 from bouncelab.plots.landing import plot_landing_space
 
 __all__ = [
     "plot_landing_space",
+    "plot_lever_arm",
     "plot_pi_widths",
     "plot_predictions",
     "plot_repeatability",
