@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -147,6 +148,10 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     assert "SYNTHETIC SURROGATE" in index
     assert "[ 1/10] loading A" in err and "done" in err
     assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
+    # Every file is listed in the manifest that lets a later run replace this report, and nothing else is left.
+    listed = set(json.loads((rep / ".bouncelab-report.json").read_text())["files"])
+    assert listed | {".bouncelab-report.json"} == {p.relative_to(rep).as_posix() for p in rep.rglob("*") if p.is_file()}
+    assert [p.name for p in tmp_path.iterdir()] == ["rep"]
 
 
 def test_reproduce_own_file_without_settings(tmp_path, capsys):
@@ -173,7 +178,7 @@ def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
     assert code == EXIT_OK
     assert "(31.9 %)" in (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
     code, _, err = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "B", "--out", str(tmp_path / "r2"))
-    assert code == EXIT_DATA and "one --label per --data file" in err
+    assert code == EXIT_USAGE and "one --label per --data file" in err
 
 
 def test_reproduce_bad_file(tmp_path, capsys):

@@ -12,11 +12,25 @@ For every campaign (the embedded surrogates "A" and "B", or data files):
 * the analyses: repeatability per setting, tangential-velocity counts, prediction-interval widths;
 * the fitted laws as JSON, every table as markdown and CSV, the figures as PNG;
 * one ``index.html`` showing it all.
+
+The report is complete or not there at all: it is built in a hidden folder beside ``out`` and
+swapped in only when every file is written, so a failed run (a bad file, a full disk, an
+interrupt) leaves the previous report as it was. File names never come from the data: a
+campaign is named by the command line (``A``, ``B``, a ``--label``, or the file's stem), cleaned
+to letters, digits, ``_`` and ``-``. ``out`` must be new, empty, or a previous report whose
+files are all bouncelab's (listed in its ``.bouncelab-report.json``); any other folder is
+refused before any work, so files a user keeps there are never deleted.
 """
 
 from __future__ import annotations
 
+import json
+import os
+import re
+import shutil
+import stat
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -27,10 +41,18 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from bouncelab.atomic import atomic_write_text
 from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
-from bouncelab.errors import DataError
+from bouncelab.errors import BouncelabError, DataError
 
-__all__ = ["BOOTSTRAP_RESAMPLES", "Report", "reproduce"]
+__all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "reproduce"]
+
+#: The file in a report folder that lists every file bouncelab wrote there (relative paths).
+MANIFEST = ".bouncelab-report.json"
+
+
+class OutputError(BouncelabError, ValueError):
+    """The output folder cannot be used or written (not a previous report, read-only, disk full...)."""
 
 #: Resamples of the parameter bootstrap in the report (3 to 4 s per campaign here; the refits run one after another).
 BOOTSTRAP_RESAMPLES = 100
@@ -77,9 +99,95 @@ class _Step:
 
 def _write_table(df: pd.DataFrame, md: str, stem: Path, files: list[Path]) -> None:
     stem.parent.mkdir(parents=True, exist_ok=True)
-    df.to_csv(stem.with_suffix(".csv"))
-    stem.with_suffix(".md").write_text(md)
+    atomic_write_text(stem.with_suffix(".csv"), df.to_csv())
+    atomic_write_text(stem.with_suffix(".md"), md)
     files += [stem.with_suffix(".csv"), stem.with_suffix(".md")]
+
+
+_UNSAFE = re.compile(r"[^A-Za-z0-9_-]+")
+
+
+def campaign_file_name(text: str) -> str:
+    """``text`` made safe as the start of a file name: runs of anything but letters, digits, ``_``
+    and ``-`` become one ``_`` (so no ``/``, ``..`` or leading dot survives); "campaign" if nothing is left.
+
+    >>> campaign_file_name("../../x"), campaign_file_name("turf B (2024)"), campaign_file_name("/")
+    ('x', 'turf_B_2024', 'campaign')
+    """
+    return _UNSAFE.sub("_", str(text)).strip("_") or "campaign"
+
+
+def _previous_report_files(out: Path) -> set[str] | None:
+    """Relative paths of the files a previous report in ``out`` consists of; None if it is not one."""
+    manifest = out / MANIFEST
+    if manifest.is_file():
+        try:
+            listed = json.loads(manifest.read_text())["files"]
+        except (ValueError, KeyError, TypeError, OSError):
+            return None
+        return {str(f) for f in listed} | {MANIFEST}
+    index = out / "index.html"
+    if index.is_file():  # a report of bouncelab <= 0.1.0, before the manifest: its index lists its files
+        try:
+            text = index.read_text(errors="replace")
+        except OSError:
+            return None
+        if "<title>bouncelab report</title>" in text:
+            import html
+
+            return {html.unescape(f) for f in re.findall(r"<li><a href='([^']*)'>", text)} | {"index.html"}
+    return None
+
+
+def _check_out(out: Path) -> None:
+    """Refuse, before any work, an ``out`` that the swap at the end could not replace safely."""
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {str(out)!r} exists and is not a folder")
+    parent = out.parent
+    if not parent.is_dir():
+        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} is not writable")
+    if not out.exists():
+        return
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable")
+    present = {p.relative_to(out).as_posix() for p in out.rglob("*") if not p.is_dir()}
+    if not present:
+        return
+    ours = _previous_report_files(out)
+    if ours is None:
+        raise OutputError(f"--out {str(out)!r} is a non-empty folder that is not a bouncelab report; "
+                          "give a new or empty folder (a previous report there is replaced as a whole)")
+    foreign = sorted(present - ours)
+    if foreign:
+        shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+        raise OutputError(f"--out {str(out)!r} holds files that are not part of its previous report ({shown}); "
+                          "move them or give another folder (the report is replaced as a whole)")
+
+
+def _swap_in(staging: Path, out: Path) -> None:
+    """Put the finished ``staging`` folder at ``out``, the previous report (if any) going away only after."""
+    mode = stat.S_IMODE(out.stat().st_mode) if out.exists() else 0o777 & ~_umask()
+    os.chmod(staging, mode)
+    if not out.exists():
+        os.rename(staging, out)
+        return
+    old = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.old-"))
+    os.rmdir(old)
+    os.rename(out, old)
+    try:
+        os.rename(staging, out)
+    except BaseException:
+        os.rename(old, out)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def _steps_per_campaign(figures: bool) -> int:
@@ -95,6 +203,7 @@ def reproduce(
     figures: bool = True,
     progress: bool = True,
     load: Callable[[str], xr.Dataset] | None = None,
+    labels: dict[str, str] | None = None,
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
 
@@ -105,7 +214,8 @@ def reproduce(
     data
         Paths of bounce-data files (see :func:`bouncelab.load_campaign`).
     out
-        Output folder (created if needed; files in it are overwritten).
+        Output folder: new, empty, or a previous report (replaced as a whole, only once the new
+        one is complete). A folder holding anything else is refused with :class:`OutputError`.
     seed
         Seed of the held-out split and of every fit.
     figures
@@ -114,41 +224,98 @@ def reproduce(
         Show a progress display on stderr.
     load
         How to load a source (default :func:`bouncelab.load_campaign`).
+    labels
+        A name for some ``data`` files (path -> name), used in the file names and headings;
+        other files are named by their stem. Names are cleaned by :func:`campaign_file_name`.
 
     Returns
     -------
     Report
+
+    Raises
+    ------
+    OutputError
+        ``out`` is not a new, empty or previous-report folder, or a file cannot be written;
+        the previous report is then left as it was.
+    DataError
+        A source cannot be loaded.
     """
     from bouncelab.data.io import load_campaign
 
     sources = [*campaigns, *data]
     if not sources:
         raise DataError("nothing to reproduce: give campaigns (A, B) or data files")
+    labels = dict(labels or {})
+    names: list[str] = []
+    for src in sources:
+        # The name comes from the command line, never from the data: the data's own "campaign"
+        # attribute is shown in the report but does not steer where files are written.
+        base = campaign_file_name(labels.get(src, src if src in campaigns else Path(str(src)).stem))
+        name, i = base, 2
+        while name in names:
+            name, i = f"{base}_{i}", i + 1
+        names.append(name)
     if figures:
         from bouncelab.plots._common import pyplot
 
         pyplot()  # fail early, before any work, if matplotlib is missing
     load = load or load_campaign
     start = time.perf_counter()
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    report = Report(out=out, index=out / "index.html")
+    out = Path(out).expanduser()
+    if out.is_symlink():
+        out = Path(os.path.realpath(out))  # replace the folder the link points to, keep the link
+    out = out.absolute()
+    _check_out(out)
     step = _Progress(len(sources) * _steps_per_campaign(figures) + 1, progress)  # + index.html
     loaded = []
-    for src in sources:
+    for src, name in zip(sources, names, strict=True):
         with step(f"loading {src}"):
-            ds = load(src)
-        name = str(ds.attrs.get("campaign") or Path(str(src)).stem)
-        if name in [n for n, _ in loaded]:
-            name = f"{name}_{len(loaded) + 1}"
-        loaded.append((name, ds))
+            loaded.append((name, load(src)))
+    try:
+        staging = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
+    except OSError as exc:
+        raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
+    try:
+        report = _build(loaded, staging, seed, figures, step, start)
+        _swap_in(staging, out)
+    except OSError as exc:
+        shutil.rmtree(staging, ignore_errors=True)
+        where = f" ({exc.filename})" if exc.filename else ""
+        raise OutputError(f"cannot write the report to {str(out)!r}{where}: {exc.strerror or exc}; "
+                          "the previous report, if any, is unchanged") from None
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return _moved(report, staging, out)
+
+
+def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: bool, step: _Progress,
+           start: float) -> Report:
+    """Write the whole report into the (new, empty) folder ``out``."""
+    report = Report(out=out, index=out / "index.html")
     for name, ds in loaded:
         report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files)
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
-        report.index.write_text(index_html(report))
         report.files.append(report.index)
+        atomic_write_text(report.index, index_html(report))
+        listed = sorted(p.relative_to(out).as_posix() for p in report.files)
+        atomic_write_text(out / MANIFEST, json.dumps({"written_by": "bouncelab reproduce", "files": listed},
+                                                     indent=1) + "\n")
     return report
+
+
+def _moved(report: Report, staging: Path, out: Path) -> Report:
+    """The report's paths, from the staging folder to ``out``."""
+
+    def move(p: Path) -> Path:
+        return out / p.relative_to(staging)
+
+    for sec in report.sections.values():
+        sec["laws"] = {k: move(p) for k, p in sec["laws"].items()}
+        sec["figures"] = {k: move(p) for k, p in sec["figures"].items()}
+    return Report(out=out, index=out / "index.html", files=[move(p) for p in report.files],
+                  sections=report.sections, elapsed=report.elapsed)
 
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,

@@ -172,14 +172,20 @@ def class_handles(counts: dict[str, int], *, markersize: float = 7.0) -> list:
 def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) -> Path:
     """Save ``fig`` to ``path`` (format from the suffix, parent folders created); return the path.
 
-    Further keyword arguments go to :meth:`matplotlib.figure.Figure.savefig`.
+    The file is written atomically (a temporary file beside it, then a rename): a failed save
+    leaves any previous file at ``path`` intact. Further keyword arguments go to
+    :meth:`matplotlib.figure.Figure.savefig`.
     """
+    from bouncelab.atomic import atomic_path
+
     _check_figure(fig)
     path = Path(path)
     if not path.suffix:
         raise ValueError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, **kwargs)
+    kwargs.setdefault("format", path.suffix[1:].lower())
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, **kwargs)
     return path
 
 
