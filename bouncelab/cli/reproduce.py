@@ -3,7 +3,8 @@
 For every campaign (the embedded surrogates "A" and "B", or data files):
 
 * Table 3 layout: the rigid family and the piecewise-affine law fitted to all bounces by
-  bouncelab's global search, beside the paper's published values (plus, beyond the paper,
+  bouncelab's global search, beside the paper's published values for the paper's campaigns
+  A and B (and only for them) (plus, beyond the paper,
   the tangential-restitution law and the paper's own two-stage procedure for Rigid);
 * Table 2 layout: the piecewise-affine law on the paper's split (one bounce per launcher
   setting held out), by the paper's SVM procedure and by bouncelab's delta-optimal plane;
@@ -67,6 +68,8 @@ class Report:
     files: list[Path] = field(default_factory=list)
     sections: dict[str, dict[str, Any]] = field(default_factory=dict)
     elapsed: float = 0.0
+    #: Units of the figures (``{"velocity": ..., "spin": ...}``); None for the scaled units.
+    figure_units: dict[str, str] | None = None
 
 
 class _Progress:
@@ -322,12 +325,15 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
               files: list[Path]) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
+    from bouncelab.data import published
     from bouncelab.data.settings import infer_settings
     from bouncelab.fitting import bootstrap, compare, cross_validate, fit, split_by_setting
     from bouncelab.fitting.comparison import PAPER_LAWS
     from bouncelab.laws import PiecewiseAffine, Rigid, registered_laws
 
-    section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {}}
+    camp = str(ds.attrs.get("campaign", "")).upper()
+    section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {},
+                               "paper_campaign": camp if camp in published.CAMPAIGNS else None}
     if ds.attrs.get("data_kind") == "synthetic surrogate":
         section["notes"].append(ds.attrs.get("warning", "synthetic surrogate data"))
     if "setting" not in ds.coords:
@@ -340,9 +346,10 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
     tables = out / "tables"
 
     def add(key: str, df: pd.DataFrame, stem: str, title: str, *, percent: bool = False,
-            shown: pd.DataFrame | None = None) -> None:
+            shown: pd.DataFrame | None = None, missing: str = "nan", note: str = "") -> None:
         """Write a table as CSV and markdown and show it in the report under ``key``."""
-        md = f"### {title}\n\n" + frame_markdown(df if shown is None else shown, percent=percent)
+        md = f"### {title}\n\n" + frame_markdown(df if shown is None else shown, percent=percent, missing=missing)
+        md += f"\n{note}\n" if note else ""
         _write_table(df, md, tables / f"{name}_{stem}", files)
         section["tables"][key] = md
 
@@ -418,7 +425,10 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         rep_df.to_csv(tables / f"{name}_repeatability.csv")
         files.append(tables / f"{name}_repeatability.csv")
         add("Repeatability", summ, "repeatability_summary",
-            f"Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting")
+            f"Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting", missing="–",
+            note="Medians over the settings. The row 'all' pools the three components for the ratio and the "
+                 "fraction of settings whose lift-off interval is wider; it has no median half-width, as the "
+                 "components' units differ.")
         section["repeatability"] = rep
 
     with step(f"{name}: tangential velocities and prediction intervals"):
