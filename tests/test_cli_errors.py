@@ -102,6 +102,12 @@ CASES = [
     (["reproduce", "--campaign", "A", "--out", "{d}/missing/rep", "--quiet", "--no-figures"], EXIT_USAGE,
      "does not exist"),
     (["reproduce", "--data", "{d}/two.csv", "--label", "x", "y", "--quiet"], EXIT_USAGE, "one --label per"),
+    (["reproduce", "--campaign", "A", "--figure-units", "metric", "--out", "{d}/r3", "--quiet"], EXIT_USAGE,
+     "unknown figure units"),
+    (["reproduce", "--campaign", "A", "--figure-units", "knots,rpm", "--out", "{d}/r3", "--quiet"], EXIT_USAGE,
+     "unknown velocity unit"),
+    (["reproduce", "--campaign", "A", "--figure-units", "m/s,rpm,x", "--out", "{d}/r3", "--quiet"], EXIT_USAGE,
+     "VELOCITY,SPIN"),
     (["fit", "Rigid", "A", "--save", "{d}"], EXIT_USAGE, "folder"),
     (["fit", "Rigid", "A", "--save", "{d}/missing/law.json"], EXIT_USAGE, "does not exist"),
 ]

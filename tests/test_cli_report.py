@@ -227,3 +227,22 @@ def test_report_files_are_written_atomically(capsys, tmp_path, monkeypatch):
     monkeypatch.setattr(rp, "atomic_write_text", spy)
     rp._write_table(pd.DataFrame({"a": [1.0, np.nan]}), "### t\n", tmp_path / "x_table", [])
     assert calls == ["x_table.csv", "x_table.md"]
+
+
+def test_figure_units_flag_reaches_the_figures_and_the_report_text(capsys, tmp_path, monkeypatch):
+    seen = []
+
+    def campaign(name, ds, out, seed, figures, step, files, units=None):
+        seen.append(units)
+        return _fake_campaign(name, ds, out, seed, figures, step, files)
+
+    monkeypatch.setattr(rp, "_campaign", campaign)
+    out = tmp_path / "rep"
+    code, _, err = run(capsys, "reproduce", "--campaign", "A", "--figure-units", "ft/s,rev/s", "--out", out, "--quiet")
+    assert code == EXIT_OK, err
+    assert (seen[0].velocity, seen[0].spin) == ("ft/s", "rev/s")
+    assert "in the figures: velocities in ft/s, spin in rev/s" in (out / "index.html").read_text()
+    code, _, err = run(capsys, "reproduce", "--campaign", "A", "--figure-units", "lab", "--out", out, "--quiet")
+    assert code == EXIT_OK and (seen[1].velocity, seen[1].spin) == ("m/s", "rpm")
+    assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--quiet")[0] == EXIT_OK
+    assert seen[2].velocity == "radius/s" and "in the figures" not in (out / "index.html").read_text()

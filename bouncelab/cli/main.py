@@ -117,6 +117,10 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--out", default="report", help="output directory (default: report)")
     rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
     rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
+    rep.add_argument("--figure-units", metavar="UNITS",
+                     help="units of the figures' axes: scaled (default: radii/s, rad/s), si (m/s, rad/s), "
+                          "lab (m/s, rpm), imperial (mph, rpm), or VELOCITY,SPIN such as ft/s,rev/s; "
+                          "tables stay in scaled units")
     rep.add_argument("--quiet", action="store_true", help="no progress display")
     _add_data_options(rep)
 
@@ -195,6 +199,23 @@ def _oneline(exc: BaseException) -> str:
     return str(exc)
 
 
+def _figure_units(text: str | None):
+    """--figure-units: a preset name or VELOCITY,SPIN; checked now (exit 2), before any work."""
+    if text is None:
+        return None
+    from bouncelab.errors import DataError
+    from bouncelab.plots._common import figure_units
+
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) > 2:
+        raise UsageError(f"--figure-units takes a preset or VELOCITY,SPIN (e.g. m/s,rpm); got {text!r}")
+    spec = parts[0] if len(parts) == 1 else {"velocity": parts[0], "spin": parts[1]}
+    try:
+        return figure_units(spec)
+    except DataError as exc:
+        raise UsageError(f"--figure-units: {exc}") from None
+
+
 def _reproduce(args: argparse.Namespace) -> int:
     from bouncelab.cli.reproduce import reproduce
 
@@ -209,7 +230,7 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
-        progress=not args.quiet, load=load, labels=labels,
+        progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
     )
     print(f"report written to {report.index}")
     return EXIT_OK

@@ -134,7 +134,7 @@ def _figure_units(report: Report) -> str:
     units = getattr(report, "figure_units", None)
     if not units:
         return ""
-    return f" (figures: velocities in {units['velocity']}, spin in {units['spin']})"
+    return f" in the tables (in the figures: velocities in {units['velocity']}, spin in {units['spin']})"
 
 
 def index_html(report: Report) -> str:
@@ -146,8 +146,8 @@ def index_html(report: Report) -> str:
              "<h1>bouncelab: golf-ball bounce laws</h1>",
              f"<p>The analysis of {html.escape(CITATION)}, run on each campaign below. "
              f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
-             "Delta q (fractions of the landing state's norm, shown in per cent); in the tables, velocities are "
-             f"in ball radii per second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
+             "Delta q (fractions of the landing state's norm, shown in per cent); velocities are in ball radii per "
+             f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
              "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
              + "</nav>"]
     for name, sec in report.sections.items():

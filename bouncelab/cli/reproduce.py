@@ -207,6 +207,7 @@ def reproduce(
     progress: bool = True,
     load: Callable[[str], xr.Dataset] | None = None,
     labels: dict[str, str] | None = None,
+    figure_units: Any = None,
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
 
@@ -230,6 +231,10 @@ def reproduce(
     labels
         A name for some ``data`` files (path -> name), used in the file names and headings;
         other files are named by their stem. Names are cleaned by :func:`campaign_file_name`.
+    figure_units
+        Units of the figures' axes: None (scaled: radii/s, rad/s), a preset ("si", "lab",
+        "imperial") or a mapping such as ``{"velocity": "m/s", "spin": "rpm"}`` (see
+        :func:`bouncelab.plots.figure_units`). Tables stay in scaled units.
 
     Returns
     -------
@@ -258,10 +263,13 @@ def reproduce(
         while name in names:
             name, i = f"{base}_{i}", i + 1
         names.append(name)
+    units = None
     if figures:
+        from bouncelab.plots._common import figure_units as resolve_units
         from bouncelab.plots._common import pyplot
 
         pyplot()  # fail early, before any work, if matplotlib is missing
+        units = resolve_units(figure_units)  # and on bad units
     load = load or load_campaign
     start = time.perf_counter()
     out = Path(out).expanduser()
@@ -279,7 +287,7 @@ def reproduce(
     except OSError as exc:
         raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
     try:
-        report = _build(loaded, staging, seed, figures, step, start)
+        report = _build(loaded, staging, seed, figures, step, start, units)
         _swap_in(staging, out)
     except OSError as exc:
         shutil.rmtree(staging, ignore_errors=True)
@@ -293,11 +301,13 @@ def reproduce(
 
 
 def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: bool, step: _Progress,
-           start: float) -> Report:
+           start: float, units: Any = None) -> Report:
     """Write the whole report into the (new, empty) folder ``out``."""
     report = Report(out=out, index=out / "index.html")
+    if units is not None and (units.velocity, units.spin) != ("radius/s", "rad/s"):
+        report.figure_units = {"velocity": units.velocity, "spin": units.spin}
     for name, ds in loaded:
-        report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files)
+        report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files, units)
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
         report.files.append(report.index)
@@ -318,11 +328,11 @@ def _moved(report: Report, staging: Path, out: Path) -> Report:
         sec["laws"] = {k: move(p) for k, p in sec["laws"].items()}
         sec["figures"] = {k: move(p) for k, p in sec["figures"].items()}
     return Report(out=out, index=out / "index.html", files=[move(p) for p in report.files],
-                  sections=report.sections, elapsed=report.elapsed)
+                  sections=report.sections, elapsed=report.elapsed, figure_units=report.figure_units)
 
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,
-              files: list[Path]) -> dict[str, Any]:
+              files: list[Path], units: Any = None) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
     from bouncelab.data import published
@@ -457,11 +467,12 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             # Fig. 8 rings held-out bounces, so its laws are fitted without them (the split of Table 2).
             held_out = {law: fit(registered_laws()[law], train, test=test, seed=seed) for law in PAPER_LAWS[:-1]}
             held_out[PAPER_LAWS[-1]] = pw["bouncelab's delta-optimal plane"]
-            section["figures"] = _figures(name, ds, cmp, held_out, test, rep, out / "figures", files)
+            section["figures"] = _figures(name, ds, cmp, held_out, test, rep, out / "figures", files, units)
     return section
 
 
-def _figures(name, ds, cmp, held_out, test, rep, folder: Path, files: list[Path]) -> dict[str, Path]:
+def _figures(name, ds, cmp, held_out, test, rep, folder: Path, files: list[Path], units: Any = None
+             ) -> dict[str, Path]:
     from bouncelab.laws.plane_fitting import fit_svm
     from bouncelab.plots import (
         plot_landing_space,
@@ -481,13 +492,15 @@ def _figures(name, ds, cmp, held_out, test, rep, folder: Path, files: list[Path]
     plane_law = cmp.results["PiecewiseAffine"].model
     figs = {
         "Fig. 3: landing conditions, slip/roll classes, the delta-optimal plane and SVM support vectors":
-            ("fig3_landing_space", lambda: plot_landing_space(ds, plane_law, support=svm)),
+            ("fig3_landing_space", lambda: plot_landing_space(ds, plane_law, support=svm, units=units)),
         "Fig. 6: prediction-interval widths": ("fig6_pi_widths", lambda: plot_pi_widths(ds)),
-        "Fig. 7: tangential velocity at landing and lift-off": ("fig7_tangential", lambda: plot_tangential(ds)),
+        "Fig. 7: tangential velocity at landing and lift-off":
+            ("fig7_tangential", lambda: plot_tangential(ds, units=units)),
         "Fig. 8: predicted vs observed lift-off, laws fitted without the ringed held-out bounces":
-            ("fig8_predictions", lambda: plot_predictions(ds, held_out, test=test)),
-        "Fig. 9: repeatability of each launcher setting": ("fig9_repeatability", lambda: plot_repeatability(rep)),
-        "Fig. 10: all landing/lift-off slices": ("fig10_slices", lambda: plot_slices(ds)),
+            ("fig8_predictions", lambda: plot_predictions(ds, held_out, test=test, units=units)),
+        "Fig. 9: repeatability of each launcher setting":
+            ("fig9_repeatability", lambda: plot_repeatability(rep, units=units)),
+        "Fig. 10: all landing/lift-off slices": ("fig10_slices", lambda: plot_slices(ds, units=units)),
     }
     made = {}
     for caption, (stem, draw) in figs.items():
