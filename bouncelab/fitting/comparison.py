@@ -131,7 +131,8 @@ class Comparison:
         ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS, *diag)})
         quantities = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *diag)
                       if c in ours.columns and ours[c].notna().any()]
-        lines = [f"### Laws fitted to {title} (errors on the {which} bounces; the paper's values in brackets)\n"]
+        brackets = "; the paper's values in brackets" if paper is not None else ""
+        lines = [f"### Laws fitted to {title} (errors on the {which} bounces{brackets})\n"]
         lines.append("| quantity | " + " | ".join(ours.index) + " |")
         lines.append("|---|" + "---|" * len(ours.index))
         for q in quantities:
@@ -147,9 +148,10 @@ class Comparison:
             if not (res.test_diagnostics if self.split else res.diagnostics):
                 continue
             t = self.by_class(law)
-            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces, "
-                         "the paper's in brackets)\n")
             ref = None if self.campaign is None else published.paper_by_class(self.campaign, law)
+            brackets = ", the paper's in brackets" if ref is not None else ""
+            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces"
+                         f"{brackets})\n")
             cols = ["overall", "roll", "slip"]
             lines.append("| quantity | " + " | ".join(cols) + " |")
             lines.append("|---|" + "---|" * len(cols))
