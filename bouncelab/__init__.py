@@ -60,6 +60,8 @@ _LAZY = {
     "cross_validate": "bouncelab.fitting",
     "infer_settings": "bouncelab.data.settings",
     "bootstrap": "bouncelab.fitting",
+    "sweep": "bouncelab.fitting",
+    "BounceRegressor": "bouncelab.estimators",
 }
 
 __all__ = [
@@ -97,7 +99,7 @@ __all__ = [
 
 
 # Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
-_SUBPACKAGES = ("analysis", "cli", "data", "fitting", "laws", "plots", "simulation")
+_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "laws", "plots", "simulation")
 
 
 def __getattr__(name: str) -> Any:

@@ -7,7 +7,16 @@ silently wrong number. ``DataError`` is for data (arrays, files, campaigns);
 
 from __future__ import annotations
 
-__all__ = ["BouncelabError", "DataError", "FitError", "NotFittedError", "ParameterError"]
+__all__ = [
+    "BouncelabError",
+    "BouncelabWarning",
+    "DataError",
+    "FitError",
+    "LargeResultWarning",
+    "NonphysicalLiftoffWarning",
+    "NotFittedError",
+    "ParameterError",
+]
 
 
 class BouncelabError(Exception):
@@ -60,3 +69,15 @@ class FitError(BouncelabError, ValueError):
 
 class LawDefinitionError(BouncelabError, TypeError):
     """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""
+
+
+class BouncelabWarning(UserWarning):
+    """Base class of every warning bouncelab issues on purpose."""
+
+
+class NonphysicalLiftoffWarning(BouncelabWarning):
+    """A law with the paper's published values predicts lift-offs into the ground or gaining energy."""
+
+
+class LargeResultWarning(BouncelabWarning):
+    """A call builds a much larger result than needed (e.g. regime names for millions of landings)."""

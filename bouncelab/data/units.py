@@ -28,13 +28,18 @@ __all__ = [
     "BALL_RADIUS_M",
     "COMPONENTS",
     "COMPONENT_UNITS",
+    "INERTIA_FACTOR",
     "SPEED_UNITS",
     "SPIN_UNITS",
     "from_scaled",
     "landing_from_speed_angle_spin",
+    "physical_to_scaled",
+    "polar_from_state",
+    "scaled_to_physical",
     "speed_angle_spin",
     "spin_from_scaled",
     "spin_to_scaled",
+    "state_from_polar",
     "tangential_velocity",
     "to_scaled",
     "velocity_from_scaled",
@@ -43,6 +48,10 @@ __all__ = [
 
 #: Default golf-ball radius in metres (the paper's ball, R&A rules minimum diameter 42.67 mm).
 BALL_RADIUS_M = 0.02135
+
+#: Moment of inertia of the ball as a fraction of m R^2 (a uniform solid sphere, 2/5, as the rigid bounce of
+#: the paper assumes); used for kinetic energies ``E = (m R^2 / 2) (xdot^2 + ydot^2 + k omega^2)``.
+INERTIA_FACTOR = 0.4
 
 #: Names of the three components of a landing or lift-off state, in order.
 COMPONENTS = ("xdot", "ydot", "omega")
@@ -206,6 +215,125 @@ def speed_angle_spin(
         "angle_deg": angle,
         "spin": spin_from_scaled(s[..., 2], spin_unit),
     }
+
+
+#: Names of the three polar components (speed, angle in degrees, spin).
+POLAR_COMPONENTS = ("speed", "angle", "spin")
+FORMS = ("cartesian", "polar")
+
+
+def state_from_polar(polar, *, kind: str = "landing", speed_unit: str = "m/s", spin_unit: str = "rpm",
+                     radius_m: float = BALL_RADIUS_M) -> np.ndarray:
+    """Scaled ``[xdot, ydot, omega]`` from (..., 3) ``[speed, angle_deg, spin]`` of a landing or a lift-off.
+
+    The angle is measured from the direction of travel (+x) and is **positive
+    below the horizontal for a landing** (the angle of incidence, paper Fig. 2)
+    and **positive above it for a lift-off**:
+
+    * landing: ``xdot0 = s cos(a)``, ``ydot0 = -s sin(a)``, with ``0 < a < 180`` degrees
+      (above 90 the ball moves in -x);
+    * lift-off: ``xdotF = s cos(a)``, ``ydotF = s sin(a)``, with ``-180 < a <= 180`` (above
+      90 the ball goes back towards the launcher, at or below 0 into the ground).
+
+    Spin keeps the bouncelab sign (> 0 is backspin for a ball moving in +x).
+
+    Raises
+    ------
+    DataError
+        Non-numeric values, a negative or non-finite speed, an angle outside the
+        range of ``kind`` (naming the element), an unknown unit.
+    """
+    s = _state_array(polar)
+    if kind not in ("landing", "liftoff"):
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
+    speed = velocity_to_scaled(s[..., 0], speed_unit, radius_m=radius_m)
+    angle = s[..., 1]
+    _require(np.isfinite(speed) & (speed > 0 if kind == "landing" else speed >= 0), s[..., 0],
+             f"{kind} speed must be {'positive' if kind == 'landing' else 'non-negative'} and finite")
+    if kind == "landing":
+        _require((angle > 0) & (angle < 180), angle,
+                 "landing angle must be in (0, 180) degrees below the horizontal (positive downward; "
+                 "above 90 the ball moves in -x)")
+    else:
+        _require((angle > -180) & (angle <= 180), angle,
+                 "lift-off angle must be in (-180, 180] degrees above the horizontal (positive upward)")
+    spin = spin_to_scaled(s[..., 2], spin_unit)
+    _require(np.isfinite(spin), s[..., 2], "spin must be finite")
+    a = np.deg2rad(angle)
+    sign = -1.0 if kind == "landing" else 1.0
+    return np.stack([speed * np.cos(a), sign * speed * np.sin(a), spin], axis=-1)
+
+
+def polar_from_state(state, *, kind: str = "liftoff", speed_unit: str = "m/s", spin_unit: str = "rpm",
+                     radius_m: float = BALL_RADIUS_M) -> np.ndarray:
+    """(..., 3) ``[speed, angle_deg, spin]`` of scaled states; the inverse of :func:`state_from_polar`.
+
+    A lift-off angle is positive above the horizontal (``atan2(ydotF, xdotF)``, in
+    (-180, 180]); a landing angle positive below it (``atan2(-ydot0, xdot0)``).
+    """
+    if kind not in ("landing", "liftoff"):
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
+    s = _state_array(state)
+    y = -s[..., 1] if kind == "landing" else s[..., 1]
+    return np.stack([
+        velocity_from_scaled(np.hypot(s[..., 0], s[..., 1]), speed_unit, radius_m=radius_m),
+        np.rad2deg(np.arctan2(y, s[..., 0])),
+        spin_from_scaled(s[..., 2], spin_unit),
+    ], axis=-1)
+
+
+def _unit_pair(units) -> tuple[str, str] | None:
+    """``(velocity unit, spin unit)`` from ``units``; None for scaled units."""
+    if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
+        return None
+    if not isinstance(units, Mapping):
+        raise DataError(f"units must be None (scaled), 'scaled' or a mapping such as {{'velocity': 'm/s', "
+                        f"'spin': 'rpm'}}; got {units!r}")
+    unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
+    missing = [k for k in ("velocity", "spin") if k not in units]
+    if unknown or missing:
+        raise DataError(f"units needs exactly the keys 'velocity' and 'spin' (e.g. {{'velocity': 'm/s', 'spin': "
+                        f"'rpm'}}); missing {missing}, unknown {unknown}")
+    return canonical_unit(units["velocity"], "velocity"), canonical_unit(units["spin"], "spin")
+
+
+def _form_pair(form) -> tuple[str, str]:
+    pair = (form, form) if isinstance(form, str) else tuple(form) if isinstance(form, tuple | list) else ()
+    if len(pair) != 2 or any(f not in FORMS for f in pair):
+        raise DataError(f"form must be 'cartesian', 'polar' or a pair (landing form, lift-off form) of them; "
+                        f"got {form!r}")
+    return pair
+
+
+def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str = "landing",
+                       radius_m: float = BALL_RADIUS_M) -> np.ndarray:
+    """Scaled ``[xdot, ydot, omega]`` from (..., 3) states in ``units`` and ``form`` ("cartesian" or "polar").
+
+    ``units`` is None (scaled: radii/s and rad/s) or ``{"velocity": ..., "spin": ...}``
+    (any of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`); the polar form is
+    ``[speed, angle_deg, spin]`` (see :func:`state_from_polar` for the angles).
+    """
+    pair = _unit_pair(units)
+    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
+    _check_radius(radius_m)
+    if form == "polar":
+        return state_from_polar(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
+    if form != "cartesian":
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}")
+    return to_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
+
+
+def scaled_to_physical(states, *, units=None, form: str = "cartesian", kind: str = "liftoff",
+                       radius_m: float = BALL_RADIUS_M) -> np.ndarray:
+    """(..., 3) scaled states in ``units`` and ``form``; the inverse of :func:`physical_to_scaled`."""
+    pair = _unit_pair(units)
+    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
+    _check_radius(radius_m)
+    if form == "polar":
+        return polar_from_state(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
+    if form != "cartesian":
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}")
+    return from_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
 
 
 def tangential_velocity(state):

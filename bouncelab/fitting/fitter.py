@@ -12,7 +12,7 @@ import numpy as np
 
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
-from bouncelab.fitting.objective import objective_label, objective_weights
+from bouncelab.fitting.objective import bounce_weights, objective_label, objective_weighting, objective_weights
 from bouncelab.fitting.problem import (
     DEFAULT_ALGORITHM,
     Problem,
@@ -61,7 +61,9 @@ def fit(
     objective
         ``"delta"`` (eq. error, default), ``"xdot"``, ``"ydot"`` or ``"omega"`` (one
         Delta q of eq. error_individual), or a mapping of weights such as
-        ``{"delta": 1, "omega": 0.5}``.
+        ``{"delta": 1, "omega": 0.5}``. ``"delta_pi"`` (or ``"weighting": "pi"`` in a
+        mapping) weights each bounce by its prediction intervals instead of its
+        landing speed (:mod:`bouncelab.fitting.objective`); the data must carry them.
     seed
         Seed for anything random (a non-negative integer): same seed and data give the same result.
     bounds
@@ -105,19 +107,22 @@ def fit(
     if tst is not None:
         _check_held_out(p0, pf, *tst)
     weights = objective_weights(objective)
+    weighting = objective_weighting(objective)
+    per_bounce = bounce_weights(data, p0) if weighting == "pi" else None
     name, func = _method(law, method)
     _check_options(law, name, func, method_options)
     if not law.parameter_specs:
         raise FitError(f"{law_name(law)} declares no parameter_specs, so there is nothing to fit")
     box = resolve_bounds(type(law), bounds)
     held = resolve_fixed(law, fixed, free)
-    problem = Problem(law, p0, pf, setting=setting, weights=weights, seed=seed, box=box, fixed=held, test=tst)
+    problem = Problem(law, p0, pf, setting=setting, weights=weights, seed=seed, box=box, fixed=held, test=tst,
+                      bounce_weights=per_bounce)
     outcome = func(law, problem, **method_options)
     if not isinstance(outcome, FitOutcome) or type(outcome.model) is not type(law):
         raise FitError(f"fitting method {name!r} of {law_name(law)} returned {type(outcome).__name__}, "
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
-    return _result(outcome, name, weights, problem, box, held, seed, start_time)
+    return _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
 
 
 def check_seed(seed: Any) -> int:
@@ -183,7 +188,7 @@ def _check_held_out(p0: np.ndarray, pf: np.ndarray, t0: np.ndarray, tf: np.ndarr
                        f"(first: test row {int(np.argmax(both)) + 1}); held-out bounces must not be fitted")
 
 
-def _result(outcome: FitOutcome, method: str, weights: np.ndarray, problem: Problem, box: dict, held: dict,
+def _result(outcome: FitOutcome, method: str, label: str, problem: Problem, box: dict, held: dict,
             seed: int, start_time: float) -> FitResult:
     fitted = outcome.model
     theta = fitted._theta()
@@ -191,13 +196,13 @@ def _result(outcome: FitOutcome, method: str, weights: np.ndarray, problem: Prob
     def overall(landing: np.ndarray, liftoff: np.ndarray, inv: np.ndarray | None = None) -> np.ndarray:
         return error_terms(landing, liftoff, fitted._predict(landing, theta), inv).mean(axis=0)
 
-    train = overall(problem.landing, problem.liftoff, problem.inv_norm)
+    train = overall(problem.landing, problem.liftoff)
     tst = problem.test
     test = None if tst is None else overall(*tst)
     return FitResult(
         model=fitted,
         method=method,
-        objective=objective_label(weights),
+        objective=label,
         objective_value=float(outcome.objective_value),
         delta=float(train[0]),
         delta_q=train[1:],

@@ -130,11 +130,12 @@ class Problem:
 
     def __init__(self, law: BounceModel, landing: np.ndarray, liftoff: np.ndarray, *, setting: Any,
                  weights: np.ndarray, seed: int, box: dict[str, tuple[Any, Any]], fixed: dict[str, Any],
-                 test: tuple[np.ndarray, np.ndarray] | None) -> None:
+                 test: tuple[np.ndarray, np.ndarray] | None, bounce_weights: np.ndarray | None = None) -> None:
         self.law = law
         self.landing = landing
         self.liftoff = liftoff
-        self.inv_norm = inverse_norms(landing)
+        # Each bounce's weight in the objective: 1 / ||p0|| (delta), or 1 / h from prediction intervals.
+        self.inv_norm = inverse_norms(landing) if bounce_weights is None else bounce_weights
         self.setting = setting
         self.n = len(landing)
         self.weights = np.asarray(weights, dtype=np.float64)

@@ -1,11 +1,18 @@
 """Independent fitting tasks, mapped by one function.
 
-``compare``, ``bootstrap`` and ``cross_validate`` describe their work as a list
-of independent tasks (each a small picklable tuple) and run them through
-:func:`map_tasks`. Serially by default; given an ``executor`` (anything with a
-``map(function, iterable)`` method returning results in order, such as a
-``concurrent.futures`` executor or a dask client's executor), the tasks run there,
-and the results are exactly the serial ones: each task carries its own seed.
+``compare``, ``bootstrap``, ``cross_validate`` and ``sweep`` describe their work
+as a list of independent tasks (each a small picklable tuple) and run them
+through :func:`map_tasks`. Serially by default; given an ``executor`` the tasks
+run there:
+
+* a :class:`dask.distributed.Client` (a ``LocalCluster`` or a real cluster): the
+  tasks are submitted with ``client.map`` and their futures gathered;
+* anything else with a ``map(function, iterable)`` method returning results in
+  order, such as a :mod:`concurrent.futures` executor.
+
+The results are exactly the serial ones, whatever the executor and the number
+of workers: each task carries its own seed and data, and every law computes the
+same numbers wherever it runs (see :mod:`bouncelab.laws.compiled`).
 """
 
 from __future__ import annotations
@@ -13,12 +20,43 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Any
 
-__all__ = ["map_tasks"]
+from bouncelab.errors import FitError
+
+__all__ = ["is_dask_client", "map_tasks"]
+
+
+def is_dask_client(executor: Any) -> bool:
+    """True for a :class:`dask.distributed.Client` (whose ``map`` returns futures, not results)."""
+    return type(executor).__module__.split(".")[0] == "distributed" and hasattr(executor, "gather")
 
 
 def map_tasks(function: Callable[[Any], Any], tasks: Iterable[Any], executor: Any = None) -> list[Any]:
-    """``[function(t) for t in tasks]``, serially or on ``executor`` (results in task order)."""
+    """``[function(t) for t in tasks]``, serially or on ``executor`` (results in task order).
+
+    Parameters
+    ----------
+    function
+        A module-level function (so that it can be pickled to other processes).
+    tasks
+        Its arguments, one per call.
+    executor
+        None (serial), a :class:`dask.distributed.Client`, or an object with a
+        ``map(function, iterable)`` method such as a
+        :class:`concurrent.futures.ProcessPoolExecutor`.
+
+    Raises
+    ------
+    FitError
+        ``executor`` has no ``map`` method.
+    """
     tasks = list(tasks)
     if executor is None:
         return [function(t) for t in tasks]
+    if is_dask_client(executor):
+        # pure=False: every task runs (no key hashing of large arguments; equal tasks are not merged).
+        futures = executor.map(function, tasks, pure=False)
+        return list(executor.gather(futures))
+    if not callable(getattr(executor, "map", None)):
+        raise FitError(f"executor must be None, a dask.distributed.Client or have a map(function, tasks) method; "
+                       f"got {type(executor).__name__}")
     return list(executor.map(function, tasks))

@@ -19,6 +19,7 @@ import pandas as pd
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
 from bouncelab.fitting.fitter import _as_model, check_seed, fit
+from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import law_name
 
@@ -124,7 +125,9 @@ def bootstrap(
     if by == "setting" and setting is None:
         raise FitError("by='setting' needs the launcher setting of each bounce; the data have none "
                        "(add one with bouncelab.infer_settings, or use by='bounce')")
-    full = fit(law, (p0, pf), seed=seed, **fit_kwargs)
+    # Prediction-interval weighted objectives read the intervals from the Dataset: resample it whole then.
+    with_pis = objective_weighting(fit_kwargs.get("objective", "delta")) == "pi"
+    full = fit(law, data if with_pis else (p0, pf), seed=seed, **fit_kwargs)
     estimate = dict(full.model.flat_parameters())
     rng = np.random.default_rng(seed)
     if by == "bounce":
@@ -133,13 +136,13 @@ def bootstrap(
         labels = np.asarray(setting)
         groups = [np.flatnonzero(labels == s) for s in pd.unique(labels)]
         draws = [np.concatenate([groups[i] for i in rng.integers(0, len(groups), len(groups))]) for _ in range(int(n))]
-    tasks = [(law, p0[idx], pf[idx], seed, fit_kwargs) for idx in draws]
+    tasks = [(law, data.isel(bounce=idx) if with_pis else (p0[idx], pf[idx]), seed, fit_kwargs) for idx in draws]
     rows = map_tasks(_refit, tasks, executor)
     return Bootstrap(estimate=estimate, samples=pd.DataFrame(rows), level=level, by=by, law=law_name(law))
 
 
 def _refit(task: tuple) -> dict[str, float]:
     """One bootstrap refit (a module-level function, so executors can pickle it)."""
-    law, p0, pf, seed, fit_kwargs = task
-    res = fit(law, (p0, pf), seed=seed, **fit_kwargs)
+    law, sample, seed, fit_kwargs = task
+    res = fit(law, sample, seed=seed, **fit_kwargs)
     return {**res.model.flat_parameters(), "delta": res.delta}

@@ -61,11 +61,12 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 
 from bouncelab.data.validation import States, as_states, check_values
-from bouncelab.errors import LawDefinitionError, NotFittedError, ParameterError
+from bouncelab.errors import DataError, LawDefinitionError, NotFittedError, ParameterError
 from bouncelab.laws.parameters import Parameter, Parameters
 
 __all__ = [
     "DEFAULT_LOCAL_ALGORITHM",
+    "REGIME_NAMES_WARN",
     "BounceModel",
     "FitOutcome",
     "FitProblem",
@@ -78,6 +79,9 @@ __all__ = [
     "load_law",
     "registered_laws",
 ]
+
+#: From this many landings on, ``regime`` names (rather than codes) come with a LargeResultWarning.
+REGIME_NAMES_WARN = 1_000_000
 
 #: Default local polish of the generic search (delta has kinks at regime changes, where
 #: BOBYQA's quadratic models stall; see benchmarks/bench_algorithms.py).
@@ -95,7 +99,9 @@ class FitProblem(Protocol):
     landing, liftoff
         Validated ``(n, 3)`` C-contiguous float64 arrays of the bounces to fit.
     inv_norm
-        ``1 / ||p0||`` of every landing (the weights of delta and Delta q).
+        The weight of each bounce's error in the objective: ``1 / ||p0||`` of every
+        landing (delta and Delta q), or ``1 / h`` from its prediction intervals for a
+        ``"delta_pi"`` objective (:mod:`bouncelab.fitting.objective`).
     setting
         Launcher setting of each bounce, or None.
     n
@@ -334,9 +340,13 @@ class BounceModel:
         params = {s.name for s in cls.parameter_specs}
         return tuple(k for k in cls._keyword_names() if k not in params)
 
-    def get_params(self) -> dict[str, Any]:
-        """The constructor's keyword arguments as stored (scikit-learn convention)."""
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The constructor's keyword arguments as stored (scikit-learn convention; ``deep`` changes nothing)."""
         return {name: getattr(self, name) for name in self._keyword_names()}
+
+    def __sklearn_clone__(self) -> BounceModel:
+        """scikit-learn's ``clone``: a law is an immutable value, so it is its own clone."""
+        return self
 
     @property
     def params(self) -> Parameters:
@@ -416,50 +426,174 @@ class BounceModel:
         return self.replace(**values)
 
     # ---------------------------------------------------------------- prediction
-    def predict(self, landing: States) -> Any:
-        """Lift-off states ``[xdotF, ydotF, omegaF]`` for landing states ``[xdot0, ydot0, omega0]``.
+    def predict(self, landing: States, units: Mapping[str, str] | str | None = None, *,
+                form: str | tuple[str, str] = "cartesian", radius_m: float | None = None,
+                return_flags: bool = False) -> Any:
+        """Lift-off states for landing states.
 
         Parameters
         ----------
         landing
-            Array-like of shape (..., 3) in scaled units (radii/s, radii/s,
-            rad/s) with ``ydot0 < 0``, a DataFrame with columns named ``xdot``,
-            ``ydot``, ``omega`` (any order), or an :class:`xarray.DataArray` with a
-            ``component`` dimension.
+            By default ``[xdot0, ydot0, omega0]`` in scaled units (radii/s, radii/s,
+            rad/s) with ``ydot0 < 0``: an array-like of shape (..., 3), a DataFrame
+            with columns named ``xdot``, ``ydot``, ``omega`` (any order), or an
+            :class:`xarray.DataArray` with a ``component`` dimension. A DataArray
+            backed by dask is predicted lazily, chunk by chunk (scaled Cartesian
+            states only).
+        units
+            None (scaled units) or ``{"velocity": "m/s", "spin": "rpm"}`` (any unit
+            of :data:`~bouncelab.data.units.SPEED_UNITS` and
+            :data:`~bouncelab.data.units.SPIN_UNITS`) for both the landings and the
+            lift-offs.
+        form
+            ``"cartesian"`` (``[xdot, ydot, omega]``) or ``"polar"``
+            (``[speed, angle_deg, spin]``), or a pair (landing form, lift-off form).
+            A landing angle is positive *below* the horizontal, a lift-off angle
+            positive *above* it, both measured from the direction of travel +x
+            (:func:`~bouncelab.data.units.state_from_polar`). DataFrames name polar
+            columns ``speed``, ``angle``, ``spin``.
+        radius_m
+            Ball radius in metres for physical units (default 21.35 mm).
+        return_flags
+            Also return a :class:`~bouncelab.laws.nonphysical.LiftoffFlags` marking
+            non-physical lift-offs (``ydotF <= 0``, energy gain), computed in the same
+            call.
 
         Returns
         -------
-        numpy.ndarray or xarray.DataArray
-            Lift-off states, of the same kind and shape as ``landing``.
+        numpy.ndarray, pandas.DataFrame or xarray.DataArray
+            Lift-off states, of the same kind and shape as ``landing`` (and the flags
+            with ``return_flags=True``).
 
         Raises
         ------
         DataError
             Wrong shape, NaN/inf, masked or complex values, magnitudes beyond
-            :data:`bouncelab.data.validation.STATE_LIMIT`, or a landing with
-            ``ydot0 >= 0`` (row named).
+            :data:`bouncelab.data.validation.STATE_LIMIT`, a landing with
+            ``ydot0 >= 0`` (row named), an unknown unit or form, a polar angle out of range.
         NotFittedError
             Some parameters have no value.
+
+        Warns
+        -----
+        NonphysicalLiftoffWarning
+            A law with the paper's published values predicts non-physical lift-offs.
+
+        Examples
+        --------
+        >>> import bouncelab as bl
+        >>> law = bl.Rigid.published("A")
+        >>> law.predict([[20.0, 30.0, 2000.0]], units={"velocity": "m/s", "spin": "rpm"}, form="polar").round(2)
+        array([[   12.36,    26.12, -4962.15]])
         """
+        from bouncelab.laws._physical_io import PhysicalIO, is_lazy
+        from bouncelab.laws.nonphysical import LiftoffFlags, liftoff_flags, published_campaign
+
         theta = self._theta()
+        if is_lazy(landing):
+            if PhysicalIO.needed(units, form) or return_flags:
+                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only; "
+                                "drop units=, form= and return_flags=")
+            return self._predict_lazy(landing)
+        io = PhysicalIO(units, form, radius_m) if PhysicalIO.needed(units, form) else None
+        p, out, wrap = self._predict_flat(landing if io is None else io.landing(landing), theta)
+        flags = None
+        if return_flags or published_campaign(self) is not None:
+            from bouncelab.laws.nonphysical import warn_if_published_nonphysical
+
+            flags = liftoff_flags(p, out)
+            warn_if_published_nonphysical(self, p, out, flags)
+        result = wrap(out) if io is None else io.liftoff(out)
+        if not return_flags:
+            return result
+        per = wrap if io is None else io.per_bounce
+        return result, LiftoffFlags(into_ground=per(flags[0]), energy_gain=per(flags[1]))
+
+    def regime(self, landing: States, units: Mapping[str, str] | str | None = None, *, codes: bool = False,
+               form: str = "cartesian", radius_m: float | None = None) -> Any:
+        """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
+
+        Returns an array with the leading shape of ``landing`` (a labelled
+        DataArray for a DataArray input; lazy for a dask-backed one). ``units``,
+        ``form`` and ``radius_m`` describe the landings as in :meth:`predict`.
+        Names take 4 bytes per character per landing (52 MB per million landings
+        for ``"slip_backward"``), codes one byte: from :data:`REGIME_NAMES_WARN`
+        landings on, names come with a :class:`~bouncelab.errors.LargeResultWarning`.
+        """
+        from bouncelab.laws._physical_io import PhysicalIO, is_lazy
+
+        theta = self._theta()
+        if is_lazy(landing):
+            if PhysicalIO.needed(units, form):
+                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only")
+            return self._regime_lazy(landing, codes)
+        io = PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m) \
+            if PhysicalIO.needed(units, form) else None
+        _p, c, wrap = self._regime_flat(landing if io is None else io.landing(landing), theta)
+        if io is not None:
+            wrap = io.per_bounce
+        c = self._regime_output(c, True)  # checked codes
+        if codes:
+            return wrap(c)
+        names = np.asarray(self.regimes)
+        if len(c) >= REGIME_NAMES_WARN:
+            import warnings
+
+            from bouncelab.errors import LargeResultWarning
+
+            warnings.warn(f"regime names for {len(c):,} landings take {len(c) * names.itemsize / 1e6:.0f} MB; "
+                          f"regime(..., codes=True) gives int8 codes into law.regimes ({len(c) / 1e6:.0f} MB)",
+                          LargeResultWarning, stacklevel=2)
+        return wrap(names[c])
+
+    def _predict_flat(self, landing: States, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
+        """Validated (n, 3) landings, their (n, 3) lift-offs, and the wrap back to the caller's kind."""
         p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
         out, ok = self._predict_checked(p, theta)
         if not ok:
             check_values(p, "landing", landing=True)  # raises, naming the row and column
-        return wrap(out)
+        return p, out, wrap
 
-    def regime(self, landing: States, *, codes: bool = False) -> Any:
-        """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
-
-        Returns an array with the leading shape of ``landing`` (a labelled
-        DataArray for a DataArray input).
-        """
-        theta = self._theta()
+    def _regime_flat(self, landing: States, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
+        """Validated (n, 3) landings, their int8 regime codes, and the wrap back to the caller's kind."""
         p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
         c, ok = self._regime_checked(p, theta)
         if not ok:
             check_values(p, "landing", landing=True)
-        return wrap(self._regime_output(c, codes))
+        return p, c, wrap
+
+    def _lazy_input(self, da: Any) -> Any:
+        from bouncelab.data.units import COMPONENTS
+
+        if "component" not in da.dims or da.sizes["component"] != 3:
+            raise DataError(f"landing DataArray needs a 'component' dimension of size 3; its sizes are "
+                            f"{dict(da.sizes)}")
+        if "component" in da.coords:
+            labels = [str(v) for v in da["component"].values]
+            if sorted(labels) != sorted(COMPONENTS):
+                raise DataError(f"landing component labels must be {list(COMPONENTS)}; got {labels}")
+            da = da.sel(component=list(COMPONENTS))
+        return da.chunk({"component": -1})
+
+    def _predict_lazy(self, da: Any) -> Any:
+        """``predict`` of a dask-backed DataArray: one task per chunk, nothing computed yet."""
+        import xarray as xr
+
+        from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
+
+        out = xr.apply_ufunc(lambda block: self.predict(block), self._lazy_input(da),
+                             input_core_dims=[["component"]], output_core_dims=[["component"]],
+                             dask="parallelized", output_dtypes=[np.float64])
+        return out.assign_coords(component=list(COMPONENTS), unit=("component", list(COMPONENT_UNITS)))
+
+    def _regime_lazy(self, da: Any, codes: bool) -> Any:
+        import xarray as xr
+
+        names = np.asarray(self.regimes)
+        dtype = np.int8 if codes else names.dtype
+        return xr.apply_ufunc(lambda block: self.regime(block, codes=True) if codes else names[
+            self.regime(block, codes=True)], self._lazy_input(da), input_core_dims=[["component"]],
+            dask="parallelized", output_dtypes=[dtype])
 
     #: Whether :meth:`_predict_checked` and :meth:`_regime_checked` check the landings' values in their
     #: own pass, so that the public methods can skip a separate pass over large arrays (compiled laws).

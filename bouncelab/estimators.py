@@ -1,0 +1,175 @@
+r"""scikit-learn: a bounce law as a 3-output regressor, :class:`BounceRegressor`.
+
+``X`` holds landings ``[xdot0, ydot0, omega0]`` and ``Y`` lift-offs
+``[xdotF, ydotF, omegaF]``, both (n, 3) in scaled units (radii/s, rad/s; see
+:mod:`bouncelab.data.units`). ``fit`` runs :func:`bouncelab.fit`, ``predict``
+the fitted law, and ``score`` is :math:`-\delta` (eq. error of the paper), so
+that greater is better as scikit-learn's model selection expects:
+
+.. math::
+
+    \text{score} = -\delta = -\frac1n \sum_i \frac{\lVert p_{F,i} - \hat p_{F,i} \rVert}{\lVert p_{0,i} \rVert}.
+
+Examples
+--------
+Grouped cross-validation by launcher setting, and a grid over laws:
+
+>>> import bouncelab as bl
+>>> from sklearn.model_selection import GroupKFold, cross_val_score
+>>> ds = bl.load_campaign("A")
+>>> X, Y, groups = ds.landing.values, ds.liftoff.values, ds.setting.values
+>>> scores = cross_val_score(bl.BounceRegressor("Rigid"), X, Y, groups=groups, cv=GroupKFold(5))
+>>> bool((scores < 0).all())
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from sklearn.base import BaseEstimator, MultiOutputMixin, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
+
+from bouncelab.errors import DataError, ParameterError
+from bouncelab.laws.base import BounceModel, law_class
+
+__all__ = ["BounceRegressor"]
+
+
+class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
+    """A bounce law fitted and used as a scikit-learn regressor (landings in, lift-offs out).
+
+    Parameters
+    ----------
+    law : str, BounceModel class or instance, default "Rigid"
+        The law to fit: a name (``"PennerFixed"``, or ``"module:QualName"`` for your
+        own laws), a class, or an instance (its values, if any, start the search;
+        its options, e.g. ``fade_xdot``, are kept). ``law__<name>`` in
+        :meth:`set_params` and in ``GridSearchCV`` grids sets a parameter or option
+        of the law (a start value for a parameter unless it is also in ``fixed``).
+    method : str, optional
+        Fitting method of the law (see :func:`bouncelab.fit`); default the law's own default.
+    objective : str or mapping, default "delta"
+        The fit objective (``"delta"``, ``"omega"``, ``{"delta": 1, "omega": 0.5}`` ...).
+    seed : int, default 0
+        Seed of the fit.
+    bounds : mapping, optional
+        Search bounds, parameter name -> (low, high).
+    fixed : sequence or mapping, optional
+        Parameters held in the fit (names, or name -> value).
+    method_options : mapping, optional
+        Options of the fitting method (e.g. ``{"maxeval": 200}``).
+
+    Attributes
+    ----------
+    law_ : BounceModel
+        The fitted law.
+    fit_result_ : bouncelab.FitResult
+        The whole fit (``print(est.fit_result_)`` gives its report).
+    n_features_in_ : int
+        Always 3 (``xdot0, ydot0, omega0``).
+    """
+
+    def __init__(self, law: Any = "Rigid", *, method: str | None = None, objective: Any = "delta", seed: int = 0,
+                 bounds: Mapping[str, Any] | None = None, fixed: Any = None,
+                 method_options: Mapping[str, Any] | None = None) -> None:
+        self.law = law
+        self.method = method
+        self.objective = objective
+        self.seed = seed
+        self.bounds = bounds
+        self.fixed = fixed
+        self.method_options = method_options
+
+    # ------------------------------------------------------------------ scikit-learn protocol
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.target_tags.required = True
+        tags.target_tags.multi_output = True
+        tags.target_tags.single_output = False
+        tags.input_tags.allow_nan = False
+        return tags
+
+    def set_params(self, **params: Any) -> BounceRegressor:
+        """Set estimator parameters; ``law__<name>=value`` sets a parameter or option of the law."""
+        nested = {k.split("__", 1)[1]: v for k, v in params.items() if k.startswith("law__")}
+        rest = {k: v for k, v in params.items() if not k.startswith("law__")}
+        super().set_params(**rest)
+        if nested:
+            self.law = _law_instance(self.law).replace(**nested)
+        return self
+
+    # ------------------------------------------------------------------ fit, predict, score
+    def fit(self, X: Any, y: Any) -> BounceRegressor:
+        """Fit the law to landings ``X`` and lift-offs ``y`` ((n, 3) each, scaled units).
+
+        Raises
+        ------
+        DataError
+            Bad arrays (shape, NaN, a landing with ``ydot0 >= 0``, different numbers of rows).
+        FitError, ParameterError
+            As :func:`bouncelab.fit` (too few bounces, a bad objective, bounds or method).
+        """
+        from bouncelab.fitting.fitter import fit
+
+        if y is None:
+            raise DataError("BounceRegressor requires y to be passed, but the target y is None: give the lift-offs, "
+                            "an (n, 3) array [xdotF, ydotF, omegaF]")
+        p0, pf = _pair(X, y, min_samples=2)
+        result = fit(_law_instance(self.law), (p0, pf), method=self.method, objective=self.objective,
+                     seed=self.seed, bounds=self.bounds, fixed=self.fixed, **dict(self.method_options or {}))
+        self.fit_result_ = result
+        self.law_ = result.model
+        self.n_features_in_ = 3
+        return self
+
+    def predict(self, X: Any) -> np.ndarray:
+        """Lift-offs (n, 3) of landings ``X`` predicted by the fitted law."""
+        check_is_fitted(self, "law_")
+        return np.asarray(self.law_.predict(_states(X, "landing")))
+
+    def score(self, X: Any, y: Any, sample_weight: Any = None) -> float:
+        """``-delta`` of the fitted law on landings ``X`` and lift-offs ``y`` (greater is better).
+
+        ``sample_weight`` weighs each bounce's term of delta (a weighted mean).
+        """
+        from bouncelab.metrics import error_terms
+
+        check_is_fitted(self, "law_")
+        p0, pf = _pair(X, y)
+        terms = error_terms(p0, pf, self.law_.predict(p0))[:, 0]
+        return -float(np.average(terms, weights=sample_weight))
+
+
+def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
+    """Validated (n, 3) states: scikit-learn's shared checks (sparse, complex, NaN, empty), then bouncelab's."""
+    from sklearn.utils.validation import check_array
+
+    from bouncelab.data.validation import _from_labelled, as_states
+
+    arr = check_array(_from_labelled(x, name, None), dtype=np.float64, ensure_min_samples=min_samples,
+                      input_name="X" if name == "landing" else "y")
+    if arr.shape[1] != 3:
+        raise DataError(f"{name} needs 3 columns [xdot, ydot, omega] (3 features); got {arr.shape[1]} feature(s), "
+                        f"n_features = {arr.shape[1]}, shape {arr.shape}")
+    return as_states(arr, name, landing=name == "landing")[0]
+
+
+def _pair(X: Any, y: Any, min_samples: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    from bouncelab.data.validation import check_same_length
+
+    p0, pf = _states(X, "landing", min_samples), _states(y, "liftoff", min_samples)
+    check_same_length(p0, pf, "landing (X)", "liftoff (y)")
+    return p0, pf
+
+
+def _law_instance(law: Any) -> BounceModel:
+    if isinstance(law, str):
+        return law_class(law)()
+    if isinstance(law, type) and issubclass(law, BounceModel):
+        return law()
+    if isinstance(law, BounceModel):
+        return law
+    raise ParameterError(f"law must be a law name, class or instance; got {law!r}")

@@ -1,0 +1,95 @@
+"""The edges of ``predict(..., units=, form=)``: physical landings in, physical lift-offs out.
+
+The law itself only ever sees scaled Cartesian states; these helpers convert at
+the edge with :mod:`bouncelab.data.units` and give the result back in the
+caller's kind (an array of the same leading shape, or a DataFrame with the
+same index and named columns).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from bouncelab.data.units import (
+    BALL_RADIUS_M,
+    COMPONENTS,
+    POLAR_COMPONENTS,
+    _form_pair,
+    _unit_pair,
+    physical_to_scaled,
+    scaled_to_physical,
+)
+from bouncelab.errors import DataError
+
+__all__ = ["PhysicalIO", "is_lazy"]
+
+
+def is_lazy(x: Any) -> bool:
+    """True for a DataArray backed by a dask array (predicted lazily, chunk by chunk)."""
+    return isinstance(x, xr.DataArray) and x.chunks is not None
+
+
+class PhysicalIO:
+    """Conversion of one ``predict`` call's landings and lift-offs (None when all is scaled Cartesian)."""
+
+    def __init__(self, units: Any, form: Any, radius_m: float) -> None:
+        _unit_pair(units)  # validate early, before any work
+        self.units = units
+        self.form_in, self.form_out = _form_pair(form)
+        self.radius_m = BALL_RADIUS_M if radius_m is None else radius_m
+        self.index = None
+        self.lead: tuple[int, ...] = ()
+
+    @staticmethod
+    def needed(units: Any, form: Any) -> bool:
+        return not (units is None and form == "cartesian")
+
+    def landing(self, landing: Any) -> np.ndarray:
+        """The landings as a scaled Cartesian (..., 3) float array."""
+        import pandas as pd
+
+        if isinstance(landing, xr.DataArray):
+            raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
+                            "in scaled units (see bouncelab.data.units) or pass its .values")
+        names = COMPONENTS if self.form_in == "cartesian" else POLAR_COMPONENTS
+        if isinstance(landing, pd.DataFrame):
+            self.index = landing.index
+            cols = [str(c) for c in landing.columns]
+            if not isinstance(landing.columns, pd.RangeIndex):
+                order = _order(cols, names)
+                if order is None:
+                    raise DataError(f"landing DataFrame columns must be named {list(names)} for form "
+                                    f"{self.form_in!r} (any order; a suffix 0 is allowed); got {cols}")
+                landing = landing.iloc[:, order]
+            landing = landing.to_numpy()
+        arr = np.asarray(landing)
+        if arr.dtype.kind not in "iuf" or arr.ndim == 0 or arr.shape[-1] != 3:
+            raise DataError(f"landing must be a real (..., 3) array of {list(names)}; got "
+                            f"{arr.dtype} values of shape {arr.shape}")
+        self.lead = arr.shape[:-1]
+        return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
+
+    def liftoff(self, out: np.ndarray) -> Any:
+        """Scaled (n, 3) lift-offs in the caller's units, form and kind."""
+        import pandas as pd
+
+        res = scaled_to_physical(out, units=self.units, form=self.form_out, kind="liftoff", radius_m=self.radius_m)
+        if self.index is not None:
+            names = COMPONENTS if self.form_out == "cartesian" else POLAR_COMPONENTS
+            return pd.DataFrame(res, index=self.index, columns=list(names))
+        return res.reshape((*self.lead, 3))
+
+    def per_bounce(self, values: np.ndarray) -> np.ndarray:
+        """A (n,) result with the landings' leading shape."""
+        return values.reshape(self.lead) if self.index is None else values
+
+
+def _order(labels: list[str], names: tuple[str, ...]) -> list[int] | None:
+    for suffix in ("", "0", "_0"):
+        want = [n + suffix for n in names]
+        if all(labels.count(w) == 1 for w in want):
+            return [labels.index(w) for w in want]
+    return None

@@ -1,0 +1,165 @@
+"""Issue 11 item 3: predict in physical units (Cartesian and polar), non-physical lift-offs, regime codes."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+import bouncelab as bl
+from bouncelab.data import published, units
+from bouncelab.errors import DataError, LargeResultWarning, NonphysicalLiftoffWarning
+from bouncelab.laws import BounceModel, Parameter
+
+SI = {"velocity": "m/s", "spin": "rpm"}
+
+
+def table1_polar(campaign: str, n: int, seed: int = 0) -> np.ndarray:
+    """Landings drawn uniformly within the paper's Table 1 ranges of speed (m/s), angle (deg) and spin (rpm)."""
+    t = published.TABLE1.loc[campaign]
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(t.loc[q, "min"], t.loc[q, "max"], n) for q in ("speed", "angle", "spin")])
+
+
+def test_cartesian_physical_units_match_manual_conversion() -> None:
+    law = bl.PennerFixed.published("A")
+    phys = np.array([[20.0, -15.0, 3000.0], [5.0, -8.0, -1000.0]])
+    expected = units.from_scaled(law.predict(units.to_scaled(phys, velocity="m/s", spin="rpm")),
+                                 velocity="m/s", spin="rpm")
+    np.testing.assert_allclose(law.predict(phys, units=SI), expected, rtol=1e-12)
+    mph = law.predict(phys * [1 / 0.44704, 1 / 0.44704, 1], units={"velocity": "mph", "spin": "rpm"})
+    np.testing.assert_allclose(mph * [0.44704, 0.44704, 1], expected, rtol=1e-9)
+
+
+def test_polar_liftoff_angle_is_positive_above_horizontal() -> None:
+    law = bl.Rigid.published("A")
+    polar = np.array([[28.5, 37.3, 2094.0], [10.0, 60.0, -500.0]])  # speed m/s, degrees below horizontal, rpm
+    out = law.predict(polar, units=SI, form="polar")
+    scaled = law.predict(units.landing_from_speed_angle_spin(polar[:, 0], polar[:, 1], polar[:, 2]))
+    assert (scaled[:, 1] > 0).all()  # the ball goes up ...
+    assert (out[:, 1] > 0).all()  # ... so its lift-off angle is positive
+    np.testing.assert_allclose(out[:, 1], np.degrees(np.arctan2(scaled[:, 1], scaled[:, 0])), rtol=1e-12)
+    np.testing.assert_allclose(out[:, 0], np.hypot(scaled[:, 0], scaled[:, 1]) * units.BALL_RADIUS_M, rtol=1e-12)
+    np.testing.assert_allclose(out[:, 2], scaled[:, 2] * 60 / (2 * np.pi), rtol=1e-12)
+
+
+def test_polar_round_trip_and_mixed_forms() -> None:
+    law = bl.PennerVarying.published("A")
+    polar = table1_polar("A", 50)
+    cart_in = units.physical_to_scaled(polar, units=SI, form="polar", kind="landing")
+    np.testing.assert_allclose(units.scaled_to_physical(cart_in, units=SI, form="polar", kind="landing"), polar,
+                               rtol=1e-9)
+    both = law.predict(polar, units=SI, form=("polar", "cartesian"))
+    np.testing.assert_allclose(both, units.from_scaled(law.predict(cart_in), velocity="m/s", spin="rpm"),
+                               rtol=1e-12)
+    # the leading shape is kept
+    assert law.predict(polar.reshape(5, 10, 3), units=SI, form="polar").shape == (5, 10, 3)
+
+
+def test_dataframe_polar_columns_by_name() -> None:
+    law = bl.Rigid.published("B")
+    polar = table1_polar("B", 4)
+    df = pd.DataFrame(polar[:, [2, 0, 1]], columns=["spin", "speed", "angle"], index=list("abcd"))
+    out = law.predict(df, units=SI, form="polar")
+    assert list(out.columns) == ["speed", "angle", "spin"] and list(out.index) == list("abcd")
+    np.testing.assert_allclose(out.to_numpy(), law.predict(polar, units=SI, form="polar"))
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"units": {"velocity": "m/s"}}, "missing \\['spin'\\]"),
+    ({"units": {"velocity": "rpm", "spin": "rpm"}}, "unknown velocity unit"),
+    ({"units": "m/s"}, "units must be"),
+    ({"units": SI, "form": "spherical"}, "form must be"),
+])
+def test_bad_units_or_form_refused(kwargs: dict, match: str) -> None:
+    with pytest.raises(DataError, match=match):
+        bl.Rigid.published("A").predict([[20.0, 30.0, 100.0]], **kwargs)
+
+
+def test_polar_landing_angle_out_of_range_refused() -> None:
+    law = bl.Rigid.published("A")
+    with pytest.raises(DataError, match="landing angle must be in \\(0, 180\\)"):
+        law.predict([[20.0, 30.0, 100.0], [20.0, -5.0, 100.0]], units=SI, form="polar")
+    with pytest.raises(DataError, match="speed must be positive"):
+        law.predict([[-20.0, 30.0, 100.0]], units=SI, form="polar")
+    with pytest.raises(DataError, match="DataArray states its own units"):
+        law.predict(xr.DataArray([[20.0, -30.0, 100.0]], dims=("bounce", "component")), units=SI)
+
+
+class Booster(BounceModel):
+    """Not a physical law: bounces up with ``g`` times the landing speed (energy gain for g > 1)."""
+
+    parameter_specs = (Parameter("g", (0.0, 3.0), (0.0, 10.0), "1", "gain"),)
+    regimes = ("bounce",)
+
+    def __init__(self, g=None):
+        self.g = g
+        super().__init__()
+
+    def _predict(self, p, theta):
+        return p * np.array([theta[0], -theta[0], theta[0]])
+
+    def _regime(self, p, theta):
+        return np.zeros(len(p), dtype=np.int8)
+
+
+def test_flags_mark_energy_gain_and_into_ground_without_warning_for_unpublished_laws() -> None:
+    landing = np.array([[100.0, -200.0, 30.0], [50.0, -10.0, 0.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a user's law is never warned about
+        _out, flags = Booster(g=1.5).predict(landing, return_flags=True)
+        np.testing.assert_array_equal(flags.energy_gain, [True, True])
+        np.testing.assert_array_equal(flags.into_ground, [False, False])
+        _, flags = Booster(g=0.5).predict(landing, return_flags=True)
+        assert not flags.nonphysical.any()
+        _, flags = Booster(g=0.0).predict(landing, return_flags=True)  # ydotF = 0: stays on the ground
+        np.testing.assert_array_equal(flags.into_ground, [True, True])
+    assert flags.counts() == {"into_ground": 2, "energy_gain": 0, "nonphysical": 2, "n": 2}
+
+
+def test_flags_match_an_independent_check_and_keep_the_shape() -> None:
+    law = bl.PennerFixed.published("B")
+    polar = table1_polar("B", 2000, seed=3)
+    with pytest.warns(NonphysicalLiftoffWarning):
+        out, flags = law.predict(polar.reshape(40, 50, 3), units=SI, form="polar", return_flags=True)
+    with pytest.warns(NonphysicalLiftoffWarning):
+        scaled_out = law.predict(units.physical_to_scaled(polar, units=SI, form="polar"))
+    assert flags.into_ground.shape == (40, 50)
+    np.testing.assert_array_equal(flags.into_ground.ravel(), scaled_out[:, 1] <= 0)
+    # a lift-off into the ground has a lift-off angle at or below zero
+    assert (out[..., 1][flags.into_ground] <= 0).all() and (out[..., 1][~flags.into_ground] > 0).all()
+
+
+def test_published_penner_b_warns_on_table1_landings() -> None:
+    polar = table1_polar("B", 20_000)
+    for cls in (bl.PennerFixed, bl.PennerVarying):
+        with pytest.warns(NonphysicalLiftoffWarning, match=r"published\('B'\).*into the ground"):
+            _, flags = cls.published("B").predict(polar, units=SI, form="polar", return_flags=True)
+        assert flags.into_ground.mean() > 0.05  # a large share, not a rounding accident
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bl.Rigid.published("B").predict(polar, units=SI, form="polar")  # never into the ground: r > 0
+        bl.PennerFixed.published("A").predict(units.physical_to_scaled(table1_polar("A", 20_000), units=SI,
+                                                                       form="polar"))
+        # the same law with other values is the user's own choice: flags, but no warning
+        bl.PennerFixed.published("B").replace(r=0.2).predict(polar, units=SI, form="polar")
+
+
+def test_regime_in_physical_units_and_large_name_arrays_warn() -> None:
+    law = bl.Rigid.published("A")
+    polar = table1_polar("A", 30)
+    np.testing.assert_array_equal(
+        law.regime(polar, units=SI, form="polar", codes=True),
+        law.regime(units.physical_to_scaled(polar, units=SI, form="polar"), codes=True))
+    big = np.tile(units.physical_to_scaled(polar, units=SI, form="polar"), (bl.laws.base.REGIME_NAMES_WARN // 30 + 1,
+                                                                               1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        codes = law.regime(big, codes=True)
+    assert codes.dtype == np.int8
+    with pytest.warns(LargeResultWarning, match="codes=True"):
+        names = law.regime(big)
+    np.testing.assert_array_equal(names, np.asarray(law.regimes)[codes])

@@ -1,0 +1,122 @@
+"""Issue 11 item 5: bouncelab.BounceRegressor, a scikit-learn 3-output regressor."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+from sklearn.base import clone
+from sklearn.model_selection import GridSearchCV, GroupKFold, cross_val_score
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
+import bouncelab as bl
+from bouncelab.errors import DataError
+
+# scikit-learn's generic checks fit on random data of 1 to 10 columns whose second column is mostly positive.
+# A bounce law takes exactly three columns [xdot0, ydot0, omega0] with ydot0 < 0 (a landing moves down), so
+# these checks cannot apply; the properties they check are tested below on bounces instead.
+_WIDTH = "fits random data with 2, 4, 5 or 10 columns; a landing has exactly 3 (xdot0, ydot0, omega0)"
+_UPWARD = "fits random 3-column data with ydot0 >= 0, i.e. balls moving up; a landing moves down"
+NOT_APPLICABLE = {
+    "check_estimators_overwrite_params": _WIDTH, "check_estimators_fit_returns_self": _WIDTH,
+    "check_readonly_memmap_input": _WIDTH, "check_n_features_in_after_fitting": _WIDTH,
+    "check_estimators_dtypes": _WIDTH, "check_dtype_object": _WIDTH, "check_regressors_train": _WIDTH,
+    "check_regressor_data_not_an_array": _WIDTH, "check_regressor_multioutput": _WIDTH,
+    "check_regressors_no_decision_function": _WIDTH, "check_regressors_int": _WIDTH,
+    "check_fit_idempotent": _WIDTH, "check_fit_check_is_fitted": _WIDTH, "check_n_features_in": _WIDTH,
+    "check_fit_score_takes_y": _UPWARD, "check_dont_overwrite_parameters": _UPWARD,
+    "check_positive_only_tag_during_fit": _UPWARD, "check_pipeline_consistency": _UPWARD,
+    "check_estimators_nan_inf": _UPWARD, "check_estimators_pickle": _UPWARD,
+    "check_f_contiguous_array_estimator": _UPWARD, "check_methods_sample_order_invariance": _UPWARD,
+    "check_methods_subset_invariance": _UPWARD, "check_dict_unchanged": _UPWARD, "check_fit2d_predict1d": _UPWARD,
+}
+
+
+@parametrize_with_checks([bl.BounceRegressor("Rigid")], expected_failed_checks=lambda est: NOT_APPLICABLE)
+def test_sklearn_estimator_checks(estimator, check) -> None:
+    check(estimator)
+
+
+@pytest.fixture(scope="module")
+def bounces():
+    ds = bl.load_campaign("A")
+    return ds.landing.values, ds.liftoff.values, ds.setting.values
+
+
+def test_fit_predict_score_match_bouncelab_fit(bounces) -> None:
+    X, Y, _ = bounces
+    est = bl.BounceRegressor("PennerFixed", seed=3)
+    assert est.fit(X, Y) is est
+    ref = bl.fit(bl.PennerFixed, (X, Y), seed=3)
+    assert est.law_ == ref.model and est.n_features_in_ == 3
+    np.testing.assert_array_equal(est.predict(X), ref.model.predict(X))
+    assert est.score(X, Y) == pytest.approx(-ref.delta, rel=1e-12)
+    assert est.score(X, Y) == pytest.approx(-bl.delta(X, Y, est.predict(X)), rel=1e-12)
+
+
+def test_properties_of_the_generic_checks_on_bounces(bounces) -> None:
+    """What the checks listed in NOT_APPLICABLE verify, on landings and lift-offs."""
+    X, Y, _ = bounces
+    est = bl.BounceRegressor("Rigid", objective={"delta": 1.0, "omega": 0.5})
+    params = est.get_params()
+    est.fit(X, Y)
+    assert est.get_params() == params  # parameters untouched by fit
+    pred = est.predict(X)
+    state = dict(est.__dict__)
+    est.score(X, Y)
+    assert est.__dict__.keys() == state.keys()  # predict/score change nothing
+    again = clone(est).fit(X, Y)
+    np.testing.assert_array_equal(again.predict(X), pred)  # idempotent, deterministic
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(est)).predict(X), pred)
+    perm = np.random.default_rng(0).permutation(len(X))
+    np.testing.assert_array_equal(est.predict(X[perm]), pred[perm])  # sample order
+    np.testing.assert_array_equal(est.predict(X[:7]), pred[:7])  # subsets
+    np.testing.assert_array_equal(est.predict(np.asfortranarray(X)), pred)
+    ro = X.copy()
+    ro.flags.writeable = False
+    np.testing.assert_array_equal(est.predict(ro), pred)
+    bad = X.copy()
+    bad[4, 2] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        clone(est).fit(bad, Y)
+    with pytest.raises(DataError, match="3 features"):
+        est.predict(X[:, :2])
+    with pytest.raises(DataError, match="ydot must be negative"):
+        est.predict(-X)
+
+
+def test_cross_val_score_with_groupkfold_by_setting(bounces) -> None:
+    X, Y, groups = bounces
+    cv = GroupKFold(n_splits=4)
+    scores = cross_val_score(bl.BounceRegressor("Rigid"), X, Y, groups=groups, cv=cv)
+    assert scores.shape == (4,)
+    for score, (tr, te) in zip(scores, cv.split(X, Y, groups), strict=True):
+        assert not set(groups[tr]) & set(groups[te])  # every fold holds out whole settings
+        law = bl.fit(bl.Rigid, (X[tr], Y[tr])).model
+        assert score == pytest.approx(-bl.delta(X[te], Y[te], law.predict(X[te])), rel=1e-12)
+
+
+def test_grid_search_over_laws_and_parameters(bounces) -> None:
+    X, Y, groups = bounces
+    grid = [{"law": ["Rigid", bl.PennerVarying, bl.PennerFixed()]},
+            {"law": [bl.PennerFixed()], "law__fade_xdot": [50.0], "fixed": [{"beta_deg": 0.0}]}]
+    search = GridSearchCV(bl.BounceRegressor(), grid, cv=GroupKFold(n_splits=3)).fit(X, Y, groups=groups)
+    res = search.cv_results_
+    assert len(res["params"]) == 4
+    best = int(np.argmax(res["mean_test_score"]))
+    assert search.best_index_ == best
+    assert isinstance(search.best_estimator_.law_, bl.BounceModel)
+    # PennerFixed with beta held at 0 is the rigid bounce: its held-out score equals Rigid's
+    rigid, flat = res["mean_test_score"][0], res["mean_test_score"][3]
+    assert flat == pytest.approx(rigid, rel=1e-3)
+    est = bl.BounceRegressor().set_params(**res["params"][3]).fit(X, Y)
+    assert est.law_.fade_xdot == 50.0 and est.law_.beta_deg == 0.0
+
+
+def test_set_params_on_the_law_and_clone() -> None:
+    est = bl.BounceRegressor(bl.Rigid(r=0.5, mu=0.3))
+    est.set_params(law__mu=0.7, seed=4)
+    assert est.law == bl.Rigid(r=0.5, mu=0.7) and est.seed == 4
+    assert clone(est).law is est.law  # laws are immutable values: their own clones
+    assert est.get_params(deep=True)["law__mu"] == 0.7
