@@ -232,7 +232,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
     )
-    print(f"report written to {report.index}")
+    print(f"report written to {Path(args.out) / report.index.name}")
     return EXIT_OK
 
 
@@ -340,11 +340,11 @@ def _read_rows(path: str) -> np.ndarray:
             continue  # the header line, e.g. "xdot0 ydot0 omega0"
         if len(parts) != 3:
             raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
-                            file=path, row=lineno)
+                            file=path)
         bad = [v for v, x in zip(parts, values, strict=True) if x is None or not math.isfinite(x)]
         if bad:
             raise DataError(f"line {lineno} is not three finite numbers: {text!r} ({bad[0]!r})",
-                            file=path, row=lineno)
+                            file=path)
         rows.append(values)
     if not rows:
         raise DataError("no landing rows found", file=path)
