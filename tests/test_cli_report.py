@@ -246,3 +246,13 @@ def test_figure_units_flag_reaches_the_figures_and_the_report_text(capsys, tmp_p
     assert code == EXIT_OK and (seen[1].velocity, seen[1].spin) == ("m/s", "rpm")
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--quiet")[0] == EXIT_OK
     assert seen[2].velocity == "radius/s" and "in the figures" not in (out / "index.html").read_text()
+
+
+def test_out_holding_the_current_folder_is_refused(fast, capsys, tmp_path, monkeypatch):
+    here = tmp_path / "empty"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    for out in (".", str(tmp_path)):
+        code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")
+        assert code == EXIT_USAGE and "current folder" in err
+    assert here.is_dir() and list(here.iterdir()) == []

@@ -153,6 +153,10 @@ def _check_out(out: Path) -> None:
         raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} is not writable")
     if not out.exists():
         return
+    cwd = Path.cwd()
+    if cwd == out or out in cwd.parents:
+        raise OutputError(f"--out {str(out)!r} holds the current folder; the report replaces --out as a whole, "
+                          "so give a folder below it (e.g. --out report)")
     if not os.access(out, os.W_OK | os.X_OK):
         raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable")
     present = {p.relative_to(out).as_posix() for p in out.rglob("*") if not p.is_dir()}
@@ -275,7 +279,9 @@ def reproduce(
     out = Path(out).expanduser()
     if out.is_symlink():
         out = Path(os.path.realpath(out))  # replace the folder the link points to, keep the link
-    out = out.absolute()
+    out = Path(os.path.abspath(out))  # "." and ".." resolved: the swap renames the folder itself
+    if out.parent == out:
+        raise OutputError(f"--out {str(out)!r} is the root folder; give a folder for the report")
     _check_out(out)
     step = _Progress(len(sources) * _steps_per_campaign(figures) + 1, progress)  # + index.html
     loaded = []
