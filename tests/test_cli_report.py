@@ -256,3 +256,25 @@ def test_out_holding_the_current_folder_is_refused(fast, capsys, tmp_path, monke
         code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")
         assert code == EXIT_USAGE and "current folder" in err
     assert here.is_dir() and list(here.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not hasattr(resource, "RLIMIT_FSIZE"), reason="needs RLIMIT_FSIZE")
+def test_real_run_failing_late_keeps_previous_report(tmp_path):
+    """End to end: a real reproduce run hits a file-size limit part-way (its first file over 8000 bytes);
+    the previous report is byte for byte as it was and no partial folder is left."""
+    out = tmp_path / "rep"
+    cmd = [sys.executable, "-m", "bouncelab", "reproduce", "--campaign", "A", "--no-figures", "--quiet", "--out",
+           str(out)]
+    subprocess.run(cmd, check=True, capture_output=True)
+    before = {f: (out / f).read_bytes() for f in files_under(out)}
+
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8000, 8000))  # small tables fit, larger files do not
+
+    proc = subprocess.run([*cmd[:5], "B", *cmd[6:]], capture_output=True, text=True, preexec_fn=limit)
+    assert proc.returncode == EXIT_USAGE, proc.stderr
+    assert "File too large" in proc.stderr and "previous report" in proc.stderr and "Traceback" not in proc.stderr
+    assert {f: (out / f).read_bytes() for f in files_under(out)} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
