@@ -278,3 +278,17 @@ def test_real_run_failing_late_keeps_previous_report(tmp_path):
     assert "File too large" in proc.stderr and "previous report" in proc.stderr and "Traceback" not in proc.stderr
     assert {f: (out / f).read_bytes() for f in files_under(out)} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+def test_read_only_folders_are_refused_before_any_work(fast, capsys, tmp_path, monkeypatch):
+    """What a non-root user sees for a read-only --out or parent (root passes os.access, hence the stand-in)."""
+    out = tmp_path / "rep"
+    assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
+    before = files_under(out)
+    real = os.access
+    for read_only, needle in ((out, "the folder is not writable"), (tmp_path, "is not writable")):
+        monkeypatch.setattr(os, "access", lambda p, mode, ro=read_only: False if Path(p) == ro else real(p, mode))
+        code, _, err = run(capsys, "reproduce", "--campaign", "B", "--out", out, "--no-figures", "--quiet")
+        monkeypatch.setattr(os, "access", real)
+        assert code == EXIT_USAGE and needle in err
+        assert files_under(out) == before
