@@ -114,7 +114,9 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--label", nargs="+", default=None, metavar="NAME",
                      help="a name for each --data file (default: the file name); A or B puts the paper's "
                           "published values for that campaign beside the results")
-    rep.add_argument("--out", default="report", help="output directory (default: report)")
+    rep.add_argument("--out", default="report",
+                     help="output folder (default: report): new, empty or a previous report, which is replaced "
+                          "only once the new one is complete")
     rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
     rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
     rep.add_argument("--figure-units", metavar="UNITS",
