@@ -147,6 +147,10 @@ def test_out_that_is_not_a_report_is_refused(fast, capsys, tmp_path):
     code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", rep, "--no-figures", "--quiet")
     assert code == EXIT_USAGE and "tables/my_plot.py" in err
     assert (rep / "tables" / "my_plot.py").read_text() == "print(1)"
+    (rep / "tables" / "my_plot.py").unlink()
+    (rep / "data_link").symlink_to(mine, target_is_directory=True)
+    code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", rep, "--no-figures", "--quiet")
+    assert code == EXIT_USAGE and "data_link" in err and (rep / "data_link").is_symlink()
     # An empty folder is fine, and keeps its permission bits.
     empty = tmp_path / "empty"
     empty.mkdir(mode=0o750)

@@ -159,7 +159,8 @@ def _check_out(out: Path) -> None:
                           "so give a folder below it (e.g. --out report)")
     if not os.access(out, os.W_OK | os.X_OK):
         raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable")
-    present = {p.relative_to(out).as_posix() for p in out.rglob("*") if not p.is_dir()}
+    # Files and links (a link to a folder counts as the user's: it is never walked into).
+    present = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_symlink() or not p.is_dir()}
     if not present:
         return
     ours = _previous_report_files(out)
