@@ -130,7 +130,7 @@ def _previous_report_files(out: Path) -> set[str] | None:
             return None
         return {str(f) for f in listed} | {MANIFEST}
     index = out / "index.html"
-    if index.is_file():  # a report of bouncelab <= 0.1.0, before the manifest: its index lists its files
+    if index.is_file():  # an older report, from before the manifest: its index lists its files
         try:
             text = index.read_text(errors="replace")
         except OSError:
