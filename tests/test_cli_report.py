@@ -25,7 +25,7 @@ from bouncelab.cli import reproduce as rp
 from bouncelab.cli.main import EXIT_DATA, EXIT_OK, EXIT_USAGE, main
 
 
-def _fake_campaign(name, ds, out, seed, figures, step, files):
+def _fake_campaign(name, ds, out, seed, figures, step, files, units=None):
     """Writes one table and one law per campaign, named as the real analysis names them."""
     tables = out / "tables"
     rp._write_table(pd.DataFrame({"n": [ds.sizes["bounce"]]}), f"### {name}\n", tables / f"{name}_table3", files)
@@ -147,6 +147,10 @@ def test_out_that_is_not_a_report_is_refused(fast, capsys, tmp_path):
     code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", rep, "--no-figures", "--quiet")
     assert code == EXIT_USAGE and "tables/my_plot.py" in err
     assert (rep / "tables" / "my_plot.py").read_text() == "print(1)"
+    (rep / "tables" / "my_plot.py").unlink()
+    (rep / "data_link").symlink_to(mine, target_is_directory=True)
+    code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", rep, "--no-figures", "--quiet")
+    assert code == EXIT_USAGE and "data_link" in err and (rep / "data_link").is_symlink()
     # An empty folder is fine, and keeps its permission bits.
     empty = tmp_path / "empty"
     empty.mkdir(mode=0o750)
@@ -246,3 +250,49 @@ def test_figure_units_flag_reaches_the_figures_and_the_report_text(capsys, tmp_p
     assert code == EXIT_OK and (seen[1].velocity, seen[1].spin) == ("m/s", "rpm")
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--quiet")[0] == EXIT_OK
     assert seen[2].velocity == "radius/s" and "in the figures" not in (out / "index.html").read_text()
+
+
+def test_out_holding_the_current_folder_is_refused(fast, capsys, tmp_path, monkeypatch):
+    here = tmp_path / "empty"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    for out in (".", str(tmp_path)):
+        code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")
+        assert code == EXIT_USAGE and "current folder" in err
+    assert here.is_dir() and list(here.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not hasattr(resource, "RLIMIT_FSIZE"), reason="needs RLIMIT_FSIZE")
+def test_real_run_failing_late_keeps_previous_report(tmp_path):
+    """End to end: a real reproduce run hits a file-size limit part-way (its first file over 8000 bytes);
+    the previous report is byte for byte as it was and no partial folder is left."""
+    out = tmp_path / "rep"
+    cmd = [sys.executable, "-m", "bouncelab", "reproduce", "--campaign", "A", "--no-figures", "--quiet", "--out",
+           str(out)]
+    subprocess.run(cmd, check=True, capture_output=True)
+    before = {f: (out / f).read_bytes() for f in files_under(out)}
+
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8000, 8000))  # small tables fit, larger files do not
+
+    proc = subprocess.run([*cmd[:5], "B", *cmd[6:]], capture_output=True, text=True, preexec_fn=limit)
+    assert proc.returncode == EXIT_USAGE, proc.stderr
+    assert "File too large" in proc.stderr and "previous report" in proc.stderr and "Traceback" not in proc.stderr
+    assert {f: (out / f).read_bytes() for f in files_under(out)} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+def test_read_only_folders_are_refused_before_any_work(fast, capsys, tmp_path, monkeypatch):
+    """What a non-root user sees for a read-only --out or parent (root passes os.access, hence the stand-in)."""
+    out = tmp_path / "rep"
+    assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
+    before = files_under(out)
+    real = os.access
+    for read_only, needle in ((out, "the folder is not writable"), (tmp_path, "is not writable")):
+        monkeypatch.setattr(os, "access", lambda p, mode, ro=read_only: False if Path(p) == ro else real(p, mode))
+        code, _, err = run(capsys, "reproduce", "--campaign", "B", "--out", out, "--no-figures", "--quiet")
+        monkeypatch.setattr(os, "access", real)
+        assert code == EXIT_USAGE and needle in err
+        assert files_under(out) == before

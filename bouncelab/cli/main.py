@@ -115,7 +115,9 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--label", nargs="+", default=None, metavar="NAME",
                      help="a name for each --data file (default: the file name); A or B puts the paper's "
                           "published values for that campaign beside the results")
-    rep.add_argument("--out", default="report", help="output directory (default: report)")
+    rep.add_argument("--out", default="report",
+                     help="output folder (default: report): new, empty or a previous report, which is replaced "
+                          "only once the new one is complete")
     rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
     rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
     rep.add_argument("--figure-units", metavar="UNITS",
@@ -241,7 +243,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
     )
-    print(f"report written to {report.index}")
+    print(f"report written to {Path(args.out) / report.index.name}")
     return EXIT_OK
 
 
@@ -349,11 +351,11 @@ def _read_rows(path: str) -> np.ndarray:
             continue  # the header line, e.g. "xdot0 ydot0 omega0"
         if len(parts) != 3:
             raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
-                            file=path, row=lineno)
+                            file=path)
         bad = [v for v, x in zip(parts, values, strict=True) if x is None or not math.isfinite(x)]
         if bad:
             raise DataError(f"line {lineno} is not three finite numbers: {text!r} ({bad[0]!r})",
-                            file=path, row=lineno)
+                            file=path)
         rows.append(values)
     if not rows:
         raise DataError("no landing rows found", file=path)

@@ -144,7 +144,7 @@ def index_html(report: Report) -> str:
     parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
              f"<style>{_CSS}</style></head><body>",
              "<h1>bouncelab: golf-ball bounce laws</h1>",
-             f"<p>The analysis of {html.escape(CITATION)}, run on each campaign below. "
+             f"<p>The analysis of {html.escape(CITATION.rstrip('.'))}, run on each campaign below. "
              f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
              "Delta q (fractions of the landing state's norm, shown in per cent); velocities are in ball radii per "
              f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",

@@ -130,7 +130,7 @@ def _previous_report_files(out: Path) -> set[str] | None:
             return None
         return {str(f) for f in listed} | {MANIFEST}
     index = out / "index.html"
-    if index.is_file():  # a report of bouncelab <= 0.1.0, before the manifest: its index lists its files
+    if index.is_file():  # an older report, from before the manifest: its index lists its files
         try:
             text = index.read_text(errors="replace")
         except OSError:
@@ -153,9 +153,14 @@ def _check_out(out: Path) -> None:
         raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} is not writable")
     if not out.exists():
         return
+    cwd = Path.cwd()
+    if cwd == out or out in cwd.parents:
+        raise OutputError(f"--out {str(out)!r} holds the current folder; the report replaces --out as a whole, "
+                          "so give a folder below it (e.g. --out report)")
     if not os.access(out, os.W_OK | os.X_OK):
         raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable")
-    present = {p.relative_to(out).as_posix() for p in out.rglob("*") if not p.is_dir()}
+    # Files and links (a link to a folder counts as the user's: it is never walked into).
+    present = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_symlink() or not p.is_dir()}
     if not present:
         return
     ours = _previous_report_files(out)
@@ -275,7 +280,9 @@ def reproduce(
     out = Path(out).expanduser()
     if out.is_symlink():
         out = Path(os.path.realpath(out))  # replace the folder the link points to, keep the link
-    out = out.absolute()
+    out = Path(os.path.abspath(out))  # "." and ".." resolved: the swap renames the folder itself
+    if out.parent == out:
+        raise OutputError(f"--out {str(out)!r} is the root folder; give a folder for the report")
     _check_out(out)
     step = _Progress(len(sources) * _steps_per_campaign(figures) + 1, progress)  # + index.html
     loaded = []
