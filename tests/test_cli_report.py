@@ -25,7 +25,7 @@ from bouncelab.cli import reproduce as rp
 from bouncelab.cli.main import EXIT_DATA, EXIT_OK, EXIT_USAGE, main
 
 
-def _fake_campaign(name, ds, out, seed, figures, step, files, units=None):
+def _fake_campaign(name, ds, out, seed, figures, step, files, units=None, **_):
     """Writes one table and one law per campaign, named as the real analysis names them."""
     tables = out / "tables"
     rp._write_table(pd.DataFrame({"n": [ds.sizes["bounce"]]}), f"### {name}\n", tables / f"{name}_table3", files)

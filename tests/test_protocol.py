@@ -409,3 +409,44 @@ def test_law_definition_errors(campaign_a):
 def test_docs_compiled_example_refuses_to_hold(compiled_law, campaign_b):
     with pytest.raises(FitError, match="cannot hold"):
         bl.fit(compiled_law, campaign_b, fixed={"b": [0.0, 0.0, 0.0]})
+
+
+def test_user_laws_from_the_command_line_without_pythonpath(tmp_path):
+    """Run where the law's file lies, as a user would: no PYTHONPATH; --import for a saved user law."""
+    import shutil
+
+    shutil.copy(SNIPPETS / "laws_new.py", tmp_path / "mylaws.py")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+
+    def cli(*argv):
+        return subprocess.run([sys.executable, "-m", "bouncelab.cli.main", *argv], capture_output=True, text=True,
+                              env=env, cwd=tmp_path)
+
+    out = cli("fit", "mylaws:speedrestitution", "A", "--save", "s.json", "--method", "global",
+              "--option", "maxeval=60", "--option", "local_algorithm=null")
+    assert out.returncode == 0, out.stderr
+    assert "mylaws:SpeedRestitution" in out.stdout and (tmp_path / "s.json").exists()
+    out = cli("predict", "s.json", "--landing", "1000", "-8e2", "200")
+    assert out.returncode == 4 and "import the module" in out.stderr  # a JSON file never imports code by itself
+    out = cli("predict", "s.json", "--import", "mylaws", "--landing", "1000", "-8e2", "200")
+    assert out.returncode == 0, out.stderr
+    assert len(out.stdout.strip().splitlines()[-1].split()) == 7
+    out = cli("fit", "Rigid", "A", "--option", "maxeval")
+    assert out.returncode == 2 and "KEY=VALUE" in out.stderr
+    out = cli("fit", "Rigid", "A", "--import", "no_such_module_here")
+    assert out.returncode == 4 and "cannot import 'no_such_module_here'" in out.stderr
+
+
+def test_reproduce_compares_a_user_law(tmp_path, monkeypatch):
+    from bouncelab.cli import reproduce as rp
+
+    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    law = _load("laws_new").SpeedRestitution
+    report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False, laws=[law])
+    table3 = (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
+    assert "SpeedRestitution" in table3 and "v_c" in table3
+    assert "SpeedRestitution" in (tmp_path / "rep" / "tables" / "A_crossvalidation.md").read_text()
+    assert report.index.exists()
+    with pytest.raises(FitError):
+        rp.reproduce(["A"], out=tmp_path / "rep2", figures=False, progress=False, laws=["NoSuchLaw"])
+    assert not (tmp_path / "rep2").exists()

@@ -95,6 +95,12 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
 
 
+def _add_import_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--import", dest="imports", action="append", default=[], metavar="MODULE",
+                   help="import a module that defines your own laws first (repeatable; the current folder is "
+                        "searched, as by python -m), e.g. --import mylaws")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from bouncelab import __version__
 
@@ -125,6 +131,10 @@ def build_parser() -> argparse.ArgumentParser:
                           "lab (m/s, rpm), imperial (mph, rpm), or VELOCITY,SPIN such as ft/s,rev/s; "
                           "tables stay in scaled units")
     rep.add_argument("--quiet", action="store_true", help="no progress display")
+    rep.add_argument("--law", dest="laws", action="append", default=[], metavar="LAW",
+                     help="a further law to fit and compare beside the paper's (repeatable): a built-in name or "
+                          "a user law's module:Class (see --import)")
+    _add_import_option(rep)
     _add_data_options(rep)
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
@@ -139,6 +149,10 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--bounds", help='JSON bounds, e.g. \'{"mu": [0, 3]}\'')
     fit.add_argument("--save", metavar="FILE", help="write the fitted law as JSON")
     fit.add_argument("--json", action="store_true", help="print the result as JSON instead of a report")
+    fit.add_argument("--option", dest="options", action="append", default=[], metavar="KEY=VALUE",
+                     help="an option of the fitting method, VALUE as JSON or a bare word (repeatable), e.g. "
+                          "--option maxeval=2000 --option svm_plane=hyperplane")
+    _add_import_option(fit)
     _add_data_options(fit)
 
     pred = sub.add_parser("predict", help="lift-off states from landing states",
@@ -155,6 +169,7 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("--velocity-unit", default="radius/s", help="unit of velocities (default radius/s)")
     pred.add_argument("--spin-unit", default="rad/s", help="unit of spin (default rad/s)")
     pred.add_argument("--radius-mm", type=_positive, default=21.35, help="ball radius in mm (default 21.35)")
+    _add_import_option(pred)
 
     info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
     info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
@@ -181,6 +196,7 @@ def main(argv: list[str] | None = None) -> int:
             from bouncelab.cli.track import run as run_track
 
             return run_track(args)
+        _import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
         # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
@@ -242,16 +258,32 @@ def _reproduce(args: argparse.Namespace) -> int:
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
+        laws=[_law_class(name) for name in args.laws],
     )
     print(f"report written to {Path(args.out) / report.index.name}")
     return EXIT_OK
 
 
-def _law_class(name: str):
-    """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
-    the module the user names (a law JSON file, by contrast, never imports code)."""
+def _import_modules(modules: list[str]) -> None:
+    """Import the modules a command line names (--import, or the module of a module:Class law), searching the
+    current folder first as ``python -m`` does, so that a user's laws register themselves."""
     import importlib
 
+    from bouncelab.errors import ParameterError
+
+    if modules and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())
+    for module in modules:
+        try:
+            importlib.import_module(module)
+        except ImportError as exc:
+            raise ParameterError(f"cannot import {module!r} (looked in the current folder and the installed "
+                                 f"packages): {exc}") from None
+
+
+def _law_class(name: str):
+    """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
+    the module the user names (a law JSON file, by contrast, never imports code: use --import)."""
     from bouncelab.errors import ParameterError
     from bouncelab.laws import law_class
 
@@ -260,12 +292,22 @@ def _law_class(name: str):
     except ParameterError:
         if ":" not in name:
             raise
-    module = name.split(":", 1)[0]
-    try:
-        importlib.import_module(module)
-    except ImportError as exc:
-        raise ParameterError(f"cannot import {module!r} for the law {name!r}: {exc}") from None
-    return law_class(name)
+    _import_modules([name.split(":", 1)[0]])
+    return law_class(name, case_sensitive=False)
+
+
+def _method_options(items: list[str]) -> dict[str, Any]:
+    """--option KEY=VALUE pairs: VALUE read as JSON (numbers, true/false, lists), else kept as text."""
+    options: dict[str, Any] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip().isidentifier():
+            raise UsageError(f"--option takes KEY=VALUE, e.g. --option maxeval=2000; got {item!r}")
+        try:
+            options[key.strip()] = json.loads(value)
+        except json.JSONDecodeError:
+            options[key.strip()] = value
+    return options
 
 
 def _bounds(text: str | None) -> dict[str, tuple] | None:
@@ -299,7 +341,9 @@ def _fit(args: argparse.Namespace) -> int:
     if args.save:
         _check_save_path(args.save)
     data = _load(args.data, args)
-    options = {} if args.algorithm is None else {"algorithm": args.algorithm}  # an option of the search methods
+    options = _method_options(args.options)
+    if args.algorithm is not None:  # an option of the search methods
+        options["algorithm"] = args.algorithm
     res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
               bounds=bounds, **options)
     # The result is printed before the law is saved, so a failed save loses no work.

@@ -33,7 +33,7 @@ import stat
 import sys
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -213,6 +213,7 @@ def reproduce(
     load: Callable[[str], xr.Dataset] | None = None,
     labels: dict[str, str] | None = None,
     figure_units: Any = None,
+    laws: Sequence[Any] = (),
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
 
@@ -240,6 +241,9 @@ def reproduce(
         Units of the figures' axes: None (scaled: radii/s, rad/s), a preset ("si", "lab",
         "imperial") or a mapping such as ``{"velocity": "m/s", "spin": "rpm"}`` (see
         :func:`bouncelab.plots.figure_units`). Tables stay in scaled units.
+    laws
+        Further laws (classes, instances or registered names, e.g. your own) fitted, compared and
+        cross-validated beside the paper's laws and the tangential-restitution law.
 
     Returns
     -------
@@ -254,7 +258,9 @@ def reproduce(
         A source cannot be loaded.
     """
     from bouncelab.data.io import load_campaign
+    from bouncelab.fitting.comparison import law_instance
 
+    extra = [law_instance(law) for law in laws]  # unknown names fail here, before any work
     sources = [*campaigns, *data]
     if not sources:
         raise DataError("nothing to reproduce: give campaigns (A, B) or data files")
@@ -294,7 +300,7 @@ def reproduce(
     except OSError as exc:
         raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
     try:
-        report = _build(loaded, staging, seed, figures, step, start, units)
+        report = _build(loaded, staging, seed, figures, step, start, units, extra)
         _swap_in(staging, out)
     except OSError as exc:
         shutil.rmtree(staging, ignore_errors=True)
@@ -308,13 +314,13 @@ def reproduce(
 
 
 def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: bool, step: _Progress,
-           start: float, units: Any = None) -> Report:
+           start: float, units: Any = None, extra: Sequence[Any] = ()) -> Report:
     """Write the whole report into the (new, empty) folder ``out``."""
     report = Report(out=out, index=out / "index.html")
     if units is not None and (units.velocity, units.spin) != ("radius/s", "rad/s"):
         report.figure_units = {"velocity": units.velocity, "spin": units.spin}
     for name, ds in loaded:
-        report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files, units)
+        report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files, units, extra=extra)
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
         report.files.append(report.index)
@@ -339,14 +345,14 @@ def _moved(report: Report, staging: Path, out: Path) -> Report:
 
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,
-              files: list[Path], units: Any = None) -> dict[str, Any]:
+              files: list[Path], units: Any = None, *, extra: Sequence[Any] = ()) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
     from bouncelab.data import published
     from bouncelab.data.settings import infer_settings
     from bouncelab.fitting import bootstrap, compare, cross_validate, fit, split_by_setting
     from bouncelab.fitting.comparison import PAPER_LAWS
-    from bouncelab.laws import PiecewiseAffine, Rigid, registered_laws
+    from bouncelab.laws import PiecewiseAffine, Rigid, law_name, registered_laws
 
     camp = str(ds.attrs.get("campaign", "")).upper()
     section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {},
@@ -361,6 +367,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             "the landing conditions (bouncelab.infer_settings)."
         )
     tables = out / "tables"
+    compared = [registered_laws()[law] for law in [*PAPER_LAWS, "TangentialRestitution"]] + list(extra)
 
     def add(key: str, df: pd.DataFrame, stem: str, title: str, *, percent: bool = False,
             shown: pd.DataFrame | None = None, missing: str = "nan", note: str = "") -> None:
@@ -371,7 +378,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         section["tables"][key] = md
 
     with step(f"{name}: fitting the paper's laws to all bounces (Table 3)"):
-        cmp = compare(ds, [*PAPER_LAWS, "TangentialRestitution"], seed=seed)
+        cmp = compare(ds, [*compared], seed=seed)
         structured = fit(Rigid, ds, method="structured", seed=seed)
         md = cmp.to_markdown()
         md += ("\n### The paper's two-stage procedure for Rigid (r by least squares on ydot, then mu)\n\n"
@@ -381,11 +388,11 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         section["tables"]["Table 3: laws fitted to all bounces"] = md
         laws_dir = out / "laws"
         laws_dir.mkdir(exist_ok=True)
-        for law_name, res in cmp.results.items():
-            path = laws_dir / f"{name}_{law_name}.json"
+        for key, res in cmp.results.items():
+            path = laws_dir / f"{name}_{campaign_file_name(key)}.json"  # a user law's key holds ':'
             res.model.to_json(path)
             files.append(path)
-            section["laws"][law_name] = path
+            section["laws"][key] = path
         section["comparison"] = cmp
 
     with step(f"{name}: piecewise-affine law on the paper's split, SVM and delta plane (Table 2)"):
@@ -415,10 +422,9 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
 
     with step(f"{name}: 5-fold cross-validation by launcher setting (beyond the paper)"):
         rows = {}
-        for law in [*PAPER_LAWS, "TangentialRestitution"]:
-            cls = registered_laws()[law]
-            cv = cross_validate(cls, ds, k=min(5, len(np.unique(ds.setting.values))), seed=seed)
-            rows[law] = {"cv_delta": cv.delta, "cv_delta_std": cv.delta_std,
+        for model in compared:
+            cv = cross_validate(model, ds, k=min(5, len(np.unique(ds.setting.values))), seed=seed)
+            rows[law_name(model)] = {"cv_delta": cv.delta, "cv_delta_std": cv.delta_std,
                          "fitted_delta": float(cv.folds["train_delta"].mean())}
         cvt = pd.DataFrame(rows).T
         cvt.index.name = "law"

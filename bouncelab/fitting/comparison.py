@@ -24,7 +24,7 @@ from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_class, law_name
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["PAPER_LAWS", "Comparison", "compare"]
+__all__ = ["PAPER_LAWS", "Comparison", "compare", "law_instance"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
 PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
@@ -188,7 +188,7 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     return f"{v:.{digits}g}"
 
 
-def _law_instance(law: Any) -> BounceModel:
+def law_instance(law: Any) -> BounceModel:
     if isinstance(law, str):
         try:
             return law_class(law)()
@@ -249,7 +249,7 @@ def compare(
     seed = check_seed(seed)
     if isinstance(laws, str | BounceModel) or isinstance(laws, type):
         laws = [laws]
-    models = [_law_instance(law) for law in laws]
+    models = [law_instance(law) for law in laws]
     if not models:
         raise FitError("give at least one law to compare")
     names = [law_name(m) for m in models]
