@@ -22,10 +22,18 @@ __version__ = "0.1.0"
 from bouncelab.data import published, units
 from bouncelab.data.campaign import make_campaign, validate_campaign
 from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+from bouncelab.errors import (
+    BouncelabError,
+    DataError,
+    FitError,
+    LawDefinitionError,
+    NotFittedError,
+    ParameterError,
+)
 from bouncelab.laws import (
     BounceModel,
     CompiledLaw,
+    CompliantImpact,
     Parameter,
     Parameters,
     PennerFixed,
@@ -33,6 +41,7 @@ from bouncelab.laws import (
     PiecewiseAffine,
     Rigid,
     TangentialRestitution,
+    TurfContact,
     fit_method,
     load_law,
 )
@@ -43,6 +52,7 @@ _LAZY = {
     "load_campaign": "bouncelab.data.io",
     "save_campaign": "bouncelab.data.io",
     "generate_surrogate": "bouncelab.data.surrogate",
+    "simulate_campaign": "bouncelab.simulation",
     "fit": "bouncelab.fitting",
     "FitResult": "bouncelab.fitting",
     "compare": "bouncelab.fitting",
@@ -58,8 +68,10 @@ __all__ = [
     "BounceModel",
     "BouncelabError",
     "CompiledLaw",
+    "CompliantImpact",
     "DataError",
     "FitError",
+    "LawDefinitionError",
     "NotFittedError",
     "Parameter",
     "ParameterError",
@@ -69,6 +81,7 @@ __all__ = [
     "PiecewiseAffine",
     "Rigid",
     "TangentialRestitution",
+    "TurfContact",
     "__version__",
     "classify_slip_roll",
     "delta",
@@ -85,8 +98,8 @@ __all__ = [
 ]
 
 
-# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli).
-_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "laws", "plots")
+# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
+_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "laws", "plots", "simulation")
 
 
 def __getattr__(name: str) -> Any:

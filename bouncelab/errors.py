@@ -67,6 +67,10 @@ class FitError(BouncelabError, ValueError):
     """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
 
 
+class LawDefinitionError(BouncelabError, TypeError):
+    """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""
+
+
 class BouncelabWarning(UserWarning):
     """Base class of every warning bouncelab issues on purpose."""
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -147,6 +148,13 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     assert "SYNTHETIC SURROGATE" in index
     assert "[ 1/10] loading A" in err and "done" in err
     assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
+    assert "Values in brackets are the paper's published ones" in index
+    repeat = (rep / "tables" / "A_repeatability_summary.md").read_text()
+    assert "| all | mixed | – | – |" in repeat and "nan" not in repeat
+    # Every file is listed in the manifest that lets a later run replace this report, and nothing else is left.
+    listed = set(json.loads((rep / ".bouncelab-report.json").read_text())["files"])
+    assert listed | {".bouncelab-report.json"} == {p.relative_to(rep).as_posix() for p in rep.rglob("*") if p.is_file()}
+    assert [p.name for p in tmp_path.iterdir()] == ["rep"]
 
 
 def test_reproduce_own_file_without_settings(tmp_path, capsys):
@@ -155,12 +163,18 @@ def test_reproduce_own_file_without_settings(tmp_path, capsys):
     csv = tmp_path / "my_bounces.csv"
     header = "vx0,vy0,w0,vx1,vy1,w1"
     np.savetxt(csv, np.column_stack([p0, pf]), delimiter=",", header=header, comments="")
-    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--out", str(tmp_path / "rep"), "--no-figures",
-                         "--quiet")
+    code, _, err = run(capsys, "reproduce", "--data", str(csv), "--spin-unit", "rad/s", "--out", str(tmp_path / "rep"),
+                       "--no-figures", "--quiet")
     assert code == EXIT_OK and err == ""
     index = (tmp_path / "rep" / "index.html").read_text()
     assert "inferred by clustering" in index
-    assert (tmp_path / "rep" / "tables" / "my_bounces_table3.md").exists()
+    table3 = (tmp_path / "rep" / "tables" / "my_bounces_table3.md").read_text()
+    table2 = (tmp_path / "rep" / "tables" / "my_bounces_table2.md").read_text()
+    # Own data: no published values are shown, so no text may say they are.
+    for text in (index, table3, table2):
+        assert "bracket" not in text.replace("no published values", "")
+        assert "(31.9 %)" not in text and "(7.27 %)" not in text
+    assert "no published values are shown" in index
 
 
 def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
@@ -168,12 +182,12 @@ def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
     csv = tmp_path / "artificial_turf.csv"
     np.savetxt(csv, np.column_stack([ds.landing.values, ds.liftoff.values]), delimiter=",",
                header="vx0,vy0,w0,vx1,vy1,w1", comments="")
-    code, _, _ = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "--out", str(tmp_path / "rep"),
-                     "--no-figures", "--quiet")
+    code, _, _ = run(capsys, "reproduce", "--data", str(csv), "--spin-unit", "rad/s", "--label", "A",
+                     "--out", str(tmp_path / "rep"), "--no-figures", "--quiet")
     assert code == EXIT_OK
     assert "(31.9 %)" in (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
     code, _, err = run(capsys, "reproduce", "--data", str(csv), "--label", "A", "B", "--out", str(tmp_path / "r2"))
-    assert code == EXIT_DATA and "one --label per --data file" in err
+    assert code == EXIT_USAGE and "one --label per --data file" in err
 
 
 def test_reproduce_bad_file(tmp_path, capsys):

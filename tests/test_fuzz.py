@@ -15,6 +15,7 @@ from hypothesis import strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
 import bouncelab as bl  # noqa: E402
+from bouncelab.data.validation import as_states  # noqa: E402
 from bouncelab.errors import DataError  # noqa: E402
 
 # Profiles "bouncelab" (the default here, 60 examples per test) and "fuzz" (1200) are registered in conftest.py.
@@ -66,13 +67,18 @@ def check(law, landing) -> None:
         out = law.predict(landing)
     except DataError:
         return
-    p = np.asarray(landing.to_numpy() if isinstance(landing, pd.DataFrame) else landing, dtype=np.float64)
+    if isinstance(landing, pd.DataFrame):  # labelled in, labelled out (columns xdot, ydot, omega)
+        assert isinstance(out, pd.DataFrame) and list(out.columns) == ["xdot", "ydot", "omega"]
+        out = out.to_numpy()
+        p = as_states(landing)[0]  # the landings in component order, whatever the columns' order
+    else:
+        p = np.asarray(landing, dtype=np.float64)
     assert out.shape == p.shape
     assert np.isfinite(out).all(), (landing, out)
     assert np.all(np.abs(out) < 1e15)
     if law in ENERGY_SAFE:
         assert np.all(kinetic(out) <= kinetic(p) * (1 + 1e-12) + 1e-9)
-    regimes = law.regime(landing)
+    regimes = np.asarray(law.regime(landing))
     assert regimes.shape == p.shape[:-1] and set(np.ravel(regimes)) <= set(law.regimes)
 
 

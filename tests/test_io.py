@@ -117,10 +117,15 @@ def test_other_units_and_ball_radius(tmp_path):
 def test_scaled_units_assumed(tmp_path):
     path = write_table(tmp_path / "scaled.csv", list(COLS), [EXP_LANDING[:, 0], EXP_LANDING[:, 1],
                        EXP_LANDING[:, 2], EXP_LIFTOFF[:, 0], EXP_LIFTOFF[:, 1], EXP_LIFTOFF[:, 2]])
-    ds = load_campaign(path)
+    # Spins of a few hundred with no unit fit rad/s, rpm and rev/s alike: refused, not guessed.
+    with pytest.raises(DataError, match=r"no spin unit for 'w0', 'wF'.*plausible in rad/s, rpm and in rev/s"
+                       r".*units=\{'spin': 'rad/s'\}"):
+        load_campaign(path)
+    # Velocities of ~1000 fit only radii/s (in m/s they would be faster than any golf ball).
+    ds = load_campaign(path, units={"spin": "rad/s"})
     np.testing.assert_array_equal(ds["landing"].values, EXP_LANDING)
     np.testing.assert_array_equal(ds["liftoff"].values, EXP_LIFTOFF)
-    assert "assumed" in ds.attrs["source_units"]
+    assert ds.attrs["source_units"] == "velocity radius/s (assumed), spin rad/s"
 
 
 @pytest.mark.parametrize(
@@ -596,9 +601,10 @@ def test_incomplete_prediction_intervals_are_ignored_with_warning(tmp_path):
 
 def test_physical_units_guard(tmp_path):
     path = write_standard_csv(tmp_path / "phys.csv")
-    with pytest.raises(DataError, match=r"look like physical units.*units=\{'velocity': 'm/s'\}") as exc:
-        load_campaign(path)
-    assert_located(exc, path, "vy0", None)
+    with pytest.raises(DataError, match=r"no velocity unit.*plausible in m/s, ft/s, km/h and in mph \(not in radius/s: "
+                       r"the median landing speed would be 0.5\d* m/s.*units=\{'velocity': 'm/s'\}") as exc:
+        load_campaign(path, units={"spin": "rpm"})
+    assert_located(exc, path, None, None)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         check_physical(load_campaign(path, units=PHYS))
@@ -611,7 +617,7 @@ def test_spin_in_rpm_read_as_rad_per_s_is_refused(tmp_path):
     path = write_table(tmp_path / "rpm.csv", names, [VX0, VY0, w0, VXF, VYF, WF])
     with pytest.raises(DataError, match=r"units=\{'spin': 'rpm'\}") as exc:
         load_campaign(path)
-    assert_located(exc, path, "w0", 3)
+    assert_located(exc, path, "w0", 1)  # 3000 read as rad/s is 28 648 rpm
     assert load_campaign(path, units={"spin": "rpm"}).attrs["source_units"] == "velocity m/s, spin rpm"
 
 
@@ -619,7 +625,7 @@ def test_scaled_file_declared_in_m_per_s_is_refused(tmp_path):
     path = write_table(tmp_path / "twice.csv", list(COLS), [EXP_LANDING[:, 0], EXP_LANDING[:, 1],
                        EXP_LANDING[:, 2], EXP_LIFTOFF[:, 0], EXP_LIFTOFF[:, 1], EXP_LIFTOFF[:, 2]])
     with pytest.raises(DataError, match="no golf ball reaches") as exc:
-        load_campaign(path, units={"velocity": "m/s"})
+        load_campaign(path, units={"velocity": "m/s", "spin": "rad/s"})
     assert_located(exc, path, "vx0", 1)
 
 
@@ -665,11 +671,11 @@ def test_unknown_units(tmp_path):
         ({"w0__3": "abc"}, "w0", 3, "non-numeric value 'abc'"),
         ({"vyF__6": ""}, "vyF", 6, "empty cell"),
         ({"vxF__2": "NA"}, "vxF", 2, "missing value 'NA'"),
-        ({"vx0__4": "nan"}, "vx0", 4, "NaN"),
+        ({"vx0__4": "nan"}, "vx0", 4, "missing value .nan."),
         ({"wF__5": "-inf"}, "wF", 5, "infinite"),
         ({"vy0__2": "0.0"}, "vy0", 2, "must be negative"),
         ({"vy0__5": "3.5"}, "vy0", 5, "must be negative"),
-        ({"setting__1": ""}, "setting", 1, "empty setting cell"),
+        ({"setting__1": ""}, "setting", 1, "missing setting label \\(empty\\)"),
         ({"w0__5": "1.2.3", "vxF__2": "x"}, "vxF", 2, "non-numeric value 'x'"),  # first bad row wins
     ],
 )

@@ -414,3 +414,108 @@ def test_reproduce_rings_only_bounces_its_laws_did_not_fit(tmp_path, monkeypatch
     for res in laws.values():
         fitted = {tuple(r) for r in np.column_stack(res.data["train"])}
         assert not fitted & ringed and res.n_test == len(ringed)
+
+
+# ------------------------------------------------------------------------------------ units
+R = 0.02135  # the default ball radius, m
+RPM = 60.0 / (2.0 * np.pi)  # rpm per rad/s
+
+
+def test_figure_units_presets_mappings_and_errors():
+    from bouncelab.plots import FigureUnits, figure_units
+
+    assert figure_units(None) == figure_units("scaled") == FigureUnits("radius/s", "rad/s")
+    lab = figure_units("LAB")
+    assert (lab.velocity, lab.spin) == ("m/s", "rpm")
+    np.testing.assert_allclose(lab.factors, [R, R, RPM])
+    np.testing.assert_allclose(figure_units({"velocity": "ft/s", "radius_m": 0.03}).factors,
+                               [0.03 / 0.3048, 0.03 / 0.3048, 1.0])
+    for bad, match in (("metric", "unknown figure units"), ({"velocity": "knots"}, "unknown velocity unit"),
+                       ({"spin": "m/s"}, "unknown spin unit"), ({"speed": "m/s"}, "keys"),
+                       ({"radius_m": -1}, "radius"), (3, "units must be")):
+        with pytest.raises(DataError, match=match):
+            figure_units(bad)
+    with pytest.raises(DataError, match="unknown figure units"):
+        plot_slices(bl.load_campaign("A"), units="metric")
+
+
+def test_slices_in_lab_units(ds_a):
+    """Plotted values and labels in m/s and rpm; the classification (marker split) is unchanged."""
+    scaled, lab = plot_slices(ds_a), plot_slices(ds_a, units={"velocity": "m/s", "spin": "rpm"})
+    p0, pf = ds_a["landing"].values, ds_a["liftoff"].values
+    factor = np.array([R, R, RPM])
+    for i in range(3):
+        for j in range(3):
+            ax, ax0 = lab.axes[3 * i + j], scaled.axes[3 * i + j]
+            for cls in ("class-roll", "class-slip"):
+                assert len(_points(ax, cls)) == len(_points(ax0, cls))
+            pts = np.vstack([_points(ax, "class-roll"), _points(ax, "class-slip")])
+            np.testing.assert_allclose(np.sort(pts[:, 0]), np.sort(p0[:, j] * factor[j]))
+            np.testing.assert_allclose(np.sort(pts[:, 1]), np.sort(pf[:, i] * factor[i]))
+    assert lab.axes[6].get_xlabel().endswith("[m/s]") and lab.axes[8].get_xlabel().endswith("[rpm]")
+    assert lab.axes[0].get_ylabel().endswith("[m/s]") and lab.axes[6].get_ylabel().endswith("[rpm]")
+    assert "radii" not in " ".join(ax.get_xlabel() + ax.get_ylabel() for ax in lab.axes)
+
+
+def test_tangential_in_physical_units(ds_a):
+    """v_P = xdot + R omega in m/s; near_zero is in the figure's unit."""
+    fig = plot_tangential(ds_a, near_zero=0.5, units="si")
+    (ax,) = fig.axes
+    p0, pf = ds_a["landing"].values, ds_a["liftoff"].values
+    pts = np.vstack([_points(ax, "class-roll"), _points(ax, "class-slip")])
+    expected = R * np.column_stack([p0[:, 0] + p0[:, 2], pf[:, 0] + pf[:, 2]])
+    np.testing.assert_allclose(np.sort(pts, axis=0), np.sort(expected, axis=0))
+    assert ax.get_xlabel().endswith("[m/s]") and "R\\omega" in ax.get_ylabel()
+    same = plot_tangential(ds_a, near_zero=0.5 / R).axes[0]  # the same tolerance in radii/s
+    assert len(_points(ax, "class-roll")) == len(_points(same, "class-roll"))
+    band = next(p for p in ax.patches if p.get_gid() == "near-zero")
+    assert band.get_extents() is not None
+
+
+def test_predictions_in_physical_units_keep_delta_q(ds_a):
+    law = bl.Rigid.published("A")
+    fig = plot_predictions(ds_a, law, units="imperial")
+    p0, pf = ds_a["landing"].values, ds_a["liftoff"].values
+    pred = law.predict(p0)
+    dq = bl.delta_q(p0, pf, pred)
+    mph = R / (1609.344 / 3600.0)
+    for k, ax in enumerate(fig.axes):
+        factor = (mph, mph, RPM)[k]
+        pts = np.vstack([_points(ax, "class-roll"), _points(ax, "class-slip")])
+        np.testing.assert_allclose(np.sort(pts[:, 0]), np.sort(pf[:, k] * factor))
+        np.testing.assert_allclose(np.sort(pts[:, 1]), np.sort(pred[:, k] * factor))
+        assert ax.get_xlabel().endswith("[mph]" if k < 2 else "[rpm]")
+        (note,) = [t for t in ax.texts if t.get_gid() == "delta-q"]
+        assert f"{dq[k]:.1%}" in note.get_text()  # errors are those of the scaled data
+
+
+def test_repeatability_in_physical_units():
+    rep = _rep(4)
+    fig = plot_repeatability(rep, units="lab")
+    for k, ax in enumerate(fig.axes):
+        factor = (R, R, RPM)[k]
+        (container,) = ax.containers
+        x, y = container.lines[0].get_data()
+        np.testing.assert_allclose(x, rep["mean"].values[:, 0, k] * factor)
+        np.testing.assert_allclose(y, rep["mean"].values[:, 1, k] * factor)
+        widths = np.array([s[1][0] - s[0][0] for s in container.lines[2][0].get_segments()])
+        np.testing.assert_allclose(widths, 2 * rep["half_width"].values[:, 0, k] * factor)
+        assert ax.get_xlabel().endswith("[m/s]" if k < 2 else "[rpm]")
+
+
+def test_landing_space_in_physical_units(ds_a):
+    law = bl.PiecewiseAffine.published("A")
+    fig = plot_landing_space(ds_a, law, units="lab")
+    (ax,) = fig.axes
+    factor = np.array([R, R, RPM])
+    roll = next(col for col in ax.collections if col.get_gid() == "class-roll")
+    xs, ys, zs = (np.asarray(v) for v in roll._offsets3d)
+    classes = bl.classify_slip_roll(ds_a["landing"], ds_a["liftoff"])
+    np.testing.assert_allclose(np.column_stack([xs, ys, zs]), ds_a["landing"].values[classes == "roll"] * factor)
+    driver = next(col for col in ax.collections if col.get_gid() == "driver-landing")
+    np.testing.assert_allclose(np.ravel(driver._offsets3d), driver_landing() * factor)
+    assert ax.get_xlabel().endswith("[m/s]") and ax.get_zlabel().endswith("[rpm]")
+    # The plane's equation is given in the figure's units: a' = a * s_omega / s_x.
+    a, b, off = law.printed_plane()
+    text = next(t.get_label() for t in fig.legends[0].get_patches() if "plane" in t.get_label())
+    assert f"{a * RPM / R:.3g}" in text and f"{b * RPM / R:.3g}" in text and f"{off * RPM:.3g}" in text

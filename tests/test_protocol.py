@@ -345,3 +345,108 @@ def test_fit_outcome_type_is_checked(campaign_a):
 
     with pytest.raises(FitError, match="returned str"):
         bl.fit(Bad, campaign_a, method="broken")
+
+
+class _Scaled(BounceModel):
+    """A two-parameter law whose own methods misbehave on purpose (for the fit contract tests)."""
+
+    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
+                       Parameter("g", (0.0, 2.0), (0.0, 2.0), "1", "spin kept"))
+    regimes = ("one",)
+
+    def __init__(self, e=None, g=None):
+        self.e = e
+        self.g = g
+        super().__init__()
+
+    def _predict(self, p, theta):
+        return p * np.array([1.0, -theta[0], theta[1]])
+
+    def _regime(self, p, theta):
+        return np.zeros(len(p), np.int8)
+
+    @fit_method("ignores_everything")
+    def _ignores(self, problem) -> FitOutcome:
+        law = self.replace(e=0.9, g=1.9)
+        return FitOutcome(model=law, objective_value=problem.objective(law)(law._theta()), algorithm="none")
+
+    @fit_method("holds_e")
+    def _holds_e(self, problem) -> FitOutcome:
+        return problem.run_global(self, hold={"e": 0.2})
+
+
+def test_a_method_that_ignores_fixed_or_bounds_fails(campaign_a):
+    assert bl.fit(_Scaled, campaign_a, method="ignores_everything").model.e == 0.9  # nothing asked: fine
+    with pytest.raises(FitError, match="does not hold parameter 'e'"):
+        bl.fit(_Scaled, campaign_a, method="ignores_everything", fixed={"e": 0.5})
+    with pytest.raises(FitError, match="outside the bounds"):
+        bl.fit(_Scaled, campaign_a, method="ignores_everything", bounds={"g": (0.0, 1.0)})
+    # the piecewise methods find the plane without a box: explicit bounds they cannot honour are an error
+    with pytest.raises(FitError, match="offset"):
+        bl.fit(bl.PiecewiseAffine, campaign_a, bounds={"offset": (0.0, 1.0)})
+
+
+def test_callers_fixed_values_win_over_a_methods_hold(campaign_a):
+    assert bl.fit(_Scaled, campaign_a, method="holds_e").model.e == 0.2
+    assert bl.fit(_Scaled, campaign_a, method="holds_e", fixed={"e": 0.5}).model.e == 0.5
+
+
+def test_law_definition_errors(campaign_a):
+    with pytest.raises(bl.LawDefinitionError, match=r"numba\.njit"):
+        class NotCompiled(CompiledLaw):
+            parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+            regimes = ("one",)
+            kernel = staticmethod(lambda xd, yd, w, theta: (xd, -yd, w, 0))
+
+    class BadCodes(_Scaled):
+        def _regime(self, p, theta):
+            return np.full(len(p), 3, np.int8)
+
+    with pytest.raises(bl.LawDefinitionError, match="regime code 3"):
+        BadCodes(e=0.5, g=1.0).regime(campaign_a.landing.values)
+
+
+def test_docs_compiled_example_refuses_to_hold(compiled_law, campaign_b):
+    with pytest.raises(FitError, match="cannot hold"):
+        bl.fit(compiled_law, campaign_b, fixed={"b": [0.0, 0.0, 0.0]})
+
+
+def test_user_laws_from_the_command_line_without_pythonpath(tmp_path):
+    """Run where the law's file lies, as a user would: no PYTHONPATH; --import for a saved user law."""
+    import shutil
+
+    shutil.copy(SNIPPETS / "laws_new.py", tmp_path / "mylaws.py")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+
+    def cli(*argv):
+        return subprocess.run([sys.executable, "-m", "bouncelab.cli.main", *argv], capture_output=True, text=True,
+                              env=env, cwd=tmp_path)
+
+    out = cli("fit", "mylaws:speedrestitution", "A", "--save", "s.json", "--method", "global",
+              "--option", "maxeval=60", "--option", "local_algorithm=null")
+    assert out.returncode == 0, out.stderr
+    assert "mylaws:SpeedRestitution" in out.stdout and (tmp_path / "s.json").exists()
+    out = cli("predict", "s.json", "--landing", "1000", "-8e2", "200")
+    assert out.returncode == 4 and "import the module" in out.stderr  # a JSON file never imports code by itself
+    out = cli("predict", "s.json", "--import", "mylaws", "--landing", "1000", "-8e2", "200")
+    assert out.returncode == 0, out.stderr
+    assert len(out.stdout.strip().splitlines()[-1].split()) == 7
+    out = cli("fit", "Rigid", "A", "--option", "maxeval")
+    assert out.returncode == 2 and "KEY=VALUE" in out.stderr
+    out = cli("fit", "Rigid", "A", "--import", "no_such_module_here")
+    assert out.returncode == 4 and "cannot import 'no_such_module_here'" in out.stderr
+
+
+def test_reproduce_compares_a_user_law(tmp_path, monkeypatch):
+    from bouncelab.cli import reproduce as rp
+
+    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    law = _load("laws_new").SpeedRestitution
+    report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False, laws=[law])
+    table3 = (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
+    assert "SpeedRestitution" in table3 and "v_c" in table3
+    assert "SpeedRestitution" in (tmp_path / "rep" / "tables" / "A_crossvalidation.md").read_text()
+    assert report.index.exists()
+    with pytest.raises(FitError):
+        rp.reproduce(["A"], out=tmp_path / "rep2", figures=False, progress=False, laws=["NoSuchLaw"])
+    assert not (tmp_path / "rep2").exists()

@@ -195,6 +195,7 @@ def test_summary_by_hand():
     rep = repeatability(ds, settings=labels)
     summ = repeatability_summary(rep)
     assert summ.index.tolist() == ["xdot", "ydot", "omega", "all"]
+    assert summ["unit"].tolist() == ["radius/s", "radius/s", "rad/s", "mixed"]
     assert summ["n_compared"].tolist() == [3, 3, 3, 9]  # the n=1 setting is not compared
     # lift-off spread is 3x landing for xdot, equal for ydot (a tie is not "wider"), 1/4 for omega
     assert summ["fraction_liftoff_wider"].tolist() == [1.0, 0.0, 0.0, pytest.approx(1 / 3)]

@@ -12,6 +12,7 @@ import bouncelab
 from bouncelab.data import published
 from bouncelab.data.surrogate import DEFAULT_SEEDS, SurrogateSpec, generate_surrogate
 from bouncelab.data.units import speed_angle_spin
+from bouncelab.errors import ParameterError
 from bouncelab.metrics import delta
 
 FILES = Path(bouncelab.__file__).parent / "data" / "files"
@@ -204,7 +205,7 @@ def test_custom_spec():
 
 
 def test_spec_of_another_campaign_is_refused():
-    with pytest.raises(ValueError, match="campaign"):
+    with pytest.raises(ParameterError, match="campaign"):
         generate_surrogate("A", spec=SurrogateSpec.for_campaign("B"))
 
 
@@ -212,10 +213,11 @@ def test_too_many_settings():
     from dataclasses import replace
 
     spec = replace(SurrogateSpec.for_campaign("A"), settings=((10_000, 6),))
-    with pytest.raises(ValueError, match="reachable settings"):
+    with pytest.raises(ParameterError, match="reachable settings"):
         generate_surrogate("A", spec=spec)
 
 
 def test_unknown_campaign():
     with pytest.raises(ValueError, match="campaigns 'A' and 'B'"):
         generate_surrogate("C")
+

@@ -328,3 +328,21 @@ def test_magnitudes_beyond_any_bounce_are_refused(value):
     edge = P0.copy()
     edge[0, 2] = STATE_LIMIT
     assert as_states(edge)[0][0, 2] == STATE_LIMIT
+
+
+def test_labelled_input_gives_labelled_output():
+    """The docs promise a result of the same kind as the input (bouncelab 0.1 returned a bare array)."""
+    import pandas as pd
+
+    import bouncelab as bl
+
+    law = bl.Rigid.published("A")
+    df = pd.DataFrame(P0[:, [2, 1, 0]], columns=["omega", "ydot", "xdot"], index=[f"b{i}" for i in range(len(P0))])
+    out = law.predict(df)
+    assert isinstance(out, pd.DataFrame) and list(out.columns) == ["xdot", "ydot", "omega"]
+    assert list(out.index) == list(df.index)
+    np.testing.assert_array_equal(out.to_numpy(), law.predict(P0))
+    codes = law.regime(df, codes=True)
+    assert isinstance(codes, pd.Series) and list(codes.index) == list(df.index)
+    one = law.predict(pd.Series(P0[0], index=["xdot", "ydot", "omega"], name="shot 1"))
+    assert isinstance(one, pd.Series) and one.name == "shot 1" and list(one.index) == ["xdot", "ydot", "omega"]

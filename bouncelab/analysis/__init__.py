@@ -12,6 +12,10 @@ repeats
     at landing and lift-off (:func:`repeatability`, the paper's Appendix
     Fig. 9) and how often lift-off intervals are wider
     (:func:`repeatability_summary`).
+impulse
+    Where the horizontal impulse acts: per-bounce lever arm Δω/Δẋ
+    (:func:`impulse_lever_arm`, 2.5 for an impulse at the contact point) and its
+    median for data and laws (:func:`lever_arm_summary`).
 contact_velocity
     Contact-point velocity ``v_P = xdot + omega`` at landing and lift-off
     (:func:`tangential_velocities`, the paper's Fig. 7) and counts of slip,
@@ -26,6 +30,7 @@ from bouncelab.analysis.contact_velocity import (
     tangential_summary,
     tangential_velocities,
 )
+from bouncelab.analysis.impulse import impulse_lever_arm, lever_arm_summary
 from bouncelab.analysis.measurement import (
     ContactDetection,
     SpinEstimate,
@@ -46,7 +51,9 @@ __all__ = [
     "detect_contact",
     "estimate_spin",
     "estimate_velocity",
+    "impulse_lever_arm",
     "interval_coverage",
+    "lever_arm_summary",
     "measure_bounce",
     "repeatability",
     "repeatability_summary",

@@ -37,6 +37,7 @@ __all__ = ["STATES", "repeatability", "repeatability_summary"]
 STATES = ("landing", "liftoff")
 
 _UNITS = "radius/s (xdot, ydot), rad/s (omega)"
+_COMPONENT_UNIT = {"xdot": "radius/s", "ydot": "radius/s", "omega": "rad/s"}
 
 
 def repeatability(
@@ -214,10 +215,14 @@ def repeatability_summary(rep: xr.Dataset) -> pd.DataFrame:
         One row per component (``xdot``, ``ydot``, ``omega``) and a row
         ``all`` pooling the three, with columns
 
+        ``unit``
+            Unit of the half-widths in that row: ``"radius/s"`` (``xdot``,
+            ``ydot``), ``"rad/s"`` (``omega``), ``"mixed"`` (``all``).
         ``median_half_width_landing``, ``median_half_width_liftoff``
             Median over the settings of the CI half-width ``h`` at landing and
-            at lift-off, radii/s (``xdot``, ``ydot``) or rad/s (``omega``);
-            NaN in the ``all`` row, whose units would be mixed.
+            at lift-off, in the row's unit. The ``all`` row has none (NaN): a
+            median over values in different units would mean nothing. Its
+            ratio and fraction, which have no unit, pool the three components.
         ``median_ratio``
             Median over the settings of ``h_liftoff / h_landing`` (NaN where
             ``h_landing = 0``, and ignored then).
@@ -261,8 +266,8 @@ def repeatability_summary(rep: xr.Dataset) -> pd.DataFrame:
             "n_compared": n_cmp,
         }
 
-    rows = {c: row(np.array([j]), True) for j, c in enumerate(comps)}
-    rows["all"] = row(slice(None), False)
+    rows = {c: {"unit": _COMPONENT_UNIT.get(c, ""), **row(np.array([j]), True)} for j, c in enumerate(comps)}
+    rows["all"] = {"unit": "mixed", **row(slice(None), False)}
     out = pd.DataFrame.from_dict(rows, orient="index")
     out.index.name = "component"
     out["n_compared"] = out["n_compared"].astype(np.int64)

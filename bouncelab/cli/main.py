@@ -6,6 +6,7 @@ Commands
 ``bouncelab fit``        fit one law to a campaign and print the report (optionally save the law)
 ``bouncelab predict``    lift-off states from landing states, in any units
 ``bouncelab info``       what a campaign file (or the embedded default) holds
+``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
 
 Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
 that cannot be done as asked; 1 anything unexpected (a bug: please report it).
@@ -15,7 +16,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -24,11 +27,59 @@ import numpy as np
 
 EXIT_OK, EXIT_UNEXPECTED, EXIT_USAGE, EXIT_DATA, EXIT_FIT = 0, 1, 2, 3, 4
 
+# A negative number on the command line, exponent and inf/nan included: argparse (before Python 3.13)
+# only knows "-8" and "-8.5", so "--landing 1000 -8e2 200" read "-8e2" as an unknown option.
+_NEGATIVE_NUMBER = re.compile(r"^-(?:\d[\d_]*(?:\.[\d_]*)?|\.\d[\d_]*)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$",
+                              re.IGNORECASE)
+
+
+class UsageError(Exception):
+    """A command line that cannot be run as given (exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+
+
+def _finite(text: str) -> float:
+    """A finite number (argparse type)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return value
+
+
+def _positive(text: str) -> float:
+    """A finite number > 0 (argparse type)."""
+    value = _finite(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
+    return value
+
+
+def _json_option(name: str, text: str | None, example: str) -> dict | None:
+    """The JSON object an option holds; UsageError for malformed JSON or anything but an object."""
+    if not text:
+        return None
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise UsageError(f"{name}: malformed JSON ({exc.msg} at character {exc.pos}); write e.g. {example}") from None
+    if not isinstance(value, dict):
+        raise UsageError(f"{name} must be a JSON object, e.g. {example}; got {type(value).__name__} {text!r}")
+    return value
+
 
 def _load(source: str, args: argparse.Namespace):
     from bouncelab.data.io import load_campaign
 
-    columns = json.loads(args.columns) if getattr(args, "columns", None) else None
+    columns = _json_option("--columns", getattr(args, "columns", None),
+                           '\'{"landing": ["vx0", "vy0", "w0"], "liftoff": ["vx1", "vy1", "w1"]}\'')
     units = {}
     if getattr(args, "velocity_unit", None):
         units["velocity"] = args.velocity_unit
@@ -44,16 +95,22 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
 
 
+def _add_import_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--import", dest="imports", action="append", default=[], metavar="MODULE",
+                   help="import a module that defines your own laws first (repeatable; the current folder is "
+                        "searched, as by python -m), e.g. --import mylaws")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from bouncelab import __version__
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="bouncelab",
         description="Golf-ball bounce laws: fit, compare and use them (Biber et al.'s analysis, reproducible).",
         epilog="Exit codes: 0 ok, 2 bad command line, 3 bad data file, 4 fit or law error, 1 unexpected.",
     )
     parser.add_argument("--version", action="version", version=f"bouncelab {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     rep = sub.add_parser("reproduce", help="run the paper's whole analysis and write a report",
                          description="Fit the paper's four laws, write tables (markdown, CSV), laws (JSON), "
@@ -64,10 +121,20 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--label", nargs="+", default=None, metavar="NAME",
                      help="a name for each --data file (default: the file name); A or B puts the paper's "
                           "published values for that campaign beside the results")
-    rep.add_argument("--out", default="report", help="output directory (default: report)")
+    rep.add_argument("--out", default="report",
+                     help="output folder (default: report): new, empty or a previous report, which is replaced "
+                          "only once the new one is complete")
     rep.add_argument("--seed", type=int, default=0, help="seed of the split and of every fit")
     rep.add_argument("--no-figures", action="store_true", help="skip the figures (no matplotlib needed)")
+    rep.add_argument("--figure-units", metavar="UNITS",
+                     help="units of the figures' axes: scaled (default: radii/s, rad/s), si (m/s, rad/s), "
+                          "lab (m/s, rpm), imperial (mph, rpm), or VELOCITY,SPIN such as ft/s,rev/s; "
+                          "tables stay in scaled units")
     rep.add_argument("--quiet", action="store_true", help="no progress display")
+    rep.add_argument("--law", dest="laws", action="append", default=[], metavar="LAW",
+                     help="a further law to fit and compare beside the paper's (repeatable): a built-in name or "
+                          "a user law's module:Class (see --import)")
+    _add_import_option(rep)
     _add_data_options(rep)
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
@@ -82,6 +149,10 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--bounds", help='JSON bounds, e.g. \'{"mu": [0, 3]}\'')
     fit.add_argument("--save", metavar="FILE", help="write the fitted law as JSON")
     fit.add_argument("--json", action="store_true", help="print the result as JSON instead of a report")
+    fit.add_argument("--option", dest="options", action="append", default=[], metavar="KEY=VALUE",
+                     help="an option of the fitting method, VALUE as JSON or a bare word (repeatable), e.g. "
+                          "--option maxeval=2000 --option svm_plane=hyperplane")
+    _add_import_option(fit)
     _add_data_options(fit)
 
     pred = sub.add_parser("predict", help="lift-off states from landing states",
@@ -90,18 +161,23 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("law", help="a law JSON file (from 'fit --save') or a law name with --published A|B")
     pred.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
                       help="use the paper's published values of the named law for campaign A or B")
-    pred.add_argument("--landing", nargs=3, type=float, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
+    pred.add_argument("--landing", nargs=3, type=_finite, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
                       help="one landing state; repeat for more")
-    pred.add_argument("--speed-angle-spin", nargs=3, type=float, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
+    pred.add_argument("--speed-angle-spin", nargs=3, type=_finite, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
                       help="one landing as speed, angle of incidence below the horizontal (deg) and backspin")
     pred.add_argument("--input", metavar="FILE", help="CSV/whitespace file with three columns xdot0 ydot0 omega0")
     pred.add_argument("--velocity-unit", default="radius/s", help="unit of velocities (default radius/s)")
     pred.add_argument("--spin-unit", default="rad/s", help="unit of spin (default rad/s)")
-    pred.add_argument("--radius-mm", type=float, default=21.35, help="ball radius in mm (default 21.35)")
+    pred.add_argument("--radius-mm", type=_positive, default=21.35, help="ball radius in mm (default 21.35)")
+    _add_import_option(pred)
 
     info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
     info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
     _add_data_options(info)
+
+    from bouncelab.cli.track import add_parser as add_track_parser  # implementation in cli/track.py
+
+    add_track_parser(sub)
     return parser
 
 
@@ -112,40 +188,68 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
+    from bouncelab.cli.reproduce import OutputError
     from bouncelab.errors import DataError, FitError, ParameterError
 
     try:
+        if args.command == "track":
+            from bouncelab.cli.track import run as run_track
+
+            return run_track(args)
+        _import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
-    except (DataError, FileNotFoundError, IsADirectoryError) as exc:
-        print(f"bouncelab {args.command}: data error: {exc}", file=sys.stderr)
+    except BrokenPipeError:
+        # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_OK
+    except (UsageError, OutputError) as exc:
+        print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except (DataError, OSError) as exc:  # OSError here is reading an input: writes are OutputErrors
+        print(f"bouncelab {args.command}: data error: {_oneline(exc)}", file=sys.stderr)
         return EXIT_DATA
     except (FitError, ParameterError) as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
         return EXIT_FIT
-    except json.JSONDecodeError as exc:
-        print(f"bouncelab {args.command}: an option's JSON is malformed: {exc}", file=sys.stderr)
-        return EXIT_USAGE
     except ImportError as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
-        # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return EXIT_OK
+
+
+def _oneline(exc: BaseException) -> str:
+    if isinstance(exc, OSError) and exc.strerror and exc.filename:
+        return f"{exc.strerror}: {exc.filename!r}"
+    return str(exc)
+
+
+def _figure_units(text: str | None):
+    """--figure-units: a preset name or VELOCITY,SPIN; checked now (exit 2), before any work."""
+    if text is None:
+        return None
+    from bouncelab.errors import DataError
+    from bouncelab.plots._common import figure_units
+
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) > 2:
+        raise UsageError(f"--figure-units takes a preset or VELOCITY,SPIN (e.g. m/s,rpm); got {text!r}")
+    spec = parts[0] if len(parts) == 1 else {"velocity": parts[0], "spin": parts[1]}
+    try:
+        return figure_units(spec)
+    except DataError as exc:
+        raise UsageError(f"--figure-units: {exc}") from None
 
 
 def _reproduce(args: argparse.Namespace) -> int:
     from bouncelab.cli.reproduce import reproduce
-    from bouncelab.errors import DataError
 
     campaigns = args.campaign if args.campaign is not None else ([] if args.data else ["A", "B"])
     labels = dict(zip(args.data, args.label or [], strict=False))
     if args.label is not None and len(args.label) != len(args.data):
-        raise DataError(f"give one --label per --data file: {len(args.data)} file(s), {len(args.label)} label(s)")
+        raise UsageError(f"give one --label per --data file: {len(args.data)} file(s), {len(args.label)} label(s)")
 
     def load(src: str):
         ds = _load(src, args)
@@ -153,17 +257,33 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
-        progress=not args.quiet, load=load,
+        progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
+        laws=[_law_class(name) for name in args.laws],
     )
-    print(f"report written to {report.index}")
+    print(f"report written to {Path(args.out) / report.index.name}")
     return EXIT_OK
+
+
+def _import_modules(modules: list[str]) -> None:
+    """Import the modules a command line names (--import, or the module of a module:Class law), searching the
+    current folder first as ``python -m`` does, so that a user's laws register themselves."""
+    import importlib
+
+    from bouncelab.errors import ParameterError
+
+    if modules and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())
+    for module in modules:
+        try:
+            importlib.import_module(module)
+        except ImportError as exc:
+            raise ParameterError(f"cannot import {module!r} (looked in the current folder and the installed "
+                                 f"packages): {exc}") from None
 
 
 def _law_class(name: str):
     """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
-    the module the user names (a law JSON file, by contrast, never imports code)."""
-    import importlib
-
+    the module the user names (a law JSON file, by contrast, never imports code: use --import)."""
     from bouncelab.errors import ParameterError
     from bouncelab.laws import law_class
 
@@ -172,57 +292,118 @@ def _law_class(name: str):
     except ParameterError:
         if ":" not in name:
             raise
-    module = name.split(":", 1)[0]
-    try:
-        importlib.import_module(module)
-    except ImportError as exc:
-        raise ParameterError(f"cannot import {module!r} for the law {name!r}: {exc}") from None
-    return law_class(name)
+    _import_modules([name.split(":", 1)[0]])
+    return law_class(name, case_sensitive=False)
+
+
+def _method_options(items: list[str]) -> dict[str, Any]:
+    """--option KEY=VALUE pairs: VALUE read as JSON (numbers, true/false, lists), else kept as text."""
+    options: dict[str, Any] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip().isidentifier():
+            raise UsageError(f"--option takes KEY=VALUE, e.g. --option maxeval=2000; got {item!r}")
+        try:
+            options[key.strip()] = json.loads(value)
+        except json.JSONDecodeError:
+            options[key.strip()] = value
+    return options
+
+
+def _bounds(text: str | None) -> dict[str, tuple] | None:
+    example = '\'{"mu": [0, 3]}\''
+    raw = _json_option("--bounds", text, example)
+    if raw is None:
+        return None
+    for name, pair in raw.items():
+        if not (isinstance(pair, list) and len(pair) == 2):
+            raise UsageError(f"--bounds: the bounds of {name!r} must be a [low, high] pair, e.g. {example}; "
+                             f"got {json.dumps(pair)}")
+    return {name: tuple(pair) for name, pair in raw.items()}
+
+
+def _check_save_path(path: str) -> None:
+    """Refuse, before a possibly long fit, a --save path that cannot be written."""
+    from bouncelab.cli.reproduce import OutputError
+
+    p = Path(path).expanduser()
+    if p.is_dir():
+        raise OutputError(f"--save {path!r} is a folder; give a file name such as law.json")
+    if not p.parent.is_dir():
+        raise OutputError(f"--save {path!r}: the folder {str(p.parent)!r} does not exist")
 
 
 def _fit(args: argparse.Namespace) -> int:
+    from bouncelab.cli.reproduce import OutputError
     from bouncelab.fitting import fit
 
+    bounds = _bounds(args.bounds)
+    if args.save:
+        _check_save_path(args.save)
     data = _load(args.data, args)
-    bounds = {k: tuple(v) for k, v in json.loads(args.bounds).items()} if args.bounds else None
-    options = {} if args.algorithm is None else {"algorithm": args.algorithm}  # an option of the search methods
+    options = _method_options(args.options)
+    if args.algorithm is not None:  # an option of the search methods
+        options["algorithm"] = args.algorithm
     res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
               bounds=bounds, **options)
-    if args.save:
-        res.model.to_json(args.save)
+    # The result is printed before the law is saved, so a failed save loses no work.
     if args.json:
-        print(json.dumps(res.to_dict(), indent=2, default=float))
+        print(json.dumps(res.to_dict(), indent=2, default=float), flush=True)
     else:
-        print(res.report())
-        if args.save:
+        print(res.report(), flush=True)
+    if args.save:
+        try:
+            res.model.to_json(args.save)  # atomic: a failed write leaves the previous file intact
+        except OSError as exc:
+            raise OutputError(f"the fit above is not saved: cannot write {args.save!r} "
+                              f"({exc.strerror or exc}); any previous file there is unchanged") from None
+        if not args.json:
             print(f"law written to {args.save}")
     return EXIT_OK
 
 
+def _number(text: str) -> float | None:
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
 def _read_rows(path: str) -> np.ndarray:
+    """Landing rows of an --input file: three numbers a line (comma, semicolon or whitespace separated),
+    ``#`` comments, and at most one header line (the first, with no number in it). Any other line that
+    is not three numbers is an error naming it: no line is skipped silently."""
     from bouncelab.errors import DataError
 
     p = Path(path)
     if not p.exists():
         raise FileNotFoundError(f"no such file: {path}")
+    try:
+        lines = p.read_text().splitlines()
+    except UnicodeDecodeError:
+        raise DataError("not a text file of landing rows", file=path) from None
     rows = []
-    for lineno, line in enumerate(p.read_text().splitlines(), start=1):
+    seen_content = False
+    for lineno, line in enumerate(lines, start=1):
         text = line.split("#", 1)[0].strip()
         if not text:
             continue
         parts = text.replace(",", " ").replace(";", " ").split()
+        values = [_number(v) for v in parts]
+        first, seen_content = not seen_content, True
+        if first and all(v is None for v in values):
+            continue  # the header line, e.g. "xdot0 ydot0 omega0"
         if len(parts) != 3:
             raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
-                            file=path, row=len(rows) + 1)
-        try:
-            rows.append([float(v) for v in parts])
-        except ValueError:
-            if not rows:
-                continue  # a header line
-            raise DataError(f"line {lineno} is not numeric: {text!r}", file=path, row=len(rows) + 1) from None
+                            file=path)
+        bad = [v for v, x in zip(parts, values, strict=True) if x is None or not math.isfinite(x)]
+        if bad:
+            raise DataError(f"line {lineno} is not three finite numbers: {text!r} ({bad[0]!r})",
+                            file=path)
+        rows.append(values)
     if not rows:
         raise DataError("no landing rows found", file=path)
-    return np.array(rows)
+    return np.array(rows, dtype=float)
 
 
 def _predict(args: argparse.Namespace) -> int:

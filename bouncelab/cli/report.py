@@ -15,12 +15,14 @@ if TYPE_CHECKING:
 __all__ = ["frame_markdown", "index_html", "md_to_html", "table2_markdown"]
 
 
-def frame_markdown(df: pd.DataFrame, percent: bool = False) -> str:
-    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent."""
+def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan") -> str:
+    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent; NaN as ``missing``."""
 
     def cell(v: Any) -> str:
         if not isinstance(v, float | np.floating):
             return str(v)
+        if np.isnan(v):
+            return missing
         return f"{100 * v:.3g} %" if percent else f"{v:.4g}"
 
     cols = [str(c) for c in df.columns]
@@ -35,8 +37,9 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
 
     camp = str(ds.attrs.get("campaign", "")).upper()
     paper = published.TABLE2.loc[camp] if camp in published.CAMPAIGNS else None
+    brackets = "; the paper's Table 2 (SVM plane) in brackets" if paper is not None else ""
     lines = [f"### Piecewise-affine law, campaign {name}: errors on the held-out bounces "
-             "(one per launcher setting); the paper's Table 2 in brackets\n"]
+             f"(one per launcher setting){brackets}\n"]
     head = ["quantity"]
     for label in pw:
         head += [f"{label}: overall", "roll", "slip"]
@@ -114,6 +117,26 @@ nav a { margin-right: 1em; }
 """
 
 
+def _paper_values(report: Report) -> str:
+    """What the brackets in the tables mean, said only when some campaign has the paper's values."""
+    from bouncelab.data import published
+
+    with_paper = [n for n, sec in report.sections.items() if sec.get("paper_campaign") in published.CAMPAIGNS]
+    if not with_paper:
+        return ("None of these campaigns is one of the paper's, so no published values are shown beside "
+                "the results.")
+    names = ", ".join(with_paper)
+    return (f"Values in brackets are the paper's published ones, shown for the campaigns that are (surrogates of) "
+            f"the paper's campaigns A and B: {names}.")
+
+
+def _figure_units(report: Report) -> str:
+    units = getattr(report, "figure_units", None)
+    if not units:
+        return ""
+    return f" in the tables (in the figures: velocities in {units['velocity']}, spin in {units['spin']})"
+
+
 def index_html(report: Report) -> str:
     from bouncelab import __version__
     from bouncelab.data.published import CITATION
@@ -121,10 +144,10 @@ def index_html(report: Report) -> str:
     parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
              f"<style>{_CSS}</style></head><body>",
              "<h1>bouncelab: golf-ball bounce laws</h1>",
-             f"<p>Reproduction of the analysis of {html.escape(CITATION)} "
+             f"<p>The analysis of {html.escape(CITATION.rstrip('.'))}, run on each campaign below. "
              f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
-             "Delta q (fractions of the landing state's norm, shown in per cent); velocities in ball radii per "
-             "second, spin in rad/s.</p>",
+             "Delta q (fractions of the landing state's norm, shown in per cent); velocities are in ball radii per "
+             f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
              "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
              + "</nav>"]
     for name, sec in report.sections.items():

@@ -145,7 +145,7 @@ def setting_labels(setting: Any, n: int) -> np.ndarray:
         if not np.isfinite(s).all():
             row = int(np.argmax(~np.isfinite(s)))
             raise DataError("setting label is missing (NaN)", column="setting", row=row + 1)
-        if np.all(s == np.round(s)):
+        if np.all(s == np.round(s)) and np.all(np.abs(s) < 2.0**53):  # whole and exact in int64
             s = s.astype(np.int64)
     if s.dtype.kind in "iu":
         s = s.astype(np.int64)

@@ -63,6 +63,7 @@ import xarray as xr
 from bouncelab.data import published
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.units import BALL_RADIUS_M, landing_from_speed_angle_spin
+from bouncelab.errors import ParameterError
 
 __all__ = ["DEFAULT_SEEDS", "SurrogateSpec", "generate_surrogate"]
 
@@ -137,14 +138,14 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     key = published.check_campaign(campaign)
     spec = spec or SurrogateSpec.for_campaign(key)
     if spec.campaign != key:
-        raise ValueError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}")
+        raise ParameterError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}")
     seed = DEFAULT_SEEDS[key] if seed is None else int(seed)
     rng = np.random.default_rng(seed)
 
     grid = _setting_grid(spec)
     n_settings = sum(n for n, _ in spec.settings)
     if n_settings > len(grid):
-        raise ValueError(f"the grid has {len(grid)} reachable settings; {n_settings} were asked for")
+        raise ParameterError(f"the grid has {len(grid)} reachable settings; {n_settings} were asked for")
     chosen = grid[rng.choice(len(grid), size=n_settings, replace=False)]
     repeats = np.concatenate([np.full(n, k) for n, k in spec.settings])
     setting = np.repeat(np.arange(1, n_settings + 1), repeats)

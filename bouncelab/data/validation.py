@@ -68,6 +68,7 @@ def as_states(
     """
     if isinstance(states, xr.DataArray):
         return _from_dataarray(states, name, landing=landing, file=file, defer_check=defer_check)
+    labelled = states
     states = _from_labelled(states, name, file)
     if np.ma.isMaskedArray(states):
         mask = np.ma.getmaskarray(states)
@@ -100,10 +101,24 @@ def as_states(
     if not (defer_check and flat.shape[0] >= FAST_CHECK_MIN):
         _check_values(flat, name, landing=landing, file=file)
 
-    def wrap(result: np.ndarray) -> np.ndarray:
-        return result.reshape((*lead, *result.shape[1:]))  # a tuple: lead may be ()
+    def wrap(result: np.ndarray) -> Any:
+        return _relabel(labelled, result.reshape((*lead, *result.shape[1:])))  # a tuple: lead may be ()
 
     return flat, wrap
+
+
+def _relabel(like: Any, result: np.ndarray) -> Any:
+    """A result of the same kind as the input: a DataFrame (same index, columns xdot, ydot, omega) for a
+    DataFrame, a Series for a Series; anything else unchanged."""
+    import pandas as pd
+
+    if isinstance(like, pd.DataFrame):
+        if result.ndim == 2:
+            return pd.DataFrame(result, index=like.index, columns=list(COMPONENTS))
+        return pd.Series(result, index=like.index)
+    if isinstance(like, pd.Series) and result.ndim == 1:
+        return pd.Series(result, index=list(COMPONENTS), name=like.name)
+    return result
 
 
 def _from_labelled(states: Any, name: str, file: str | None) -> Any:

@@ -24,7 +24,7 @@ from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_class, law_name
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["PAPER_LAWS", "Comparison", "compare"]
+__all__ = ["PAPER_LAWS", "Comparison", "compare", "law_instance"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
 PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
@@ -131,7 +131,8 @@ class Comparison:
         ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS, *diag)})
         quantities = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *diag)
                       if c in ours.columns and ours[c].notna().any()]
-        lines = [f"### Laws fitted to {title} (errors on the {which} bounces; the paper's values in brackets)\n"]
+        brackets = "; the paper's values in brackets" if paper is not None else ""
+        lines = [f"### Laws fitted to {title} (errors on the {which} bounces{brackets})\n"]
         lines.append("| quantity | " + " | ".join(ours.index) + " |")
         lines.append("|---|" + "---|" * len(ours.index))
         for q in quantities:
@@ -147,9 +148,10 @@ class Comparison:
             if not (res.test_diagnostics if self.split else res.diagnostics):
                 continue
             t = self.by_class(law)
-            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces, "
-                         "the paper's in brackets)\n")
             ref = None if self.campaign is None else published.paper_by_class(self.campaign, law)
+            brackets = ", the paper's in brackets" if ref is not None else ""
+            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces"
+                         f"{brackets})\n")
             cols = ["overall", "roll", "slip"]
             lines.append("| quantity | " + " | ".join(cols) + " |")
             lines.append("|---|" + "---|" * len(cols))
@@ -186,7 +188,7 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     return f"{v:.{digits}g}"
 
 
-def _law_instance(law: Any) -> BounceModel:
+def law_instance(law: Any) -> BounceModel:
     if isinstance(law, str):
         try:
             return law_class(law)()
@@ -247,7 +249,7 @@ def compare(
     seed = check_seed(seed)
     if isinstance(laws, str | BounceModel) or isinstance(laws, type):
         laws = [laws]
-    models = [_law_instance(law) for law in laws]
+    models = [law_instance(law) for law in laws]
     if not models:
         raise FitError("give at least one law to compare")
     names = [law_name(m) for m in models]

@@ -121,6 +121,7 @@ def fit(
     if not isinstance(outcome, FitOutcome) or type(outcome.model) is not type(law):
         raise FitError(f"fitting method {name!r} of {law_name(law)} returned {type(outcome).__name__}, "
                        f"not a FitOutcome holding a {type(law).__name__}")
+    _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
     return _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
 
 
@@ -156,6 +157,25 @@ def _check_options(law: BounceModel, name: str, func: Any, options: dict[str, An
     unknown = sorted(set(options) - set(allowed))
     if unknown:
         raise FitError(f"method {name!r} of {law_name(law)} has no option(s) {unknown}; its options are {allowed}")
+
+
+def _check_contract(fitted: BounceModel, method: str, box: dict, held: dict, *, explicit_bounds: set[str]) -> None:
+    """A method must honour what the caller asked: held parameters keep their values, and parameters
+    given explicit ``bounds`` lie inside them. A method that cannot honour them fails here instead of
+    returning a law that silently ignores them."""
+    who = f"fitting method {method!r} of {law_name(fitted)}"
+    for name, value in held.items():
+        got = getattr(fitted, name)
+        if got is None or not np.array_equal(np.asarray(got, dtype=float), np.asarray(value, dtype=float)):
+            raise FitError(f"{who} does not hold parameter {name!r}: it was fixed at {value!r} but the method "
+                           f"returned {got!r}; this method cannot hold it (use method='global')")
+    for name in explicit_bounds - set(held):
+        lo, hi = box[name]
+        got = np.ravel(np.asarray(getattr(fitted, name), dtype=float))
+        tol = 1e-9 * np.maximum(1.0, np.abs(got))
+        if np.any(got < np.asarray(lo) - tol) or np.any(got > np.asarray(hi) + tol):
+            raise FitError(f"{who} returned {name} = {getattr(fitted, name)!r}, outside the bounds {lo!r}..{hi!r} "
+                           f"given; this method does not search within bounds (use method='global')")
 
 
 def _check_held_out(p0: np.ndarray, pf: np.ndarray, t0: np.ndarray, tf: np.ndarray) -> None:

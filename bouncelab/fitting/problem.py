@@ -175,7 +175,7 @@ class Problem:
         ``criterion`` replaces the objective (a function of the parameter vector)
         in the search, while diagnostics and the reported value use the objective.
         """
-        space = _Space(law, self.box, {**self.fixed, **(hold or {})})
+        space = _Space(law, self.box, {**(hold or {}), **self.fixed})  # the caller's fixed values win
         if self.n <= space.d:
             raise FitError(
                 f"{self.n} bounce(s) are too few to fit {space.d} parameter(s) of {law_name(law)}; "

@@ -6,6 +6,8 @@
 :class:`PennerVarying`          Penner's tilt ``beta = k_p s phi`` (eq. penner_angle)
 :class:`PiecewiseAffine`        two affine maps split by a plane (eqs. disjointA/B)
 :class:`TangentialRestitution`  Walton's hard-sphere law: gripping balls reverse v_P (beyond the paper)
+:class:`CompliantImpact`        spring-dashpot with a tangential spring and Coulomb slider (Stronge)
+:class:`TurfContact`            elasto-plastic, rate-dependent turf with ploughing and a bristle, integrated
 ==============================  =====================================================
 
 Writing a law: subclass :class:`BounceModel` (NumPy maths in ``_predict``) or
@@ -13,6 +15,7 @@ Writing a law: subclass :class:`BounceModel` (NumPy maths in ``_predict``) or
 register extra fitting procedures with :func:`fit_method`. See docs/laws.md.
 """
 
+from bouncelab.laws._contact import predict_per_bounce
 from bouncelab.laws.base import (
     BounceModel,
     FitOutcome,
@@ -27,15 +30,18 @@ from bouncelab.laws.base import (
     registered_laws,
 )
 from bouncelab.laws.compiled import CompiledLaw, num_threads, set_num_threads
+from bouncelab.laws.compliant import CompliantImpact
 from bouncelab.laws.penner import K_P_MAX, PennerFixed, PennerVarying
 from bouncelab.laws.piecewise import PiecewiseAffine
 from bouncelab.laws.rigid import Rigid
 from bouncelab.laws.tangential_restitution import TangentialRestitution
+from bouncelab.laws.turf import TurfContact
 
 __all__ = [
     "K_P_MAX",
     "BounceModel",
     "CompiledLaw",
+    "CompliantImpact",
     "FitOutcome",
     "FitProblem",
     "Parameter",
@@ -45,12 +51,14 @@ __all__ = [
     "PiecewiseAffine",
     "Rigid",
     "TangentialRestitution",
+    "TurfContact",
     "fit_method",
     "law_class",
     "law_from_dict",
     "law_name",
     "load_law",
     "num_threads",
+    "predict_per_bounce",
     "registered_laws",
     "set_num_threads",
 ]

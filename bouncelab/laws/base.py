@@ -60,8 +60,8 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from bouncelab.data.validation import States, as_states
-from bouncelab.errors import DataError, NotFittedError, ParameterError
+from bouncelab.data.validation import States, as_states, check_values
+from bouncelab.errors import DataError, LawDefinitionError, NotFittedError, ParameterError
 from bouncelab.laws.parameters import Parameter, Parameters
 
 __all__ = [
@@ -532,6 +532,7 @@ class BounceModel:
         _p, c, wrap = self._regime_flat(landing if io is None else io.landing(landing), theta)
         if io is not None:
             wrap = io.per_bounce
+        c = self._regime_output(c, True)  # checked codes
         if codes:
             return wrap(c)
         names = np.asarray(self.regimes)
@@ -547,13 +548,19 @@ class BounceModel:
 
     def _predict_flat(self, landing: States, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
         """Validated (n, 3) landings, their (n, 3) lift-offs, and the wrap back to the caller's kind."""
-        p, wrap = as_states(landing, "landing", landing=True)
-        return p, self._predict(p, theta), wrap
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
+        out, ok = self._predict_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)  # raises, naming the row and column
+        return p, out, wrap
 
     def _regime_flat(self, landing: States, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
         """Validated (n, 3) landings, their int8 regime codes, and the wrap back to the caller's kind."""
-        p, wrap = as_states(landing, "landing", landing=True)
-        return p, self._regime(p, theta), wrap
+        p, wrap = as_states(landing, "landing", landing=True, defer_check=self._fused_value_check)
+        c, ok = self._regime_checked(p, theta)
+        if not ok:
+            check_values(p, "landing", landing=True)
+        return p, c, wrap
 
     def _lazy_input(self, da: Any) -> Any:
         from bouncelab.data.units import COMPONENTS
@@ -587,6 +594,26 @@ class BounceModel:
         return xr.apply_ufunc(lambda block: self.regime(block, codes=True) if codes else names[
             self.regime(block, codes=True)], self._lazy_input(da), input_core_dims=[["component"]],
             dask="parallelized", output_dtypes=[dtype])
+
+    #: Whether :meth:`_predict_checked` and :meth:`_regime_checked` check the landings' values in their
+    #: own pass, so that the public methods can skip a separate pass over large arrays (compiled laws).
+    _fused_value_check: ClassVar[bool] = False
+
+    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+        """:meth:`_predict`, and whether every landing was valid if this law checks them in the same pass."""
+        return self._predict(p, theta), True
+
+    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+        """:meth:`_regime`, and whether every landing was valid (as :meth:`_predict_checked`)."""
+        return self._regime(p, theta), True
+
+    def _regime_output(self, c: np.ndarray, codes: bool) -> np.ndarray:
+        """Codes or names, after checking the law's codes index its regimes (a law author's bug otherwise)."""
+        if c.size and (int(c.min()) < 0 or int(c.max()) >= len(self.regimes)):
+            bad = int(c.min()) if int(c.min()) < 0 else int(c.max())
+            raise LawDefinitionError(f"{law_name(self)} gave regime code {bad}, but its regimes are "
+                                     f"{list(self.regimes)} (codes 0..{len(self.regimes) - 1})")
+        return c if codes else np.asarray(self.regimes)[c]
 
     def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
         raise NotImplementedError

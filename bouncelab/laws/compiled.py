@@ -60,7 +60,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
-from bouncelab.data.validation import STATE_LIMIT, as_states, check_values
+from bouncelab.data.validation import STATE_LIMIT
+from bouncelab.errors import LawDefinitionError
 from bouncelab.laws.base import BounceModel
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -159,7 +160,17 @@ class CompiledLaw(BounceModel):
 
     #: ``numba.njit`` function ``(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, code)``.
     kernel: ClassVar[Any] = None
+    _fused_value_check = True  # the row loops check the landings (see _Loops)
     _abstract_law = True  # a base for laws, not a law: not registered
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        kernel = cls.__dict__.get("kernel")
+        # numba dispatchers keep the Python function; a property loads the kernel lazily (built-ins)
+        if kernel is not None and not isinstance(kernel, property) and not hasattr(kernel, "py_func"):
+            raise LawDefinitionError(
+                f"{cls.__name__}.kernel must be a numba.njit function (kernel(xdot0, ydot0, omega0, theta) -> "
+                f"(xdotF, ydotF, omegaF, code)); got {type(kernel).__name__}. Decorate it with @numba.njit")
 
     def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
         """The vector the kernel receives, from the parameter vector (default: unchanged)."""
@@ -190,20 +201,6 @@ class CompiledLaw(BounceModel):
         ok = run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes, *landing_bits(p))
         return codes, all(ok)
 
-    def _predict_flat(self, landing: Any, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
-        # Large arrays: the value checks run inside the compiled prediction pass (see as_states' defer_check).
-        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
-        out, ok = self._predict_checked(p, theta)
-        if not ok:
-            check_values(p, "landing", landing=True)  # raises, naming the row and column
-        return p, out, wrap
-
-    def _regime_flat(self, landing: Any, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, Callable]:
-        p, wrap = as_states(landing, "landing", landing=True, defer_check=True)
-        c, ok = self._regime_checked(p, theta)
-        if not ok:
-            check_values(p, "landing", landing=True)
-        return p, c, wrap
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:

@@ -4,15 +4,99 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+from bouncelab.data import units as _u
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.units import COMPONENTS
 from bouncelab.errors import DataError
+
+#: Named unit sets for the ``units=`` argument of the plots: name -> (velocity unit, spin unit).
+UNIT_PRESETS: dict[str, tuple[str, str]] = {
+    "scaled": ("radius/s", "rad/s"),  # the paper's scaled units (the default)
+    "si": ("m/s", "rad/s"),
+    "lab": ("m/s", "rpm"),  # what launch monitors and testers read
+    "imperial": ("mph", "rpm"),
+}
+
+
+@dataclass(frozen=True)
+class FigureUnits:
+    """Units of a figure's axes. Data stay in scaled units; only plotted values and labels convert.
+
+    ``velocity`` is any speed unit of :mod:`bouncelab.data.units` (m/s, ft/s, mph, km/h,
+    radius/s), ``spin`` any spin unit (rad/s, rpm, rev/s, deg/s); ``radius_m`` is the ball
+    radius used to turn radii/s into a speed (default 21.35 mm).
+    """
+
+    velocity: str = "radius/s"
+    spin: str = "rad/s"
+    radius_m: float = _u.BALL_RADIUS_M
+
+    @property
+    def factors(self) -> np.ndarray:
+        """Multipliers from scaled (xdot, ydot, omega) to these units."""
+        v = float(_u.velocity_from_scaled(1.0, self.velocity, radius_m=self.radius_m))
+        return np.array([v, v, float(_u.spin_from_scaled(1.0, self.spin))])
+
+    def convert(self, values: Any) -> np.ndarray:
+        """(..., 3) scaled states in these units."""
+        return np.asarray(values, dtype=float) * self.factors
+
+    def velocity_factor(self) -> float:
+        return float(self.factors[0])
+
+    def unit(self, component: str) -> str:
+        """Axis-label unit of ``component`` ("xdot", "ydot", "omega" or "velocity")."""
+        if component == "omega":
+            return self.spin
+        return "radii/s" if self.velocity == "radius/s" else self.velocity
+
+
+def figure_units(units: Any = None) -> FigureUnits:
+    """The :class:`FigureUnits` a plot's ``units=`` argument names.
+
+    ``None`` or ``"scaled"``: the paper's scaled units (radii/s, rad/s). A preset name
+    (``"si"``: m/s and rad/s; ``"lab"``: m/s and rpm; ``"imperial"``: mph and rpm), a mapping
+    ``{"velocity": "m/s", "spin": "rpm", "radius_m": 0.02135}`` (any key may be left out), or
+    a :class:`FigureUnits`.
+
+    Raises
+    ------
+    DataError
+        An unknown preset, key or unit.
+    """
+    if units is None:
+        return FigureUnits()
+    if isinstance(units, FigureUnits):
+        return units
+    if isinstance(units, str):
+        preset = UNIT_PRESETS.get(units.strip().lower())
+        if preset is None:
+            raise DataError(f"unknown figure units {units!r}; use one of {sorted(UNIT_PRESETS)} or a mapping "
+                            "such as {'velocity': 'm/s', 'spin': 'rpm'}")
+        return FigureUnits(*preset)
+    if isinstance(units, Mapping):
+        extra = set(units) - {"velocity", "spin", "radius_m"}
+        if extra:
+            raise DataError(f"figure units take the keys 'velocity', 'spin' and 'radius_m'; got {sorted(extra)}")
+        radius = units.get("radius_m", _u.BALL_RADIUS_M)
+        try:
+            radius = float(radius)
+        except (TypeError, ValueError):
+            raise DataError(f"radius_m must be a length in metres; got {radius!r}") from None
+        fu = FigureUnits(_u.canonical_unit(units.get("velocity", "radius/s"), "velocity"),
+                         _u.canonical_unit(units.get("spin", "rad/s"), "spin"), radius)
+        fu.factors  # noqa: B018 - validates the radius now, not at the first plot call
+        return fu
+    raise DataError(f"units must be None, a preset name {sorted(UNIT_PRESETS)} or a mapping; "
+                    f"got {type(units).__name__}")
 
 #: Marker and colour of each measured slip/roll class (the paper's Fig. 8: roll = triangles, slip = circles).
 CLASS_STYLE = {
@@ -23,7 +107,6 @@ CLASS_STYLE = {
 STATE_COLOR = {"landing": "tab:green", "liftoff": "tab:red"}
 
 _SYMBOL = {"xdot": r"\dot{x}", "ydot": r"\dot{y}", "omega": r"\omega"}
-_UNIT = {"xdot": "radii/s", "ydot": "radii/s", "omega": "rad/s"}
 _SUFFIX = {"landing": "0", "liftoff": "F"}
 _NOTE_GID = "bouncelab-synthetic-note"
 NOTE_TEXT = "synthetic surrogate data"
@@ -56,10 +139,12 @@ def _headless() -> bool:
     return not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-def label(component: str, state: str = "landing", *, prefix: str = "", units: bool = True) -> str:
-    """Axis label such as ``'$\\dot{x}_0$ [radii/s]'`` or ``'$\\omega_F$ [rad/s]'``."""
+def label(component: str, state: str = "landing", *, prefix: str = "", units: bool = True,
+          fu: FigureUnits | None = None) -> str:
+    """Axis label such as ``'$\\dot{x}_0$ [radii/s]'`` or ``'$\\omega_F$ [rpm]'`` (units of ``fu``)."""
     text = f"{prefix}${_SYMBOL[component]}_{_SUFFIX[state]}$"
-    return f"{text} [{_UNIT[component]}]" if units else text
+    unit = (fu or FigureUnits()).unit(component)
+    return f"{text} [{unit}]" if units else text
 
 
 def symbol(component: str) -> str:
@@ -172,15 +257,22 @@ def class_handles(counts: dict[str, int], *, markersize: float = 7.0) -> list:
 def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) -> Path:
     """Save ``fig`` to ``path`` (format from the suffix, parent folders created); return the path.
 
-    Further keyword arguments go to :meth:`matplotlib.figure.Figure.savefig`.
+    The file is written atomically (a temporary file beside it, then a rename): a failed save
+    leaves any previous file at ``path`` intact. Further keyword arguments go to
+    :meth:`matplotlib.figure.Figure.savefig`.
     """
+    from bouncelab.atomic import atomic_path
+
     _check_figure(fig)
     path = Path(path)
     if not path.suffix:
         raise ValueError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, **kwargs)
+    kwargs.setdefault("format", path.suffix[1:].lower())
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, **kwargs)
     return path
 
 
-__all__ = ["CLASS_STYLE", "COMPONENTS", "STATE_COLOR", "has_synthetic_note", "save_figure"]
+__all__ = ["CLASS_STYLE", "COMPONENTS", "STATE_COLOR", "UNIT_PRESETS", "FigureUnits", "figure_units",
+           "has_synthetic_note", "save_figure"]

@@ -20,7 +20,7 @@ __all__ = ["plot_predictions", "plot_repeatability"]
 
 
 def plot_predictions(
-    data: Any, laws: Any, test: Any = None, *, fig: Any = None, title: str | None = None
+    data: Any, laws: Any, test: Any = None, *, fig: Any = None, title: str | None = None, units: Any = None
 ):
     """Fig. 8: predicted against observed lift-off, one row per law, columns xdot, ydot, omega.
 
@@ -37,6 +37,9 @@ def plot_predictions(
         a boolean mask over the bounces of ``data``. Each panel's Delta q is then
         also given on these bounces. When a law is given as a fit result, its fitted
         bounces must not include them (DataError otherwise).
+    units
+        Units of the axes (see :func:`bouncelab.plots.figure_units`); default scaled.
+        Delta q is computed in scaled units, as in the paper, whatever the axes show.
 
     Raises
     ------
@@ -58,27 +61,31 @@ def plot_predictions(
     p0, pf, is_test = _with_test(p0, pf, test)
     _check_held_out(laws, p0, pf, is_test)
     preds = {name: np.asarray(law.predict(p0), dtype=float) for name, law in named.items()}
+    fu = c.figure_units(units)
     classes = classify_slip_roll(p0, pf)
+    shown_pf = fu.convert(pf)
+    shown = {name: fu.convert(pred) for name, pred in preds.items()}
     nrows = len(named)
     fig, axes = c.new_figure(fig, nrows=nrows, ncols=3, figsize=(12.0, 3.7 * nrows + 0.6))
     alpha = c.scatter_alpha(len(p0))
     lims = []
     for k in range(3):
-        vals = np.concatenate([pf[:, k], *[p[:, k] for p in preds.values()]])
+        vals = np.concatenate([shown_pf[:, k], *[p[:, k] for p in shown.values()]])
         lo, hi = float(vals.min()), float(vals.max())
         pad = 0.04 * (hi - lo if hi > lo else 1.0)
         lims.append((lo - pad, hi + pad))
     for r, (name, pred) in enumerate(preds.items()):
         dq = delta_q(p0, pf, pred)
         dq_test = delta_q(p0[is_test], pf[is_test], pred[is_test]) if is_test is not None and is_test.any() else None
+        pf_s, pred_s = shown_pf, shown[name]
         for k, comp in enumerate(COMPONENTS):
             ax = axes[r, k]
             for cls, style in c.CLASS_STYLE.items():
                 m = classes == cls
-                ax.scatter(pf[m, k], pred[m, k], marker=style["marker"], color=style["color"], s=20,
+                ax.scatter(pf_s[m, k], pred_s[m, k], marker=style["marker"], color=style["color"], s=20,
                            alpha=alpha, linewidths=0, label=f"{style['label']} ({int(m.sum())})", gid=f"class-{cls}")
             if is_test is not None:
-                ax.scatter(pf[is_test, k], pred[is_test, k], marker="o", s=48, facecolors="none",
+                ax.scatter(pf_s[is_test, k], pred_s[is_test, k], marker="o", s=48, facecolors="none",
                            edgecolors="black", linewidths=0.8, label=f"test ({int(is_test.sum())})", gid="test")
             lo, hi = lims[k]
             ax.plot([lo, hi], [lo, hi], color="black", linewidth=1.0, label="prediction = observation")
@@ -86,8 +93,8 @@ def plot_predictions(
             ax.set_ylim(lo, hi)
             ax.set_aspect("equal", adjustable="box")
             ax.grid(True, alpha=0.3)
-            ax.set_xlabel(c.label(comp, "liftoff", prefix="observed "))
-            ax.set_ylabel(c.label(comp, "liftoff", prefix="predicted "))
+            ax.set_xlabel(c.label(comp, "liftoff", prefix="observed ", fu=fu))
+            ax.set_ylabel(c.label(comp, "liftoff", prefix="predicted ", fu=fu))
             ax.set_title(f"{name}: {c.label(comp, 'liftoff', units=False)}", fontsize="medium")
             dsym = rf"$\Delta${c.symbol(comp)}"
             text = f"{dsym} = {dq[k]:.1%}"
@@ -181,7 +188,8 @@ def _with_test(p0: np.ndarray, pf: np.ndarray, test: Any):
 _REP_VARS = ("mean", "ci_low", "ci_high")
 
 
-def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title: str | None = None):
+def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title: str | None = None,
+                       units: Any = None):
     """Fig. 9: per component, the mean landing (x) against mean lift-off (y) of each launcher setting.
 
     Horizontal and vertical error bars are the 95 % confidence intervals of the two means.
@@ -194,6 +202,8 @@ def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title:
         variables ``mean``, ``ci_low``, ``ci_high`` (or ``half_width``) and ``n``.
         A campaign Dataset with a ``setting`` coordinate is accepted too and
         summarised with that function at ``level``.
+    units
+        Units of the axes (see :func:`bouncelab.plots.figure_units`); default scaled.
 
     Raises
     ------
@@ -212,6 +222,8 @@ def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title:
         rep = repeatability(campaign, level=level)
         rep.attrs = {**campaign.attrs, **rep.attrs}
     mean, lo_err, hi_err = _rep_arrays(rep)
+    fu = c.figure_units(units)
+    mean, lo_err, hi_err = fu.convert(mean), fu.convert(lo_err), fu.convert(hi_err)  # factors > 0: bars stay
     attrs = dict(rep.attrs)
     fig, axes = c.new_figure(fig, nrows=1, ncols=3, figsize=(13.0, 4.6))
     n_set = mean.shape[0]
@@ -225,8 +237,8 @@ def plot_repeatability(rep: Any, *, level: float = 0.95, fig: Any = None, title:
         )
         if k == 0:
             ax.legend(["setting mean with CI bars"], loc="best", fontsize="small")
-        ax.set_xlabel(c.label(comp, "landing", prefix="mean "))
-        ax.set_ylabel(c.label(comp, "liftoff", prefix="mean "))
+        ax.set_xlabel(c.label(comp, "landing", prefix="mean ", fu=fu))
+        ax.set_ylabel(c.label(comp, "liftoff", prefix="mean ", fu=fu))
         ax.set_title(c.symbol(comp) + (" (horizontal velocity)", " (vertical velocity)", " (spin)")[k])
         ax.grid(True, alpha=0.3)
     if title is None:

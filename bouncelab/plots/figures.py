@@ -80,7 +80,7 @@ def _hist_top(w: np.ndarray) -> float:
 
 
 def plot_tangential(
-    data: Any, near_zero: float | None = None, *, ax: Any = None, title: str | None = None
+    data: Any, near_zero: float | None = None, *, ax: Any = None, title: str | None = None, units: Any = None
 ):
     """Fig. 7: contact-point velocity ``v_P = xdot + omega`` at landing (x) vs at lift-off (y).
 
@@ -90,24 +90,32 @@ def plot_tangential(
     Parameters
     ----------
     near_zero
-        Optional tolerance in radii/s: ``|v_P| <= near_zero`` counts as zero for the
-        slip/roll classification (``classify_slip_roll(tol=...)``), a grey band shows
-        it around the zero lift-off line, and the number of bounces lifting off
+        Optional tolerance, in the figure's velocity unit: ``|v_P| <= near_zero`` counts
+        as zero for the slip/roll classification (``classify_slip_roll(tol=...)``), a grey
+        band shows it around the zero lift-off line, and the number of bounces lifting off
         within it (i.e. in near-pure rolling) is reported.
+    units
+        Units of the axes: None or "scaled" (radii/s), a preset ("si", "lab", "imperial")
+        or a mapping such as ``{"velocity": "m/s"}`` (see
+        :func:`bouncelab.plots.figure_units`). ``v_P = xdot + omega`` in radii/s times the
+        ball radius is the contact point's speed, shown in the velocity unit.
     """
     p0, pf, attrs = c.campaign_data(data)
+    fu = c.figure_units(units)
+    vunit = fu.unit("velocity")
     tol = 0.0
     if near_zero is not None:
         try:
             tol = float(near_zero)
         except (TypeError, ValueError):
-            raise ValueError(f"near_zero must be a number of radii/s; got {near_zero!r}") from None
+            raise ValueError(f"near_zero must be a number of {vunit}; got {near_zero!r}") from None
         if not (np.isfinite(tol) and tol >= 0):
-            raise ValueError(f"near_zero must be a non-negative number of radii/s; got {near_zero!r}")
+            raise ValueError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}")
     own = ax is None
     fig, ax = c.single_axes(ax, figsize=(7.0, 6.0))
-    v0, vf = p0[:, 0] + p0[:, 2], pf[:, 0] + pf[:, 2]
-    classes = classify_slip_roll(p0, pf, tol=tol)
+    k = fu.velocity_factor()  # v_P in radii/s -> the figure's velocity unit
+    v0, vf = k * (p0[:, 0] + p0[:, 2]), k * (pf[:, 0] + pf[:, 2])
+    classes = classify_slip_roll(p0, pf, tol=tol / k)
     alpha = c.scatter_alpha(len(p0))
     for name, style in c.CLASS_STYLE.items():
         m = classes == name
@@ -126,8 +134,10 @@ def plot_tangential(
         ax.axhspan(-tol, tol, color="0.5", alpha=0.3, linewidth=0, gid="near-zero")
         handles.append(Patch(color="0.5", alpha=0.3,
                              label=rf"$|v_{{P,F}}| \leq {tol:g}$: {n_zero} bounce{'s' * (n_zero != 1)}"))
-    ax.set_xlabel(r"$v_{P,0} = \dot{x}_0 + \omega_0$ at landing [radii/s]")
-    ax.set_ylabel(r"$v_{P,F} = \dot{x}_F + \omega_F$ at lift-off [radii/s]")
+    sym0, symf = (r"\dot{x}_0 + \omega_0", r"\dot{x}_F + \omega_F") if fu.velocity == "radius/s" else \
+        (r"\dot{x}_0 + R\omega_0", r"\dot{x}_F + R\omega_F")
+    ax.set_xlabel(rf"$v_{{P,0}} = {sym0}$ at landing [{vunit}]")
+    ax.set_ylabel(rf"$v_{{P,F}} = {symf}$ at lift-off [{vunit}]")
     ax.grid(True, alpha=0.3)
     ax.legend(handles=handles, fontsize="small", loc="best", framealpha=0.9)
     if title is None:
@@ -135,7 +145,8 @@ def plot_tangential(
     return c.finish(fig, attrs, title, ax=None if own else ax)
 
 
-def plot_slices(data: Any, *, fig: Any = None, title: str | None = None, by_class: bool = True):
+def plot_slices(data: Any, *, fig: Any = None, title: str | None = None, by_class: bool = True,
+                units: Any = None):
     """Fig. 10: every landing component (columns) against every lift-off component (rows).
 
     Parameters
@@ -143,24 +154,28 @@ def plot_slices(data: Any, *, fig: Any = None, title: str | None = None, by_clas
     by_class
         Colour and mark the bounces by measured slip/roll class (default); plain
         points otherwise.
+    units
+        Units of the axes (see :func:`bouncelab.plots.figure_units`); default scaled.
     """
     p0, pf, attrs = c.campaign_data(data)
+    fu = c.figure_units(units)
     fig, axes = c.new_figure(fig, nrows=3, ncols=3, figsize=(11.0, 10.0), sharex="col", sharey="row")
     classes = classify_slip_roll(p0, pf) if by_class else np.full(len(p0), "all")
     groups = c.CLASS_STYLE if by_class else {"all": {"marker": "o", "color": "tab:blue", "label": "bounces"}}
     alpha = c.scatter_alpha(len(p0))
+    x0, xf = fu.convert(p0), fu.convert(pf)
     for i, out in enumerate(COMPONENTS):
         for j, inp in enumerate(COMPONENTS):
             ax = axes[i, j]
             for name, style in groups.items():
                 m = classes == name
-                ax.scatter(p0[m, j], pf[m, i], marker=style["marker"], color=style["color"], s=10, alpha=alpha,
+                ax.scatter(x0[m, j], xf[m, i], marker=style["marker"], color=style["color"], s=10, alpha=alpha,
                            linewidths=0, label=f"{style['label']} ({int(m.sum())})", gid=f"class-{name}")
             ax.grid(True, alpha=0.3)
             if i == 2:
-                ax.set_xlabel(c.label(inp, "landing"))
+                ax.set_xlabel(c.label(inp, "landing", fu=fu))
             if j == 0:
-                ax.set_ylabel(c.label(out, "liftoff"))
+                ax.set_ylabel(c.label(out, "liftoff", fu=fu))
     if by_class:
         counts = {k: int((classes == k).sum()) for k in c.CLASS_STYLE}
         fig.legend(handles=c.class_handles(counts), loc="outside lower center", ncols=2, fontsize="medium")

@@ -35,6 +35,7 @@ def plot_landing_space(
     elev: float | None = None,
     azim: float | None = None,
     driver: bool = True,
+    units: Any = None,
 ):
     """Fig. 3: landing conditions ``(xdot0, ydot0, omega0)`` coloured by measured slip/roll class.
 
@@ -61,6 +62,9 @@ def plot_landing_space(
         (18, -60) is chosen from which the plane is seen obliquely, never edge-on.
     driver
         Mark the paper's typical driver landing with a black asterisk.
+    units
+        Units of the axes (see :func:`bouncelab.plots.figure_units`); default scaled. The
+        plane and its equation are drawn in the same units.
 
     Returns
     -------
@@ -76,6 +80,7 @@ def plot_landing_space(
         Bad data or support indices.
     """
     p0, pf, attrs = c.campaign_data(data)
+    fu = c.figure_units(units)
     if support is None and hasattr(law, "svm_support"):
         support = law.svm_support
     model = _plane_law(law)
@@ -93,6 +98,8 @@ def plot_landing_space(
     ax.computed_zorder = False
     classes = classify_slip_roll(p0, pf)
     alpha = c.scatter_alpha(len(p0))
+    p0 = fu.convert(p0)  # from here on everything drawn is in the figure's units
+    scale = fu.factors
     for name, style in c.CLASS_STYLE.items():
         m = classes == name
         label = f"{style['label']} ({int(m.sum())})"
@@ -103,8 +110,10 @@ def plot_landing_space(
         handles.append(Line2D([], [], marker=style["marker"], color=style["color"], linestyle="none", label=label))
     lo, hi = _data_box(p0)
     if model is not None:
-        poly = plane_polygon(model.normal, model.offset, lo, hi)
-        eq = _plane_mathtext(model)
+        # normal . p = offset in scaled units is (normal / scale) . (scale p) = offset in the figure's.
+        shown_normal = np.asarray(model.normal, dtype=float) / scale
+        poly = plane_polygon(shown_normal, model.offset, lo, hi)
+        eq = _plane_mathtext(model, scale)
         if poly is None:
             handles.append(Patch(facecolor="none", edgecolor="none", label=f"plane {eq}: outside the data box"))
         else:
@@ -123,7 +132,7 @@ def plot_landing_space(
         handles.append(Line2D([], [], marker="o", markersize=9, markerfacecolor="none", markeredgecolor="black",
                               linestyle="none", label=label))
     if driver:
-        d = driver_landing()
+        d = fu.convert(driver_landing())
         ax.scatter(
             [d[0]], [d[1]], [d[2]], marker=(6, 2, 0), s=260, color="black", linewidths=2.2, depthshade=False,
             label="typical driver landing", gid="driver-landing", zorder=4,
@@ -135,11 +144,11 @@ def plot_landing_space(
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])
-    ax.set_xlabel(c.label("xdot"), labelpad=8)
-    ax.set_ylabel(c.label("ydot"), labelpad=8)
-    ax.set_zlabel(c.label("omega"), labelpad=8)
+    ax.set_xlabel(c.label("xdot", fu=fu), labelpad=8)
+    ax.set_ylabel(c.label("ydot", fu=fu), labelpad=8)
+    ax.set_zlabel(c.label("omega", fu=fu), labelpad=8)
     if elev is None or azim is None:
-        e, a = _oblique_view(model.normal, hi - lo, ax.get_box_aspect()) if model is not None else (18.0, -60.0)
+        e, a = _oblique_view(shown_normal, hi - lo, ax.get_box_aspect()) if model is not None else (18.0, -60.0)
         elev, azim = (e if elev is None else elev), (a if azim is None else azim)
     ax.view_init(elev=elev, azim=azim)
     ax.tick_params(labelsize="small")
@@ -257,13 +266,18 @@ def plane_polygon(normal: Any, offset: float, lo: Any, hi: Any) -> np.ndarray | 
     return lo + pts[order] * span
 
 
-def _plane_mathtext(model: PiecewiseAffine) -> str:
-    """``$1.07\\dot{x}_0 + 0.887\\dot{y}_0 + \\omega_0 = 596$`` (the paper's printed form when possible)."""
+def _plane_mathtext(model: PiecewiseAffine, scale: np.ndarray | None = None) -> str:
+    """``$1.07\\dot{x}_0 + 0.887\\dot{y}_0 + \\omega_0 = 596$`` (the paper's printed form when possible).
+
+    With ``scale`` (the figure's unit factors) the equation is of the plane in those units.
+    """
+    scale = np.ones(3) if scale is None else np.asarray(scale, dtype=float)
     if model.normal[2] != 0:
-        a, b, off = model.printed_plane()
-        coefs = (a, b, 1.0)
+        a, b, off = model.printed_plane()  # a xdot + b ydot + omega = off, scaled units
+        coefs = tuple(np.array([a, b, 1.0]) / scale * scale[2])
+        off = off * scale[2]
     else:
-        coefs, off = tuple(model.normal), model.offset
+        coefs, off = tuple(np.asarray(model.normal, dtype=float) / scale), model.offset
     terms = []
     for coef, sym in zip(coefs, (r"\dot{x}_0", r"\dot{y}_0", r"\omega_0"), strict=True):
         if coef == 0:

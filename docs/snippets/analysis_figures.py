@@ -9,7 +9,7 @@ from bouncelab.plots import plot_landing_space, plot_repeatability, plot_tangent
 
 a, b = bl.load_campaign("A"), bl.load_campaign("B")
 save_figure(plot_tangential(a), "tangential_A.png", dpi=70)
-save_figure(plot_repeatability(repeatability(b)), "repeatability_B.png", dpi=75)
+save_figure(plot_repeatability(repeatability(b), units="lab"), "repeatability_B.png", dpi=75)  # m/s, rpm
 plane = bl.fit(bl.PiecewiseAffine, b).model                  # the delta-optimal plane
 svm = fit_svm(b.landing.values, b.liftoff.values)             # the paper's SVM: its support vectors
 save_figure(plot_landing_space(b, plane, support=svm), "landing_space_B.png", dpi=60)

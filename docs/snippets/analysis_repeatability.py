@@ -8,4 +8,4 @@ print(rep["mean"].sel(setting=1).to_pandas().round(1))
 print(rep["half_width"].sel(setting=1).to_pandas().round(1))
 for campaign in "AB":
     print(f"campaign {campaign}:")
-    print(repeatability_summary(repeatability(bl.load_campaign(campaign))).round(3))
+    print(repeatability_summary(repeatability(bl.load_campaign(campaign))).round(3).to_string())

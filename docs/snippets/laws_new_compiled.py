@@ -34,6 +34,8 @@ class AffineMap(CompiledLaw):
     @fit_method("lstsq")
     def _fit_lstsq(self, problem, *, weighted: bool = False) -> FitOutcome:
         """Least squares on every lift-off component (weights 1 / ||p0||^2 with weighted=True), with stderr."""
+        if problem.fixed:  # a closed form of all twelve numbers: it cannot hold some of them
+            raise bl.FitError(f"method 'lstsq' cannot hold {sorted(problem.fixed)}; use method='global'")
         X = np.column_stack([problem.landing, np.ones(problem.n)])
         w = problem.inv_norm if weighted else np.ones(problem.n)
         coef, *_ = np.linalg.lstsq(X * w[:, None], problem.liftoff * w[:, None], rcond=None)

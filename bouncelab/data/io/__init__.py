@@ -141,19 +141,18 @@ counted, and the message also gives the line of a text file or the cell of a
 spreadsheet). Nothing is written or kept when a load fails.
 """
 
-from bouncelab.data.io.load import EMBEDDED_CAMPAIGNS, SUPPORTED_SUFFIXES, load_campaign
-from bouncelab.data.io.save import save_campaign
-
 # COLUMN_SYNONYMS, and the synonym table's internals (``_role_of``...), which stay importable
 # from here as when this package was one module.
-from bouncelab.data.io.synonyms import _PHASES as _PHASES
-from bouncelab.data.io.synonyms import _SETTING_NAMES as _SETTING_NAMES
-from bouncelab.data.io.synonyms import _STATE_KEYS as _STATE_KEYS
-from bouncelab.data.io.synonyms import _STEMS as _STEMS
-from bouncelab.data.io.synonyms import COLUMN_SYNONYMS
-from bouncelab.data.io.synonyms import _build_state_keys as _build_state_keys
-from bouncelab.data.io.synonyms import _normalize as _normalize
-from bouncelab.data.io.synonyms import _role_of as _role_of
+from bouncelab.data.io.columns import _PHASES as _PHASES
+from bouncelab.data.io.columns import _SETTING_NAMES as _SETTING_NAMES
+from bouncelab.data.io.columns import _STATE_KEYS as _STATE_KEYS
+from bouncelab.data.io.columns import _STEMS as _STEMS
+from bouncelab.data.io.columns import COLUMN_SYNONYMS
+from bouncelab.data.io.columns import _build_state_keys as _build_state_keys
+from bouncelab.data.io.columns import _normalize as _normalize
+from bouncelab.data.io.columns import _role_of as _role_of
+from bouncelab.data.io.load import EMBEDDED_CAMPAIGNS, SUPPORTED_SUFFIXES, load_campaign
+from bouncelab.data.io.save import save_campaign
 
 __all__ = [
     "COLUMN_SYNONYMS",

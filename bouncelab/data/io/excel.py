@@ -5,8 +5,7 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
-from bouncelab.data.io.optional_packages import _module_available
-from bouncelab.data.io.table import _finish_table, _is_empty_cell, _Table
+from bouncelab.data.io.table import _finish_table, _is_empty_cell, _module_available, _Table
 from bouncelab.errors import DataError
 
 _EXCEL_SUFFIXES = (".xlsx", ".xls")
@@ -19,6 +18,19 @@ def _col_letter(j: int) -> str:
         j, r = divmod(j - 1, 26)
         out = chr(65 + r) + out
     return out
+
+
+def _hidden_sheets(xf) -> set[str]:
+    """Names of the hidden (and very hidden) sheets of an open pandas.ExcelFile."""
+    book = getattr(xf, "book", None)
+    hidden: set[str] = set()
+    for ws in getattr(book, "worksheets", []):  # openpyxl
+        if getattr(ws, "sheet_state", "visible") != "visible":
+            hidden.add(ws.title)
+    for sh in getattr(book, "sheets", lambda: [])() if hasattr(book, "sheet_by_index") else []:  # xlrd
+        if getattr(sh, "visibility", 0):
+            hidden.add(sh.name)
+    return hidden
 
 
 def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
@@ -37,8 +49,13 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
     try:
         with pd.ExcelFile(path) as xf:
             names = list(xf.sheet_names)
+            hidden = _hidden_sheets(xf)
             if sheet is None:
-                sheet = 0
+                visible = [k for k, n in enumerate(names) if n not in hidden]
+                if not visible:
+                    raise DataError(f"every sheet of the workbook is hidden ({names}); name one with sheet=",
+                                    file=file)
+                sheet = visible[0]  # the first sheet a person sees in Excel, not a hidden one
             if isinstance(sheet, int) and not isinstance(sheet, bool):
                 if not 0 <= sheet < len(names):
                     raise DataError(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import os
+import stat
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
@@ -11,12 +12,13 @@ from typing import Any
 
 import xarray as xr
 
-from bouncelab.data.io.column_units import _check_units_arg
+from bouncelab.data.io.columns import _check_units_arg
 from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
 from bouncelab.data.io.matlab import _read_mat
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
-from bouncelab.data.io.table_to_campaign import _campaign_from_table
+from bouncelab.data.io.table import _campaign_from_table
 from bouncelab.data.io.text import _read_text
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 
@@ -25,6 +27,46 @@ SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".
 
 #: Names of the campaigns shipped with the package (``load_campaign("A")``).
 EMBEDDED_CAMPAIGNS = ("A", "B")
+
+
+#: Largest data file :func:`load_campaign` reads, in bytes (1 GiB: some ten million bounces as CSV).
+MAX_FILE_BYTES = 1 << 30
+
+_KINDS = (
+    (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+)
+
+
+def _check_regular_file(path: Path, file: str) -> os.stat_result:
+    """Refuse anything but a regular file of at most :data:`MAX_FILE_BYTES` (a FIFO would hang, /dev/zero never end)."""
+    try:
+        st = path.stat()  # follows symlinks: a link to /dev/zero is a device
+    except PermissionError:
+        raise DataError("permission denied: the file cannot be read", file=file) from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+        raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
+                        file=file)
+    if st.st_size > MAX_FILE_BYTES:
+        raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {MAX_FILE_BYTES / 2**30:g} GiB "
+                        "bouncelab reads (bouncelab.data.io.load.MAX_FILE_BYTES)", file=file)
+    return st
+
+
+def _read_bytes(path: Path, file: str) -> bytes:
+    """The whole file, read without blocking on a FIFO that replaced it since the check."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except PermissionError:
+        raise DataError("permission denied: the file cannot be read", file=file) from None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+            raise DataError("it is not a regular file; bouncelab reads data only from regular files", file=file)
+        data = fh.read(MAX_FILE_BYTES + 1)
+    if len(data) > MAX_FILE_BYTES:
+        raise DataError(f"the file is larger than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads", file=file)
+    return data
 
 
 def _embedded_file(name: str):
@@ -51,6 +93,7 @@ def load_campaign(
     surface: str | None = None,
     sheet: str | int | None = None,
     ball_radius_m: float = BALL_RADIUS_M,
+    plausible: PlausibleRanges = PLAUSIBLE_RANGES,
 ) -> xr.Dataset:
     """Load a bounce campaign from a file, or one of the embedded campaigns.
 
@@ -77,6 +120,11 @@ def load_campaign(
         Excel sheet name or 0-based index (default: the first sheet).
     ball_radius_m
         Ball radius in metres used to scale velocities.
+    plausible
+        The magnitudes a golf bounce can have
+        (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
+        as a unit mistake. Widen them on purpose with
+        ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
 
     Returns
     -------
@@ -109,7 +157,7 @@ def load_campaign(
             ds = _open_netcdf(Path(path), file)
             return _campaign_from_netcdf(
                 ds, file=file, source=str(path), columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m,
+                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
             )
 
     file = os.fspath(source)
@@ -137,13 +185,14 @@ def load_campaign(
         raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
                         file=file)
     absolute = str(path.resolve())
+    _check_regular_file(path, file)
 
     if suffix in _NETCDF_SUFFIXES:
         ds = _open_netcdf(path, file)
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
             return _campaign_from_netcdf(
                 ds, file=file, source=absolute, columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m,
+                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
             )
         table = _table_from_dataset(ds, file)
     elif suffix in _EXCEL_SUFFIXES:
@@ -151,10 +200,10 @@ def load_campaign(
     elif suffix == ".mat":
         table = _read_mat(path, file)
     else:
-        table = _read_text(path, file)
+        table = _read_text(path, file, _read_bytes(path, file))
     return _campaign_from_table(
         table, columns=columns, units=_check_units_arg(units, file),
         campaign=path.stem if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=radius,
+        source=absolute, ball_radius_m=radius, plausible=plausible,
     )

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.io.header_units import _header_unit
+from bouncelab.data.io.columns import _header_unit
 from bouncelab.data.io.table import _check_duplicates, _Column, _Table, _table_of_columns
 from bouncelab.errors import DataError
 

@@ -12,7 +12,7 @@ import xarray as xr
 
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
-from bouncelab.data.io.optional_packages import _module_available
+from bouncelab.data.io.table import _module_available
 from bouncelab.errors import DataError
 
 

@@ -6,43 +6,85 @@ import csv
 import re
 from pathlib import Path
 
-from bouncelab.data.io.table import _finish_table, _Table
+from bouncelab.data.io.table import _MISSING, _finish_table, _parse_number, _Table
 from bouncelab.errors import DataError
 
 
-def _read_text(path: Path, file: str) -> _Table:
-    raw = path.read_bytes()
+def _read_text(path: Path, file: str, raw: bytes) -> _Table:
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
-    lines = [
-        (i + 1, line) for i, line in enumerate(text.splitlines())
-        if line.strip() and not line.lstrip().startswith(("#", "%"))
-    ]
-    if not lines:
+    if "\x00" in text:
+        raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
+    all_lines = text.splitlines()
+    lines = [(i + 1, line) for i, line in enumerate(all_lines) if line.strip()]
+    # Comment lines (# or %) before the header are skipped; after it, see _is_comment.
+    k = 0
+    while k < len(lines) and _starts_comment(lines[k][1]):
+        k += 1
+    if k == len(lines):
         raise DataError("the file is empty (no header, no data)", file=file)
-    delim = _sniff([line for _, line in lines[:50]])
+    header_no, header_line = lines[k]
+    body = lines[k + 1:]
+    delim = _sniff([header_line] + [line for _, line in body[:49] if not _starts_comment(line)])
 
     def split(line: str) -> list[str]:
         if delim is None:
             return line.split()
         return next(csv.reader([line], delimiter=delim))
 
-    header = split(lines[0][1])
+    try:
+        header = split(header_line)
+    except csv.Error as exc:
+        raise DataError(f"line {header_no}: cannot split the header: {exc}", file=file) from None
     if delim is None:
         header = _merge_bracket_tokens(header)
     names = [h.strip() for h in header]
     while names and not names[-1]:
         names.pop()
-    linenos = [no for no, _ in lines[1:]]
-    rows = [[c.strip() for c in split(line)] for _, line in lines[1:]]
+    linenos: list[int] = []
+    rows: list[list[str]] = []
+    for no, line in body:
+        try:
+            cells = [c.strip() for c in split(line)]
+        except csv.Error as exc:
+            raise DataError(f"line {no}: cannot split it into cells: {exc}", file=file, row=len(rows) + 1) from None
+        if _starts_comment(line) and not _is_data_row(cells, len(names)):
+            continue
+        if _starts_comment(line) and cells[0].lower() not in _MISSING:
+            raise DataError(
+                f"line {no} starts with {line.lstrip()[0]!r} like a comment but holds a row of "
+                f"{len(cells)} values like the data: delete the line if it is commented out, or remove "
+                f"the {line.lstrip()[0]!r}", file=file, row=len(rows) + 1,
+            )
+        if delim is None and len(cells) != len(names):
+            # Runs of blanks separate the cells: an empty cell cannot be seen, the next value slides in.
+            raise DataError(
+                f"line {no} has {len(cells)} values but the header names {len(names)} columns; in a "
+                "whitespace-separated file an empty cell cannot be told from the separator: write NA "
+                "in it, or use a comma- or tab-separated file", file=file, row=len(rows) + 1,
+            )
+        linenos.append(no)
+        rows.append(cells)
 
     def locate(i: int, col: str) -> str:
         return f"line {linenos[i]}"
 
     return _finish_table(file, names, rows, locate=locate, blank=lambda c: not c,
                          strict_width=True, decimal_comma=delim != ",")
+
+
+def _starts_comment(line: str) -> bool:
+    return line.lstrip().startswith(("#", "%"))
+
+
+def _is_data_row(cells: list[str], width: int) -> bool:
+    """A line after the header that starts with ``#`` is data (``#N/A,20.1,...``) if it is shaped like a row."""
+    if width < 2 or len(cells) != width:
+        return False
+    numeric = sum(_parse_number(c) is not None for c in cells[1:])
+    return numeric * 2 >= width - 1
 
 
 def _merge_bracket_tokens(tokens: list[str]) -> list[str]:

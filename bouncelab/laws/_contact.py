@@ -1,0 +1,107 @@
+"""Shared machinery of the contact laws: prediction with a different parameter vector per bounce.
+
+:func:`predict_per_bounce` evaluates a compiled law's kernel on ``n`` landings
+with ``n`` parameter rows (spot-to-spot variation of a surface, simulated
+campaigns). The kernel is the law's own, so each row gives exactly what
+``law.replace(**row).predict(landing_row)`` gives, without building ``n`` laws.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from bouncelab.data.validation import as_states
+from bouncelab.errors import ParameterError
+
+__all__ = ["predict_per_bounce"]
+
+_ROW_LOOPS: dict[int, tuple[Any, Any]] = {}
+
+
+def _row_loop(kernel: Any) -> Any:
+    hit = _ROW_LOOPS.get(id(kernel))
+    if hit is not None and hit[0] is kernel:
+        return hit[1]
+    from bouncelab._jit import jit
+
+    @jit(nogil=True)
+    def loop(P, T, out, codes):  # pragma: no cover - compiled
+        for i in range(P.shape[0]):
+            a, b, c, k = kernel(P[i, 0], P[i, 1], P[i, 2], T[i])
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+            codes[i] = k
+
+    _ROW_LOOPS[id(kernel)] = (kernel, loop)
+    return loop
+
+
+def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = False, kernel: Any = None) -> Any:
+    """Lift-off states of ``n`` landings, each with its own parameter values.
+
+    Parameters
+    ----------
+    law : CompiledLaw subclass or instance
+        A law with scalar parameters whose kernel takes its parameter vector as
+        is (e.g. :class:`~bouncelab.laws.turf.TurfContact`). An instance only
+        supplies its class; its values are not used.
+    landing : array-like, shape (n, 3)
+        Landing states ``[xdot0, ydot0, omega0]`` in scaled units (validated as by ``predict``).
+    params : array-like, shape (n, k) or (k,), or a mapping name -> array of length n
+        One row of the law's ``k`` parameters per landing, in the order of
+        ``parameter_specs`` (a single row is broadcast). Each value is checked
+        against its parameter's physical range.
+    codes : bool
+        Also return the int8 regime code of each bounce.
+    kernel : numba function, optional
+        The law's kernel, when the class loads it lazily (a property).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        Lift-off states (and the regime codes if ``codes``).
+    """
+    cls = law if isinstance(law, type) else type(law)
+    if kernel is None:
+        kernel = getattr(cls, "kernel", None)
+    if kernel is None or isinstance(kernel, property):
+        raise ParameterError(f"{cls.__name__} has no class-level compiled kernel; predict_per_bounce needs one")
+    from bouncelab.laws.compiled import CompiledLaw
+
+    if cls._kernel_theta is not CompiledLaw._kernel_theta:
+        raise ParameterError(f"{cls.__name__} converts its parameters before its kernel; use predict per law")
+    specs = cls.parameter_specs
+    if any(s.shape != () for s in specs):
+        raise ParameterError(f"{cls.__name__} has array parameters; predict_per_bounce takes scalar ones")
+    p, _ = as_states(landing, "landing", landing=True)
+    p = np.ascontiguousarray(p.reshape(-1, 3), dtype=np.float64)
+    n = len(p)
+    if isinstance(params, dict):
+        missing = [s.name for s in specs if s.name not in params]
+        if missing:
+            raise ParameterError(f"{cls.__name__}: params lacks {missing}")
+        cols = [np.broadcast_to(np.asarray(params[s.name], dtype=float), (n,)) for s in specs]
+        T = np.column_stack(cols) if n else np.empty((0, len(specs)))
+    else:
+        T = np.asarray(params, dtype=float)
+        if T.ndim == 1:
+            T = np.broadcast_to(T, (n, T.shape[0]))
+        if T.ndim != 2 or T.shape != (n, len(specs)):
+            raise ParameterError(f"{cls.__name__}: params must have shape ({n}, {len(specs)}); got {T.shape}")
+    T = np.ascontiguousarray(T, dtype=np.float64)
+    for j, s in enumerate(specs):
+        col = T[:, j]
+        lo, hi = s.physical
+        bad = ~np.isfinite(col) | (col < lo) | (col > hi)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]!r}, "
+                                 f"outside its physical range [{lo}, {hi}]")
+    out = np.empty_like(p)
+    c = np.empty(n, dtype=np.int8)
+    if n:
+        _row_loop(kernel)(p, T, out, c)
+    return (out, c) if codes else out

@@ -1,0 +1,358 @@
+r"""Compiled kernels of the contact laws (numba; loaded on first use, cached on disk).
+
+``compliant_kernel`` (:class:`~bouncelab.laws.compliant.CompliantImpact`) and
+``turf_kernel`` (:class:`~bouncelab.laws.turf.TurfContact`) follow the protocol of
+:class:`~bouncelab.laws.CompiledLaw`: ``kernel(xdot0, ydot0, omega0, theta) ->
+(xdotF, ydotF, omegaF, regime)``. The physics and its accuracy are documented in
+the two law modules; this file holds the arithmetic.
+
+Scaled units: lengths in ball radii, the ball a uniform sphere (I = 2/5 m R^2),
+forces per unit mass. A tangential force F at the contact point changes xdot at
+rate F, omega at rate 5/2 F and so v_P = xdot + omega at rate 7/2 F.
+"""
+
+from __future__ import annotations
+
+import math
+
+from bouncelab._jit import jit
+
+# Regime codes shared by both contact laws.
+SLIP = 0       # the contact point slips throughout (after the bristle/spring has loaded)
+GRIP = 1       # the contact point stops (sticks) during contact and leaves with v_P of the landing's sign
+REVERSED = 2   # the contact point leaves slipping the other way (spin reversal of v_P)
+
+MAX_PHASES = 24  # stick/slip phases per bounce before the kernel gives up switching (never reached in tests)
+SCAN = 32        # CompliantImpact: scan points per contact time or per tangential period, whichever is shorter
+ROOT_ITER = 60   # CompliantImpact: cap on root-refinement iterations per switch
+
+
+# ============================================================================= CompliantImpact
+# Normal motion: delta'' = -N, N = delta + 2 zeta delta' (omega_n = 1: time in units of 1/omega_n).
+@jit(inline="always")
+def _normal(t, v0, z, wd):
+    """(N, dN/dt, ddelta/dt) of the damped normal oscillator at time t (closed form)."""
+    e = math.exp(-z * t)
+    s = math.sin(wd * t)
+    c = math.cos(wd * t)
+    dd = v0 * e * (c - (z / wd) * s)
+    n = v0 * e * (((1.0 - 2.0 * z * z) / wd) * s + 2.0 * z * c)
+    return n, dd - 2.0 * z * n, dd
+
+
+@jit(inline="always")
+def _stick_state(tau, u0, v1, kap):
+    """Spring displacement u and contact-point velocity v after time tau stuck (harmonic, closed form)."""
+    c = math.cos(kap * tau)
+    s = math.sin(kap * tau)
+    return u0 * c + (v1 / kap) * s, v1 * c - u0 * kap * s
+
+
+@jit
+def _stick_g(t, t0, u0, v1, kap, kt, mu, v0, z, wd):
+    """Margin of the friction cone while stuck: mu N - k_t |u| (stick ends where it turns negative)."""
+    n, _, _ = _normal(t, v0, z, wd)
+    u, _ = _stick_state(t - t0, u0, v1, kap)
+    return mu * n - kt * abs(u)
+
+
+@jit
+def _slip_f(t, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0):
+    """Slip velocity of the slider times the slip direction (slip ends where it turns negative)."""
+    _, ndot, dd = _normal(t, v0, z, wd)
+    j = j0 - sig * mu * (dd0 - dd)  # impulse of -sig mu N since t0: integral of N is the change of -delta'
+    return sig * (vp0 + 3.5 * j) - mu * ndot / kt
+
+
+@jit
+def compliant_kernel(xd, yd, w, theta):
+    """theta = [r, mu, kappa, zeta, omega_d, t_c] (the last three from CompliantImpact._kernel_theta)."""
+    r = theta[0]
+    mu = theta[1]
+    kap = theta[2]
+    z = theta[3]
+    wd = theta[4]
+    tc = theta[5]
+    kt = kap * kap / 3.5
+    v0 = -yd
+    vp0 = xd + w
+    h = min(tc, 2.0 * math.pi / kap) / SCAN
+    scale = 1e-13 * (abs(vp0) + v0 + 1e-300)
+    t0 = 0.0
+    u0 = 0.0
+    j0 = 0.0
+    stuck = True
+    sticks = 0
+    crossed = False
+    for _ in range(MAX_PHASES):
+        v1 = vp0 + 3.5 * j0
+        if stuck:
+            # scan for the first point where the friction cone is left
+            a = t0
+            b = t0
+            found = False
+            while b < tc:
+                a = b
+                b = min(b + h, tc)
+                if b >= tc:
+                    break
+                u, v = _stick_state(b - t0, u0, v1, kap)
+                if v * vp0 < 0.0:
+                    crossed = True
+                if _stick_g(b, t0, u0, v1, kap, kt, mu, v0, z, wd) < -scale:
+                    found = True
+                    break
+            if not found:
+                b = tc
+                if _stick_g(tc - 1e-12 * tc, t0, u0, v1, kap, kt, mu, v0, z, wd) >= -scale:
+                    u, v = _stick_state(tc - t0, u0, v1, kap)
+                    j0 = (v - vp0) / 3.5
+                    t0 = tc
+                    break
+            # root of g in (a, b]: bisection (g is not smooth where u = 0)
+            for _k in range(ROOT_ITER):
+                m = 0.5 * (a + b)
+                if m <= a or m >= b:
+                    break
+                if _stick_g(m, t0, u0, v1, kap, kt, mu, v0, z, wd) < -scale:
+                    b = m
+                else:
+                    a = m
+            u, v = _stick_state(b - t0, u0, v1, kap)
+            j0 = (v - vp0) / 3.5
+            t0 = b
+            u0 = u
+            stuck = False
+        else:
+            sig = 1.0 if u0 > 0.0 else -1.0
+            _, _, dd0 = _normal(t0, v0, z, wd)
+            a = t0
+            b = t0
+            found = False
+            while True:
+                a = b
+                b = min(b + h, tc)
+                if b >= tc:
+                    break
+                if _slip_f(b, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) < -scale:
+                    found = True
+                    break
+            if not found:
+                _, _, dd = _normal(tc, v0, z, wd)
+                j0 = j0 - sig * mu * (dd0 - dd)
+                t0 = tc
+                break
+            for _k in range(ROOT_ITER):
+                m = 0.5 * (a + b)
+                if m <= a or m >= b:
+                    break
+                if _slip_f(m, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) < -scale:
+                    b = m
+                else:
+                    a = m
+            n, _, dd = _normal(b, v0, z, wd)
+            j0 = j0 - sig * mu * (dd0 - dd)
+            u0 = sig * mu * n / kt
+            t0 = b
+            stuck = True
+            sticks += 1
+    vpf = vp0 + 3.5 * j0
+    if vp0 != 0.0 and vpf * vp0 < 0.0:
+        code = REVERSED
+    elif sticks > 0 or crossed or vp0 == 0.0:
+        code = GRIP
+    else:
+        code = SLIP
+    return xd + j0, -r * yd, w + 2.5 * j0, code
+
+
+# ============================================================================= TurfContact
+TURF_STEPS = 64  # RK4 steps per estimated elastic contact time (see turf.py for the accuracy this gives)
+EVENT_ITER = 50  # cap on Illinois iterations locating one event inside a step
+MAX_STEPS_FACTOR = 64  # a contact may last this many estimated contact times (deep plastic craters)
+
+
+@jit(inline="always")
+def _turf_rhs(dl, dld, dp, xd, w, u, plastic, stick, sig, k, c, mu, kt, pl):
+    """Derivatives of (delta, delta', d_p, xdot, omega, u) and the normal force N."""
+    e = dl - dp
+    if e < 0.0:
+        e = 0.0
+    n = k * e * math.sqrt(e) * (1.0 + c * dld)
+    if n < 0.0:
+        n = 0.0
+    fp = 0.0
+    if n > 0.0 and dl > 0.0:
+        dw = min(dl, 1.0)  # the crater wall in front of the ball is no higher than its equator
+        fp = -pl * dw * dw * math.sqrt(dw) * xd
+    if stick:
+        fb = -kt * u
+        ud = xd + w
+    else:
+        fb = -sig * mu * n
+        ud = 0.0
+    dpd = dld if plastic else 0.0
+    return dld, -n, dpd, fb + fp, 2.5 * fb, ud, n
+
+
+@jit(inline="always")
+def _turf_step(s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, pl):
+    """One classical Runge-Kutta (RK4) step of size h in a fixed contact mode."""
+    a0, a1, a2, a3, a4, a5, _ = _turf_rhs(s0, s1, s2, s3, s4, s5, plastic, stick, sig, k, c, mu, kt, pl)
+    g = 0.5 * h
+    b0, b1, b2, b3, b4, b5, _ = _turf_rhs(s0 + g * a0, s1 + g * a1, s2 + g * a2, s3 + g * a3, s4 + g * a4,
+                                          s5 + g * a5, plastic, stick, sig, k, c, mu, kt, pl)
+    c0, c1, c2, c3, c4, c5, _ = _turf_rhs(s0 + g * b0, s1 + g * b1, s2 + g * b2, s3 + g * b3, s4 + g * b4,
+                                          s5 + g * b5, plastic, stick, sig, k, c, mu, kt, pl)
+    d0, d1, d2, d3, d4, d5, _ = _turf_rhs(s0 + h * c0, s1 + h * c1, s2 + h * c2, s3 + h * c3, s4 + h * c4,
+                                          s5 + h * c5, plastic, stick, sig, k, c, mu, kt, pl)
+    q = h / 6.0
+    return (s0 + q * (a0 + 2.0 * b0 + 2.0 * c0 + d0), s1 + q * (a1 + 2.0 * b1 + 2.0 * c1 + d1),
+            s2 + q * (a2 + 2.0 * b2 + 2.0 * c2 + d2), s3 + q * (a3 + 2.0 * b3 + 2.0 * c3 + d3),
+            s4 + q * (a4 + 2.0 * b4 + 2.0 * c4 + d4), s5 + q * (a5 + 2.0 * b5 + 2.0 * c5 + d5))
+
+
+@jit(inline="always")
+def _turf_events(s0, s1, s2, s3, s4, s5, plastic, stick, sig, k, c, mu, kt, ey, pl):
+    """Switching functions, each positive while its mode holds: (yield, tangential, lift-off)."""
+    e_raw = s0 - s2
+    e = max(e_raw, 0.0)
+    se = math.sqrt(e)
+    n = k * e * se * (1.0 + c * s1)
+    if n < 0.0:
+        n = 0.0
+    g_yield = s1 if plastic else ey - e
+    if stick:
+        g_tan = mu * n - kt * abs(s5)
+    else:
+        if plastic:
+            ndot = -k * e * se * c * n
+        else:
+            ndot = k * (1.5 * se * s1 * (1.0 + c * s1) - e * se * c * n)
+        g_tan = sig * (s3 + s4) - mu * ndot / kt
+    # the turf stops pushing when the compression or the damped factor (1 + c delta') reaches zero
+    g_lift = min(e_raw, ey * (1.0 + c * s1))
+    return g_yield, g_tan, g_lift
+
+
+@jit
+def _turf_event_value(which, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl):
+    t0, t1, t2, t3, t4, t5 = _turf_step(s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, pl)
+    g = _turf_events(t0, t1, t2, t3, t4, t5, plastic, stick, sig, k, c, mu, kt, ey, pl)
+    return g[which]
+
+
+@jit
+def _turf_locate(which, fa, fb, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl):
+    """Step size in (0, h] at which switching function ``which`` crosses zero (Illinois false position)."""
+    a = 0.0
+    b = h
+    for _ in range(EVENT_ITER):
+        den = fb - fa
+        m = (a * fb - b * fa) / den if den != 0.0 else 0.5 * (a + b)
+        if not (a < m < b):
+            m = 0.5 * (a + b)
+        fm = _turf_event_value(which, s0, s1, s2, s3, s4, s5, m, plastic, stick, sig, k, c, mu, kt, ey, pl)
+        if fm < 0.0:
+            b = m
+            fb = fm
+            fa *= 0.5
+        else:
+            a = m
+            fa = fm
+            fb *= 0.5
+        if b - a <= 1e-11 * h:
+            break
+    return b
+
+
+@jit
+def turf_integrate(xd, yd, w, theta, nsteps):
+    """TurfContact through one contact with ``nsteps`` RK4 steps per estimated elastic contact time."""
+    k = 10.0 ** theta[0]
+    c = theta[1] * 1e-3
+    ey = theta[2]
+    mu = theta[3]
+    kt = 10.0 ** theta[4]
+    pl = 0.4 * theta[5] * c * k
+    v0 = -yd
+    vp0 = xd + w
+    # elastic contact time of N = k e^1.5 (Hertz): e_max = (5 v0^2 / 4k)^(2/5), t_c = 2.943 e_max / v0
+    emax = (1.25 * v0 * v0 / k) ** 0.4
+    h = 2.943 * emax / v0 / nsteps
+    # a stuck contact point oscillates with frequency sqrt(3.5 k_t): resolve it too
+    h = min(h, 2.0 * math.pi / math.sqrt(3.5 * kt) / 24.0)
+    s0 = 0.0
+    s1 = v0
+    s2 = 0.0
+    s3 = xd
+    s4 = w
+    s5 = 0.0
+    plastic = False
+    stick = vp0 == 0.0
+    sig = 1.0 if vp0 > 0.0 else -1.0
+    sticks = 0
+    crossed = False
+    started = False
+    maxsteps = MAX_STEPS_FACTOR * nsteps * 4
+    for _ in range(maxsteps):
+        ga, gt, gl = _turf_events(s0, s1, s2, s3, s4, s5, plastic, stick, sig, k, c, mu, kt, ey, pl)
+        t0, t1, t2, t3, t4, t5 = _turf_step(s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, pl)
+        fa, ft, fl = _turf_events(t0, t1, t2, t3, t4, t5, plastic, stick, sig, k, c, mu, kt, ey, pl)
+        best = h
+        which = -1
+        # a function may start a hair below zero right after its own switch: count it as zero
+        ga = max(ga, 0.0)
+        gt = max(gt, 0.0)
+        gl = max(gl, 0.0)
+        if fa < 0.0:
+            sa = _turf_locate(0, ga, fa, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            if sa <= best:
+                best = sa
+                which = 0
+        if ft < 0.0:
+            st = _turf_locate(1, gt, ft, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            if st <= best:
+                best = st
+                which = 1
+        if started and fl <= 0.0:
+            sl = _turf_locate(2, gl, fl, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            if sl <= best:
+                best = sl
+                which = 2
+        if which >= 0:
+            t0, t1, t2, t3, t4, t5 = _turf_step(s0, s1, s2, s3, s4, s5, best, plastic, stick, sig,
+                                                k, c, mu, kt, pl)
+        s0, s1, s2, s3, s4, s5 = t0, t1, t2, t3, t4, t5
+        started = True
+        if stick and (s3 + s4) * vp0 < 0.0:
+            crossed = True
+        if which == 2:
+            break
+        if which == 0:
+            plastic = not plastic
+        elif which == 1:
+            e = s0 - s2
+            n = k * e * math.sqrt(max(e, 0.0)) * (1.0 + c * s1)
+            if stick:
+                sig = 1.0 if s5 > 0.0 else -1.0
+                stick = False
+            else:
+                s5 = sig * mu * max(n, 0.0) / kt
+                stick = True
+                sticks += 1
+    vpf = s3 + s4
+    if vp0 != 0.0 and vpf * vp0 < 0.0:
+        code = REVERSED
+    elif sticks > 0 or crossed or vp0 == 0.0:
+        code = GRIP
+    else:
+        code = SLIP
+    # the normal motion lifts off when the turf stops pushing; gravity (460 radii/s^2) is neglected
+    return s3, -s1, s4, code
+
+
+@jit
+def turf_kernel(xd, yd, w, theta):
+    """theta = [log10_k, c (ms/radius), e_y (radii), mu, log10_kt, lam]."""
+    return turf_integrate(xd, yd, w, theta, TURF_STEPS)

@@ -1,0 +1,173 @@
+r"""TurfContact: a ball pressing into an elasto-plastic, rate-dependent turf bed, integrated through the contact."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from bouncelab.laws.compiled import CompiledLaw
+from bouncelab.laws.parameters import Parameter
+from bouncelab.laws.rigid import MU_SPEC
+
+__all__ = ["TURF_STEPS", "TurfContact"]
+
+#: RK4 steps per estimated elastic contact time used by ``predict`` (see the accuracy note of TurfContact).
+TURF_STEPS = 64
+
+
+def _kernel():
+    from bouncelab.laws._contact_kernels import turf_kernel
+
+    return turf_kernel
+
+
+class TurfContact(CompiledLaw):
+    r"""A rigid ball pressing into an elasto-plastic turf bed with a bristle spring and Coulomb friction.
+
+    Lengths in ball radii, forces per unit ball mass, :math:`I = \tfrac25 m R^2`.
+    The ball's lowest point penetrates the undisturbed turf by :math:`\delta`
+    (:math:`\dot\delta_0 = -\dot y_0`); the turf under it has a plastic crater
+    of depth :math:`d`, so its elastic compression is :math:`e = \delta - d`.
+
+    **Normal pressure** (a bed of turf columns under a sphere, small contact
+    arc; Hunt-Crossley damping on the indentation rate), acting radially over
+    the contact arc and hence through the ball's centre:
+
+    .. math::
+
+        N = \max\!\big(0,\; k\, e^{3/2} (1 + c\,\dot\delta)\big),\qquad \ddot\delta = -N .
+
+    **Plasticity.** The elastic force cannot exceed the yield force
+    :math:`k e_y^{3/2}`: while the ball moves down with :math:`e = e_y` the crater
+    deepens, :math:`\dot d = \dot\delta` (perfectly plastic); it stops deepening when
+    the ball turns back. Faster landings dig deeper craters and lose more energy, and
+    damping grows with speed: restitution falls with impact speed.
+
+    **Ploughing.** The columns in front of a ball moving sideways are compressed at
+    the rate :math:`\lambda\dot x\phi` at arc angle :math:`\phi`; integrating the damped
+    radial pressure over the arc (the front wall of the crater, of height
+    :math:`\delta`, capped at the ball's equator) gives a horizontal force through the
+    centre, so no torque:
+
+    .. math::
+
+        F_p = -\tfrac25\, \lambda\, c\, k\, \min(\delta, 1)^{5/2}\, \dot x \qquad (\text{while } N > 0).
+
+    **Tangential compliance.** A bristle spring :math:`k_t` (displacement u) in series
+    with a Coulomb slider at the contact point: stuck, :math:`\dot u = v_P = \dot x + \omega`
+    and :math:`F_b = -k_t u` while :math:`k_t |u| < \mu N`; slipping in direction
+    :math:`\sigma`, :math:`F_b = -\sigma\mu N` and :math:`u = \sigma\mu N / k_t`, until the
+    slider's velocity :math:`\sigma v_P - \mu \dot N / k_t` reaches zero. Then
+
+    .. math::
+
+        \ddot x = F_b + F_p,\qquad \dot\omega = \tfrac52 F_b .
+
+    Lift-off when the turf stops pushing (:math:`e = 0` or :math:`1 + c\dot\delta = 0`).
+    Gravity (about 460 radii/s², i.e. under 1 radius/s over a contact) is neglected.
+
+    **Integration.** Classical RK4 with a fixed step, :data:`TURF_STEPS` = 64 steps per
+    Hertzian contact time :math:`2.943\,e_{max}/v_0`, :math:`e_{max} = (5 v_0^2/4k)^{2/5}`,
+    and at least 24 per period of the stuck contact point :math:`2\pi/\sqrt{3.5 k_t}`;
+    every mode switch (yield, unloading, stick to slip, slip to stick, lift-off) is an
+    event located inside its step by Illinois false position on the RK4 step size
+    (to 1e-11 of a step), and the integration restarts from it in the new mode.
+    **Accuracy** (measured against 2048 steps over 3000 random landings and parameter
+    sets of the default search box, ``tests/test_turf.py``): lift-off within
+    3e-5 of the landing speed ‖p₀‖ at worst, 8e-6 for 99 %; halving the step
+    changes it by less than 1e-4 ‖p₀‖. ``bouncelab.laws._contact_kernels.turf_integrate``
+    takes the number of steps for tighter work.
+
+    Regimes: ``slip`` (the contact point slips throughout), ``grip`` (it sticks
+    during contact and leaves with :math:`v_P` of the landing's sign or zero),
+    ``reversed`` (it leaves slipping the other way).
+
+    Limits: ``lam = 0`` puts all horizontal impulse at the contact point (lever arm
+    Δω/Δẋ = 2.5 as for the rigid laws); large ``log10_kt`` with ``c = 0`` and large
+    ``e_y`` gives a Hertzian elastic bounce with Coulomb friction (restitution 1).
+
+    Parameters
+    ----------
+    log10_k : float
+        Normal stiffness, log10 of k in radius^-1/2 s^-2 (per unit mass), searched in
+        [5, 8]: at 6.8 a 10 m/s landing compresses the turf by 0.3 radii (6 mm) for 1.3 ms.
+    c : float
+        Hunt-Crossley damping, ms/radius, [0, 5] (restitution about 1 - c v0 at low speed).
+    e_y : float
+        Yield compression, radii, [0.05, 2]: the yield force is k e_y^1.5.
+    mu : float
+        Coulomb friction, dimensionless, [0, 1.5].
+    log10_kt : float
+        Bristle stiffness, log10 of k_t in s^-2 (per unit mass), [4.5, 7]: the stuck contact
+        point oscillates at sqrt(3.5 k_t) rad/s (1870 rad/s at 6).
+    lam : float
+        Ploughing: horizontal-to-vertical damping ratio of the turf bed, dimensionless, [0, 20].
+
+    Notes
+    -----
+    For spot-to-spot variation (a different parameter vector per bounce) use
+    :meth:`predict_varying`.
+
+    Examples
+    --------
+    >>> law = TurfContact(log10_k=6.8, c=1.0, e_y=0.3, mu=0.6, log10_kt=6.0, lam=3.0)
+    >>> law.predict([[300.0, -800.0, 0.0]]).round(1)
+    array([[  65.5,  419.6, -345. ]])
+    """
+
+    parameter_specs = (
+        Parameter("log10_k", (5.0, 8.0), (3.0, 10.0), "log10(radius^-1/2 s^-2)",
+                  "normal stiffness k of N = k e^1.5 (per unit mass)"),
+        Parameter("c", (0.0, 5.0), (0.0, 100.0), "ms/radius", "Hunt-Crossley damping of the indentation rate"),
+        Parameter("e_y", (0.05, 2.0), (0.01, 10.0), "radius", "yield compression (yield force k e_y^1.5)"),
+        MU_SPEC,
+        Parameter("log10_kt", (4.5, 7.0), (2.0, 9.0), "log10(s^-2)",
+                  "bristle (tangential) stiffness k_t per unit mass"),
+        Parameter("lam", (0.0, 20.0), (0.0, 1000.0), "1", "ploughing: horizontal-to-vertical damping ratio"),
+    )
+    regimes = ("slip", "grip", "reversed")
+
+    def __init__(self, log10_k: float | None = None, c: float | None = None, e_y: float | None = None,
+                 mu: float | None = None, log10_kt: float | None = None, lam: float | None = None) -> None:
+        self.log10_k = log10_k
+        self.c = c
+        self.e_y = e_y
+        self.mu = mu
+        self.log10_kt = log10_kt
+        self.lam = lam
+        super().__init__()
+
+    @property
+    def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
+        return _kernel()
+
+    @classmethod
+    def predict_varying(cls, landing: Any, params: Any, *, codes: bool = False) -> Any:
+        """Lift-off of ``n`` landings with a parameter vector per landing (spot-to-spot variation).
+
+        ``params`` is an ``(n, 6)`` array in the order ``log10_k, c, e_y, mu, log10_kt, lam``
+        (a single row broadcasts) or a mapping name -> length-n array. Each row gives what
+        ``TurfContact(**row).predict(landing_row)`` gives. Values are checked against the
+        physical ranges. ``codes=True`` also returns the regime codes (index into ``regimes``).
+
+        >>> import numpy as np
+        >>> rows = np.array([[6.8, 1.0, 0.3, 0.6, 6.0, 3.0], [6.8, 0.5, 0.3, 0.6, 6.0, 3.0]])
+        >>> TurfContact.predict_varying([[300.0, -800.0, 0.0]] * 2, rows)[:, 1].round(1)
+        array([419.6, 458.2])
+        """
+        from bouncelab.laws._contact import predict_per_bounce
+
+        return predict_per_bounce(cls, landing, params, codes=codes, kernel=_kernel())
+
+    def restitution(self, speed: Any) -> np.ndarray:
+        """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin)."""
+        s = np.atleast_1d(np.asarray(speed, dtype=float))
+        land = np.column_stack([np.zeros_like(s), -s, np.zeros_like(s)])
+        return self.predict(land)[:, 1] / s
+
+    def _summary_lines(self) -> list[str]:
+        if not self.is_fitted:
+            return []
+        r = self.restitution([200.0, 500.0, 900.0])
+        return [f"restitution of vertical landings at 200 / 500 / 900 radii/s: {r[0]:.3f} / {r[1]:.3f} / {r[2]:.3f}"]

@@ -1,0 +1,50 @@
+"""From high-speed video to bounce states: the paper's data extraction (section "Data extraction").
+
+The pipeline:
+
+1. :func:`read_frames`: a video file, a folder of images or an array;
+2. :func:`track_clip`: the ball found in each frame (Hough circle, refined to a
+   sub-pixel centre and radius), its lowest visible point, and its rotation
+   between consecutive frames from matched features (:func:`frame_rotation`),
+   in scaled units (radii, seconds, rad/s anticlockwise with y up);
+3. :func:`measure_clip`: touch-down and lift-off from the lowest visible point
+   and the landing and lift-off states with the paper's intervals
+   (:func:`bouncelab.analysis.measurement.measure_bounce`);
+4. :func:`measure_clips`: many clips to a campaign Dataset, failures reported.
+
+:func:`render_clip` renders synthetic clips with known truth for tests and benchmarks.
+Requires the ``video`` extra (OpenCV).
+"""
+
+from bouncelab.tracking.campaign import (
+    ClipFailure,
+    ClipSettings,
+    TrackedCampaign,
+    clip_settings,
+    measure_clip,
+    measure_clips,
+)
+from bouncelab.tracking.detect import Background, Circle, estimate_background, find_ball
+from bouncelab.tracking.frames import read_frames
+from bouncelab.tracking.render import RenderedClip, render_clip
+from bouncelab.tracking.rotation import Rotation, frame_rotation
+from bouncelab.tracking.tracker import track_clip
+
+__all__ = [
+    "Background",
+    "Circle",
+    "ClipFailure",
+    "ClipSettings",
+    "RenderedClip",
+    "Rotation",
+    "TrackedCampaign",
+    "clip_settings",
+    "estimate_background",
+    "find_ball",
+    "frame_rotation",
+    "measure_clip",
+    "measure_clips",
+    "read_frames",
+    "render_clip",
+    "track_clip",
+]

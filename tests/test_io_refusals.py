@@ -1,0 +1,238 @@
+"""Files that used to load wrong values without a word (issue 7, items 3 and 4): each loads exactly
+what a person reading it would read, or raises a located DataError."""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import bouncelab as bl
+from bouncelab.data.campaign import make_campaign
+from bouncelab.errors import DataError
+
+R = 0.02135
+RPM = 2 * math.pi / 60
+LAND = np.array([[20.1, -15.2, 3000.0], [12.2, -22.5, -1200.0], [30.0, -20.0, 4500.0]])
+LIFT = np.array([[9.5, 5.1, 1500.0], [6.1, 7.7, 600.0], [14.0, 6.0, 2500.0]])
+UNITS = {"velocity": "m/s", "spin": "rpm"}
+HEAD = ["setting", "vx0", "vy0", "w0", "vxF", "vyF", "wF"]
+
+
+def scaled(state: np.ndarray) -> np.ndarray:
+    return np.column_stack([state[:, 0] / R, state[:, 1] / R, state[:, 2] * RPM])
+
+
+def rows(settings=("1", "1", "2"), sep=",", fmt=repr) -> list[str]:
+    return [sep.join([s, *(fmt(float(v)) for v in (*a, *b))]) for s, a, b in zip(settings, LAND, LIFT, strict=True)]
+
+
+def write(path, lines, sep=","):
+    path.write_text("\n".join([sep.join(HEAD), *lines]) + "\n")
+    return path
+
+
+# --- item 3: "#" rows, blank cells in whitespace files ---------------------------------------------
+
+def test_excel_na_in_the_setting_column_is_a_missing_label_not_a_comment(tmp_path):
+    lines = rows()
+    lines[1] = "#N/A" + lines[1][1:]
+    path = write(tmp_path / "na.csv", ["# measured 2026-11-20", *lines])
+    with pytest.raises(DataError, match=r"missing setting label \('#N/A'\)") as exc:
+        bl.load_campaign(path, units=UNITS)
+    assert (exc.value.column, exc.value.row) == ("setting", 2) and "line 4" in str(exc.value)
+
+
+def test_a_data_shaped_row_after_the_header_starting_with_hash_is_refused(tmp_path):
+    lines = rows()
+    path = write(tmp_path / "c.csv", [lines[0], "#" + lines[1], "# just a note", lines[2]])
+    with pytest.raises(DataError, match=r"line 3 starts with '#' like a comment but holds a row"):
+        bl.load_campaign(path, units=UNITS)
+    path = write(tmp_path / "ok.csv", [lines[0], "# just a note, here", lines[1], "% another", lines[2]])
+    np.testing.assert_allclose(bl.load_campaign(path, units=UNITS).landing.values, scaled(LAND), rtol=1e-12)
+
+
+def test_blank_cell_in_a_whitespace_file_is_refused(tmp_path):
+    head = "vx0 vy0 w0 vxF vyF wF note"
+    good = ["20.1 -15.2 3000 9.5 5.1 1500 a", "12.2 -22.5 -1200 6.1 7.7 600 b"]
+    shifted = "30.0 -20.0 4500 14.0 6.0 2500"  # the note is blank: nothing to see
+    path = tmp_path / "ws.txt"
+    path.write_text("\n".join([head, *good, shifted]) + "\n")
+    with pytest.raises(DataError, match=r"line 4 has 6 values but the header names 7 columns.*whitespace") as exc:
+        bl.load_campaign(path, units=UNITS)
+    assert exc.value.row == 3
+    path.write_text("\n".join([head, *good, "30.0 -20.0 4500 14.0 6.0 2500 c"]) + "\n")
+    np.testing.assert_allclose(bl.load_campaign(path, units=UNITS).landing.values, scaled(LAND), rtol=1e-12)
+
+
+# --- item 3: decimal commas ---------------------------------------------------------------------
+
+def test_thousands_dot_in_a_decimal_comma_file_is_refused(tmp_path):
+    comma = lambda x: repr(x).replace(".", ",")  # noqa: E731
+    lines = rows(sep=";", fmt=comma)
+    lines[2] = lines[2].replace("4500,0", "4.500")
+    path = write(tmp_path / "eu.csv", lines, sep=";")
+    with pytest.raises(DataError, match=r"'4.500' is ambiguous: the file writes decimals with a comma") as exc:
+        bl.load_campaign(path, units=UNITS)
+    assert (exc.value.column, exc.value.row) == ("w0", 3)
+    path = write(tmp_path / "eu_ok.csv", rows(sep=";", fmt=comma), sep=";")
+    np.testing.assert_allclose(bl.load_campaign(path, units=UNITS).landing.values, scaled(LAND), rtol=1e-12)
+
+
+def test_mixed_decimal_marks_and_lone_thousands_comma_are_refused(tmp_path):
+    lines = rows(sep=";")
+    lines[1] = lines[1].replace("12.2", "12,2")
+    with pytest.raises(DataError, match="writes its decimals differently"):
+        bl.load_campaign(write(tmp_path / "mix.csv", lines, sep=";"), units=UNITS)
+    lines = rows(sep="\t", fmt=lambda x: f"{x:.0f}")
+    lines[0] = lines[0].replace("3000", "3,000")
+    with pytest.raises(DataError, match=r"'3,000' is ambiguous: nothing else in the file says"):
+        bl.load_campaign(write(tmp_path / "k.tsv", lines, sep="\t"), units=UNITS)
+
+
+# --- item 3: setting labels ----------------------------------------------------------------------
+
+def test_long_numeric_setting_ids_stay_exact(tmp_path):
+    ids17 = ("12345678901234567", "12345678901234568", "12345678901234568")
+    ds = bl.load_campaign(write(tmp_path / "id17.csv", rows(ids17)), units=UNITS)
+    assert ds.setting.dtype == np.int64 and ds.setting.values.tolist() == [int(i) for i in ids17]
+    ids20 = ("12345678901234567890", "12345678901234567891", "1")
+    ds = bl.load_campaign(write(tmp_path / "id20.csv", rows(ids20)), units=UNITS)
+    assert ds.setting.values.tolist() == list(ids20)
+
+
+@pytest.mark.parametrize("label", ["n/a", "NaN", "#N/A", "NA", "null"])
+def test_missing_setting_labels_are_errors(tmp_path, label):
+    with pytest.raises(DataError, match="missing setting label") as exc:
+        bl.load_campaign(write(tmp_path / "m.csv", rows(("1", label, "2"))), units=UNITS)
+    assert (exc.value.column, exc.value.row) == ("setting", 2)
+
+
+def test_make_campaign_keeps_huge_whole_float_settings_from_overflowing():
+    ds = make_campaign(scaled(LAND), scaled(LIFT), setting=[1e20, 2e20, 1e20])
+    assert (ds.setting.values > 0).all()
+
+
+# --- item 3: units row against header ------------------------------------------------------------
+
+def test_header_unit_contradicted_by_units_row_is_refused(tmp_path):
+    head = ["vx0 [m/s]", "vy0 [m/s]", "w0 [rpm]", "vxF [m/s]", "vyF [m/s]", "wF [rpm]"]
+    units_row = ["m/s", "m/s", "rad/s", "m/s", "m/s", "rpm"]
+    body = [",".join(repr(float(v)) for v in (*a, *b)) for a, b in zip(LAND, LIFT, strict=True)]
+    path = tmp_path / "u.csv"
+    path.write_text("\n".join([",".join(head), ",".join(units_row), *body]) + "\n")
+    with pytest.raises(DataError, match=r"header gives the unit 'rpm' but the units row under it says 'rad/s'") as e:
+        bl.load_campaign(path)
+    assert e.value.column == "w0 [rpm]"
+    units_row[2] = "rev/min"  # the same unit, spelled differently
+    path.write_text("\n".join([",".join(head), ",".join(units_row), *body]) + "\n")
+    np.testing.assert_allclose(bl.load_campaign(path).landing.values, scaled(LAND), rtol=1e-12)
+
+
+# --- item 3: Excel hidden sheets ----------------------------------------------------------------
+
+def test_hidden_first_excel_sheet_is_not_the_default(tmp_path):
+    openpyxl = pytest.importorskip("openpyxl")
+    path = tmp_path / "hidden.xlsx"
+    wb = openpyxl.Workbook()
+    old = wb.active
+    old.title = "old"
+    old.append(HEAD)
+    for a, b in zip(LAND, LIFT, strict=True):
+        old.append([9, *(a * 2), *(b * 2)])
+    old.sheet_state = "hidden"
+    new = wb.create_sheet("bounces")
+    new.append(HEAD)
+    for s, a, b in zip((1, 1, 2), LAND, LIFT, strict=True):
+        new.append([s, *a, *b])
+    wb.save(path)
+    ds = bl.load_campaign(path, units=UNITS)
+    np.testing.assert_allclose(ds.landing.values, scaled(LAND), rtol=1e-12)
+    assert bl.load_campaign(path, units=UNITS, sheet="old").setting.values.tolist() == [9, 9, 9]
+
+
+# --- item 3: netCDF units and settings ----------------------------------------------------------
+
+def test_netcdf_table_honours_cf_units(tmp_path):
+    ft, u = 0.3048, {}
+    data = {}
+    for j, name in enumerate(["vx0", "vy0", "w0"]):
+        data[name] = LAND[:, j] / ft if j < 2 else LAND[:, j]
+        u[name] = "ft s-1" if j < 2 else "rpm"
+    for j, name in enumerate(["vxF", "vyF", "wF"]):
+        data[name] = LIFT[:, j] if j < 2 else LIFT[:, j] * RPM
+        u[name] = "m s-1" if j < 2 else "rad s-1"
+    ds = xr.Dataset({k: ("row", v, {"units": u[k]}) for k, v in data.items()})
+    path = tmp_path / "cf.nc"
+    ds.to_netcdf(path, engine="scipy")
+    out = bl.load_campaign(path)
+    np.testing.assert_allclose(out.landing.values, scaled(LAND), rtol=1e-12)
+    np.testing.assert_allclose(out.liftoff.values, scaled(LIFT), rtol=1e-12)
+    ds["w0"].attrs["units"] = "furlong/fortnight"
+    ds.to_netcdf(tmp_path / "bad.nc", engine="scipy")
+    with pytest.raises(DataError, match="units attribute gives the unit 'furlong/fortnight'"):
+        bl.load_campaign(tmp_path / "bad.nc")
+
+
+def test_netcdf_campaign_in_physical_units_is_refused_and_its_setting_variable_kept(tmp_path):
+    ds = make_campaign(scaled(LAND), scaled(LIFT), setting=[1, 1, 2])
+    phys = ds.copy(deep=True)
+    phys["landing"] = phys["landing"] * R
+    phys["landing"].attrs["units"] = "m/s"
+    phys.to_netcdf(tmp_path / "phys.nc", engine="scipy")
+    with pytest.raises(DataError, match=r"'landing' says units='m/s'.*campaign file holds scaled units"):
+        bl.load_campaign(tmp_path / "phys.nc")
+    as_var = ds.reset_coords("setting")
+    assert "setting" in as_var.data_vars
+    as_var.to_netcdf(tmp_path / "var.nc", engine="scipy")
+    assert bl.load_campaign(tmp_path / "var.nc").setting.values.tolist() == [1, 1, 2]
+    huge = ds.copy(deep=True)
+    huge["landing"][0, 2] = 5000.0  # rad/s: 47 700 rpm
+    huge.to_netcdf(tmp_path / "huge.nc", engine="scipy")
+    with pytest.raises(DataError, match="not in scaled units"):
+        bl.load_campaign(tmp_path / "huge.nc")
+
+
+# --- item 4: non-regular files ------------------------------------------------------------------
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_fifo_named_csv_is_refused_without_hanging(tmp_path):
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    result: list[BaseException] = []
+
+    def load() -> None:
+        try:
+            bl.load_campaign(fifo)
+        except BaseException as exc:
+            result.append(exc)
+
+    t = threading.Thread(target=load, daemon=True)
+    t.start()
+    t.join(10)
+    assert not t.is_alive(), "load_campaign hung on a FIFO"
+    assert isinstance(result[0], DataError) and "named pipe" in str(result[0])
+
+
+def test_symlink_to_dev_zero_is_refused(tmp_path):
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero")
+    link = tmp_path / "zero.csv"
+    link.symlink_to("/dev/zero")
+    with pytest.raises(DataError, match="character device, not a regular file"):
+        bl.load_campaign(link)
+
+
+def test_unreadable_file_is_a_data_error(tmp_path):
+    path = write(tmp_path / "locked.csv", rows())
+    path.chmod(0)
+    if os.access(path, os.R_OK):
+        pytest.skip("running as root: permissions are not enforced")
+    with pytest.raises(DataError, match="permission denied"):
+        bl.load_campaign(path, units=UNITS)
+
+

@@ -1,0 +1,45 @@
+"""benchmarks/calibrate_surrogates.py: the search space, one evaluation, and a tiny run on dask."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from benchmarks import calibrate_surrogates as drv
+from bouncelab.simulation import LogNormal
+
+
+def test_parametrisation_covers_every_parameter_and_its_scatter():
+    par = drv.Parametrisation("TangentialRestitution", max_sigma=0.4)
+    assert par.names == ["r", "mu", "e_t", "sigma_r", "sigma_mu", "sigma_e_t"]
+    assert par.bounds()[:3] == [(0.0, 1.0), (0.0, 1.5), (0.0, 1.0)] and par.bounds()[3:] == [(0.0, 0.4)] * 3
+    turf = par.turf([0.4, 0.5, 0.2, 0.1, 0.0, 0.3])
+    assert turf.law.parameters == {"r": 0.4, "mu": 0.5, "e_t": 0.2}
+    assert turf.scatter == {"r": LogNormal(0.1), "e_t": LogNormal(0.3)}  # sigma 0: no scatter
+
+
+def test_evaluate_averages_the_replicates():
+    x = [0.4, 0.5, 0.2, 0.1, 0.1, 0.1]
+    one = [drv.evaluate(x, "A", "TangentialRestitution", [s]) for s in (1, 2)]
+    both = drv.evaluate(x, "A", "TangentialRestitution", [1, 2])
+    mean = (one[0]["table"]["simulated"] + one[1]["table"]["simulated"]) / 2
+    np.testing.assert_allclose(both["table"]["simulated"], mean, rtol=1e-12)
+    assert both["objective"] == pytest.approx(
+        drv.cal.calibration_objective(both["table"]), rel=1e-12
+    ) and both["objective"] > 0
+
+
+@pytest.mark.slow
+def test_tiny_calibration_run_on_dask(tmp_path):
+    out = tmp_path / "calib.json"
+    results = drv.main(["--campaign", "A", "--maxiter", "1", "--popsize", "1", "--replicates", "1",
+                        "--final-seeds", "1", "--scheduler", "synchronous", "--output", str(out)])
+    (res,) = results
+    # (maxiter + 1) generations of popsize x 6 candidates, rounded up to a power of 2 by the Sobol start
+    assert res["evaluations"] == 2 * 8
+    assert res["objective_search"] <= drv.objective(np.array(res["x"]), "A", "TangentialRestitution", [1000],
+                                                    0.5) + 1e-12
+    saved = json.loads(out.read_text())
+    assert saved[0]["campaign"] == "A" and len(saved[0]["table"]) == 14
