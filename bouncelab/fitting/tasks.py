@@ -7,7 +7,7 @@ run there:
 
 * a :class:`dask.distributed.Client` (a ``LocalCluster`` or a real cluster): the
   tasks are submitted in batches with ``client.map`` (about :data:`BATCHES_PER_WORKER`
-  batches per worker, since each dask task costs milliseconds of scheduling, as much as
+  batches per worker thread, since each dask task costs milliseconds of scheduling, as much as
   a fit of a small law) and their futures gathered;
 * anything else with a ``map(function, iterable)`` method returning results in
   order, such as a :mod:`concurrent.futures` executor.
@@ -27,7 +27,7 @@ from bouncelab.errors import FitError
 
 __all__ = ["BATCHES_PER_WORKER", "is_dask_client", "map_tasks"]
 
-#: On a dask cluster, the tasks go in about this many batches per worker (enough to balance the load).
+#: On a dask cluster, the tasks go in about this many batches per worker thread (enough to balance the load).
 BATCHES_PER_WORKER = 4
 
 
@@ -64,8 +64,8 @@ def map_tasks(function: Callable[[Any], Any], tasks: Iterable[Any], executor: An
     if executor is None:
         return [function(t) for t in tasks]
     if is_dask_client(executor):
-        n_workers = max(1, len(executor.scheduler_info().get("workers", {})))
-        size = max(1, math.ceil(len(tasks) / (BATCHES_PER_WORKER * n_workers)))
+        slots = max(1, sum(executor.nthreads().values()))  # every worker thread (scheduler_info lists only some)
+        size = max(1, math.ceil(len(tasks) / (BATCHES_PER_WORKER * slots)))
         batches = [(function, tasks[i:i + size]) for i in range(0, len(tasks), size)]
         # pure=False: every batch runs (no key hashing of large arguments; equal batches are not merged).
         futures = executor.map(_run_batch, batches, pure=False)
