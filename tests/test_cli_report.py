@@ -100,7 +100,7 @@ def test_failed_run_leaves_previous_report_intact(fast, capsys, tmp_path, monkey
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
     before = {f: (out / f).read_bytes() for f in files_under(out)}
 
-    def disk_full(name, ds, out_dir, *args):
+    def disk_full(name, ds, out_dir, *args, **_):
         _fake_campaign(name, ds, out_dir, *args)  # some files are written, then the disk fills up
         raise OSError(errno.ENOSPC, "No space left on device", str(out_dir / "tables" / f"{name}_x.csv"))
 
@@ -125,7 +125,7 @@ def test_interrupted_run_leaves_previous_report(fast, capsys, tmp_path, monkeypa
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
     before = files_under(out)
 
-    def interrupted(*args):
+    def interrupted(*args, **_):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(rp, "_campaign", interrupted)
@@ -180,7 +180,7 @@ def test_fit_save_failure_prints_the_fit_and_keeps_the_old_file(capsys, tmp_path
     law = tmp_path / "law.json"
     law.write_text("previous law\n")
 
-    def too_big(*args):
+    def too_big(*args, **_):
         raise OSError(errno.EFBIG, "File too large")
 
     monkeypatch.setattr("bouncelab.atomic.os.replace", too_big)
@@ -236,7 +236,7 @@ def test_report_files_are_written_atomically(capsys, tmp_path, monkeypatch):
 def test_figure_units_flag_reaches_the_figures_and_the_report_text(capsys, tmp_path, monkeypatch):
     seen = []
 
-    def campaign(name, ds, out, seed, figures, step, files, units=None):
+    def campaign(name, ds, out, seed, figures, step, files, units=None, **_):
         seen.append(units)
         return _fake_campaign(name, ds, out, seed, figures, step, files)
 
