@@ -211,3 +211,14 @@ def test_predict_ball_radius(capsys):
     want = units.from_scaled(bl.Rigid.published("A").predict(scaled), velocity="m/s", spin="rpm", radius_m=0.030)
     np.testing.assert_allclose(rows[1], want[0], rtol=1e-5)
     assert rows[0] != rows[1]
+
+
+def test_library_warnings_are_one_line_messages(capsys):
+    import warnings
+
+    before = warnings.showwarning
+    code = main(["predict", "PennerFixed", "--published", "B", "--landing", "50", "-100", "3000"])
+    out, err = capsys.readouterr()
+    assert code == EXIT_OK and warnings.showwarning is before  # restored after the command
+    assert err.startswith("bouncelab predict: warning: PennerFixed.published('B') predicts non-physical")
+    assert len(err.strip().splitlines()) == 1 and "main.py" not in err

@@ -188,6 +188,15 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
+    import warnings
+
+    with warnings.catch_warnings():  # restores the warnings machinery when the command ends
+        _one_line_warnings(args.command)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run one command; every user error becomes a message and an exit code (no traceback)."""
     from bouncelab.cli.reproduce import OutputError
     from bouncelab.errors import DataError, FitError, ParameterError
 
@@ -218,6 +227,23 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _one_line_warnings(command: str) -> None:
+    """bouncelab's own warnings as one line each on stderr, like the errors (no source line quoted)."""
+    import warnings
+
+    from bouncelab.errors import BouncelabWarning
+
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, BouncelabWarning):
+            print(f"bouncelab {command}: warning: {message}", file=sys.stderr)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
 
 
 def _oneline(exc: BaseException) -> str:
