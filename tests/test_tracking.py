@@ -136,6 +136,12 @@ def test_measure_clip_recovers_the_states_within_their_intervals(small_clip, sma
     for side, truth in (("landing", small_clip.landing), ("liftoff", small_clip.liftoff)):
         err = np.abs(m[side].values - truth)
         assert (err < m[f"{side}_pi"].values).all(), (side, err, m[f"{side}_pi"].values)
+    # The spin is the mean of the measured samples before touch-down (the first frame has none).
+    i = m.attrs["touchdown_index"]
+    samples = small_track.spin.values[: i - 1]
+    assert np.isnan(samples[0])
+    assert float(m.landing.sel(component="omega")) == pytest.approx(np.nanmean(samples))
+    assert m.attrs["spin_samples_before"] == np.isfinite(samples).sum()
     # Positions method: calibrated intervals, also covering here.
     mp = measure_clip(small_track, method="positions", interval="confidence")
     assert np.abs(mp["landing"].values[:2] - small_clip.landing[:2]).max() < 3 * mp["landing_pi"].values[:2].max()
@@ -245,3 +251,61 @@ def test_settings_errors(tmp_path):
         clip_settings(["a.avi"], manifest=m)
     with pytest.raises(DataError, match="regular expression"):
         clip_settings(["a.avi"], pattern="(?P<fps")
+
+
+def _write_clips(folder, n, seed0=10):
+    folder.mkdir(exist_ok=True)
+    rng = np.random.default_rng(seed0)
+    for k in range(n):
+        landing = (rng.uniform(900, 1200), -rng.uniform(650, 850), rng.uniform(-150, 350))
+        liftoff = (0.65 * landing[0], -0.5 * landing[1], -0.6 * landing[0])
+        render_clip(landing, liftoff, **SMALL, seed=seed0 + k).save(folder / f"s{k % 4}_r{k}_5000fps.npz")
+
+
+def test_cli_track_writes_a_campaign_and_summarises_failures(tmp_path, capsys):
+    from bouncelab.cli.main import main
+    from bouncelab.data.io import load_campaign
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 2)
+    (clips / "s9_r9_5000fps.avi").write_bytes(b"not a video")
+    out = tmp_path / "campaign.nc"
+    rc = main(["track", str(clips), "--pattern", r"(?P<setting>s\d)_r\d+_(?P<fps>\d+)fps", "--synthetic",
+               "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0
+    assert "2 of 3 clip(s) measured" in err and "s9_r9_5000fps.avi" in err and "cannot open the video" in err
+    assert "3/3 clips" in err  # the progress bar reached the end
+    ds = load_campaign(str(out))
+    assert ds.sizes["bounce"] == 2 and ds.attrs["data_kind"] == "synthetic surrogate"
+    assert list(ds.setting.values) == ["s0", "s1"]
+
+
+def test_cli_track_exit_codes(tmp_path, capsys):
+    from bouncelab.cli.main import main
+
+    bad = tmp_path / "bad.avi"
+    bad.write_bytes(b"junk")
+    out = tmp_path / "c.nc"
+    assert main(["track", str(bad), "--fps", "5000", "--out", str(out), "--quiet"]) == 3
+    assert not out.exists()
+    assert "no clip could be measured" in capsys.readouterr().err
+    assert main(["track", str(bad), "--fps", "-1", "--out", str(out)]) == 2
+    with pytest.raises(SystemExit) as e:
+        main(["track", str(bad)])  # --out missing
+    assert e.value.code == 2
+
+
+@pytest.mark.slow
+def test_cli_track_then_reproduce_on_a_folder_of_rendered_clips(tmp_path):
+    from bouncelab.cli.main import main
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 24)
+    out = tmp_path / "campaign.nc"
+    figs = tmp_path / "figs"
+    assert main(["track", str(clips), "--pattern", r"(?P<setting>s\d)_r\d+_(?P<fps>\d+)fps", "--synthetic",
+                 "--quiet", "--figures", str(figs), "--out", str(out)]) == 0
+    assert len(list(figs.glob("*.png"))) == 24
+    assert main(["reproduce", "--data", str(out), "--no-figures", "--quiet", "--out", str(tmp_path / "rep")]) == 0
+    assert (tmp_path / "rep" / "index.html").exists()

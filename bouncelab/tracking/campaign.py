@@ -83,8 +83,9 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
                             f"(frames {start + a}..{start + b - 1}): too few matched features on the ball",
                             file=clip)
         est = estimate_spin(samples, level=m.attrs["level"])
-        m[key].loc[{"component": "omega"}] = est.value
-        m[f"{key}_pi"].loc[{"component": "omega"}] = est.half_width
+        is_spin = m["component"] == "omega"
+        m[key] = m[key].where(~is_spin, est.value)
+        m[f"{key}_pi"] = m[f"{key}_pi"].where(~is_spin, est.half_width)
     m.attrs.update(
         clip=clip,
         first_frame=int(start),
