@@ -299,13 +299,23 @@ def test_cli_track_exit_codes(tmp_path, capsys):
 @pytest.mark.slow
 def test_cli_track_then_reproduce_on_a_folder_of_rendered_clips(tmp_path):
     from bouncelab.cli.main import main
+    from bouncelab.data.io import load_campaign
 
+    # Bounces of the embedded (synthetic) campaign A that fit in a small frame, six settings of six
+    # repeats, so that the fits and the held-out split of `reproduce` have both slip and roll.
+    a = load_campaign("A")
+    ok = ((np.abs(a.landing.values[:, 0]) < 1500) & (a.landing.values[:, 1] > -1100)
+          & (a.liftoff.values[:, 1] < 700) & (np.abs(a.liftoff.values[:, 0]) < 1400))
+    settings = [s for s in np.unique(a.setting.values) if ok[a.setting.values == s].all()][:6]
     clips = tmp_path / "clips"
-    _write_clips(clips, 24)
+    clips.mkdir()
+    for k in np.flatnonzero(np.isin(a.setting.values, settings)):
+        render_clip(a.landing.values[k], a.liftoff.values[k], **SMALL, seed=int(k)).save(
+            clips / f"s{a.setting.values[k]}_r{k}_5000fps.npz")
     out = tmp_path / "campaign.nc"
     figs = tmp_path / "figs"
-    assert main(["track", str(clips), "--pattern", r"(?P<setting>s\d)_r\d+_(?P<fps>\d+)fps", "--synthetic",
+    assert main(["track", str(clips), "--pattern", r"(?P<setting>s\d+)_r\d+_(?P<fps>\d+)fps", "--synthetic",
                  "--quiet", "--figures", str(figs), "--out", str(out)]) == 0
-    assert len(list(figs.glob("*.png"))) == 24
+    assert len(list(figs.glob("*.png"))) == len(list(clips.iterdir())) == 36
     assert main(["reproduce", "--data", str(out), "--no-figures", "--quiet", "--out", str(tmp_path / "rep")]) == 0
     assert (tmp_path / "rep" / "index.html").exists()
