@@ -177,6 +177,11 @@ def find_ball(
         fit = _refine(fg, float(predicted[0]), float(predicted[1]), float(predicted[2]), background.surface_row)
         if fit is not None and np.hypot(fit[0] - predicted[0], fit[1] - predicted[1]) < 0.3 * predicted[2]:
             coarse = (fit[0], fit[1], fit[2])
+            moved = np.hypot(fit[0] - predicted[0], fit[1] - predicted[1]) + abs(fit[2] - predicted[2])
+            if moved < 0.5 and 0.7 * rmin <= fit[2] <= 1.3 * rmax:
+                # Converged from the prediction: the edge points do not depend on a ray origin this close.
+                return Circle(col=float(fit[0]), row=float(fit[1]), radius=float(fit[2]),
+                              lowest_row=float(_lowest_row(fg, fit[0], fit[1], fit[2])), n_edge=int(fit[3]))
     if coarse is None and near is not None:
         lo, hi = (0.75 * near[2], 1.3 * near[2]) if len(near) == 3 else (rmin, rmax)
         m = int(np.ceil(2.5 * hi + 8))
@@ -258,12 +263,12 @@ def _refine(fg: np.ndarray, col: float, row: float, rad: float, surface_row: flo
     inside = (radii > rad - _INSIDE[1]) & (radii < rad - _INSIDE[0])
     if not inside.any():
         inside = radii < rad - 1
-    level = np.median(prof[:, inside], axis=1)
+    level = prof[:, inside].mean(axis=1)
     level = np.maximum(level, 0.8 * np.median(level))  # a dark dot just inside the edge must not lower it
     # Extrapolate to the limb with the typical outward fall of brightness (limb darkening).
     deeper = (radii > rad - _INSIDE[1] - 2.0) & (radii < rad - _INSIDE[0] - 2.0)
     if deeper.any():
-        fall = float(np.median(np.median(prof[:, deeper], axis=1) - level)) / 2.0  # per px
+        fall = float(np.median(prof[:, deeper].mean(axis=1) - level)) / 2.0  # per px
         level = level - max(fall, 0.0) * (0.5 * (_INSIDE[0] + _INSIDE[1]))
     half = 0.5 * level
     above = prof >= half[:, None]
