@@ -195,7 +195,14 @@ def find_ball(
         # The Hough transform can miss a ball half hidden by the turf: start from where it was.
         coarse = (float(near[0]), float(near[1]), float(near[2]))
     if coarse is None:
-        coarse = _hough(fg, rmin, rmax, background.contrast)
+        lo, hi = rmin, rmax
+        if hi > 2 * lo:
+            # A wide search is slow: narrow it to the radius of a disc with the area of the bright pixels.
+            area = float(np.count_nonzero(fg > thr))
+            r_area = np.sqrt(area / np.pi)
+            if lo <= r_area <= hi:
+                lo, hi = max(lo, 0.7 * r_area), min(hi, 1.4 * r_area)
+        coarse = _hough(fg, lo, hi, background.contrast)
     if coarse is None:
         return None
     col, row, rad = coarse
