@@ -16,8 +16,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from bouncelab.tracking._cv import cv2
 
 __all__ = ["Background", "Circle", "estimate_background", "find_ball"]
 

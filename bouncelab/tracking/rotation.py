@@ -26,8 +26,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from bouncelab.tracking._cv import cv2
 
 __all__ = ["Rotation", "frame_rotation"]
 
