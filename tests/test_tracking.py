@@ -322,3 +322,28 @@ def test_cli_track_then_reproduce_on_a_folder_of_rendered_clips(tmp_path):
     assert len(list(figs.glob("*.png"))) == len(list(clips.iterdir())) == 48
     assert main(["reproduce", "--data", str(out), "--no-figures", "--quiet", "--out", str(tmp_path / "rep")]) == 0
     assert (tmp_path / "rep" / "index.html").exists()
+
+
+def test_motion_blur_and_the_diagnostic_figure(tmp_path, small_clip, small_track):
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from bouncelab.tracking.figure import diagnostic_figure
+
+    blurred = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_before": 8, "n_after": 8}, motion_blur=0.5, seed=7)
+    sharp = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_before": 8, "n_after": 8}, seed=7)
+    assert not np.array_equal(blurred.frames, sharp.frames)
+    # The exposure ends at the frame time: a blurred ball is centred half an exposure behind it,
+    # and the tracker finds that centre (sub-pixel) rather than losing the ball.
+    tr = track_clip(blurred.frames, fps=5000, name="blurred")
+    assert tr.attrs["dropped_frames"] == []
+    k = 4
+    behind = 0.25 * np.array([blurred.truth.col.values[k] - blurred.truth.col.values[k - 1],
+                              blurred.truth.row.values[k] - blurred.truth.row.values[k - 1]])
+    expect = np.array([blurred.truth.col.values[k], blurred.truth.row.values[k]]) - behind
+    assert np.abs(np.array([tr.col.values[k], tr.row.values[k]]) - expect).max() < 0.3
+    m = measure_clip(small_track)
+    out = tmp_path / "fig.png"
+    fig = diagnostic_figure(small_clip.frames, small_track, m, out)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and len(fig.axes) == 3
+    plt.close(fig)
