@@ -2,8 +2,8 @@
 
 What it shows
     * reading a clip (:func:`bouncelab.tracking.read_frames`): the shipped example is a
-      rendered 43-frame clip (256 x 128 pixels, 5000 fps, ball radius 16 px, sensor noise
-      3 grey levels) with known truth, stored as ``bouncelab/tracking/files/example_clip.npz``;
+      rendered 39-frame clip (256 x 128 pixels, 5000 fps, ball radius 16 px, sensor noise
+      2.5 grey levels, 0.8 MB) with known truth, stored as ``bouncelab/tracking/files/example_clip.npz``;
     * tracking the ball (:func:`bouncelab.tracking.track_clip`): sub-pixel centre, lowest
       visible point and spin samples, in ball radii and rad/s (y up, omega anticlockwise);
     * measuring the bounce (:func:`bouncelab.tracking.measure_clip`): touch-down and lift-off
