@@ -347,3 +347,33 @@ def test_motion_blur_and_the_diagnostic_figure(tmp_path, small_clip, small_track
     fig = diagnostic_figure(small_clip.frames, small_track, m, out)
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and len(fig.axes) == 3
     plt.close(fig)
+
+
+def test_frames_without_the_ball_are_dropped_and_reported(small_clip):
+    frames = small_clip.frames.copy()
+    frames[2:4] = np.median(small_clip.frames, axis=0).astype(np.uint8)  # the empty scene: no ball
+    tr = track_clip(frames, fps=5000, name="gaps")
+    assert tr.attrs["dropped_frames"] == [2, 3]
+    assert not tr.found.values[2:4].any() and np.isnan(tr.x.values[2:4]).all()
+    assert np.isnan(tr.spin.values[4])  # no rotation across a lost frame
+    m = measure_clip(tr)  # the longest run of found frames: 4 onwards
+    assert m.attrs["first_frame"] == 4 and m.attrs["dropped_frames"] == [2, 3]
+    assert abs(m.attrs["touchdown_index"] - np.flatnonzero(small_clip.truth.phase.values == "contact")[0]) <= 1
+    # Lost frames that leave too few before the bounce: the error names them.
+    frames[4:12] = frames[2]
+    with pytest.raises(DataError, match=r"ball lost in frames 2-11") as e:
+        measure_clip(track_clip(frames, fps=5000, name="gaps.avi"))
+    assert "gaps.avi" in str(e.value)
+
+
+def test_mp4_video(tmp_path, small_clip):
+    f = small_clip.frames[:6]
+    mp4 = tmp_path / "clip.mp4"
+    w = cv2.VideoWriter(str(mp4), cv2.VideoWriter_fourcc(*"mp4v"), 25, (f.shape[2], f.shape[1]), False)
+    if not w.isOpened():
+        pytest.skip("this OpenCV build cannot write MP4")
+    for k in range(6):
+        w.write(f[k])
+    w.release()
+    v = read_frames(mp4)
+    assert v.shape == f.shape and np.abs(v.astype(int) - f).mean() < 4
