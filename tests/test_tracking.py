@@ -318,7 +318,7 @@ def test_cli_track_then_reproduce_on_a_folder_of_rendered_clips(tmp_path):
     out = tmp_path / "campaign.nc"
     figs = tmp_path / "figs"
     assert main(["track", str(clips), "--pattern", r"(?P<setting>s\d+)_r\d+_(?P<fps>\d+)fps", "--synthetic",
-                 "--quiet", "--figures", str(figs), "--out", str(out)]) == 0
+                 "--quiet", "--jobs", "2", "--figures", str(figs), "--out", str(out)]) == 0
     assert len(list(figs.glob("*.png"))) == len(list(clips.iterdir())) == 48
     assert main(["reproduce", "--data", str(out), "--no-figures", "--quiet", "--out", str(tmp_path / "rep")]) == 0
     assert (tmp_path / "rep" / "index.html").exists()
@@ -377,3 +377,16 @@ def test_mp4_video(tmp_path, small_clip):
     w.release()
     v = read_frames(mp4)
     assert v.shape == f.shape and np.abs(v.astype(int) - f).mean() < 4
+
+
+@pytest.mark.slow
+def test_clips_in_parallel_processes_give_the_same_campaign(tmp_path):
+    clips = tmp_path / "clips"
+    _write_clips(clips, 3)
+    (clips / "broken_5000fps.avi").write_bytes(b"junk")
+    paths = sorted(clips.iterdir())
+    one = measure_clips(paths, fps=5000)
+    two = measure_clips(paths, fps=5000, workers=2)
+    assert [f.clip for f in one.failures] == [f.clip for f in two.failures] == [str(clips / "broken_5000fps.avi")]
+    for var in ("landing", "liftoff", "landing_pi", "liftoff_pi"):
+        assert np.array_equal(one.campaign[var].values, two.campaign[var].values)
