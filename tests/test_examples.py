@@ -40,6 +40,12 @@ EXPECTED: dict[str, list[tuple[list[str], list[str]]]] = {
         (["--law", "PiecewiseAffine", "--published", "--max-bounces", "3", "--plot"],
          ["(published campaign B)", "still hopping after 3 bounces", "path drawn to "]),
     ],
+    "track_clip.py": [([], [
+        "39 frames of 256 x 128 px at 5000 fps",
+        "frames where it was lost: []",
+        "touch-down at frame 16",
+        "liftoff      omega",
+    ])],
     "load_your_own_file.py": [([], [
         "without units=: DataError:",
         "loaded 40 bounces, 8 settings (velocity m/s, spin rpm; data kind measured)",

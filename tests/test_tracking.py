@@ -136,6 +136,12 @@ def test_measure_clip_recovers_the_states_within_their_intervals(small_clip, sma
     for side, truth in (("landing", small_clip.landing), ("liftoff", small_clip.liftoff)):
         err = np.abs(m[side].values - truth)
         assert (err < m[f"{side}_pi"].values).all(), (side, err, m[f"{side}_pi"].values)
+    # The spin is the mean of the measured samples before touch-down (the first frame has none).
+    i = m.attrs["touchdown_index"]
+    samples = small_track.spin.values[: i - 1]
+    assert np.isnan(samples[0])
+    assert float(m.landing.sel(component="omega")) == pytest.approx(np.nanmean(samples))
+    assert m.attrs["spin_samples_before"] == np.isfinite(samples).sum()
     # Positions method: calibrated intervals, also covering here.
     mp = measure_clip(small_track, method="positions", interval="confidence")
     assert np.abs(mp["landing"].values[:2] - small_clip.landing[:2]).max() < 3 * mp["landing_pi"].values[:2].max()
@@ -245,3 +251,142 @@ def test_settings_errors(tmp_path):
         clip_settings(["a.avi"], manifest=m)
     with pytest.raises(DataError, match="regular expression"):
         clip_settings(["a.avi"], pattern="(?P<fps")
+
+
+def _write_clips(folder, n, seed0=10):
+    folder.mkdir(exist_ok=True)
+    rng = np.random.default_rng(seed0)
+    for k in range(n):
+        landing = (rng.uniform(900, 1200), -rng.uniform(650, 850), rng.uniform(-150, 350))
+        liftoff = (0.65 * landing[0], -0.5 * landing[1], -0.6 * landing[0])
+        render_clip(landing, liftoff, **SMALL, seed=seed0 + k).save(folder / f"s{k % 4}_r{k}_5000fps.npz")
+
+
+def test_cli_track_writes_a_campaign_and_summarises_failures(tmp_path, capsys):
+    from bouncelab.cli.main import main
+    from bouncelab.data.io import load_campaign
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 2)
+    (clips / "s9_r9_5000fps.avi").write_bytes(b"not a video")
+    out = tmp_path / "campaign.nc"
+    rc = main(["track", str(clips), "--pattern", r"(?P<setting>s\d)_r\d+_(?P<fps>\d+)fps", "--synthetic",
+               "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0
+    assert "2 of 3 clip(s) measured" in err and "s9_r9_5000fps.avi" in err and "cannot open the video" in err
+    assert "3/3 clips" in err  # the progress bar reached the end
+    ds = load_campaign(str(out))
+    assert ds.sizes["bounce"] == 2 and ds.attrs["data_kind"] == "synthetic surrogate"
+    assert list(ds.setting.values) == ["s0", "s1"]
+
+
+def test_cli_track_exit_codes(tmp_path, capsys):
+    from bouncelab.cli.main import main
+
+    bad = tmp_path / "bad.avi"
+    bad.write_bytes(b"junk")
+    out = tmp_path / "c.nc"
+    assert main(["track", str(bad), "--fps", "5000", "--out", str(out), "--quiet"]) == 3
+    assert not out.exists()
+    assert "no clip could be measured" in capsys.readouterr().err
+    assert main(["track", str(bad), "--fps", "-1", "--out", str(out)]) == 2
+    with pytest.raises(SystemExit) as e:
+        main(["track", str(bad)])  # --out missing
+    assert e.value.code == 2
+
+
+@pytest.mark.slow
+def test_cli_track_then_reproduce_on_a_folder_of_rendered_clips(tmp_path):
+    from bouncelab.cli.main import main
+    from bouncelab.data.io import load_campaign
+
+    # Bounces of the embedded (synthetic) campaign A that fit in a small frame, eight settings of six
+    # repeats, so that the fits and the held-out split of `reproduce` have both slip and roll.
+    a = load_campaign("A")
+    ok = ((np.abs(a.landing.values[:, 0]) < 1500) & (a.landing.values[:, 1] > -1100)
+          & (a.liftoff.values[:, 1] < 700) & (np.abs(a.liftoff.values[:, 0]) < 1400))
+    good = [s for s in np.unique(a.setting.values) if ok[a.setting.values == s].all()]
+    slip = np.abs(a.liftoff.values[:, 0] + a.liftoff.values[:, 2])  # contact-point speed at lift-off
+    good.sort(key=lambda s: slip[a.setting.values == s].mean())
+    settings = good[:4] + good[-4:]  # mostly rolling and mostly slipping settings
+    clips = tmp_path / "clips"
+    clips.mkdir()
+    for k in np.flatnonzero(np.isin(a.setting.values, settings)):
+        render_clip(a.landing.values[k], a.liftoff.values[k], **SMALL, seed=int(k)).save(
+            clips / f"s{a.setting.values[k]}_r{k}_5000fps.npz")
+    out = tmp_path / "campaign.nc"
+    figs = tmp_path / "figs"
+    assert main(["track", str(clips), "--pattern", r"(?P<setting>s\d+)_r\d+_(?P<fps>\d+)fps", "--synthetic",
+                 "--quiet", "--jobs", "2", "--figures", str(figs), "--out", str(out)]) == 0
+    assert len(list(figs.glob("*.png"))) == len(list(clips.iterdir())) == 48
+    assert main(["reproduce", "--data", str(out), "--no-figures", "--quiet", "--out", str(tmp_path / "rep")]) == 0
+    assert (tmp_path / "rep" / "index.html").exists()
+
+
+def test_motion_blur_and_the_diagnostic_figure(tmp_path, small_clip, small_track):
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from bouncelab.tracking.figure import diagnostic_figure
+
+    blurred = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_before": 8, "n_after": 8}, motion_blur=0.5, seed=7)
+    sharp = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_before": 8, "n_after": 8}, seed=7)
+    assert not np.array_equal(blurred.frames, sharp.frames)
+    # The exposure ends at the frame time: a blurred ball is centred half an exposure behind it,
+    # and the tracker finds that centre (sub-pixel) rather than losing the ball.
+    tr = track_clip(blurred.frames, fps=5000, name="blurred")
+    assert tr.attrs["dropped_frames"] == []
+    k = 4
+    behind = 0.25 * np.array([blurred.truth.col.values[k] - blurred.truth.col.values[k - 1],
+                              blurred.truth.row.values[k] - blurred.truth.row.values[k - 1]])
+    expect = np.array([blurred.truth.col.values[k], blurred.truth.row.values[k]]) - behind
+    assert np.abs(np.array([tr.col.values[k], tr.row.values[k]]) - expect).max() < 0.3
+    m = measure_clip(small_track)
+    out = tmp_path / "fig.png"
+    fig = diagnostic_figure(small_clip.frames, small_track, m, out)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and len(fig.axes) == 3
+    plt.close(fig)
+
+
+def test_frames_without_the_ball_are_dropped_and_reported(small_clip):
+    frames = small_clip.frames.copy()
+    frames[2:4] = np.median(small_clip.frames, axis=0).astype(np.uint8)  # the empty scene: no ball
+    tr = track_clip(frames, fps=5000, name="gaps")
+    assert tr.attrs["dropped_frames"] == [2, 3]
+    assert not tr.found.values[2:4].any() and np.isnan(tr.x.values[2:4]).all()
+    assert np.isnan(tr.spin.values[4])  # no rotation across a lost frame
+    m = measure_clip(tr)  # the longest run of found frames: 4 onwards
+    assert m.attrs["first_frame"] == 4 and m.attrs["dropped_frames"] == [2, 3]
+    assert abs(m.attrs["touchdown_index"] - np.flatnonzero(small_clip.truth.phase.values == "contact")[0]) <= 1
+    # Lost frames that leave too few before the bounce: the error names them.
+    frames[4:12] = frames[2]
+    with pytest.raises(DataError, match=r"ball lost in frames 2-11") as e:
+        measure_clip(track_clip(frames, fps=5000, name="gaps.avi"))
+    assert "gaps.avi" in str(e.value)
+
+
+def test_mp4_video(tmp_path, small_clip):
+    f = small_clip.frames[:6]
+    mp4 = tmp_path / "clip.mp4"
+    w = cv2.VideoWriter(str(mp4), cv2.VideoWriter_fourcc(*"mp4v"), 25, (f.shape[2], f.shape[1]), False)
+    if not w.isOpened():
+        pytest.skip("this OpenCV build cannot write MP4")
+    for k in range(6):
+        w.write(f[k])
+    w.release()
+    v = read_frames(mp4)
+    assert v.shape == f.shape and np.abs(v.astype(int) - f).mean() < 4
+
+
+@pytest.mark.slow
+def test_clips_in_parallel_processes_give_the_same_campaign(tmp_path):
+    clips = tmp_path / "clips"
+    _write_clips(clips, 3)
+    (clips / "broken_5000fps.avi").write_bytes(b"junk")
+    paths = sorted(clips.iterdir())
+    one = measure_clips(paths, fps=5000)
+    two = measure_clips(paths, fps=5000, workers=2)
+    assert [f.clip for f in one.failures] == [f.clip for f in two.failures] == [str(clips / "broken_5000fps.avi")]
+    for var in ("landing", "liftoff", "landing_pi", "liftoff_pi"):
+        assert np.array_equal(one.campaign[var].values, two.campaign[var].values)

@@ -46,6 +46,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--surface", default="", help="surface description stored in the file")
     p.add_argument("--synthetic", action="store_true", help="mark the campaign as synthetic (rendered clips)")
     p.add_argument("--figures", metavar="DIR", help="write a diagnostic figure per clip there (PNG)")
+    p.add_argument("--jobs", type=int, default=1, help="clips tracked at once, in separate processes (default 1)")
     p.add_argument("--out", required=True, help="campaign file to write (.nc)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     from bouncelab.data.io import save_campaign
     from bouncelab.tracking import clip_settings, measure_clips
 
-    for name in ("fps", "ball_radius_mm", "pixels_per_mm"):
+    for name in ("fps", "ball_radius_mm", "pixels_per_mm", "jobs"):
         v = getattr(args, name)
         if v is not None and not v > 0:
             print(f"bouncelab track: --{name.replace('_', '-')} must be positive; got {v}", file=sys.stderr)
@@ -102,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     bar = _Bar(len(clips), not args.quiet)
     res = measure_clips(clips, settings=settings, method=args.method, campaign=args.campaign, surface=args.surface,
                         data_kind="synthetic surrogate" if args.synthetic else "measured", progress=bar,
-                        keep_tracks=False, figure_dir=args.figures)
+                        keep_tracks=False, figure_dir=args.figures, workers=args.jobs)
     n_ok = len(res.measurements)
     print(f"{n_ok} of {len(clips)} clip(s) measured", file=sys.stderr)
     if res.failures:

@@ -83,8 +83,9 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
                             f"(frames {start + a}..{start + b - 1}): too few matched features on the ball",
                             file=clip)
         est = estimate_spin(samples, level=m.attrs["level"])
-        m[key].loc[{"component": "omega"}] = est.value
-        m[f"{key}_pi"].loc[{"component": "omega"}] = est.half_width
+        is_spin = m["component"] == "omega"
+        m[key] = m[key].where(~is_spin, est.value)
+        m[f"{key}_pi"] = m[f"{key}_pi"].where(~is_spin, est.half_width)
     m.attrs.update(
         clip=clip,
         first_frame=int(start),
@@ -220,6 +221,7 @@ def measure_clips(
     progress: Callable[[int, int, str], None] | None = None,
     keep_tracks: bool = True,
     figure_dir: str | Path | None = None,
+    workers: int | None = None,
 ) -> TrackedCampaign:
     """Track and measure many clips (one bounce each) into a campaign Dataset.
 
@@ -252,6 +254,9 @@ def measure_clips(
         (:func:`~bouncelab.tracking.figure.diagnostic_figure`) there as
         ``<clip stem>.png`` (needs matplotlib); also for clips whose
         measurement failed once the ball was tracked.
+    workers
+        Track this many clips at once in separate processes (``None`` or 1:
+        one after the other in this process). Results do not depend on it.
 
     Returns
     -------
@@ -265,33 +270,26 @@ def measure_clips(
     result = TrackedCampaign(campaign=None)
     rows = []
     radii = set()
-    for k, clip in enumerate(items):
-        name = f"clip{k}" if isinstance(clip, np.ndarray) else str(clip)
-        s = settings.get(name, ClipSettings(fps=fps))
-        frames = track = m = None
-        try:
-            check_fps(s.fps, name)  # before reading a long clip for nothing
-            frames = read_frames(clip, name=name)
-            track = track_clip(frames, fps=s.fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
-                               name=name)
-            if keep_tracks:
-                result.tracks[name] = track
-            m = measure_clip(track, method=method)
-            result.measurements[name] = m
-            rows.append((name, s, m))
-            radii.add(s.ball_radius_m)
-        except DataError as exc:
-            result.failures.append(ClipFailure(clip=name, reason=str(exc)))
-        if figure_dir is not None and track is not None:
-            import matplotlib.pyplot as plt
+    names = [f"clip{k}" if isinstance(clip, np.ndarray) else str(clip) for k, clip in enumerate(items)]
+    jobs = [(clip, name, settings.get(name, ClipSettings(fps=fps)), method, figure_dir)
+            for clip, name in zip(items, names, strict=True)]
+    if workers is not None and workers > 1 and len(jobs) > 1:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
 
-            from bouncelab.tracking.figure import diagnostic_figure
-
-            fig = diagnostic_figure(frames, track, m, Path(figure_dir) / f"{Path(name).stem}.png")
-            plt.close(fig)
-            result.figures[name] = Path(figure_dir) / f"{Path(name).stem}.png"
-        if progress is not None:
-            progress(k + 1, len(items), name)
+        # Spawned workers: each clip is independent; results come back in clip order.
+        ctx = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=min(workers, len(jobs)), mp_context=ctx) as pool:
+            outcomes = pool.map(_process_clip, jobs)
+            for k, out in enumerate(outcomes):
+                _collect(result, rows, radii, jobs[k], out, keep_tracks)
+                if progress is not None:
+                    progress(k + 1, len(items), names[k])
+    else:
+        for k, job in enumerate(jobs):
+            _collect(result, rows, radii, job, _process_clip(job), keep_tracks)
+            if progress is not None:
+                progress(k + 1, len(items), names[k])
     if rows:
         if len(radii) > 1:
             raise DataError(f"the clips use different ball radii {sorted(radii)}; a campaign has one ball")
@@ -311,6 +309,45 @@ def measure_clips(
         )
         result.campaign = ds.assign_coords(clip=("bounce", names))
     return result
+
+
+def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, str | None, Path | None]:
+    """Track, measure and draw one clip: (track, measurement, failure reason, figure path)."""
+    clip, name, s, method, figure_dir = job
+    frames = track = m = None
+    reason = None
+    try:
+        check_fps(s.fps, name)  # before reading a long clip for nothing
+        frames = read_frames(clip, name=name)
+        track = track_clip(frames, fps=s.fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
+                           name=name)
+        m = measure_clip(track, method=method)
+    except DataError as exc:
+        reason = str(exc)
+    figure = None
+    if figure_dir is not None and track is not None:
+        import matplotlib.pyplot as plt
+
+        from bouncelab.tracking.figure import diagnostic_figure
+
+        figure = Path(figure_dir) / f"{Path(name).stem}.png"
+        plt.close(diagnostic_figure(frames, track, m, figure))
+    return track, m, reason, figure
+
+
+def _collect(result: TrackedCampaign, rows: list, radii: set, job, out, keep_tracks: bool) -> None:
+    _, name, s, _, _ = job
+    track, m, reason, figure = out
+    if keep_tracks and track is not None:
+        result.tracks[name] = track
+    if figure is not None:
+        result.figures[name] = figure
+    if reason is not None:
+        result.failures.append(ClipFailure(clip=name, reason=reason))
+        return
+    result.measurements[name] = m
+    rows.append((name, s, m))
+    radii.add(s.ball_radius_m)
 
 
 def _longest_run(mask: np.ndarray) -> tuple[int, int]:

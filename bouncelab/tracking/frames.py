@@ -13,10 +13,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from bouncelab.errors import DataError
+from bouncelab.tracking._cv import cv2
 
 __all__ = ["IMAGE_SUFFIXES", "VIDEO_SUFFIXES", "read_frames"]
 

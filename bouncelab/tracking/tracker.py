@@ -93,7 +93,10 @@ def track_clip(
     low = np.full(n, np.nan)
     near = None
     for k in range(n):
-        c = find_ball(frames[k], bg, radius_range=radius_range, near=near)
+        predicted = None
+        if k >= 2 and np.isfinite(col[k - 1]) and np.isfinite(col[k - 2]):
+            predicted = (2 * col[k - 1] - col[k - 2], 2 * row[k - 1] - row[k - 2], rad[k - 1])
+        c = find_ball(frames[k], bg, radius_range=radius_range, near=near, predicted=predicted)
         if c is None:
             near = None
             continue
