@@ -125,3 +125,17 @@ def test_fit_compare_json_roundtrip(tmp_path):
     res.model.to_json(path)
     assert bl.load_law(path) == res.model
     assert "CompliantImpact" in str(res)
+
+
+@pytest.mark.slow
+def test_parameter_recovery_with_one_percent_noise():
+    truth = bl.CompliantImpact(r=0.5, mu=0.45, kappa=1.3)
+    p = landings(500, seed=11)
+    rng = np.random.default_rng(11)
+    pf = truth.predict(p)
+    pf = pf + 0.01 * np.abs(pf) * rng.standard_normal(pf.shape)
+    res = bl.fit(bl.CompliantImpact, bl.make_campaign(p, pf), seed=0)
+    got = res.model.parameters
+    assert got["r"] == pytest.approx(0.5, rel=0.02)
+    assert got["mu"] == pytest.approx(0.45, rel=0.05)
+    assert got["kappa"] == pytest.approx(1.3, rel=0.05)
