@@ -85,7 +85,7 @@ def main() -> None:
     p = landings(n_ivp, seed=1)
     ci = bl.CompliantImpact(**COMPLIANT)
     ci.predict(p[:2])
-    truth = np.array([compliant_reference(q, **COMPLIANT, rtol=1e-13, atol=1e-13) for q in p])
+    truth = np.array([compliant_reference(q, **COMPLIANT, rtol=1e-12, atol=1e-12) for q in p])
     rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: compliant_reference(q, **COMPLIANT, rtol=rt, atol=rt), p, truth)
     reps = 2000
     big = np.tile(p, (reps, 1))

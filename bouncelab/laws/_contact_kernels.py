@@ -136,9 +136,6 @@ def compliant_kernel(xd, yd, w, theta):
                     if m <= a or m >= b:
                         break
                 fm = _stick_g(m, t0, u0, v1, kap, kt, mu, v0, z, wd) + scale
-                if abs(fm) <= 2.0 * scale:
-                    b = m
-                    break
                 if fm < 0.0:
                     b = m
                     fb = fm
@@ -195,9 +192,6 @@ def compliant_kernel(xd, yd, w, theta):
                     if m <= a or m >= b:
                         break
                 fm = _slip_f(m, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale
-                if abs(fm) <= 2.0 * scale:
-                    b = m
-                    break
                 if fm < 0.0:
                     b = m
                     fb = fm
