@@ -129,7 +129,7 @@ def main() -> None:
     rows = np.tile(theta, (m, 1)) * (1 + 0.05 * np.random.default_rng(3).standard_normal((m, 6)))
     bl.TurfContact.predict_varying(P[:100], rows[:100])
     _, dt = timed(lambda: bl.TurfContact.predict_varying(P[:m], rows))
-    print(f"TurfContact.predict_varying (one parameter row per bounce, one thread): {m / dt / 1e3:.0f} thousand/s")
+    print(f"TurfContact.predict_varying (one parameter row per bounce): {m / dt / 1e3:.0f} thousand/s")
 
     # ---- 3. fit time
     ds = bl.load_campaign("B")

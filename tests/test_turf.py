@@ -176,3 +176,40 @@ def test_parameter_recovery_with_one_percent_noise():
     assert got["log10_k"] == BASE["log10_k"]  # held: the scale bounce data cannot see
     for name, tol in {"c": 0.1, "e_y": 0.1, "mu": 0.05, "log10_kt": 0.05, "lam": 0.2}.items():
         assert got[name] == pytest.approx(BASE[name], rel=tol), name
+
+
+def test_fit_objective_shared_between_threads_is_thread_count_independent():
+    p = landings(300, seed=8)
+    pf = LAWS[0].predict(p)
+    inv = 1.0 / np.linalg.norm(p, axis=1)
+    theta = LAWS[1]._theta()
+    before = bl.laws.num_threads()
+    try:
+        values = []
+        for threads in (1, 2, 3):
+            bl.laws.set_num_threads(threads)
+            values.append(LAWS[0]._error_function(p, pf, inv)(theta))
+    finally:
+        bl.laws.set_num_threads(before)
+    assert values[0] == values[1] == values[2]
+    direct = np.abs(pf - LAWS[1].predict(p))
+    assert values[0][0] == pytest.approx(float((np.linalg.norm(direct, axis=1) * inv).sum()), rel=1e-9)
+
+
+def test_predict_varying_large_calls_do_not_depend_on_threads():
+    from bouncelab._parallel import PARALLEL_MIN
+
+    n = PARALLEL_MIN + 1000
+    rng = np.random.default_rng(9)
+    p = np.column_stack([rng.uniform(0, 1000, n), rng.uniform(-900, -100, n), rng.uniform(-300, 900, n)])
+    rows = np.array(list(BASE.values())) * (1 + 0.05 * rng.standard_normal((n, 6)))
+    before = bl.laws.num_threads()
+    try:
+        bl.laws.set_num_threads(1)
+        one = bl.TurfContact.predict_varying(p, rows)
+        bl.laws.set_num_threads(2)
+        two = bl.TurfContact.predict_varying(p, rows)
+    finally:
+        bl.laws.set_num_threads(before)
+    np.testing.assert_array_equal(one, two)
+    np.testing.assert_array_equal(one[-5:], bl.TurfContact.predict_varying(p[-5:], rows[-5:]))
