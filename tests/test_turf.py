@@ -213,3 +213,17 @@ def test_predict_varying_large_calls_do_not_depend_on_threads():
         bl.laws.set_num_threads(before)
     np.testing.assert_array_equal(one, two)
     np.testing.assert_array_equal(one[-5:], bl.TurfContact.predict_varying(p[-5:], rows[-5:]))
+
+
+def test_stable_and_dissipative_over_the_whole_search_box():
+    """Strong damping and ploughing (c, lam at their upper bounds) once made explicit RK4 blow up."""
+    rng = np.random.default_rng(10)
+    specs = bl.TurfContact.parameter_specs
+    p = landings(20, seed=10) * [1.8, 2.0, 1.7]  # up to the paper's fastest landings
+    corners = [[6.8, 5.0, 2.0, 1.5, 9.0, 20.0], [6.8, 5.0, 0.05, 0.0, 4.5, 20.0]]
+    for theta in [*corners, *(rng.uniform([s.bounds[0] for s in specs], [s.bounds[1] for s in specs])
+                             for _ in range(6))]:
+        law = bl.TurfContact(**dict(zip([s.name for s in specs], theta, strict=True)))
+        out = law.predict(p)
+        assert np.all(np.isfinite(out))
+        assert np.all(energy(out) <= energy(p) * (1 + 1e-9))

@@ -357,27 +357,33 @@ def turf_integrate(xd, yd, w, theta, nsteps):
     started = False
     maxsteps = MAX_STEPS_FACTOR * nsteps * 4
     for _ in range(maxsteps):
+        # explicit RK4 is stable for h * rate < 2.78: keep the damping of the normal motion
+        # (k c e^1.5) and of the ploughing (pl min(delta, 1)^2.5) below 1.5 per step
+        en = max(s0 - s2, 0.0)
+        dw = min(max(s0, 0.0), 1.0)
+        rate = pl * dw * dw * math.sqrt(dw) + k * c * en * math.sqrt(en)
+        hs = h if rate * h <= 1.5 else 1.5 / rate
         ga, gt, gl = _turf_events(s0, s1, s2, s3, s4, s5, plastic, stick, sig, k, c, mu, kt, ey, pl)
-        t0, t1, t2, t3, t4, t5 = _turf_step(s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, pl)
+        t0, t1, t2, t3, t4, t5 = _turf_step(s0, s1, s2, s3, s4, s5, hs, plastic, stick, sig, k, c, mu, kt, pl)
         fa, ft, fl = _turf_events(t0, t1, t2, t3, t4, t5, plastic, stick, sig, k, c, mu, kt, ey, pl)
-        best = h
+        best = hs
         which = -1
         # a function may start a hair below zero right after its own switch: count it as zero
         ga = max(ga, 0.0)
         gt = max(gt, 0.0)
         gl = max(gl, 0.0)
         if fa < 0.0:
-            sa = _turf_locate(0, ga, fa, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            sa = _turf_locate(0, ga, fa, s0, s1, s2, s3, s4, s5, hs, plastic, stick, sig, k, c, mu, kt, ey, pl)
             if sa <= best:
                 best = sa
                 which = 0
         if ft < 0.0:
-            st = _turf_locate(1, gt, ft, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            st = _turf_locate(1, gt, ft, s0, s1, s2, s3, s4, s5, hs, plastic, stick, sig, k, c, mu, kt, ey, pl)
             if st <= best:
                 best = st
                 which = 1
         if started and fl <= 0.0:
-            sl = _turf_locate(2, gl, fl, s0, s1, s2, s3, s4, s5, h, plastic, stick, sig, k, c, mu, kt, ey, pl)
+            sl = _turf_locate(2, gl, fl, s0, s1, s2, s3, s4, s5, hs, plastic, stick, sig, k, c, mu, kt, ey, pl)
             if sl <= best:
                 best = sl
                 which = 2

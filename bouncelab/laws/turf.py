@@ -76,13 +76,15 @@ class TurfContact(CompiledLaw):
 
     **Integration.** Classical RK4 with a fixed step, :data:`TURF_STEPS` = 64 steps per
     Hertzian contact time :math:`2.943\,e_{max}/v_0`, :math:`e_{max} = (5 v_0^2/4k)^{2/5}`,
-    and at least 24 per period of the stuck contact point :math:`2\pi/\sqrt{3.5 k_t}`;
+    at least 24 per period of the stuck contact point :math:`2\pi/\sqrt{3.5 k_t}`, and short
+    enough for stability (step times the damping rates of the normal motion and the
+    ploughing below 1.5);
     every mode switch (yield, unloading, stick to slip, slip to stick, lift-off) is an
     event located inside its step by Illinois false position on the RK4 step size
     (to 1e-11 of a step), and the integration restarts from it in the new mode.
     **Accuracy** (measured against 2048 steps over 3000 random landings and parameter
     sets of the default search box, ``tests/test_turf.py``): lift-off within
-    3e-5 of the landing speed ‖p₀‖ at worst, 8e-6 for 99 %; halving the step
+    7e-5 of the landing speed ‖p₀‖ at worst, 1e-5 for 99 %; halving the step
     changes it by less than 1e-4 ‖p₀‖. ``bouncelab.laws._contact_kernels.turf_integrate``
     takes the number of steps for tighter work.
 
