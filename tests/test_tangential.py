@@ -184,6 +184,7 @@ def test_analysis_package_exports():
         "simulate_tracked_bounce", "measure_bounce", "estimate_velocity", "estimate_spin", "detect_contact",
         "interval_coverage", "VelocityEstimate", "SpinEstimate", "ContactDetection", "repeatability",
         "repeatability_summary", "tangential_velocities", "tangential_summary", "tangential_crosstab",
+        "impulse_lever_arm", "lever_arm_summary",
     }
     assert set(analysis.__all__) == expected
     for name in analysis.__all__:
