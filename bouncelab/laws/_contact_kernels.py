@@ -212,6 +212,16 @@ def compliant_kernel(xd, yd, w, theta):
             t0 = b
             stuck = True
             sticks += 1
+    if t0 < tc:
+        # switch budget spent (a chattering graze; not met in tests): finish the contact slipping
+        # against the contact point's motion, as the cap mu N allows
+        vnow = vp0 + 3.5 * j0
+        if vnow != 0.0:
+            sig = 1.0 if vnow > 0.0 else -1.0
+            _, _, dd0 = _normal(t0, v0, z, wd)
+            _, _, dd = _normal(tc, v0, z, wd)
+            dj = mu * (dd0 - dd)
+            j0 = j0 - sig * min(dj, abs(vnow) / 3.5)
     vpf = vp0 + 3.5 * j0
     if vp0 != 0.0 and vpf * vp0 < 0.0:
         code = REVERSED
