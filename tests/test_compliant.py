@@ -106,13 +106,14 @@ def test_gripping_landings_reverse_vp_and_lift_off_slipping():
 
 
 def test_agrees_with_solve_ivp():
-    pytest.importorskip("scipy")
     from benchmarks.contact_reference import compliant_reference
 
-    p = landings(6, seed=6)
-    for law in LAWS[:2]:
-        ref = np.array([compliant_reference(q, law.r, law.mu, law.kappa) for q in p])
-        np.testing.assert_allclose(law.predict(p), ref, rtol=0, atol=1e-8 * np.abs(p).max())
+    rng = np.random.default_rng(1)  # the whole of the paper's Table 1, where a grazing restick once went wrong
+    p = np.column_stack([rng.uniform(1, 2300, 60), -rng.uniform(90, 1900, 60), rng.uniform(-410, 1700, 60)])
+    for law in [LAWS[1], bl.CompliantImpact(r=0.5, mu=0.4, kappa=1.5)]:
+        ref = np.array([compliant_reference(q, law.r, law.mu, law.kappa, rtol=1e-11, atol=1e-11) for q in p])
+        err = np.abs(law.predict(p) - ref).max(axis=1) / np.linalg.norm(p, axis=1)
+        assert err.max() < 1e-8
 
 
 def test_fit_compare_json_roundtrip(tmp_path):
@@ -125,3 +126,17 @@ def test_fit_compare_json_roundtrip(tmp_path):
     res.model.to_json(path)
     assert bl.load_law(path) == res.model
     assert "CompliantImpact" in str(res)
+
+
+@pytest.mark.slow
+def test_parameter_recovery_with_one_percent_noise():
+    truth = bl.CompliantImpact(r=0.5, mu=0.45, kappa=1.3)
+    p = landings(500, seed=11)
+    rng = np.random.default_rng(11)
+    pf = truth.predict(p)
+    pf = pf + 0.01 * np.abs(pf) * rng.standard_normal(pf.shape)
+    res = bl.fit(bl.CompliantImpact, bl.make_campaign(p, pf), seed=0)
+    got = res.model.parameters
+    assert got["r"] == pytest.approx(0.5, rel=0.02)
+    assert got["mu"] == pytest.approx(0.45, rel=0.05)
+    assert got["kappa"] == pytest.approx(1.3, rel=0.05)

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab._parallel import run_rows
 from bouncelab.data.validation import as_states
 from bouncelab.errors import ParameterError
 
@@ -27,8 +28,8 @@ def _row_loop(kernel: Any) -> Any:
     from bouncelab._jit import jit
 
     @jit(nogil=True)
-    def loop(P, T, out, codes):  # pragma: no cover - compiled
-        for i in range(P.shape[0]):
+    def loop(P, T, out, codes, start, stop):  # pragma: no cover - compiled
+        for i in range(start, stop):
             a, b, c, k = kernel(P[i, 0], P[i, 1], P[i, 2], T[i])
             out[i, 0] = a
             out[i, 1] = b
@@ -102,6 +103,6 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
                                  f"outside its physical range [{lo}, {hi}]")
     out = np.empty_like(p)
     c = np.empty(n, dtype=np.int8)
-    if n:
-        _row_loop(kernel)(p, T, out, c)
+    if n:  # rows are independent: large calls are shared by the thread pool (results do not depend on it)
+        run_rows(_row_loop(kernel), n, p, T, out, c)
     return (out, c) if codes else out

@@ -2,16 +2,23 @@ r"""TurfContact: a ball pressing into an elasto-plastic, rate-dependent turf bed
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from bouncelab import _parallel
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 from bouncelab.laws.rigid import MU_SPEC
 
-__all__ = ["TURF_STEPS", "TurfContact"]
+__all__ = ["DEFAULT_LOG10_K", "TURF_STEPS", "TurfContact"]
 
+#: Default normal stiffness (log10): a 10 m/s landing compresses the turf by 0.3 radii (6 mm) for 1.3 ms.
+DEFAULT_LOG10_K = 6.8
+#: Parts the fitter's error sums are cut into (shared by the threads; fixed, so sums do not depend on them).
+FIT_PARTS = 8
 #: RK4 steps per estimated elastic contact time used by ``predict`` (see the accuracy note of TurfContact).
 TURF_STEPS = 64
 
@@ -69,15 +76,28 @@ class TurfContact(CompiledLaw):
 
     **Integration.** Classical RK4 with a fixed step, :data:`TURF_STEPS` = 64 steps per
     Hertzian contact time :math:`2.943\,e_{max}/v_0`, :math:`e_{max} = (5 v_0^2/4k)^{2/5}`,
-    and at least 24 per period of the stuck contact point :math:`2\pi/\sqrt{3.5 k_t}`;
+    at least 24 per period of the stuck contact point :math:`2\pi/\sqrt{3.5 k_t}`, and short
+    enough for stability (step times the damping rates of the normal motion and the
+    ploughing below 1.5);
     every mode switch (yield, unloading, stick to slip, slip to stick, lift-off) is an
     event located inside its step by Illinois false position on the RK4 step size
     (to 1e-11 of a step), and the integration restarts from it in the new mode.
     **Accuracy** (measured against 2048 steps over 3000 random landings and parameter
     sets of the default search box, ``tests/test_turf.py``): lift-off within
-    3e-5 of the landing speed ‖p₀‖ at worst, 8e-6 for 99 %; halving the step
+    7e-5 of the landing speed ‖p₀‖ at worst, 1e-5 for 99 %; halving the step
     changes it by less than 1e-4 ‖p₀‖. ``bouncelab.laws._contact_kernels.turf_integrate``
     takes the number of steps for tighter work.
+
+    **What bounce data can identify.** The law has an exact scaling symmetry: for any
+    :math:`\lambda > 0`, :math:`(k, e_y, k_t, \lambda_p) \to (k\lambda^{-5/2}, \lambda e_y,
+    k_t\lambda^{-2}, \lambda_p/\lambda)` with the same c and μ scales depths by λ and times by
+    λ and leaves every lift-off velocity unchanged (as long as the crater wall stays below the
+    equator, δ < 1). Landing and lift-off velocities therefore cannot fix the stiffness: only the
+    invariant combinations (e.g. the yield speed :math:`\sqrt{k e_y^{5/2}}`, :math:`k_t e_y^2`,
+    :math:`\lambda_p e_y`). ``log10_k`` is declared ``vary=False`` and held at
+    :data:`DEFAULT_LOG10_K` = 6.8 in fits (the other five are then identifiable, tested by
+    parameter recovery); free it (``fit(..., free=["log10_k"])``) only with data that see
+    contact times or depths.
 
     Regimes: ``slip`` (the contact point slips throughout), ``grip`` (it sticks
     during contact and leaves with :math:`v_P` of the landing's sign or zero),
@@ -89,9 +109,9 @@ class TurfContact(CompiledLaw):
 
     Parameters
     ----------
-    log10_k : float
-        Normal stiffness, log10 of k in radius^-1/2 s^-2 (per unit mass), searched in
-        [5, 8]: at 6.8 a 10 m/s landing compresses the turf by 0.3 radii (6 mm) for 1.3 ms.
+    log10_k : float, default 6.8
+        Normal stiffness, log10 of k in radius^-1/2 s^-2 (per unit mass); at 6.8 a 10 m/s
+        landing compresses the turf by 0.3 radii (6 mm) for 1.3 ms. Held in fits (see above).
     c : float
         Hunt-Crossley damping, ms/radius, [0, 5] (restitution about 1 - c v0 at low speed).
     e_y : float
@@ -99,8 +119,9 @@ class TurfContact(CompiledLaw):
     mu : float
         Coulomb friction, dimensionless, [0, 1.5].
     log10_kt : float
-        Bristle stiffness, log10 of k_t in s^-2 (per unit mass), [4.5, 7]: the stuck contact
-        point oscillates at sqrt(3.5 k_t) rad/s (1870 rad/s at 6).
+        Bristle stiffness, log10 of k_t in s^-2 (per unit mass), searched in [4.5, 9]: the stuck
+        contact point oscillates at sqrt(3.5 k_t) rad/s (1870 rad/s at 6; stiffer bristles cost
+        more steps, as each period gets at least 24).
     lam : float
         Ploughing: horizontal-to-vertical damping ratio of the turf bed, dimensionless, [0, 20].
 
@@ -118,17 +139,17 @@ class TurfContact(CompiledLaw):
 
     parameter_specs = (
         Parameter("log10_k", (5.0, 8.0), (3.0, 10.0), "log10(radius^-1/2 s^-2)",
-                  "normal stiffness k of N = k e^1.5 (per unit mass)"),
+                  "normal stiffness k of N = k e^1.5 (per unit mass); sets the scale, held in fits", vary=False),
         Parameter("c", (0.0, 5.0), (0.0, 100.0), "ms/radius", "Hunt-Crossley damping of the indentation rate"),
         Parameter("e_y", (0.05, 2.0), (0.01, 10.0), "radius", "yield compression (yield force k e_y^1.5)"),
         MU_SPEC,
-        Parameter("log10_kt", (4.5, 7.0), (2.0, 9.0), "log10(s^-2)",
+        Parameter("log10_kt", (4.5, 9.0), (2.0, 11.0), "log10(s^-2)",
                   "bristle (tangential) stiffness k_t per unit mass"),
         Parameter("lam", (0.0, 20.0), (0.0, 1000.0), "1", "ploughing: horizontal-to-vertical damping ratio"),
     )
     regimes = ("slip", "grip", "reversed")
 
-    def __init__(self, log10_k: float | None = None, c: float | None = None, e_y: float | None = None,
+    def __init__(self, log10_k: float | None = DEFAULT_LOG10_K, c: float | None = None, e_y: float | None = None,
                  mu: float | None = None, log10_kt: float | None = None, lam: float | None = None) -> None:
         self.log10_k = log10_k
         self.c = c
@@ -159,6 +180,32 @@ class TurfContact(CompiledLaw):
         from bouncelab.laws._contact import predict_per_bounce
 
         return predict_per_bounce(cls, landing, params, codes=codes, kernel=_kernel())
+
+    def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
+                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+        """The fitter's error sums, shared between threads already for campaign-sized data.
+
+        Each bounce costs microseconds here (against nanoseconds for the algebraic laws), so
+        a fit of a few hundred bounces is worth splitting: always into the same
+        :data:`FIT_PARTS` parts, whose sums are added in order, so the value does not depend
+        on the number of threads.
+        """
+        n = len(landing)
+        if n >= _parallel.PARALLEL_MIN or n < 2 * FIT_PARTS:
+            return super()._error_function(landing, liftoff, inv_norm)
+        sums = self._loops().error_sums
+        cuts = [(k * n) // FIT_PARTS for k in range(FIT_PARTS + 1)]
+
+        def f(theta: np.ndarray) -> tuple[float, ...]:
+            args = (landing, liftoff, inv_norm, np.ascontiguousarray(theta, dtype=np.float64))
+            if _parallel.num_threads() == 1 or getattr(_parallel._local, "in_pool", False):
+                parts = [sums(*args, cuts[k], cuts[k + 1]) for k in range(FIT_PARTS)]
+            else:
+                parts = [None] * FIT_PARTS
+                _parallel._share(sums, args, cuts, parts)
+            return tuple(math.fsum(p[j] for p in parts) for j in range(4))
+
+        return f
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin)."""

@@ -1,0 +1,145 @@
+"""Speed of the physics-based contact laws, against solve_ivp per bounce at equal accuracy.
+
+Run: ``python benchmarks/bench_contact.py`` (a few minutes; ``--quick`` for a smaller run).
+Everything is timed in the same run. Prints
+
+1. the speed-up of each law over ``scipy.integrate.solve_ivp`` integrating the same
+   equations bounce by bounce (``benchmarks/contact_reference.py``), both at a lift-off
+   accuracy of 1e-6 of the landing speed: solve_ivp's ``rtol`` and TurfContact's number of
+   RK4 steps are each the loosest setting whose worst error over the sample is below 1e-6,
+   measured against a tighter reference (target: at least 100x);
+2. ``predict`` throughput (targets: CompliantImpact 10^6 bounces/s, TurfContact 10^5 bounces/s);
+3. the time of a global fit of TurfContact to campaign B (693 bounces; target under 30 s).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bouncelab as bl
+from benchmarks.contact_reference import compliant_reference, turf_reference
+
+TOL = 1e-6
+COMPLIANT = {"r": 0.5, "mu": 0.4, "kappa": 1.5}
+TURF = {"log10_k": 6.8, "c": 1.0, "e_y": 0.3, "mu": 0.6, "log10_kt": 6.0, "lam": 3.0}
+
+
+def landings(n: int, seed: int = 0) -> np.ndarray:
+    """Landings spanning the paper's Table 1, in scaled units."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n), rng.uniform(-410, 1700, n)])
+
+
+def rel_err(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> float:
+    return float((np.abs(a - b).max(axis=1) / np.linalg.norm(p, axis=1)).max())
+
+
+def timed(f):
+    t = time.perf_counter()
+    out = f()
+    return out, time.perf_counter() - t
+
+
+def loosest_ivp(ref_fn, p, truth):
+    for rtol in (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11):
+        out, dt = timed(lambda rtol=rtol: np.array([ref_fn(q, rtol) for q in p]))
+        err = rel_err(out, truth, p)
+        if err < TOL:
+            return rtol, err, dt / len(p)
+    return rtol, err, dt / len(p)
+
+
+def turf_steps_loop():
+    from numba import njit
+
+    from bouncelab.laws._contact_kernels import turf_integrate
+
+    @njit(nogil=True)
+    def run(P, theta, nsteps, out):
+        for i in range(P.shape[0]):
+            a, b, c, _ = turf_integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+        return out
+
+    return run
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer bounces everywhere")
+    args = ap.parse_args()
+    n_ivp = 20 if args.quick else 60
+    n_big = 200_000 if args.quick else 1_000_000
+    print(f"threads: {bl.laws.num_threads()}  (BOUNCELAB_NUM_THREADS)")
+
+    # ---- 1. against solve_ivp at equal accuracy
+    p = landings(n_ivp, seed=1)
+    ci = bl.CompliantImpact(**COMPLIANT)
+    ci.predict(p[:2])
+    truth = np.array([compliant_reference(q, **COMPLIANT, rtol=1e-12, atol=1e-12) for q in p])
+    rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: compliant_reference(q, **COMPLIANT, rtol=rt, atol=rt), p, truth)
+    reps = 2000
+    big = np.tile(p, (reps, 1))
+    out, dt = timed(lambda: ci.predict(big))
+    t_bl = dt / len(big)
+    print(f"\nCompliantImpact vs solve_ivp (DOP853, rtol={rtol:g}), {n_ivp} landings, accuracy target {TOL:g}:")
+    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab {rel_err(out[:n_ivp], truth, p):.1e}")
+    print(f"  time per bounce: solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.3f} us  "
+          f"-> speed-up {t_ivp / t_bl:,.0f}x")
+
+    theta = np.array(list(TURF.values()))
+    run = turf_steps_loop()
+    truth = run(p, theta, 4096, np.empty_like(p))
+    rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: turf_reference(q, theta, rtol=rt, atol=rt), p, truth)
+    for nsteps in (32, 64, 128, 256, 512, 1024):
+        o = run(p, theta, nsteps, np.empty_like(p))
+        if rel_err(o, truth, p) < TOL:
+            break
+    err_bl = rel_err(o, truth, p)
+    big = np.tile(p, (200, 1))
+    run(big[:2], theta, nsteps, np.empty_like(big[:2]))
+    _, dt = timed(lambda: run(big, theta, nsteps, np.empty_like(big)))
+    t_bl = dt / len(big)
+    tl = bl.TurfContact(**TURF)
+    err_default = rel_err(tl.predict(p), truth, p)
+    print(f"\nTurfContact vs solve_ivp (DOP853, rtol={rtol:g}), {n_ivp} landings, accuracy target {TOL:g}:")
+    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab with {nsteps} RK4 steps {err_bl:.1e} "
+          f"(predict's default 64 steps: {err_default:.1e})")
+    print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
+          f"-> speed-up {t_ivp / t_bl:,.0f}x")
+
+    # ---- 2. predict throughput
+    P = landings(n_big, seed=2)
+    ci.predict(P[:100])
+    _, dt = timed(lambda: ci.predict(P))
+    print(f"\nCompliantImpact.predict: {n_big / dt / 1e6:.2f} million bounces/s ({n_big:,} bounces)")
+    m = n_big // 5
+    tl.predict(P[:100])
+    _, dt = timed(lambda: tl.predict(P[:m]))
+    print(f"TurfContact.predict:     {m / dt / 1e3:.0f} thousand bounces/s ({m:,} bounces, default 64 steps)")
+    # spot-to-spot variation: 5 % on the linear parameters, 0.05 on the log10 stiffnesses
+    noise = 0.05 * np.random.default_rng(3).standard_normal((m, 6))
+    rows = np.tile(theta, (m, 1)) * (1 + noise)
+    rows[:, [0, 4]] = theta[[0, 4]] + noise[:, [0, 4]]
+    bl.TurfContact.predict_varying(P[:100], rows[:100])
+    _, dt = timed(lambda: bl.TurfContact.predict_varying(P[:m], rows))
+    print(f"TurfContact.predict_varying (one parameter row per bounce): {m / dt / 1e3:.0f} thousand/s")
+
+    # ---- 3. fit time
+    ds = bl.load_campaign("B")
+    res, dt = timed(lambda: bl.fit(bl.TurfContact, ds, seed=0))
+    print(f"\nTurfContact global fit to campaign B ({ds.sizes['bounce']} bounces): {dt:.1f} s, "
+          f"delta = {res.delta:.4f}, {res.n_evaluations} evaluations")
+
+
+if __name__ == "__main__":
+    main()
