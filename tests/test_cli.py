@@ -142,11 +142,15 @@ def test_reproduce_campaign_a(tmp_path, capsys):
         assert f"figures/A_{name}.png" in index
     table3 = (rep / "tables" / "A_table3.md").read_text()
     assert "(31.9 %)" in table3 and "TangentialRestitution" in table3
+    assert "CompliantImpact" in table3 and "TurfContact" in table3  # the physics-based laws beside the paper's
+    lever = (rep / "tables" / "A_lever_arm.md").read_text()
+    assert all(name in lever for name in ("data", "Rigid", "TurfContact", "centre_fraction"))
+    assert (rep / "figures" / "A_lever_arm.png").stat().st_size > 10_000
     assert "(7.27 %)" in (rep / "tables" / "A_table2.md").read_text()
     for law in ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine"):
         bl.load_law(rep / "laws" / f"A_{law}.json")
     assert "SYNTHETIC SURROGATE" in index
-    assert "[ 1/10] loading A" in err and "done" in err
+    assert "[ 1/11] loading A" in err and "done" in err
     assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
     assert "Values in brackets are the paper's published ones" in index
     repeat = (rep / "tables" / "A_repeatability_summary.md").read_text()
