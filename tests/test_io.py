@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from pathlib import Path
 
@@ -748,3 +749,38 @@ def test_not_a_mat_or_netcdf_file(tmp_path):
         with pytest.raises(DataError, match="cannot read it") as exc:
             load_campaign(path)
         assert_located(exc, path, None, None)
+
+
+def test_save_campaign_keeps_mode_and_symlinks(tmp_path):
+    """bouncelab 0.1 made files mode 0600 and replaced a symlink by a file (issue 7, item 6)."""
+    import stat
+
+    import bouncelab as bl
+
+    ds = bl.load_campaign("A")
+    old = os.umask(0o022)
+    try:
+        new = bl.save_campaign(ds, tmp_path / "new.nc")
+        assert stat.S_IMODE(new.stat().st_mode) == 0o644  # the umask's mode, not mkstemp's 0600
+        shared = tmp_path / "shared.nc"
+        bl.save_campaign(ds, shared)
+        shared.chmod(0o664)
+        bl.save_campaign(ds, shared)
+        assert stat.S_IMODE(shared.stat().st_mode) == 0o664
+        target = tmp_path / "real.nc"
+        bl.save_campaign(ds, target)
+        link = tmp_path / "link.nc"
+        link.symlink_to(target)
+        bl.save_campaign(ds.isel(bounce=slice(0, 10)), link)
+        assert link.is_symlink() and bl.load_campaign(target).sizes["bounce"] == 10
+    finally:
+        os.umask(old)
+
+
+def test_save_campaign_takes_the_large_setting_ids_the_loader_produces(tmp_path):
+    import bouncelab as bl
+
+    ds = bl.load_campaign("A")
+    big = ds.assign_coords(setting=("bounce", ds.setting.values.astype(np.int64) + 2**40))
+    back = bl.load_campaign(bl.save_campaign(big, tmp_path / "big.nc"))
+    np.testing.assert_array_equal(back.setting.values, big.setting.values)

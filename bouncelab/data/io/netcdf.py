@@ -100,6 +100,15 @@ def _campaign_from_netcdf(
             )
     if "setting" in ds.data_vars:  # a setting stored as a variable is still the setting
         ds = ds.set_coords("setting")
+    if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_integer_ids_as_text"):
+        # save_campaign wrote 64-bit integer IDs as text for netCDF-3: back to the integers they were
+        try:
+            ids = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
+        except (ValueError, OverflowError):
+            raise DataError("the setting variable is marked as integer IDs written as text, but holds other "
+                            "text", file=file, column="setting") from None
+        attrs = {k: v for k, v in ds["setting"].attrs.items() if k != "bouncelab_integer_ids_as_text"}
+        ds = ds.assign_coords(setting=xr.DataArray(ids, dims=ds["setting"].dims, attrs=attrs))
     attrs = dict(ds.attrs)
     attrs.setdefault("data_kind", "measured")
     attrs.setdefault("source", source)

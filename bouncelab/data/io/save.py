@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+from bouncelab.atomic import atomic_path
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
 from bouncelab.data.io.table import _module_available
@@ -38,13 +38,30 @@ def _check_attr(key: str, value: Any, file: str) -> None:
         )
 
 
+#: Attribute marking integer setting IDs stored as text (netCDF-3 has no 64-bit integers).
+INTEGER_IDS_AS_TEXT = "bouncelab_integer_ids_as_text"
+
+
+def _netcdf3_safe_settings(ds: xr.Dataset) -> xr.Dataset:
+    """Integer setting IDs beyond 32 bits as exact decimal text (the loader turns them back into int64)."""
+    if "setting" not in ds.coords or ds["setting"].dtype.kind not in "iu":
+        return ds
+    ids = ds["setting"].values
+    if ids.size == 0 or (int(ids.min()) >= np.iinfo(np.int32).min and int(ids.max()) <= np.iinfo(np.int32).max):
+        return ds
+    text = xr.DataArray(ids.astype(str), dims=ds["setting"].dims, attrs={**ds["setting"].attrs, INTEGER_IDS_AS_TEXT: 1})
+    return ds.assign_coords(setting=text)
+
+
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
     """Write a campaign to a netCDF file that :func:`~bouncelab.data.io.load_campaign` reads back exactly.
 
     Values, the ``setting`` coordinate (numbers or strings), the prediction
     intervals and the attrs all survive the round trip bit for bit. The file
     is written to a temporary name and renamed, so a failed save leaves no
-    file (and an existing file untouched).
+    file (and an existing file untouched); an existing file keeps its
+    permission bits, a new one gets the usual ones (the umask's), and a
+    symlink stays a symlink to the file it names, which is replaced.
 
     Parameters
     ----------
@@ -84,12 +101,10 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
-    fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    engine = engine or _netcdf_engine()
+    if engine == "scipy":
+        checked = _netcdf3_safe_settings(checked)
+    # Atomic, keeping an existing file's mode (a new one gets the umask's) and a symlink as a symlink.
+    with atomic_path(path) as tmp:
+        checked.to_netcdf(tmp, engine=engine)
     return path
