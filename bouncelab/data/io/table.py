@@ -197,6 +197,9 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
         return vals, None  # NaN and inf are reported by as_states
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         return vals.astype(float), None
+    fast = _plain_numbers(vals) if table.text_cells and not table.decimal_comma else None
+    if fast is not None:
+        return fast, None
     out = np.empty(len(vals))
     for i, v in enumerate(vals):
         x: float | None = None
@@ -213,6 +216,25 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
             return out, _err(table, f"non-numeric value {v!r}", col.name, i)
         out[i] = x
     return out, None
+
+
+def _plain_numbers(vals: Sequence[Any]) -> np.ndarray | None:
+    """A text column of plain numbers converted in one compiled pass, or None to take the cell-by-cell path.
+
+    NumPy's text-to-float conversion accepts exactly what Python's ``float`` does; cells it refuses,
+    "nan" cells (a missing value here) and underscores (refused by :func:`_parse_number`) fall back to
+    the cell-by-cell path, which names the first bad cell. Large files load at compiled speed.
+    """
+    if not all(isinstance(v, str) for v in vals[:1]):
+        return None
+    try:
+        text = np.asarray(vals, dtype=np.str_)
+        if text.ndim != 1 or (text.size and np.strings.find(text, "_").max() >= 0):
+            return None
+        out = text.astype(np.float64)
+    except (ValueError, TypeError, OverflowError):
+        return None
+    return None if np.isnan(out).any() else out
 
 
 _GROUPED = re.compile(r"[+-]?\d{1,3}([.,]\d{3})+")  # "3.000", "3,000": thousands or decimals?
