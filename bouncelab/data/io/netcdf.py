@@ -100,6 +100,14 @@ def _campaign_from_netcdf(
             )
     if "setting" in ds.data_vars:  # a setting stored as a variable is still the setting
         ds = ds.set_coords("setting")
+    if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_dtype") == "int64":
+        try:  # save_campaign's netCDF-3 spelling of int64 settings
+            labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
+        except (ValueError, OverflowError):
+            raise DataError("the setting labels marked int64 are not all integers", file=file,
+                            column="setting") from None
+        attrs_s = {k: v for k, v in ds["setting"].attrs.items() if k != "bouncelab_dtype"}
+        ds = ds.assign_coords(setting=("bounce", labels, attrs_s))
     attrs = dict(ds.attrs)
     attrs.setdefault("data_kind", "measured")
     attrs.setdefault("source", source)

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+from bouncelab.atomic import atomic_path
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
 from bouncelab.data.io.table import _module_available
@@ -84,12 +84,20 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
-    fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    checked = _storable_settings(checked, engine or _netcdf_engine())
+    # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.atomic).
+    with atomic_path(path) as tmp:
         checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
+
+
+def _storable_settings(ds: xr.Dataset, engine: str) -> xr.Dataset:
+    """netCDF-3 (the scipy engine) has no 64-bit integers: store settings beyond int32 as text and mark them,
+    so that loading gives the same int64 labels back."""
+    if engine != "scipy" or "setting" not in ds.coords or ds["setting"].dtype.kind not in "iu":
+        return ds
+    s = ds["setting"].values
+    if s.size == 0 or (s.min() >= np.iinfo(np.int32).min and s.max() <= np.iinfo(np.int32).max):
+        return ds
+    attrs = {**ds["setting"].attrs, "bouncelab_dtype": "int64"}
+    return ds.assign_coords(setting=("bounce", np.array([str(int(v)) for v in s]), attrs))
