@@ -24,7 +24,7 @@ def _open_netcdf(path: Path, file: str) -> xr.Dataset:
     try:
         with xr.open_dataset(path, decode_times=False, decode_timedelta=False) as ds:
             return ds.load()
-    except (ValueError, OSError, TypeError) as exc:
+    except Exception as exc:
         hint = ""
         if not (_module_available("netCDF4") or _module_available("h5netcdf")):
             hint = " (a netCDF-4/HDF5 file needs pip install h5netcdf or netCDF4)"
