@@ -283,6 +283,9 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
             shown = "empty" if _is_empty_cell(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str)
                                                                                      else v)
             raise _err(table, f"missing setting label ({shown}); every bounce needs one", col.name, i)
+        if isinstance(v, str) and (x := _parse_number(v)) is not None and not math.isfinite(x):
+            raise _err(table, f"setting label {v.strip()!r} is not a finite number nor a name; "
+                       "every bounce needs a label", col.name, i)
         labels.append(v.strip() if isinstance(v, str) else v)
     numbers = [_label_number(v) for v in labels]
     if all(isinstance(x, int) for x in numbers):
