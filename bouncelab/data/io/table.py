@@ -197,6 +197,15 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
         return vals, None  # NaN and inf are reported by as_states
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         return vals.astype(float), None
+    if not table.decimal_comma and vals and all(isinstance(v, str) for v in vals):
+        # Fast path: numpy's correctly rounded parse of plain decimal text; anything else (empty, NA,
+        # inf, "1_0", a decimal comma) falls through to the located cell-by-cell parse below.
+        try:
+            fast = np.array(vals, dtype=float)
+        except (ValueError, OverflowError):
+            fast = None
+        if fast is not None and np.isfinite(fast).all() and not any("_" in v for v in vals):
+            return fast, None
     out = np.empty(len(vals))
     for i, v in enumerate(vals):
         x: float | None = None
