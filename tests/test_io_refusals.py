@@ -12,7 +12,8 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.data.campaign import make_campaign
+from bouncelab.data.campaign import make_campaign, validate_campaign
+from bouncelab.data.plausibility import implausibility
 from bouncelab.errors import DataError
 
 R = 0.02135
@@ -236,3 +237,84 @@ def test_unreadable_file_is_a_data_error(tmp_path):
         bl.load_campaign(path, units=UNITS)
 
 
+
+
+# --- item 4: a damaged .mat file must not kill the process --------------------------------------
+
+def test_mat_file_that_crashes_scipy_is_a_data_error(tmp_path):
+    import scipy.io
+
+    rng = np.random.default_rng(0)
+    base = tmp_path / "base.mat"
+    scipy.io.savemat(base, {"vx0": rng.normal(size=6), "vy0": -rng.random(6),
+                            "setting": np.array(["a", "b", "c", "a", "b", "c"], dtype=object),
+                            "S": {"w0": rng.normal(size=6)}}, do_compression=False)
+    raw = bytearray(base.read_bytes())
+    raw[552] = 63  # found by fuzzing: one byte in a data-type tag; scipy.io.loadmat segfaults
+    bad = tmp_path / "bad.mat"
+    bad.write_bytes(bytes(raw))
+    with pytest.raises(DataError, match=r"crashed on it \(signal SIGSEGV\)"):
+        bl.load_campaign(bad)
+
+
+# --- items 6 and 7: save_campaign -----------------------------------------------------------------
+
+def test_save_campaign_keeps_mode_and_symlink(tmp_path):
+    ds = make_campaign(scaled(LAND), scaled(LIFT), setting=[1, 1, 2])
+    real = tmp_path / "real.nc"
+    real.write_bytes(b"old")
+    real.chmod(0o644)
+    link = tmp_path / "link.nc"
+    link.symlink_to(real)
+    bl.save_campaign(ds, link, engine="scipy")
+    assert link.is_symlink() and (real.stat().st_mode & 0o777) == 0o644
+    new = bl.save_campaign(ds, tmp_path / "new.nc", engine="scipy")
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (new.stat().st_mode & 0o777) == 0o666 & ~umask
+
+
+@pytest.mark.parametrize("engine", ["scipy", None])
+def test_save_campaign_round_trips_settings_beyond_int32(tmp_path, engine):
+    ids = ("12345678901234567", "3000000000", "12345678901234567")
+    ds = bl.load_campaign(write(tmp_path / "ids.csv", rows(ids)), units=UNITS)
+    back = bl.load_campaign(bl.save_campaign(ds, tmp_path / "ids.nc", engine=engine))
+    assert back.setting.dtype == np.int64 and back.setting.values.tolist() == [int(i) for i in ids]
+
+
+# --- item 7: damaged files give DataError, never another exception --------------------------------
+
+@pytest.mark.parametrize("suffix", [".xlsx", ".nc", ".csv"])
+def test_damaged_files_give_data_errors_or_the_same_values(tmp_path, suffix):
+    ds = make_campaign(scaled(LAND), scaled(LIFT), setting=[1, 1, 2])
+    good = tmp_path / f"good{suffix}"
+    kwargs = {}
+    if suffix == ".nc":
+        bl.save_campaign(ds, good, engine="scipy")
+    elif suffix == ".xlsx":
+        pytest.importorskip("openpyxl")
+        pd_ = pytest.importorskip("pandas")
+        pd_.DataFrame(np.column_stack([[1, 1, 2], LAND, LIFT]), columns=HEAD).to_excel(good, index=False)
+        kwargs = {"units": UNITS}
+    else:
+        write(good, rows())
+        kwargs = {"units": UNITS}
+    expected = bl.load_campaign(good, **kwargs)
+    raw = good.read_bytes()
+    rng = np.random.default_rng(7)
+    for k in range(40):
+        b = bytearray(raw)
+        for pos in rng.integers(0, len(b), size=1 + k % 3):
+            b[pos] = int(rng.integers(0, 256))
+        bad = tmp_path / f"bad{k}{suffix}"
+        bad.write_bytes(bytes(b))
+        try:
+            got = bl.load_campaign(bad, **kwargs)
+        except DataError:
+            continue
+        if suffix == ".xlsx":  # zip members carry CRCs: a damaged workbook cannot load other numbers
+            np.testing.assert_array_equal(got.landing.values, expected.landing.values)
+            np.testing.assert_array_equal(got.liftoff.values, expected.liftoff.values)
+        else:  # a changed digit is a different, readable file: it must still be a plausible campaign
+            assert implausibility(got.landing.values, got.liftoff.values) is None
+            assert validate_campaign(got).landing.shape == got.landing.shape

@@ -14,8 +14,9 @@ Sources
     (so ``Path("A")`` is the file ``A``), is a file path.
 ``.csv``, ``.tsv``, ``.txt``
     Text table, first non-blank line is the header. The delimiter is sniffed
-    (tab, semicolon, comma, else runs of whitespace). Lines starting with ``#``
-    or ``%`` and blank lines are skipped. Encoding UTF-8 (a BOM is fine), else
+    (tab, semicolon, comma, else runs of whitespace). Blank lines and lines
+    starting with ``#`` or ``%`` are skipped, except a ``#`` line after the header
+    shaped like a data row, which is refused (``#N/A`` is a missing value). Encoding UTF-8 (a BOM is fine), else
     Latin-1. With a semicolon, tab or whitespace delimiter a decimal comma
     (``1,5``) is accepted. In a whitespace-delimited file a header name must not
     contain spaces, except a bracketed unit (``vx0 [m/s]`` is fine).
@@ -117,16 +118,16 @@ column and disagree, the load fails; each column may have its own unit, and
 the units read are recorded in the ``source_units`` attr. Known units are those of
 :mod:`bouncelab.data.units` (velocity: m/s, ft/s, mph, km/h, radius/s = 1/s
 = s^-1; spin: rad/s, rpm = rev/min = rot per min, rev/s = Hz, deg/s; ``1/s`` on a
-spin column means rad/s). With no unit anywhere, velocities are taken as
-radii/s and spins as rad/s, but a file whose median landing ``|ydot0|`` is
-below 20 radii/s (0.43 m/s, no real golf landing) is refused as probably in
-physical units. Whatever the units, a velocity above 10 000 radii/s (213 m/s)
-or a spin above 5 000 rad/s (48 000 rpm) is refused as a unit mistake.
+spin column means rad/s; CF spellings such as ``m s-1`` too). With no unit, the
+numbers are read in scaled units only if they are plausible in no other unit
+(:mod:`bouncelab.data.plausibility`); otherwise the load fails and says which units
+they fit and how to declare one. Whatever the units, values beyond
+:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES` are refused as a unit mistake.
 Examples::
 
     load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})
     load_campaign("bounces.xlsx", sheet="Campaign B", units={"spin": "rev/s"})
-    load_campaign("scaled.txt")                      # radii/s and rad/s
+    load_campaign("scaled.txt", units={"spin": "rad/s"})  # radii/s (the only fit), rad/s
 
 A campaign netCDF file is already in scaled units: ``columns=`` and
 ``units=`` are refused, its stored ``ball_radius_m`` is kept, and

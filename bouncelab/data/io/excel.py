@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import zipfile
 from pathlib import Path
 
 from bouncelab.data.io.table import _finish_table, _is_empty_cell, _module_available, _Table
@@ -70,8 +69,8 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
             df = pd.read_excel(xf, sheet_name=sheet_name, header=None, dtype=object)
     except DataError:
         raise
-    except (ValueError, OSError, KeyError, zipfile.BadZipFile) as exc:
-        raise DataError(f"cannot read it as an Excel workbook: {exc}", file=file) from None
+    except Exception as exc:
+        raise DataError(f"cannot read it as an Excel workbook ({type(exc).__name__}: {exc})", file=file) from None
 
     grid = df.values.tolist()
     sheet_rows = list(range(1, len(grid) + 1))

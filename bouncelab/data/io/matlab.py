@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import signal
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +19,7 @@ def _read_mat(path: Path, file: str) -> _Table:
     import scipy.io
     from scipy.io.matlab import mat_struct
 
+    _probe_in_subprocess(path, file)
     try:
         raw = scipy.io.loadmat(str(path), squeeze_me=True, struct_as_record=False, chars_as_strings=True)
     except NotImplementedError:
@@ -23,8 +27,8 @@ def _read_mat(path: Path, file: str) -> _Table:
             "MATLAB v7.3 (HDF5) files cannot be read; in MATLAB save it with "
             "save(name, ..., '-v7') or write a CSV", file=file,
         ) from None
-    except (ValueError, TypeError, OSError) as exc:
-        raise DataError(f"cannot read it as a MATLAB .mat file: {exc}", file=file) from None
+    except Exception as exc:
+        raise DataError(f"cannot read it as a MATLAB .mat file ({type(exc).__name__}: {exc})", file=file) from None
 
     entries: list[tuple[str, str, bool, Any]] = []  # (short, qualified, from_struct, values)
     opaque: list[str] = []
@@ -88,6 +92,38 @@ def _read_mat(path: Path, file: str) -> _Table:
                 if opaque else "")
         raise DataError(f"the file holds no numeric vectors, matrices or structs{hint}", file=file)
     return _table_of_columns(file, columns)
+
+
+#: Seconds the crash probe may take before the file is refused.
+MAT_PROBE_TIMEOUT_S = 60.0
+
+_PROBE = (
+    "import sys, scipy.io\n"
+    "try:\n"
+    "    scipy.io.loadmat(sys.argv[1], squeeze_me=True, struct_as_record=False, chars_as_strings=True)\n"
+    "except BaseException:\n"
+    "    pass\n"
+)
+
+
+def _probe_in_subprocess(path: Path, file: str) -> None:
+    """Parse the file once in a child interpreter: a damaged .mat file can make scipy's reader crash
+    (a segmentation fault, one changed byte in a data-type tag), and must not take the caller with it.
+
+    Costs one Python start-up with scipy.io (about 0.5 s); the parse itself is deterministic, so a file
+    the child survives is then parsed here.
+    """
+    try:
+        proc = subprocess.run([sys.executable, "-c", _PROBE, str(path)], capture_output=True,
+                              timeout=MAT_PROBE_TIMEOUT_S, check=False)
+    except subprocess.TimeoutExpired:
+        raise DataError(f"reading it as a MATLAB file took over {MAT_PROBE_TIMEOUT_S:g} s; the file is damaged",
+                        file=file) from None
+    if proc.returncode != 0:
+        how = (f"signal {signal.Signals(-proc.returncode).name}" if proc.returncode < 0
+               and -proc.returncode in signal.Signals._value2member_map_ else f"exit status {proc.returncode}")
+        raise DataError(f"the MATLAB reader (scipy.io.loadmat) crashed on it ({how}): the file is damaged; "
+                        "save it again from MATLAB or write a CSV", file=file)
 
 
 def _scalar(v: Any) -> Any:

@@ -24,7 +24,7 @@ def _open_netcdf(path: Path, file: str) -> xr.Dataset:
     try:
         with xr.open_dataset(path, decode_times=False, decode_timedelta=False) as ds:
             return ds.load()
-    except (ValueError, OSError, TypeError) as exc:
+    except Exception as exc:
         hint = ""
         if not (_module_available("netCDF4") or _module_available("h5netcdf")):
             hint = " (a netCDF-4/HDF5 file needs pip install h5netcdf or netCDF4)"
@@ -100,15 +100,14 @@ def _campaign_from_netcdf(
             )
     if "setting" in ds.data_vars:  # a setting stored as a variable is still the setting
         ds = ds.set_coords("setting")
-    if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_integer_ids_as_text"):
-        # save_campaign wrote 64-bit integer IDs as text for netCDF-3: back to the integers they were
-        try:
-            ids = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
+    if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_dtype") == "int64":
+        try:  # save_campaign's netCDF-3 spelling of int64 settings
+            labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
         except (ValueError, OverflowError):
-            raise DataError("the setting variable is marked as integer IDs written as text, but holds other "
-                            "text", file=file, column="setting") from None
-        attrs = {k: v for k, v in ds["setting"].attrs.items() if k != "bouncelab_integer_ids_as_text"}
-        ds = ds.assign_coords(setting=xr.DataArray(ids, dims=ds["setting"].dims, attrs=attrs))
+            raise DataError("the setting labels marked int64 are not all integers", file=file,
+                            column="setting") from None
+        attrs_s = {k: v for k, v in ds["setting"].attrs.items() if k != "bouncelab_dtype"}
+        ds = ds.assign_coords(setting=("bounce", labels, attrs_s))
     attrs = dict(ds.attrs)
     attrs.setdefault("data_kind", "measured")
     attrs.setdefault("source", source)

@@ -38,21 +38,6 @@ def _check_attr(key: str, value: Any, file: str) -> None:
         )
 
 
-#: Attribute marking integer setting IDs stored as text (netCDF-3 has no 64-bit integers).
-INTEGER_IDS_AS_TEXT = "bouncelab_integer_ids_as_text"
-
-
-def _netcdf3_safe_settings(ds: xr.Dataset) -> xr.Dataset:
-    """Integer setting IDs beyond 32 bits as exact decimal text (the loader turns them back into int64)."""
-    if "setting" not in ds.coords or ds["setting"].dtype.kind not in "iu":
-        return ds
-    ids = ds["setting"].values
-    if ids.size == 0 or (int(ids.min()) >= np.iinfo(np.int32).min and int(ids.max()) <= np.iinfo(np.int32).max):
-        return ds
-    text = xr.DataArray(ids.astype(str), dims=ds["setting"].dims, attrs={**ds["setting"].attrs, INTEGER_IDS_AS_TEXT: 1})
-    return ds.assign_coords(setting=text)
-
-
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
     """Write a campaign to a netCDF file that :func:`~bouncelab.data.io.load_campaign` reads back exactly.
 
@@ -101,10 +86,20 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
-    engine = engine or _netcdf_engine()
-    if engine == "scipy":
-        checked = _netcdf3_safe_settings(checked)
-    # Atomic, keeping an existing file's mode (a new one gets the umask's) and a symlink as a symlink.
+    checked = _storable_settings(checked, engine or _netcdf_engine())
+    # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.atomic).
     with atomic_path(path) as tmp:
-        checked.to_netcdf(tmp, engine=engine)
+        checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
     return path
+
+
+def _storable_settings(ds: xr.Dataset, engine: str) -> xr.Dataset:
+    """netCDF-3 (the scipy engine) has no 64-bit integers: store settings beyond int32 as text and mark them,
+    so that loading gives the same int64 labels back."""
+    if engine != "scipy" or "setting" not in ds.coords or ds["setting"].dtype.kind not in "iu":
+        return ds
+    s = ds["setting"].values
+    if s.size == 0 or (s.min() >= np.iinfo(np.int32).min and s.max() <= np.iinfo(np.int32).max):
+        return ds
+    attrs = {**ds["setting"].attrs, "bouncelab_dtype": "int64"}
+    return ds.assign_coords(setting=("bounce", np.array([str(int(v)) for v in s]), attrs))

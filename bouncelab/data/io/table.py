@@ -197,9 +197,15 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
         return vals, None  # NaN and inf are reported by as_states
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         return vals.astype(float), None
-    fast = _plain_numbers(vals) if table.text_cells and not table.decimal_comma else None
-    if fast is not None:
-        return fast, None
+    if not table.decimal_comma and vals and all(isinstance(v, str) for v in vals):
+        # Fast path: numpy's correctly rounded parse of plain decimal text; anything else (empty, NA,
+        # inf, "1_0", a decimal comma) falls through to the located cell-by-cell parse below.
+        try:
+            fast = np.array(vals, dtype=float)
+        except (ValueError, OverflowError):
+            fast = None
+        if fast is not None and np.isfinite(fast).all() and not any("_" in v for v in vals):
+            return fast, None
     out = np.empty(len(vals))
     for i, v in enumerate(vals):
         x: float | None = None
@@ -216,25 +222,6 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
             return out, _err(table, f"non-numeric value {v!r}", col.name, i)
         out[i] = x
     return out, None
-
-
-def _plain_numbers(vals: Sequence[Any]) -> np.ndarray | None:
-    """A text column of plain numbers converted in one compiled pass, or None to take the cell-by-cell path.
-
-    NumPy's text-to-float conversion accepts exactly what Python's ``float`` does; cells it refuses,
-    "nan" cells (a missing value here) and underscores (refused by :func:`_parse_number`) fall back to
-    the cell-by-cell path, which names the first bad cell. Large files load at compiled speed.
-    """
-    if not all(isinstance(v, str) for v in vals[:1]):
-        return None
-    try:
-        text = np.asarray(vals, dtype=np.str_)
-        if text.ndim != 1 or (text.size and np.strings.find(text, "_").max() >= 0):
-            return None
-        out = text.astype(np.float64)
-    except (ValueError, TypeError, OverflowError):
-        return None
-    return None if np.isnan(out).any() else out
 
 
 _GROUPED = re.compile(r"[+-]?\d{1,3}([.,]\d{3})+")  # "3.000", "3,000": thousands or decimals?
@@ -305,6 +292,9 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
             shown = "empty" if _is_empty_cell(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str)
                                                                                      else v)
             raise _err(table, f"missing setting label ({shown}); every bounce needs one", col.name, i)
+        if isinstance(v, str) and (x := _parse_number(v)) is not None and not math.isfinite(x):
+            raise _err(table, f"setting label {v.strip()!r} is not a finite number nor a name; "
+                       "every bounce needs a label", col.name, i)
         labels.append(v.strip() if isinstance(v, str) else v)
     numbers = [_label_number(v) for v in labels]
     if all(isinstance(x, int) for x in numbers):
