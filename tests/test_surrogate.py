@@ -250,7 +250,10 @@ def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
 def test_load_campaign_default_is_published_and_unknown_surrogate_is_refused():
     from bouncelab.errors import DataError
 
-    assert bouncelab.load_campaign("B").attrs["surrogate"] == "published"
+    pub = bouncelab.load_campaign("B")
+    assert pub.attrs["surrogate"] == "published"
+    assert "surrogate 'published'" in pub.attrs["warning"]  # what `bouncelab reproduce` prints
+    assert "surrogate 'turf'" in bouncelab.load_campaign("B", surrogate="turf").attrs["warning"]
     with pytest.raises(DataError, match=r"'published', 'turf'.*'paper'"):
         bouncelab.load_campaign("A", surrogate="paper")
 

@@ -163,7 +163,7 @@ def load_campaign(
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
-        res = _embedded_file(name, surrogate)
+        res = _embedded_file(name) if surrogate == "published" else _embedded_file(name, surrogate)
         with resources.as_file(res) as path:
             file = f"embedded campaign {name} ({path.name})"
             ds = _open_netcdf(Path(path), file)
@@ -171,7 +171,11 @@ def load_campaign(
                 ds, file=file, source=str(path), columns=columns, units=units,
                 campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
             )
-            out.attrs["surrogate"] = surrogate
+            if out.attrs.get("data_kind") == "synthetic surrogate":
+                out.attrs["surrogate"] = surrogate
+                tag = f"surrogate {surrogate!r}"
+                if tag not in out.attrs.get("warning", ""):  # reports print the warning: name the surrogate
+                    out.attrs["warning"] = f"Embedded {tag}: {out.attrs.get('warning', '')}".rstrip(": ")
             return out
 
     file = os.fspath(source)
