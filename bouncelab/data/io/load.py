@@ -171,11 +171,11 @@ def load_campaign(
                 ds, file=file, source=str(path), columns=columns, units=units,
                 campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
             )
-            if out.attrs.get("data_kind") == "synthetic surrogate":
+            if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
                 out.attrs["surrogate"] = surrogate
                 tag = f"surrogate {surrogate!r}"
-                if tag not in out.attrs.get("warning", ""):  # reports print the warning: name the surrogate
-                    out.attrs["warning"] = f"Embedded {tag}: {out.attrs.get('warning', '')}".rstrip(": ")
+                if tag not in out.attrs["warning"]:
+                    out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
             return out
 
     file = os.fspath(source)
