@@ -222,14 +222,14 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
 TURF_CALIBRATION: dict[str, dict] = {
     "A": {
         "law": "TurfContact",
-        "nominal": {"log10_k": 6.8, "c": 1.0, "e_y": 0.3, "mu": 0.6, "log10_kt": 6.0, "lam": 3.0},
-        "log_sd": {"log10_k": 0.0, "c": 0.2, "e_y": 0.2, "mu": 0.1, "log10_kt": 0.0, "lam": 0.2},
+        "nominal": {"log10_k": 7.2619, "c": 1.1042, "e_y": 0.4691, "mu": 0.2817, "log10_kt": 6.2944, "lam": 2.2544},
+        "log_sd": {"log10_k": 0.0227, "c": 0.1642, "e_y": 0.1479, "mu": 0.0906, "log10_kt": 0.0184, "lam": 0.0498},
         "seed": 330,
     },
     "B": {
         "law": "TurfContact",
-        "nominal": {"log10_k": 6.8, "c": 1.0, "e_y": 0.3, "mu": 0.6, "log10_kt": 6.0, "lam": 3.0},
-        "log_sd": {"log10_k": 0.0, "c": 0.2, "e_y": 0.2, "mu": 0.1, "log10_kt": 0.0, "lam": 0.2},
+        "nominal": {"log10_k": 5.0, "c": 4.8528, "e_y": 1.0424, "mu": 0.3238, "log10_kt": 4.5, "lam": 0.7493},
+        "log_sd": {"log10_k": 0.0957, "c": 0.1218, "e_y": 0.0989, "mu": 0.1005, "log10_kt": 0.0832, "lam": 0.1099},
         "seed": 693,
     },
 }
