@@ -200,6 +200,56 @@ def calibrate(campaign: str, *, law: str, maxiter: int, popsize: int, replicates
     }
 
 
+def fitted_start(campaign: str, law: str, sigma: float = 0.1) -> np.ndarray:
+    """Start vector: the law fitted to the embedded campaign, every log-sd ``sigma``."""
+    fitted = bl.fit(law_class(law), bl.load_campaign(campaign))
+    params = fitted.law.parameters if hasattr(fitted, "law") else fitted.parameters
+    nominal = [float(np.asarray(params[s.name])) for s in Parametrisation(law).specs]
+    return np.array(nominal + [sigma] * len(nominal))
+
+
+def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replicates: int, seed: int,
+           max_sigma: float, final_seeds: int) -> dict:
+    """Nelder-Mead (adaptive, restarted from a perturbed best point) within ``budget`` seconds, one process.
+
+    Candidates outside the box are clipped into it and pay the squared distance as a penalty.
+    """
+    from scipy.optimize import minimize
+
+    par = Parametrisation(law, max_sigma)
+    lo, hi = np.array(par.bounds()).T
+    seeds = [1000 + i for i in range(replicates)]
+    log: list[tuple[float, list[float]]] = []
+    t0 = time.perf_counter()
+
+    class _Budget(Exception):
+        pass
+
+    def f(z: np.ndarray) -> float:
+        if time.perf_counter() - t0 > budget:
+            raise _Budget
+        x = np.clip(z, lo, hi)
+        value = objective(x, campaign, law, seeds, max_sigma) + float(np.sum((z - x) ** 2))
+        log.append((value, list(map(float, x))))
+        return value
+
+    rng = np.random.default_rng(seed)
+    z = np.clip(np.asarray(start, dtype=float), lo, hi)
+    try:
+        while True:
+            minimize(f, z, method="Nelder-Mead",
+                     options={"maxfev": 400, "xatol": 1e-3, "fatol": 1e-3, "adaptive": True})
+            z = np.array(min(log)[1]) * (1 + 0.1 * rng.standard_normal(z.size))
+    except _Budget:
+        pass
+    best = min(log)
+    final = evaluate(best[1], campaign, law, [5000 + i for i in range(final_seeds)], max_sigma)
+    return {"campaign": campaign, "law": law, "names": par.names, "x": final["x"],
+            "objective_search": best[0], "objective_fresh_seeds": final["objective"], "table": final["table"],
+            "evaluations": len(log), "search_seconds": time.perf_counter() - t0,
+            "verdict": cal.meets_target(final["table"])}
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--campaign", nargs="+", default=["A", "B"], choices=["A", "B"])
@@ -214,12 +264,22 @@ def main(argv: list[str] | None = None) -> list[dict]:
                     help="dask.distributed scheduler address, or 'synchronous' (default: a local cluster)")
     ap.add_argument("--workers", type=int, default=2, help="processes of the default local cluster")
     ap.add_argument("--output", default=None, help="write the results as JSON here")
+    ap.add_argument("--method", default="de", choices=["de", "nelder-mead"],
+                    help="differential evolution on dask, or a time-boxed Nelder-Mead in this process")
+    ap.add_argument("--start", default="fit", choices=["fit"],
+                    help="Nelder-Mead start: the law fitted to the embedded campaign, log-sd 0.1")
+    ap.add_argument("--budget", type=float, default=300.0, help="Nelder-Mead wall time per campaign (s)")
     args = ap.parse_args(argv)
     results = []
     for campaign in args.campaign:
-        res = calibrate(campaign, law=args.law, maxiter=args.maxiter, popsize=args.popsize,
-                        replicates=args.replicates, seed=args.seed, scheduler=args.scheduler,
-                        workers=args.workers, max_sigma=args.max_sigma, final_seeds=args.final_seeds)
+        if args.method == "nelder-mead":
+            res = refine(campaign, law=args.law, start=fitted_start(campaign, args.law), budget=args.budget,
+                         replicates=args.replicates, seed=args.seed, max_sigma=args.max_sigma,
+                         final_seeds=args.final_seeds)
+        else:
+            res = calibrate(campaign, law=args.law, maxiter=args.maxiter, popsize=args.popsize,
+                            replicates=args.replicates, seed=args.seed, scheduler=args.scheduler,
+                            workers=args.workers, max_sigma=args.max_sigma, final_seeds=args.final_seeds)
         results.append(res)
         print(f"campaign {campaign}: {res['evaluations']} candidates in {res['search_seconds']:.1f} s, "
               f"J = {res['objective_search']:.4f} (search seeds), {res['objective_fresh_seeds']:.4f} (fresh seeds)")

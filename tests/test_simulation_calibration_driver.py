@@ -43,3 +43,16 @@ def test_tiny_calibration_run_on_dask(tmp_path):
                                                     0.5) + 1e-12
     saved = json.loads(out.read_text())
     assert saved[0]["campaign"] == "A" and len(saved[0]["table"]) == 14
+
+
+def test_refine_stays_in_the_box_and_stops_at_its_budget():
+    """The time-boxed Nelder-Mead: returns its best candidate, clipped into the search box, within budget."""
+    law = "TangentialRestitution"
+    par = drv.Parametrisation(law, 0.5)
+    lo, hi = np.array(par.bounds()).T
+    start = hi + 1.0  # outside the box on purpose
+    res = drv.refine("A", law=law, start=start, budget=1.0, replicates=1, seed=0, max_sigma=0.5, final_seeds=1)
+    x = np.array(res["x"])
+    assert ((x >= lo) & (x <= hi)).all()
+    assert res["evaluations"] >= 1
+    assert np.isfinite(res["objective_fresh_seeds"])

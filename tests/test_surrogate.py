@@ -221,3 +221,57 @@ def test_unknown_campaign():
     with pytest.raises(ValueError, match="campaigns 'A' and 'B'"):
         generate_surrogate("C")
 
+
+
+# --------------------------------------------------------------------------- surrogate="turf" (issue 10 item 3)
+@pytest.mark.parametrize(("campaign", "n"), [("A", 330), ("B", 693)])
+def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
+    import json
+
+    from bouncelab.data.surrogate import TURF_CALIBRATION
+
+    ds = bouncelab.load_campaign(campaign, surrogate="turf")
+    assert ds.sizes["bounce"] == n
+    assert {"landing", "liftoff", "landing_pi", "liftoff_pi"} <= set(ds.data_vars)
+    assert "setting" in ds.coords and np.isfinite(ds["liftoff_pi"].values).all()
+    assert ds.attrs["surrogate"] == "turf"
+    assert ds.attrs["data_kind"] == "synthetic surrogate" and ds.attrs["simulated"] == "yes"
+    assert "NOT MEASURED" in ds.attrs["warning"] and "TurfContact" in ds.attrs["warning"]
+    # the attrs hold the parameters the file was simulated with, and they are the calibrated ones
+    assert json.loads(ds.attrs["turf_calibration"]) == TURF_CALIBRATION[campaign]
+    turf = json.loads(ds.attrs["simulation_json"])["turf"]
+    assert turf["law"]["law"] == "TurfContact"
+    # a different campaign from the published surrogate
+    pub = bouncelab.load_campaign(campaign)
+    assert pub.attrs["surrogate"] == "published"
+    assert not np.allclose(pub["liftoff"].values, ds["liftoff"].values)
+
+
+def test_load_campaign_default_is_published_and_unknown_surrogate_is_refused():
+    from bouncelab.errors import DataError
+
+    pub = bouncelab.load_campaign("B")
+    assert pub.attrs["surrogate"] == "published"
+    assert "surrogate 'published'" in pub.attrs["warning"]  # what `bouncelab reproduce` prints
+    assert "surrogate 'turf'" in bouncelab.load_campaign("B", surrogate="turf").attrs["warning"]
+    with pytest.raises(DataError, match=r"'published', 'turf'.*'paper'"):
+        bouncelab.load_campaign("A", surrogate="paper")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("campaign", ["A", "B"])
+def test_shipped_turf_files_equal_a_fresh_simulation(campaign, tmp_path):
+    """Regenerate the shipped turf files (python -m bouncelab.data.surrogate --write) and compare."""
+    from bouncelab.data.surrogate import embedded_path, generate_turf_surrogate
+
+    with xr.open_dataset(embedded_path(campaign, "turf"), engine="scipy") as f:
+        shipped = f.load()
+    fresh = generate_turf_surrogate(campaign)
+    fresh.to_netcdf(tmp_path / "fresh.nc", engine="scipy")
+    with xr.open_dataset(tmp_path / "fresh.nc", engine="scipy") as g:
+        fresh = g.load()
+    assert dict(shipped.sizes) == dict(fresh.sizes)
+    assert set(shipped.variables) == set(fresh.variables)
+    for var in fresh.variables:
+        np.testing.assert_array_equal(shipped[var].values, fresh[var].values, err_msg=var)
+    assert shipped.attrs == fresh.attrs

@@ -66,7 +66,19 @@ from bouncelab.data.campaign import make_campaign
 from bouncelab.data.units import BALL_RADIUS_M, landing_from_speed_angle_spin
 from bouncelab.errors import NonphysicalLiftoffWarning, ParameterError
 
-__all__ = ["DEFAULT_SEEDS", "SurrogateSpec", "generate_surrogate"]
+__all__ = [
+    "DEFAULT_SEEDS",
+    "SURROGATES",
+    "TURF_CALIBRATION",
+    "SurrogateSpec",
+    "generate_surrogate",
+    "generate_turf_surrogate",
+    "turf_for_campaign",
+]
+
+#: The embedded surrogates: ``"published"`` (this module's generator, from the paper's published laws)
+#: and ``"turf"`` (:func:`bouncelab.simulate_campaign` with a calibrated TurfContact turf).
+SURROGATES = ("published", "turf")
 
 #: Seeds of the embedded surrogates (``bouncelab/data/files/campaign_{A,B}.nc``).
 DEFAULT_SEEDS = {"A": 330, "B": 693}
@@ -206,19 +218,109 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     )
 
 
-def write_embedded(directory=None) -> list:
-    """Regenerate the embedded surrogate files (``python -m bouncelab.data.surrogate``)."""
+#: The calibrated turf of the ``"turf"`` surrogates: TurfContact's nominal parameters, the
+#: spot-to-spot standard deviation of the natural log of each (LogNormal scatter), and the seed
+#: of :func:`bouncelab.simulate_campaign`. Found by ``benchmarks/calibrate_surrogates.py``
+#: (see docs/simulation.md for the run and how close it comes to the paper).
+TURF_CALIBRATION: dict[str, dict] = {
+    "A": {
+        "law": "TurfContact",
+        "nominal": {"log10_k": 7.2619, "c": 1.1042, "e_y": 0.4691, "mu": 0.2817, "log10_kt": 6.2944, "lam": 2.2544},
+        "log_sd": {"log10_k": 0.0227, "c": 0.1642, "e_y": 0.1479, "mu": 0.0906, "log10_kt": 0.0184, "lam": 0.0498},
+        "seed": 330,
+    },
+    "B": {
+        "law": "TurfContact",
+        "nominal": {"log10_k": 5.0, "c": 4.8528, "e_y": 1.0424, "mu": 0.3238, "log10_kt": 4.5, "lam": 0.7493},
+        "log_sd": {"log10_k": 0.0957, "c": 0.1218, "e_y": 0.0989, "mu": 0.1005, "log10_kt": 0.0832, "lam": 0.1099},
+        "seed": 693,
+    },
+}
+
+
+def turf_for_campaign(campaign: str):
+    """The calibrated turf (:class:`bouncelab.simulation.Turf`) of campaign "A" or "B" (:data:`TURF_CALIBRATION`)."""
+    from bouncelab.laws.base import law_class
+    from bouncelab.simulation import LogNormal, Turf
+
+    key = published.check_campaign(campaign)
+    cal = TURF_CALIBRATION[key]
+    law = law_class(cal["law"])(**cal["nominal"])
+    scatter = {name: LogNormal(float(sd)) for name, sd in cal["log_sd"].items() if sd > 0}
+    return Turf(law, scatter, name=f"calibrated {cal['law']} (campaign {key})")
+
+
+def generate_turf_surrogate(campaign: str, *, seed: int | None = None) -> xr.Dataset:
+    """Simulate the ``"turf"`` surrogate of campaign "A" or "B" (the embedded ``campaign_{A,B}_turf.nc``).
+
+    The paper's launcher design (:meth:`bouncelab.simulation.LauncherDesign.for_campaign`),
+    the calibrated TurfContact turf with spot-to-spot scatter (:func:`turf_for_campaign`) and the
+    default camera, through :func:`bouncelab.simulate_campaign` with the seed of
+    :data:`TURF_CALIBRATION` (or ``seed``). The attrs say the data are simulated and hold the
+    turf's parameters (``turf_calibration``, JSON) besides the simulator's own description.
+    """
+    import json
+
+    from bouncelab.simulation import LauncherDesign, simulate_campaign
+
+    key = published.check_campaign(campaign)
+    cal = TURF_CALIBRATION[key]
+    seed = int(cal["seed"]) if seed is None else int(seed)
+    ds = simulate_campaign(LauncherDesign.for_campaign(key), turf_for_campaign(key), seed=seed)
+    ds.attrs["surrogate"] = "turf"
+    ds.attrs["turf_calibration"] = json.dumps({**cal, "seed": seed}, sort_keys=True)
+    ds.attrs["warning"] = (
+        f"SIMULATED CAMPAIGN, NOT MEASURED BOUNCES (surrogate 'turf'): the launcher design of the paper's "
+        f"campaign {key}, bounces from the turf model {cal['law']} with parameters {cal['nominal']} varying "
+        f"from spot to spot (sd of ln: {cal['log_sd']}), filmed by a simulated camera and measured from the "
+        "frames by bouncelab's estimators (bouncelab.simulation.simulate_campaign)."
+    )
+    return ds
+
+
+def embedded_path(campaign: str, surrogate: str = "published"):
+    """Path of the embedded file of ``campaign`` and ``surrogate`` inside the package."""
     from pathlib import Path
 
-    directory = Path(directory) if directory is not None else Path(__file__).parent / "files"
+    suffix = "" if surrogate == "published" else f"_{surrogate}"
+    return Path(__file__).parent / "files" / f"campaign_{campaign}{suffix}.nc"
+
+
+def write_embedded(directory=None, surrogates=("turf",)) -> list:
+    """Regenerate the embedded surrogate files (``python -m bouncelab.data.surrogate --write``).
+
+    By default only the ``"turf"`` files are rewritten (the ``"published"`` ones are unchanged
+    since generator version 1); pass ``surrogates=("published", "turf")`` for both.
+    """
+    from pathlib import Path
+
+    from bouncelab.atomic import atomic_path
+
     paths = []
-    for key in ("A", "B"):
-        path = directory / f"campaign_{key}.nc"
-        generate_surrogate(key).to_netcdf(path, engine="scipy")
-        paths.append(path)
+    for surrogate in surrogates:
+        for key in ("A", "B"):
+            path = embedded_path(key, surrogate)
+            if directory is not None:
+                path = Path(directory) / path.name
+            ds = generate_surrogate(key) if surrogate == "published" else generate_turf_surrogate(key)
+            with atomic_path(path) as tmp:
+                ds.to_netcdf(tmp, engine="scipy")
+            paths.append(path)
     return paths
 
 
 if __name__ == "__main__":
-    for p in write_embedded():
-        print(f"wrote {p}")
+    import argparse
+
+    ap = argparse.ArgumentParser(description="Regenerate bouncelab's embedded surrogate campaign files.")
+    ap.add_argument("--write", action="store_true", help="write the files (without it, only list them)")
+    ap.add_argument("--surrogate", nargs="+", default=["turf"], choices=list(SURROGATES))
+    ap.add_argument("--directory", default=None, help="write here instead of bouncelab/data/files")
+    args = ap.parse_args()
+    if not args.write:
+        for s in args.surrogate:
+            for k in ("A", "B"):
+                print(embedded_path(k, s))
+    else:
+        for p in write_embedded(args.directory, tuple(args.surrogate)):
+            print(f"wrote {p}")

@@ -27,6 +27,8 @@ SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".
 
 #: Names of the campaigns shipped with the package (``load_campaign("A")``).
 EMBEDDED_CAMPAIGNS = ("A", "B")
+#: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.surrogate.SURROGATES).
+EMBEDDED_SURROGATES = ("published", "turf")
 
 
 #: Largest data file :func:`load_campaign` reads, in bytes (1 GiB: some ten million bounces as CSV).
@@ -69,8 +71,8 @@ def _read_bytes(path: Path, file: str) -> bytes:
     return data
 
 
-def _embedded_file(name: str):
-    fname = f"campaign_{name}.nc"
+def _embedded_file(name: str, surrogate: str = "published"):
+    fname = f"campaign_{name}.nc" if surrogate == "published" else f"campaign_{name}_{surrogate}.nc"
     try:
         path = resources.files("bouncelab.data").joinpath("files", fname)
     except (ModuleNotFoundError, TypeError):
@@ -94,6 +96,7 @@ def load_campaign(
     sheet: str | int | None = None,
     ball_radius_m: float = BALL_RADIUS_M,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
+    surrogate: str = "published",
 ) -> xr.Dataset:
     """Load a bounce campaign from a file, or one of the embedded campaigns.
 
@@ -125,6 +128,13 @@ def load_campaign(
         (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
         as a unit mistake. Widen them on purpose with
         ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
+    surrogate
+        Which embedded campaign ``"A"``/``"B"`` loads (ignored for files):
+        ``"published"`` (default) the synthetic surrogate made from the paper's
+        published piecewise-affine laws (:func:`bouncelab.generate_surrogate`),
+        ``"turf"`` the campaign simulated from a calibrated TurfContact turf and
+        measured through camera frames (:func:`bouncelab.simulate_campaign`;
+        ``docs/simulation.md``). The name is stored in attrs ``surrogate``.
 
     Returns
     -------
@@ -149,16 +159,24 @@ def load_campaign(
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     >>> ds = load_campaign("B")  # doctest: +SKIP
     """
+    if surrogate not in EMBEDDED_SURROGATES:
+        raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
-        res = _embedded_file(name)
+        res = _embedded_file(name) if surrogate == "published" else _embedded_file(name, surrogate)
         with resources.as_file(res) as path:
             file = f"embedded campaign {name} ({path.name})"
             ds = _open_netcdf(Path(path), file)
-            return _campaign_from_netcdf(
+            out = _campaign_from_netcdf(
                 ds, file=file, source=str(path), columns=columns, units=units,
                 campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
             )
+            if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
+                out.attrs["surrogate"] = surrogate
+                tag = f"surrogate {surrogate!r}"
+                if tag not in out.attrs["warning"]:
+                    out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
+            return out
 
     file = os.fspath(source)
     path = Path(file).expanduser()
