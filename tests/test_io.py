@@ -789,7 +789,7 @@ def test_plain_number_fast_path_agrees_with_cell_by_cell_parsing(tmp_path):
     state = state * (1 + 1e-9 * rng.standard_normal(state.shape))
     cells = [[f"{v:.17g}" for v in row] for row in state]
     text = "setting," + ",".join(c + " (radii/s)" if "dot" in c else c + " (rad/s)" for c in cols) + "\n"
-    text += "".join(f"{s}," + ",".join(r) + "\n" for s, r in zip(ds.setting.values, cells))
+    text += "".join(f"{s}," + ",".join(r) + "\n" for s, r in zip(ds.setting.values, cells, strict=True))
     (tmp_path / "big.csv").write_text(text)
     back = bl.load_campaign(tmp_path / "big.csv")
     got = np.column_stack([back.landing.values, back.liftoff.values])
