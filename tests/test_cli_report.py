@@ -296,3 +296,23 @@ def test_read_only_folders_are_refused_before_any_work(fast, capsys, tmp_path, m
         monkeypatch.setattr(os, "access", real)
         assert code == EXIT_USAGE and needle in err
         assert files_under(out) == before
+
+
+def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypatch, capsys, tmp_path):
+    seen = {}
+
+    def record(name, ds, *args, **kw):
+        seen[name] = ds.attrs.get("surrogate")
+        return _fake_campaign(name, ds, *args, **kw)
+
+    monkeypatch.setattr(rp, "_campaign", record)
+    data = bl.save_campaign(bl.load_campaign("B"), tmp_path / "mine.nc")
+    code, _, _ = run(capsys, "reproduce", "--campaign", "A", "--data", data, "--surrogate", "turf",
+                     "--out", tmp_path / "r", "--no-figures", "--quiet")
+    assert code == EXIT_OK
+    assert seen == {"A": "turf", "mine": "published"}  # the option names the embedded ones; a file is itself
+    rp.reproduce(["B"], out=tmp_path / "r2", figures=False, progress=False, surrogate="turf")
+    assert seen["B"] == "turf"
+    with pytest.raises(bl.DataError, match="surrogate must be one of"):
+        rp.reproduce(["B"], out=tmp_path / "r3", figures=False, progress=False, surrogate="paper")
+    assert not (tmp_path / "r3").exists()

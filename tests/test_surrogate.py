@@ -258,6 +258,29 @@ def test_load_campaign_default_is_published_and_unknown_surrogate_is_refused():
         bouncelab.load_campaign("A", surrogate="paper")
 
 
+def test_surrogate_for_a_file_is_refused_not_ignored(tmp_path):
+    from bouncelab.errors import DataError
+
+    path = bouncelab.save_campaign(bouncelab.load_campaign("A"), tmp_path / "a.nc")
+    with pytest.raises(DataError, match=r"a\.nc.*surrogate='turf' applies only to the embedded campaigns"):
+        bouncelab.load_campaign(path, surrogate="turf")
+    assert bouncelab.load_campaign(path, surrogate="published").sizes["bounce"] == 330  # the default is no choice
+
+
+def test_cli_surrogate_option_chooses_the_embedded_campaign(capsys):
+    from bouncelab.cli.main import main
+
+    assert main(["info", "A", "--surrogate", "turf"]) == 0
+    turf = capsys.readouterr()
+    assert main(["info", "A"]) == 0
+    pub = capsys.readouterr()
+    assert "surrogate 'turf'" in turf.out + turf.err and "TurfContact" in turf.out + turf.err
+    assert "surrogate 'published'" in pub.out + pub.err and "TurfContact" not in pub.out + pub.err
+    with pytest.raises(SystemExit) as bad:  # argparse refuses an unknown name, and lists the known ones
+        main(["info", "A", "--surrogate", "paper"])
+    assert bad.value.code == 2 and "'published', 'turf'" in capsys.readouterr().err
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("campaign", ["A", "B"])
 def test_shipped_turf_files_equal_a_fresh_simulation(campaign, tmp_path):

@@ -85,14 +85,21 @@ def _load(source: str, args: argparse.Namespace):
         units["velocity"] = args.velocity_unit
     if getattr(args, "spin_unit", None):
         units["spin"] = args.spin_unit
-    return load_campaign(source, columns=columns, units=units or None)
+    surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
+    return load_campaign(source, columns=columns, units=units or None, **surrogate)
 
 
 def _add_data_options(p: argparse.ArgumentParser) -> None:
+    from bouncelab.data.io.load import EMBEDDED_SURROGATES
+
     p.add_argument("--columns", help='JSON column mapping, e.g. \'{"landing": ["vx0","vy0","w0"], '
                                       '"liftoff": ["vx1","vy1","w1"], "setting": "cond"}\'')
     p.add_argument("--velocity-unit", help="velocity unit of the file (m/s, ft/s, mph, km/h, radius/s)")
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
+    p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
+                   help="which synthetic surrogate the embedded campaigns A and B are: published (default: made "
+                        "from the paper's published laws) or turf (simulated with the TurfContact law through "
+                        "camera frames); see docs/simulation.md")
 
 
 def _add_import_option(p: argparse.ArgumentParser) -> None:
@@ -278,7 +285,8 @@ def _reproduce(args: argparse.Namespace) -> int:
         raise UsageError(f"give one --label per --data file: {len(args.data)} file(s), {len(args.label)} label(s)")
 
     def load(src: str):
-        ds = _load(src, args)
+        # --surrogate names which embedded campaigns A and B are; data files are loaded as they are
+        ds = _load(src, args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
     report = reproduce(

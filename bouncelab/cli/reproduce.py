@@ -220,6 +220,7 @@ def reproduce(
     labels: dict[str, str] | None = None,
     figure_units: Any = None,
     laws: Sequence[Any] = (),
+    surrogate: str = "published",
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
 
@@ -250,6 +251,9 @@ def reproduce(
     laws
         Further laws (classes, instances or registered names, e.g. your own) fitted, compared and
         cross-validated beside the paper's laws and the tangential-restitution law.
+    surrogate
+        Which synthetic surrogate the embedded campaigns are (``"published"`` or ``"turf"``, see
+        :func:`bouncelab.load_campaign`); the report's notes name it. Ignored when ``load`` is given.
 
     Returns
     -------
@@ -264,6 +268,7 @@ def reproduce(
         A source cannot be loaded.
     """
     from bouncelab.data.io import load_campaign
+    from bouncelab.data.io.load import EMBEDDED_SURROGATES
     from bouncelab.fitting.comparison import law_instance
 
     extra = [law_instance(law) for law in laws]  # unknown names fail here, before any work
@@ -287,7 +292,12 @@ def reproduce(
 
         pyplot()  # fail early, before any work, if matplotlib is missing
         units = resolve_units(figure_units)  # and on bad units
-    load = load or load_campaign
+    if load is None:
+        if surrogate not in EMBEDDED_SURROGATES:  # before any work
+            raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
+
+        def load(src: str) -> xr.Dataset:
+            return load_campaign(src, surrogate=surrogate) if src in campaigns else load_campaign(src)
     start = time.perf_counter()
     out = Path(out).expanduser()
     if out.is_symlink():

@@ -178,6 +178,9 @@ def load_campaign(
                     out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
             return out
 
+    if surrogate != "published":  # a file is what it is: no surrogate to choose
+        raise DataError(f"surrogate={surrogate!r} applies only to the embedded campaigns "
+                        f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a file", file=os.fspath(source))
     file = os.fspath(source)
     path = Path(file).expanduser()
     if not path.exists():
