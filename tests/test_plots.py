@@ -128,7 +128,7 @@ def test_landing_space_bad_inputs(ds_a):
         plot_landing_space(ds_a, support=[0, 10_000])
     with pytest.raises(DataError, match="mask"):
         plot_landing_space(ds_a, support=np.ones(3, dtype=bool))
-    with pytest.raises(ValueError, match="3-D"):
+    with pytest.raises(bl.ParameterError, match="3-D"):
         plot_landing_space(ds_a, ax=plt.figure().add_subplot())
     with pytest.raises(DataError):
         plot_landing_space("not a campaign")
@@ -202,7 +202,7 @@ def test_tangential(ds_a):
     assert len(zero) == 1 and zero[0].get_linestyle() == "--" and list(zero[0].get_ydata()) == [0, 0]
     assert "v_{P,0}" in ax.get_xlabel() and "v_{P,F}" in ax.get_ylabel() and "[radii/s]" in ax.get_ylabel()
     assert [p for p in ax.patches if p.get_gid() == "near-zero"]
-    with pytest.raises(ValueError, match="near_zero"):
+    with pytest.raises(bl.ParameterError, match="near_zero"):
         plot_tangential(ds_a, near_zero=-1)
 
 
@@ -256,7 +256,7 @@ def test_predictions_bad_inputs(ds_a):
         plot_predictions(ds_a, {"unfitted": bl.Rigid()})
     with pytest.raises(TypeError, match="bounce laws"):
         plot_predictions(ds_a, ["Rigid"])
-    with pytest.raises(ValueError, match="empty"):
+    with pytest.raises(bl.ParameterError, match="empty"):
         plot_predictions(ds_a, {})
     with pytest.raises(DataError, match="boolean mask"):
         plot_predictions(ds_a, bl.Rigid.published("A"), test=np.arange(5))
@@ -345,7 +345,7 @@ def test_synthetic_note_only_for_surrogate_data(name, ds_a, measured):
 def test_multi_panel_figures_draw_into_a_given_empty_figure(ds_a):
     fig = plt.figure(layout="constrained")
     assert plot_slices(ds_a, fig=fig) is fig and len(fig.axes) == 9
-    with pytest.raises(ValueError, match="empty"):
+    with pytest.raises(bl.ParameterError, match="empty"):
         plot_pi_widths(ds_a, fig=fig)
     with pytest.raises(TypeError, match="Figure"):
         plot_pi_widths(ds_a, fig="figure")
@@ -355,7 +355,7 @@ def test_save_figure(ds_a, tmp_path):
     fig = plot_tangential(ds_a)
     out = save_figure(fig, tmp_path / "sub" / "fig7.png", dpi=40)
     assert out.exists() and out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    with pytest.raises(ValueError, match="suffix"):
+    with pytest.raises(bl.ParameterError, match="suffix"):
         save_figure(fig, tmp_path / "nosuffix")
 
 

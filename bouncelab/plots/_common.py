@@ -15,7 +15,7 @@ import xarray as xr
 from bouncelab.data import units as _u
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, ParameterError
 
 #: Named unit sets for the ``units=`` argument of the plots: name -> (velocity unit, spin unit).
 UNIT_PRESETS: dict[str, tuple[str, str]] = {
@@ -174,7 +174,7 @@ def new_figure(fig: Any, *, nrows: int, ncols: int, figsize: tuple[float, float]
     else:
         _check_figure(fig)
         if fig.axes:
-            raise ValueError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)")
+            raise ParameterError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)")
     axes = fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
     return fig, axes
 
@@ -191,7 +191,7 @@ def single_axes(ax: Any, *, figsize: tuple[float, float], projection: str | None
     if not isinstance(ax, Axes):
         raise TypeError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
     if projection == "3d" and getattr(ax, "name", "") != "3d":
-        raise ValueError("ax must be a 3-D axes: fig.add_subplot(projection='3d')")
+        raise ParameterError("ax must be a 3-D axes: fig.add_subplot(projection='3d')")
     return ax.figure, ax
 
 
@@ -266,7 +266,7 @@ def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) ->
     _check_figure(fig)
     path = Path(path)
     if not path.suffix:
-        raise ValueError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
+        raise ParameterError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
     path.parent.mkdir(parents=True, exist_ok=True)
     kwargs.setdefault("format", path.suffix[1:].lower())
     with atomic_path(path) as tmp:

@@ -11,7 +11,7 @@ import xarray as xr
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, ParameterError
 from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import delta_q
 from bouncelab.plots import _common as c
@@ -124,7 +124,7 @@ def _named_laws(laws: Any) -> dict[str, BounceModel]:
     else:
         items = [(None, laws)]
     if not items:
-        raise ValueError("laws is empty: give at least one fitted bounce law")
+        raise ParameterError("laws is empty: give at least one fitted bounce law")
     out: dict[str, BounceModel] = {}
     for name, law in items:
         model = getattr(law, "model", law)

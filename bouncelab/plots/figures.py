@@ -10,7 +10,7 @@ import numpy as np
 
 from bouncelab.data.slip_roll import classify_slip_roll
 from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, ParameterError
 from bouncelab.plots import _common as c
 
 __all__ = ["plot_pi_widths", "plot_slices", "plot_tangential"]
@@ -108,9 +108,9 @@ def plot_tangential(
         try:
             tol = float(near_zero)
         except (TypeError, ValueError):
-            raise ValueError(f"near_zero must be a number of {vunit}; got {near_zero!r}") from None
+            raise ParameterError(f"near_zero must be a number of {vunit}; got {near_zero!r}") from None
         if not (np.isfinite(tol) and tol >= 0):
-            raise ValueError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}")
+            raise ParameterError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}")
     own = ax is None
     fig, ax = c.single_axes(ax, figsize=(7.0, 6.0))
     k = fu.velocity_factor()  # v_P in radii/s -> the figure's velocity unit
