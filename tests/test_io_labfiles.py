@@ -385,3 +385,12 @@ def test_cli_missing_header_row_and_polar_columns(tmp_path, capsys):
     assert "[[Fit]] Rigid" in capsys.readouterr().out
     with pytest.raises(SystemExit):
         main(["info", str(path), "--header-row", "0"])
+
+
+def test_title_line_above_a_header_with_a_units_row(tmp_path):
+    plain = {k.split(" ")[0]: v for k, v in POLAR.items()}
+    path = write(tmp_path / "units_row.csv", plain, pre="Bounce test, turf B\n")
+    text = path.read_text().splitlines()
+    text.insert(2, "m/s,deg,rpm,m/s,deg,rpm")
+    path.write_text("\n".join(text) + "\n")
+    check(load_campaign(path))

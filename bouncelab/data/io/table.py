@@ -678,7 +678,8 @@ def _looks_like_title(title: Sequence[Any], header: Sequence[Any], first_row: Se
     """Whether a line above the header is a title or note (``Bounce test 2026-03-14, turf B``).
 
     Conservative, so that a data row is never taken for a header: the line has fewer cells than the
-    header under it and no number, the header has no number, and the row under the header has one.
+    header under it and no number, the header has no number, and the row under the header has one
+    or is a units row.
     """
     def cells(row: Sequence[Any]) -> list[Any]:
         return [c for c in row if not blank(c)]
@@ -690,7 +691,7 @@ def _looks_like_title(title: Sequence[Any], header: Sequence[Any], first_row: Se
 
     t, h, d = cells(title), cells(header), cells(first_row)
     return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(numeric, t)) and not any(map(numeric, h))
-            and any(map(numeric, d)))
+            and (any(map(numeric, d)) or _is_units_row(first_row, blank)))
 
 
 def _header_row_error(file: str, header_row: int, what: str, style: str) -> DataError:
