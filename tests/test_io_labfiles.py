@@ -394,3 +394,32 @@ def test_title_line_above_a_header_with_a_units_row(tmp_path):
     text.insert(2, "m/s,deg,rpm,m/s,deg,rpm")
     path.write_text("\n".join(text) + "\n")
     check(load_campaign(path))
+
+
+def test_hint_style_is_validated_and_warnings_point_at_the_caller(tmp_path):
+    path = write(tmp_path / "p.csv", POLAR, cells={("spin_in (rpm)", 2): "NA"})
+    with pytest.raises(DataError, match="hint_style must be one of 'python', 'cli'; got 'shell'"):
+        load_campaign(path, hint_style="shell")
+    for source in (path, pd.DataFrame(POLAR).assign(**{"spin_in (rpm)": [1.0, np.nan, 3000, 3000, 3000, 3000]})):
+        with pytest.warns(DroppedRowsWarning) as rec:
+            load_campaign(source, missing="drop")
+        assert rec[0].filename == __file__
+
+
+def test_reproduce_with_embedded_campaign_and_file_options(tmp_path, capsys, monkeypatch):
+    import bouncelab.cli.reproduce as rep
+
+    loaded = {}
+
+    def fake_reproduce(*, campaigns, data, out, load, **_):  # only the loading, not the analysis
+        for src in [*campaigns, *data]:
+            loaded[src] = load(src)
+        return type("Report", (), {"index": Path(out) / "index.html"})()
+
+    monkeypatch.setattr(rep, "reproduce", fake_reproduce)
+    path = write(tmp_path / "lab.csv", POLAR, pre="Lab notes\n1,2\n")
+    code = main(["reproduce", "--campaign", "A", "--data", str(path), "--header-row", "3", "--no-figures",
+                 "--quiet", "--out", str(tmp_path / "report")])
+    assert code == EXIT_OK, capsys.readouterr().err
+    assert loaded["A"].sizes["bounce"] == 330  # --header-row applies to the file only
+    check(loaded[str(path)])

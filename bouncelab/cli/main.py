@@ -310,7 +310,9 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     def load(src: str):
         # --surrogate names which embedded campaigns A and B are; data files are loaded as they are
-        ds = _load(src, args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
+        # (and the file options --sheet, --header-row do not apply to the embedded campaigns)
+        ds = _load(src, argparse.Namespace(**{**vars(args), "sheet": None, "header_row": None}) if src in campaigns
+                   else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
     report = reproduce(

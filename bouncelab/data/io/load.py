@@ -310,7 +310,7 @@ def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str
         table, columns=columns, units=_check_units_arg(units, file, style),
         campaign="DataFrame" if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source="pandas.DataFrame", ball_radius_m=radius, plausible=plausible, missing=missing,
+        source="pandas.DataFrame", ball_radius_m=radius, plausible=plausible, missing=missing, warn_depth=1,
     )
 
 

@@ -230,7 +230,8 @@ def _missing_rows(table: _Table, cols: Mapping[str, _Column]) -> dict[int, tuple
     return dict(sorted(out.items()))
 
 
-def _drop_missing(table: _Table, cols: dict[str, _Column]) -> tuple[_Table, dict[str, _Column], list[int]]:
+def _drop_missing(table: _Table, cols: dict[str, _Column],
+                  stacklevel: int) -> tuple[_Table, dict[str, _Column], list[int]]:
     """The table without its incomplete rows (of the selected columns), and the 0-based rows dropped."""
     bad = _missing_rows(table, cols)
     if not bad:
@@ -255,7 +256,7 @@ def _drop_missing(table: _Table, cols: dict[str, _Column]) -> tuple[_Table, dict
 
     warnings.warn(DroppedRowsWarning(
         f"{table.file}: dropped {len(bad)} incomplete row(s) of {table.n_rows} (missing='drop'): "
-        + "; ".join(show(i) for i in bad)), stacklevel=4)
+        + "; ".join(show(i) for i in bad)), stacklevel=stacklevel)
     return kept, new, list(bad)
 
 
@@ -422,6 +423,7 @@ def _campaign_from_table(
     ball_radius_m: float,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
     missing: str = "raise",
+    warn_depth: int = 0,
 ) -> xr.Dataset:
     file = table.file
     if table.n_rows == 0:
@@ -442,7 +444,7 @@ def _campaign_from_table(
                         file=file, column=longest)
     dropped: list[int] = []
     if missing == "drop":
-        table, cols, dropped = _drop_missing(table, cols)
+        table, cols, dropped = _drop_missing(table, cols, 4 + warn_depth)
 
     _decimal_convention(table, [c for role, c in cols.items() if role != "setting"])
     # Cell values: report the first bad cell in row order.
