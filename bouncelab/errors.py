@@ -11,6 +11,7 @@ __all__ = [
     "BouncelabError",
     "BouncelabWarning",
     "DataError",
+    "DroppedRowsWarning",
     "FitError",
     "LargeResultWarning",
     "NonphysicalLiftoffWarning",
@@ -81,3 +82,7 @@ class NonphysicalLiftoffWarning(BouncelabWarning):
 
 class LargeResultWarning(BouncelabWarning):
     """A call builds a much larger result than needed (e.g. regime names for millions of landings)."""
+
+
+class DroppedRowsWarning(BouncelabWarning):
+    """``load_campaign(..., missing="drop")`` left out incomplete rows; the message lists them."""

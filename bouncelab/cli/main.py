@@ -62,6 +62,17 @@ def _positive(text: str) -> float:
     return value
 
 
+def _header_row(text: str) -> int:
+    """A line number >= 1 (argparse type)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"a line number counts from 1: {text!r}")
+    return value
+
+
 def _json_option(name: str, text: str | None, example: str) -> dict | None:
     """The JSON object an option holds; UsageError for malformed JSON or anything but an object."""
     if not text:
@@ -86,14 +97,27 @@ def _load(source: str, args: argparse.Namespace):
     if getattr(args, "spin_unit", None):
         units["spin"] = args.spin_unit
     surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
-    return load_campaign(source, columns=columns, units=units or None, **surrogate)
+    # Loader options only when given, so an embedded campaign is loaded as before; hint_style="cli" makes
+    # the loader's advice name these flags (--spin-unit rpm) instead of Python keywords.
+    options = {key: getattr(args, key) for key in ("sheet", "header_row") if getattr(args, key, None) is not None}
+    return load_campaign(source, columns=columns, units=units or None, missing=getattr(args, "missing", "raise"),
+                         hint_style="cli", **options, **surrogate)
 
 
 def _add_data_options(p: argparse.ArgumentParser) -> None:
     from bouncelab.data.io.load import EMBEDDED_SURROGATES
 
     p.add_argument("--columns", help='JSON column mapping, e.g. \'{"landing": ["vx0","vy0","w0"], '
-                                      '"liftoff": ["vx1","vy1","w1"], "setting": "cond"}\'')
+                                      '"liftoff": ["vx1","vy1","w1"], "setting": "cond"}\'; a state given as '
+                                      'speed, angle and spin: {"speed": "v_in", "angle": "a_in", "spin": "w_in"}')
+    p.add_argument("--sheet", metavar="NAME", help="Excel sheet to read: its name, or a 0-based index if no sheet "
+                                                   "has that name (default: the first visible sheet)")
+    p.add_argument("--header-row", type=_header_row, metavar="N",
+                   help="1-based line (text file) or row (Excel) of the header; lines above it are ignored "
+                        "(default: the first line that is not a comment or a title)")
+    p.add_argument("--missing", choices=("raise", "drop"), default="raise",
+                   help="rows with an empty or NA cell: raise (default: an error naming the cell) or drop (leave "
+                        "them out, with a warning listing them)")
     p.add_argument("--velocity-unit", help="velocity unit of the file (m/s, ft/s, mph, km/h, radius/s)")
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
     p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
@@ -286,7 +310,9 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     def load(src: str):
         # --surrogate names which embedded campaigns A and B are; data files are loaded as they are
-        ds = _load(src, args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
+        # (and the file options --sheet, --header-row do not apply to the embedded campaigns)
+        ds = _load(src, argparse.Namespace(**{**vars(args), "sheet": None, "header_row": None}) if src in campaigns
+                   else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
     report = reproduce(

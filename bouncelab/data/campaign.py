@@ -18,6 +18,7 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 import numpy as np
@@ -245,7 +246,16 @@ def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray
         check_same_length(p0, pf, "landing", "liftoff")
         setting = None if len(data) == 2 or data[2] is None else setting_labels(data[2], p0.shape[0])
         return p0, pf, setting
+    if _is_dataframe(data):  # one row per bounce, read as load_campaign reads a file
+        from bouncelab.data.io import load_campaign
+
+        return campaign_arrays(load_campaign(data), name=name)
     raise DataError(
         f"{name} must be a campaign Dataset or a (landing, liftoff) pair of (n, 3) arrays; "
         f"got {type(data).__name__}"
     )
+
+
+def _is_dataframe(obj) -> bool:
+    pd = sys.modules.get("pandas")  # never imported just to ask
+    return pd is not None and isinstance(obj, pd.DataFrame)

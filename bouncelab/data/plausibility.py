@@ -211,13 +211,18 @@ def scale_factor(unit: str, kind: str, radius_m: float = BALL_RADIUS_M) -> float
     return 1.0 if factor is None else factor / radius_m
 
 
-def declare_units_hint(kind: str, units: tuple[str, ...] | list[str]) -> str:
-    """How to declare the unit of ``kind`` in Python: ``"units={'spin': 'rpm'}"`` (or a choice of several).
+def declare_units_hint(kind: str, units: tuple[str, ...] | list[str], *, style: str = "python") -> str:
+    """How to declare the unit of ``kind``: ``"units={'spin': 'rpm'}"`` (or a choice of several).
 
-    Every loader message that asks for a unit goes through here, so that it can be translated
-    (for instance to command-line flags) in one place.
+    Every loader message that asks for a unit goes through here, so that it speaks the caller's
+    language: ``style="python"`` names the keyword, ``style="cli"`` the ``bouncelab`` flag
+    (``--spin-unit rpm``).
     """
-    options = " or ".join(f"units={{{kind!r}: {u!r}}}" for u in units)
+    if style == "cli":
+        flag = "--velocity-unit" if kind == "velocity" else "--spin-unit"
+        options = " or ".join(f"{flag} {u}" for u in units)
+    else:
+        options = " or ".join(f"units={{{kind!r}: {u!r}}}" for u in units)
     example = "[m/s]" if kind == "velocity" else "[rpm]"
     return f"pass {options}, or put the unit in the column header (e.g. 'name {example}')"
 

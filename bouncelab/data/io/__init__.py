@@ -12,8 +12,12 @@ Sources
     The campaign embedded in the package (``bouncelab/data/files/campaign_A.nc``
     and ``campaign_B.nc``). Any other string, and any :class:`pathlib.Path`
     (so ``Path("A")`` is the file ``A``), is a file path.
+A :class:`pandas.DataFrame`
+    Read exactly as a file whose header is the column names; errors name the row label.
 ``.csv``, ``.tsv``, ``.txt``
-    Text table, first non-blank line is the header. The delimiter is sniffed
+    Text table, first non-blank line is the header (after title lines such as
+    ``Bounce test 2026-03-14, turf B``, detected conservatively, or the 1-based
+    line ``header_row=`` names). The delimiter is sniffed
     (tab, semicolon, comma, else runs of whitespace). Blank lines and lines
     starting with ``#`` or ``%`` are skipped, except a ``#`` line after the header
     shaped like a data row, which is refused (``#N/A`` is a missing value). Encoding UTF-8 (a BOM is fine), else
@@ -101,6 +105,14 @@ With ``columns=`` given, it maps roles to the file's names::
         "liftoff_pi": ["dVx out", "dVy out", "dSpin out"],
     })
 
+A landing or lift-off may be given as speed, angle and spin (launch-monitor
+files): headers such as ``speed_in``, ``angle_in``, ``inbound speed``,
+``landing angle``, ``launch angle`` are recognised when that is unambiguous, and
+explicitly ``columns={"landing": {"speed": ..., "angle": ..., "spin": ...}}``.
+The landing angle is positive below the horizontal, the lift-off angle above
+it, in degrees unless the header or ``units={"angle": "rad"}`` says rad; speeds
+are >= 0 with the ball moving in +x and spin > 0 is backspin (omega > 0).
+
 Requested names are matched with the same tolerance (``"vx in"`` finds
 ``"VX_IN [m/s]"``); a name that matches two file columns is an error unless it
 is spelled exactly as one of them. ``landing`` and ``liftoff`` are required;
@@ -139,7 +151,9 @@ Every problem with the file is a :class:`~bouncelab.errors.DataError` whose
 message names the file, the column as spelled in the file and the data row
 (the first row under the header is row 1; blank and comment lines are not
 counted, and the message also gives the line of a text file or the cell of a
-spreadsheet). Nothing is written or kept when a load fails.
+spreadsheet). Nothing is written or kept when a load fails. With
+``missing="drop"`` rows with a missing value in a column that is read are left
+out instead, with a :class:`~bouncelab.errors.DroppedRowsWarning`.
 """
 
 # COLUMN_SYNONYMS, and the synonym table's internals (``_role_of``...), which stay importable

@@ -14,6 +14,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from bouncelab.data.io import hints
 from bouncelab.data.units import COMPONENTS, canonical_unit
 from bouncelab.errors import DataError
 
@@ -92,9 +93,42 @@ def _build_state_keys() -> dict[str, str]:
 
 
 _STATE_KEYS = _build_state_keys()
+
+# Polar columns (launch-monitor style): speed and angle to the horizontal; the spin is the omega stem.
+# Kept out of _role_of, so that a Cartesian file with derived speeds and angles reads as before.
+_POLAR_STEMS: dict[str, tuple[str, ...]] = {
+    "speed": ("speed", "ballspeed", "totalspeed", "velocity", "vel", "vtot", "vtotal"),
+    "angle": ("angle", "theta"),
+}
+# Whole names that say which state without a phase marker ("launch angle" is the lift-off's).
+_POLAR_NAMES = {
+    "launchangle": "liftoff.angle", "launchspeed": "liftoff.speed", "launchspin": "liftoff.omega",
+    "descentangle": "landing.angle", "incidenceangle": "landing.angle", "angleofincidence": "landing.angle",
+}
+
+
+def _build_polar_keys() -> dict[str, str]:
+    table: dict[str, str] = dict(_POLAR_NAMES)
+    for state, phases in _PHASES.items():
+        prefixes = [ph for ph in phases if len(ph) > 1]
+        for comp, stems in _POLAR_STEMS.items():
+            for stem in stems:
+                keys = {stem + ph for ph in phases} | {pre + stem for pre in prefixes}
+                for key in keys:
+                    if table.setdefault(key, f"{state}.{comp}") != f"{state}.{comp}":  # pragma: no cover
+                        raise AssertionError(f"polar synonym {key!r} is two roles")
+    if set(table) & set(_STATE_KEYS):  # pragma: no cover - checked in tests
+        raise AssertionError(f"polar synonyms {set(table) & set(_STATE_KEYS)} are Cartesian ones too")
+    return table
+
+
+_POLAR_KEYS = _build_polar_keys()
+#: The components of a state given in polar form, in order (the spin is the ``omega`` role).
+POLAR_ROLES = ("speed", "angle", "omega")
 _SETTING_KEYS = frozenset(_SETTING_NAMES)
 _ROLES = (
     *(f"{s}.{c}" for s in (*_STATES, *_PI_STATES) for c in COMPONENTS),
+    *(f"{s}.{c}" for s in _STATES for c in ("speed", "angle")),
     "setting",
 )
 
@@ -112,6 +146,11 @@ def _role_of(key: str) -> str | None:
                 state, comp = _STATE_KEYS[rest].split(".")
                 return f"{state}_pi.{comp}"
     return None
+
+
+def _polar_role_of(key: str) -> str | None:
+    """The polar role (``landing.speed``, ``liftoff.angle``...) a normalised column name stands for."""
+    return _POLAR_KEYS.get(key)
 
 
 def _normalize(name: str) -> str:
@@ -154,7 +193,24 @@ def _unit_of(text: str) -> dict[str, str]:
                 pass
     if "spin" not in found and str(text).strip().lower().replace(" ", "") in _PER_SECOND:
         found["spin"] = "rad/s"  # 1/s, s^-1 on a spin column: rad/s
+    angle = _ANGLE_UNITS.get(str(text).strip().lower().replace(" ", ""))
+    if angle is not None:
+        found["angle"] = angle
     return found
+
+
+_ANGLE_UNITS = {"deg": "deg", "degree": "deg", "degrees": "deg", "°": "deg", "rad": "rad", "radian": "rad",
+                "radians": "rad"}
+
+
+def _canonical(unit: str, kind: str) -> str:
+    """canonical_unit, and for angles ``deg`` or ``rad``."""
+    if kind != "angle":
+        return canonical_unit(unit, kind)
+    canon = _ANGLE_UNITS.get(str(unit).strip().lower().replace(" ", ""))
+    if canon is None:
+        raise DataError(f"unknown angle unit {unit!r}; known angle units: deg, rad")
+    return canon
 
 
 _BRACKET = re.compile(r"^(.*?)[\s_]*[\[\(\{]([^\[\]\(\)\{\}]*)[\]\)\}]\s*$")
@@ -209,32 +265,55 @@ def _find_requested(table: _Table, requested: str, role: str) -> _Choice:
     )
 
 
+# Keys of a state given as a mapping in columns=: Cartesian or polar (spin is the omega role).
+_CARTESIAN_KEYS = {"xdot": "xdot", "ydot": "ydot", "omega": "omega"}
+_POLAR_MAP_KEYS = {"speed": "speed", "angle": "angle", "spin": "omega", "omega": "omega"}
+
+
+def _state_roles(state: str, names: Any) -> dict[str, str] | None:
+    """Component -> requested name for one state of columns=: a list (xdot, ydot, omega), or a mapping
+    with the keys xdot, ydot, omega or (landing and lift-off only) speed, angle, spin."""
+    if isinstance(names, Mapping):
+        keys = set(map(str, names))
+        if keys == set(_CARTESIAN_KEYS):
+            return {_CARTESIAN_KEYS[k]: str(v) for k, v in names.items()}
+        if state in _STATES and keys in ({"speed", "angle", "spin"}, {"speed", "angle", "omega"}):
+            return {_POLAR_MAP_KEYS[k]: str(v) for k, v in names.items()}
+        return None
+    if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
+        return None
+    return {comp: str(name) for comp, name in zip(COMPONENTS, names, strict=True)}
+
+
 def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Choice]:
     allowed = (*_STATES, "setting", *_PI_STATES)
+    opt = hints.option("columns", table.hint_style)
     if not isinstance(columns, Mapping):
         raise DataError(
-            f"columns= must be a mapping such as {{'landing': [...], 'liftoff': [...]}}; "
+            f"{opt} must be a mapping such as {{'landing': [...], 'liftoff': [...]}}; "
             f"got {type(columns).__name__}", file=table.file,
         )
     unknown = [k for k in columns if k not in allowed]
     if unknown:
-        raise DataError(f"columns= has unknown keys {unknown}; allowed keys are {list(allowed)}",
+        raise DataError(f"{opt} has unknown keys {unknown}; allowed keys are {list(allowed)}",
                         file=table.file)
     chosen: dict[str, _Choice] = {}
     for state in (*_STATES, *_PI_STATES):
         names = columns.get(state)
         if names is None:
             if state in _STATES:
-                raise DataError(f"columns= must name the 3 {state} columns (xdot, ydot, omega)",
-                                file=table.file)
+                raise DataError(f"{opt} must name the 3 {state} columns (xdot, ydot, omega; or speed, angle, "
+                                "spin)", file=table.file)
             continue
-        if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
+        roles = _state_roles(state, names)
+        if roles is None:
+            polar = " or a mapping {'speed': ..., 'angle': ..., 'spin': ...}" if state in _STATES else ""
             raise DataError(
-                f"columns[{state!r}] must be a list of 3 column names (xdot, ydot, omega); got {names!r}",
+                f"{opt}[{state!r}] must be a list of 3 column names (xdot, ydot, omega){polar}; got {names!r}",
                 file=table.file,
             )
-        for comp, name in zip(COMPONENTS, names, strict=True):
-            chosen[f"{state}.{comp}"] = _find_requested(table, str(name), f"{state} {comp}")
+        for comp, name in roles.items():
+            chosen[f"{state}.{comp}"] = _find_requested(table, name, f"{state} {comp}")
     if columns.get("setting") is not None:
         chosen["setting"] = _find_requested(table, str(columns["setting"]), "setting")
     return chosen
@@ -244,19 +323,41 @@ def _candidates(table: _Table) -> dict[str, list[_Choice]]:
     """File columns matching each role's synonyms; a whole-name match hides a base-name one."""
     found: dict[str, list[_Choice]] = {role: [] for role in _ROLES}
     for col in table.columns:
-        role = _role_of(col.full_key)
+        role = _role_of(col.full_key) or _polar_role_of(col.full_key)
         if role is not None:
             found[role].append(_Choice(col, True))
-        elif (role := _role_of(col.base_key)) is not None:
+        elif (role := _role_of(col.base_key) or _polar_role_of(col.base_key)) is not None:
             found[role].append(_Choice(col, False))
     return found
+
+
+def _state_form(found: dict[str, list[_Choice]], state: str) -> str:
+    """``"polar"`` if a state has speed/angle columns and no xdot/ydot ones, else ``"cartesian"``.
+
+    A file with both (measured components and derived speeds) keeps reading the components when they
+    are complete; with both and incomplete components it is ambiguous (see _select_auto).
+    """
+    cart = any(found[f"{state}.{c}"] for c in ("xdot", "ydot"))
+    polar = any(found[f"{state}.{c}"] for c in ("speed", "angle"))
+    return "polar" if polar and not cart else "cartesian"
 
 
 def _select_auto(table: _Table) -> dict[str, _Choice]:
     found = _candidates(table)
     chosen: dict[str, _Choice] = {}
     problems = []
-    for role in (*(f"{s}.{c}" for s in _STATES for c in COMPONENTS), "setting"):
+    forms = {s: _state_form(found, s) for s in _STATES}
+    for s, other in zip(_STATES, reversed(_STATES), strict=True):
+        if not any(found[f"{s}.{c}"] for c in ("xdot", "ydot", "speed", "angle")):
+            forms[s] = forms[other]  # nothing found: suggest the form the other state has
+    for s in _STATES:
+        cart_ok = all(len(found[f"{s}.{c}"]) == 1 for c in ("xdot", "ydot"))
+        if forms[s] == "cartesian" and not cart_ok and any(found[f"{s}.{c}"] for c in ("speed", "angle")):
+            problems.append(f"{s}: both Cartesian columns "
+                            f"{[c.column.name for r in ('xdot', 'ydot') for c in found[f'{s}.{r}']]} and polar ones "
+                            f"{[c.column.name for r in ('speed', 'angle') for c in found[f'{s}.{r}']]}")
+    roles = [f"{s}.{c}" for s in _STATES for c in (COMPONENTS if forms[s] == "cartesian" else POLAR_ROLES)]
+    for role in (*roles, "setting"):
         cands = found[role]
         if len(cands) == 1:
             chosen[role] = cands[0]
@@ -275,45 +376,52 @@ def _select_auto(table: _Table) -> dict[str, _Choice]:
             warnings.warn(
                 f"{table.file}: ignoring the incomplete {state} columns "
                 f"{[found[r][0].column.name for r in roles if found[r]]}; "
-                "name all three in columns= to use them",
+                f"name all three in {hints.option('columns', table.hint_style)} to use them",
                 UserWarning, stacklevel=4,
             )
     if problems:
-        raise DataError(_auto_detect_message(table, found, problems), file=table.file)
+        raise DataError(_auto_detect_message(table, found, problems, forms), file=table.file)
     return chosen
 
 
-def _auto_detect_message(table: _Table, found: dict[str, list[_Choice]], problems: list[str]) -> str:
+def _auto_detect_message(table: _Table, found: dict[str, list[_Choice]], problems: list[str],
+                         forms: dict[str, str]) -> str:
     def pick(role: str) -> str:
         cands = found[role]
         if len(cands) == 1:
-            return repr(cands[0].column.name)
+            return cands[0].column.name
         if cands:
-            return repr("<one of " + ", ".join(c.column.name for c in cands) + ">")
-        return repr(f"<{role.replace('.', ' ')} column>")
+            return "<one of " + ", ".join(c.column.name for c in cands) + ">"
+        return f"<{role.replace('.', ' ')} column>"
 
-    parts = [f"{s!r}: [{', '.join(pick(f'{s}.{c}') for c in COMPONENTS)}]" for s in _STATES]
+    parts: list[tuple[str, Any]] = []
+    for s in _STATES:
+        if forms[s] == "polar":  # a speed, angle and spin mapping
+            parts.append((s, {k: pick(f"{s}.{r}") for k, r in zip(("speed", "angle", "spin"), POLAR_ROLES,
+                                                                      strict=True)}))
+        else:
+            parts.append((s, [pick(f"{s}.{c}") for c in COMPONENTS]))
     if found["setting"]:
-        parts.append(f"'setting': {pick('setting')}")
+        parts.append(("setting", pick("setting")))
     for s in _PI_STATES:
         if any(found[f"{s}.{c}"] for c in COMPONENTS):
-            parts.append(f"{s!r}: [{', '.join(pick(f'{s}.{c}') for c in COMPONENTS)}]")
+            parts.append((s, [pick(f"{s}.{c}") for c in COMPONENTS]))
     hint = ""
-    if any("angle" in c.full_key for c in table.columns):
-        hint = ("\nThe file seems to give speed and angle: convert them to xdot, ydot with "
-                "bouncelab.data.units.landing_from_speed_angle_spin first.")
+    if any(forms[s] == "cartesian" and any(found[f"{s}.{c}"] for c in ("speed", "angle")) for s in _STATES):
+        hint = ("\nFor a state given as speed, angle and spin, name them as "
+                "{'speed': ..., 'angle': ..., 'spin': ...} instead of a list.")
     return (
         "cannot tell which columns hold the bounce data (" + "; ".join(problems) + ").\n"
         f"The file's columns are {[c.name for c in table.columns]}.\n"
         "Name them explicitly (replace each <...>):\n"
-        f"    load_campaign({table.file!r}, columns={{{', '.join(parts)}}})" + hint
+        f"    {hints.columns_call(table.file, parts, table.hint_style)}" + hint
     )
 
 
-_ROLE_KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin"}
+_ROLE_KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
 
 
-def _check_units_arg(units: Mapping[str, str] | None, file: str) -> dict[str, str]:
+def _check_units_arg(units: Mapping[str, str] | None, file: str, style: str = "python") -> dict[str, str]:
     if units is None:
         return {}
     if not isinstance(units, Mapping):
@@ -321,17 +429,18 @@ def _check_units_arg(units: Mapping[str, str] | None, file: str) -> dict[str, st
             f"units= must be a mapping such as {{'velocity': 'm/s', 'spin': 'rpm'}}; got {units!r}",
             file=file,
         )
-    bad = [k for k in units if k not in _UNIT_KINDS]
+    bad = [k for k in units if k not in (*_UNIT_KINDS, "angle")]
     if bad:
-        raise DataError(f"units= has unknown keys {bad}; use 'velocity' and/or 'spin'", file=file)
+        raise DataError(f"units= has unknown keys {bad}; use 'velocity', 'spin' and/or 'angle'", file=file)
     out = {}
     for kind, unit in units.items():
         if unit is None:
             continue
         try:
-            out[kind] = canonical_unit(unit, kind)
+            out[kind] = _canonical(unit, kind)
         except DataError as exc:
-            raise DataError(f"units={{{kind!r}: {unit!r}}}: {exc.message}", file=file) from None
+            said = hints.unit_setting(kind, unit, style) or f"units={{{kind!r}: {unit!r}}}"
+            raise DataError(f"{said}: {exc.message}", file=file) from None
     return out
 
 
@@ -346,26 +455,31 @@ def _column_unit(table: _Table, choice: _Choice, kind: str, given: dict[str, str
             where = col.unit_where or ("header" if col.unit_in_header else "units row")
             what = f"a {next(iter(known))} unit, not a {kind} unit" if known else "not a known unit"
             try:
-                canonical_unit(_cf_spelling(col.unit_text), kind)
+                _canonical(_cf_spelling(col.unit_text), kind)
             except DataError as exc:
                 raise DataError(f"the {where} gives the unit {col.unit_text!r}, {what}; {exc.message}",
                                 file=table.file, column=col.name) from None
     if kind in given:
+        said = f"units= says {kind} {given[kind]}"
+        if table.hint_style == "cli" and (flag := hints.unit_setting(kind, given[kind], "cli")):
+            said = f"{flag} was given"
         if header is not None and header != given[kind]:
             raise DataError(
-                f"the header says {header} but units= says {kind} {given[kind]}; "
+                f"the header says {header} but {said}; "
                 "remove one of them or make them agree", file=table.file, column=col.name,
             )
         return given[kind], "units="
     if header is not None:
         return header, "header"
-    return ("radius/s" if kind == "velocity" else "rad/s"), "assumed"
+    return {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}[kind], "assumed"
 
 
 def _describe_units(unit_of: dict[str, tuple[str, str]], chosen: dict[str, _Column]) -> str:
     parts = []
-    for kind in _UNIT_KINDS:
+    for kind in (*_UNIT_KINDS, "angle"):
         roles = [r for r in unit_of if _ROLE_KINDS[r.split(".")[1]] == kind]
+        if not roles:
+            continue  # no angle in a Cartesian file
         found = {unit_of[r] for r in roles}
         if len({u for u, _ in found}) == 1:
             unit, origin = next(iter(found))

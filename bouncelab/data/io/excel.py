@@ -4,7 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bouncelab.data.io.table import _finish_table, _is_empty_cell, _module_available, _Table
+from bouncelab.data.io import hints
+from bouncelab.data.io.table import (
+    _finish_table,
+    _header_row_error,
+    _is_empty_cell,
+    _looks_like_title,
+    _module_available,
+    _Table,
+)
 from bouncelab.errors import DataError
 
 _EXCEL_SUFFIXES = (".xlsx", ".xls")
@@ -32,7 +40,8 @@ def _hidden_sheets(xf) -> set[str]:
     return hidden
 
 
-def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
+def _read_excel(path: Path, file: str, sheet: str | int | None, *, header_row: int | None = None,
+                style: str = "python") -> _Table:
     suffix = path.suffix.lower()
     if suffix == ".xlsx" and not _module_available("openpyxl"):
         raise ImportError(
@@ -52,8 +61,8 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
             if sheet is None:
                 visible = [k for k, n in enumerate(names) if n not in hidden]
                 if not visible:
-                    raise DataError(f"every sheet of the workbook is hidden ({names}); name one with sheet=",
-                                    file=file)
+                    raise DataError(f"every sheet of the workbook is hidden ({names}); name one with "
+                                    f"{hints.option('sheet', style)}", file=file)
                 sheet = visible[0]  # the first sheet a person sees in Excel, not a hidden one
             if isinstance(sheet, int) and not isinstance(sheet, bool):
                 if not 0 <= sheet < len(names):
@@ -64,6 +73,8 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
                 sheet_name = names[sheet]
             elif str(sheet) in names:
                 sheet_name = str(sheet)
+            elif style == "cli" and str(sheet).strip().isdigit() and int(sheet) < len(names):
+                sheet_name = names[int(sheet)]  # --sheet 1: no sheet of that name, so the 0-based index
             else:
                 raise DataError(f"no sheet {sheet!r}; the workbook's sheets are {names}", file=file)
             df = pd.read_excel(xf, sheet_name=sheet_name, header=None, dtype=object)
@@ -77,6 +88,17 @@ def _read_excel(path: Path, file: str, sheet: str | int | None) -> _Table:
     keep = [k for k, r in enumerate(grid) if not all(_is_empty_cell(c) for c in r)]
     if not keep:
         raise DataError(f"sheet {sheet_name!r} is empty (no header, no data)", file=file)
+    if header_row is not None:
+        if header_row > len(grid):
+            raise _header_row_error(file, header_row, f"sheet {sheet_name!r} has {len(grid)} rows", style)
+        if header_row - 1 not in keep:
+            raise _header_row_error(file, header_row, f"row {header_row} of sheet {sheet_name!r} is empty; a "
+                                    "header names the columns", style)
+        first = keep.index(header_row - 1)
+        keep = keep[first:]
+    else:
+        while len(keep) > 2 and _looks_like_title(grid[keep[0]], grid[keep[1]], grid[keep[2]], _is_empty_cell):
+            keep = keep[1:]  # a title or note above the header
     header = grid[keep[0]]
     names_ = ["" if _is_empty_cell(c) else str(c).strip() for c in header]
     while names_ and not names_[-1]:

@@ -5,22 +5,28 @@ from __future__ import annotations
 import math
 import os
 import stat
+import sys
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
 import xarray as xr
 
+from bouncelab.data.io import hints
 from bouncelab.data.io.columns import _check_units_arg
 from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
 from bouncelab.data.io.matlab import _read_mat
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
-from bouncelab.data.io.table import _campaign_from_table
+from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
 from bouncelab.data.io.text import _read_text
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: File suffixes :func:`load_campaign` reads (case-insensitive).
 SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".netcdf")
@@ -86,8 +92,24 @@ def _embedded_file(name: str, surrogate: str = "published"):
     return path
 
 
+def _is_dataframe(obj: Any) -> bool:
+    """A pandas DataFrame, without importing pandas for anything else."""
+    pd = sys.modules.get("pandas")
+    return pd is not None and isinstance(obj, pd.DataFrame)
+
+
+def _check_header_row(header_row: Any, file: str, style: str) -> int | None:
+    if header_row is None:
+        return None
+    opt = hints.option("header_row", style)
+    if isinstance(header_row, bool) or not isinstance(header_row, int | np.integer) or header_row < 1:
+        raise DataError(f"{opt} is the 1-based line (text file) or row (spreadsheet) of the header, a whole "
+                        f"number >= 1; got {header_row!r}", file=file)
+    return int(header_row)
+
+
 def load_campaign(
-    source: str | os.PathLike[str],
+    source: str | os.PathLike[str] | pd.DataFrame,
     *,
     columns: Mapping[str, Any] | None = None,
     units: Mapping[str, str] | None = None,
@@ -97,13 +119,18 @@ def load_campaign(
     ball_radius_m: float = BALL_RADIUS_M,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
     surrogate: str = "published",
+    header_row: int | None = None,
+    missing: str = "raise",
+    hint_style: str = "python",
 ) -> xr.Dataset:
-    """Load a bounce campaign from a file, or one of the embedded campaigns.
+    """Load a bounce campaign from a file, a pandas DataFrame, or one of the embedded campaigns.
 
     Parameters
     ----------
     source
-        ``"A"`` or ``"B"`` (a string, any case) for an embedded campaign; any
+        ``"A"`` or ``"B"`` (a string, any case) for an embedded campaign; a
+        :class:`pandas.DataFrame` with one row per bounce (read exactly as a
+        file: its column names are the header, errors name the row label); any
         other string or path is a file: ``.csv``, ``.tsv``, ``.txt``,
         ``.xlsx``, ``.xls``, ``.mat``, ``.nc`` or ``.netcdf``.
     columns
@@ -111,10 +138,15 @@ def load_campaign(
         "liftoff": [xdotF, ydotF, omegaF]}`` plus optional ``"setting"`` (one
         name), ``"landing_pi"`` and ``"liftoff_pi"`` (three names each). Names
         match case-, space-, punctuation- and unit-suffix-insensitively.
+        A landing or lift-off given as speed, angle and spin is a mapping,
+        ``{"speed": ..., "angle": ..., "spin": ...}`` (the landing angle
+        positive below the horizontal, the lift-off angle above it; degrees
+        unless the header or ``units={"angle": "rad"}`` says otherwise).
         ``None`` detects them from :data:`~bouncelab.data.io.COLUMN_SYNONYMS`.
     units
         Units of the file's values, ``{"velocity": "m/s", "spin": "rpm"}``
-        (either key optional). Without it a unit in a column's header is used,
+        (either key optional; ``"angle"``: ``"deg"`` or ``"rad"`` for polar
+        columns). Without it a unit in a column's header is used,
         else scaled units (radii/s, rad/s) are assumed.
     campaign, surface
         Names stored in the attrs; default: the file stem and ``""`` (for a
@@ -135,6 +167,21 @@ def load_campaign(
         ``"turf"`` the campaign simulated from a calibrated TurfContact turf and
         measured through camera frames (:func:`bouncelab.simulate_campaign`;
         ``docs/simulation.md``). The name is stored in attrs ``surrogate``.
+    header_row
+        The 1-based line of a text file (or row of a spreadsheet) that holds
+        the header, counting every line; the lines above it are ignored.
+        Default: the first line that is not a comment nor a title line (a
+        line above the header with fewer cells than it and no number).
+    missing
+        ``"raise"`` (default): a missing value (an empty cell, ``NA``,
+        ``NaN``...) in a column that is read is an error naming the cell.
+        ``"drop"``: such rows are left out, with a
+        :class:`~bouncelab.errors.DroppedRowsWarning` that lists them, and
+        their data rows (1-based) are stored in attrs ``dropped_rows``.
+    hint_style
+        How messages name the options to change: ``"python"`` (keywords such
+        as ``units={'spin': 'rpm'}``, default) or ``"cli"`` (the ``bouncelab``
+        command's flags such as ``--spin-unit rpm``; the command line passes it).
 
     Returns
     -------
@@ -161,8 +208,18 @@ def load_campaign(
     """
     if surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
+    style = hints.check_style(hint_style)
+    if missing not in MISSING_POLICIES:
+        raise DataError(f"{hints.option('missing', style)} must be one of {', '.join(map(repr, MISSING_POLICIES))}; "
+                        f"got {missing!r}")
+    if _is_dataframe(source):
+        return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
+                               sheet=sheet, ball_radius_m=ball_radius_m, plausible=plausible,
+                               header_row=header_row, missing=missing, style=style)
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
+        if header_row is not None:
+            raise DataError(f"{hints.option('header_row', style)} does not apply to an embedded campaign")
         res = _embedded_file(name) if surrogate == "published" else _embedded_file(name, surrogate)
         with resources.as_file(res) as path:
             file = f"embedded campaign {name} ({path.name})"
@@ -197,7 +254,10 @@ def load_campaign(
             f"{', '.join(SUPPORTED_SUFFIXES)}", file=file,
         )
     if sheet is not None and suffix not in _EXCEL_SUFFIXES:
-        raise DataError("sheet= only applies to Excel files", file=file)
+        raise DataError(f"{hints.option('sheet', style)} only applies to Excel files", file=file)
+    header_line = _check_header_row(header_row, file, style)
+    if header_line is not None and suffix not in (*_EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
+        raise DataError(f"{hints.option('header_row', style)} only applies to text and Excel files", file=file)
     try:
         radius = float(ball_radius_m)
     except (TypeError, ValueError):
@@ -217,14 +277,49 @@ def load_campaign(
             )
         table = _table_from_dataset(ds, file)
     elif suffix in _EXCEL_SUFFIXES:
-        table = _read_excel(path, file, sheet)
+        table = _read_excel(path, file, sheet, header_row=header_line, style=style)
     elif suffix == ".mat":
         table = _read_mat(path, file)
     else:
-        table = _read_text(path, file, _read_bytes(path, file))
+        table = _read_text(path, file, _read_bytes(path, file), header_row=header_line, style=style)
+    table.hint_style = style
     return _campaign_from_table(
-        table, columns=columns, units=_check_units_arg(units, file),
+        table, columns=columns, units=_check_units_arg(units, file, style),
         campaign=path.stem if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=radius, plausible=plausible,
+        source=absolute, ball_radius_m=radius, plausible=plausible, missing=missing,
     )
+
+
+#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3: ... (row label 'b7')``).
+DATAFRAME_NAME = "<DataFrame>"
+
+
+def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str | None, surface: str | None,
+                    sheet: Any, ball_radius_m: float, plausible: PlausibleRanges, header_row: Any, missing: str,
+                    style: str) -> xr.Dataset:
+    """A DataFrame read as a table: its column names are the header, its rows the data."""
+    file = DATAFRAME_NAME
+    for name, value in (("sheet", sheet), ("header_row", header_row)):
+        if value is not None:
+            raise DataError(f"{hints.option(name, style)} does not apply to a DataFrame", file=file)
+    radius = _check_radius(ball_radius_m, file)
+    table = _table_from_dataframe(df, file)
+    table.hint_style = style
+    return _campaign_from_table(
+        table, columns=columns, units=_check_units_arg(units, file, style),
+        campaign="DataFrame" if campaign is None else str(campaign),
+        surface="" if surface is None else str(surface),
+        source="pandas.DataFrame", ball_radius_m=radius, plausible=plausible, missing=missing, warn_depth=1,
+    )
+
+
+def _check_radius(ball_radius_m: Any, file: str) -> float:
+    try:
+        radius = float(ball_radius_m)
+    except (TypeError, ValueError):
+        radius = math.nan
+    if not (math.isfinite(radius) and radius > 0):
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
+                        file=file)
+    return radius

@@ -8,6 +8,7 @@ from __future__ import annotations
 import importlib.util
 import math
 import re
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -16,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.data.campaign import make_campaign
+from bouncelab.data.io import hints
 from bouncelab.data.io.columns import (
     _PI_STATES,
     _ROLE_KINDS,
@@ -36,9 +38,9 @@ from bouncelab.data.plausibility import (
     implausibility,
     plausible_units,
 )
-from bouncelab.data.units import COMPONENTS, spin_to_scaled, velocity_to_scaled
+from bouncelab.data.units import COMPONENTS, spin_to_scaled, state_from_polar, velocity_to_scaled
 from bouncelab.data.validation import as_states
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, DroppedRowsWarning
 
 
 def _module_available(name: str) -> bool:
@@ -71,18 +73,32 @@ class _Table:
     locate: Callable[[int, str], str] | None = None  # row index, column -> "line 5"
     offset: int = 0  # rows consumed by a units row
     decimal_comma: bool = False
+    hint_style: str = "python"  # how messages name options: Python keywords or CLI flags (io/hints.py)
+    kept: list[int] | None = None  # the file's data row (0-based) of each row, once rows are dropped
+
+    def data_row(self, index: int) -> int:
+        """The file's 0-based data row of row ``index`` of the table."""
+        return index if self.kept is None else self.kept[index]
 
     def where(self, index: int, column: str) -> str:
         if self.locate is None:
             return ""
-        return f" ({self.locate(index + self.offset, column)})"
+        return f" ({self.locate(self.data_row(index) + self.offset, column)})"
 
 
 def _err(table: _Table, message: str, column: str | None = None, index: int | None = None) -> DataError:
     """A DataError at data row ``index`` (0-based) of ``column``."""
     if index is None:
         return DataError(message, file=table.file, column=column)
-    return DataError(message + table.where(index, column or ""), file=table.file, column=column, row=index + 1)
+    return DataError(message + table.where(index, column or ""), file=table.file, column=column,
+                     row=table.data_row(index) + 1)
+
+
+def _cell(col: _Column, index: int, unit: str | None = None) -> str:
+    """A cell as written in the file, with its unit (``'3.404 m/s'``), for messages: never a converted number."""
+    v = col.values[index]
+    text = v.strip() if isinstance(v, str) else repr(v.item() if isinstance(v, np.generic) else v)
+    return text if unit is None else f"{text} {unit}"
 
 
 def _finish_table(
@@ -190,10 +206,68 @@ def _is_missing(v: Any) -> bool:
     return _is_empty_cell(v) or (isinstance(v, str) and v.strip().lower() in _MISSING)
 
 
+def _drop_hint(table: _Table) -> str:
+    return f"{hints.setting('missing', 'drop', table.hint_style)} drops incomplete rows"
+
+
+#: What ``missing=`` accepts: refuse incomplete rows (default) or drop them with a warning.
+MISSING_POLICIES = ("raise", "drop")
+
+
+def _missing_rows(table: _Table, cols: Mapping[str, _Column]) -> dict[int, tuple[str, Any]]:
+    """Rows with a missing cell in a selected column: row -> (column, cell) of the first one."""
+    out: dict[int, tuple[str, Any]] = {}
+    for col in cols.values():
+        vals = col.values
+        if isinstance(vals, np.ndarray) and vals.dtype.kind in "iub":
+            continue
+        if isinstance(vals, np.ndarray) and vals.dtype.kind == "f":
+            rows = np.flatnonzero(np.isnan(vals)).tolist()
+        else:
+            rows = [i for i, v in enumerate(vals) if _is_missing(v)]
+        for i in rows:
+            out.setdefault(i, (col.name, vals[i]))
+    return dict(sorted(out.items()))
+
+
+def _drop_missing(table: _Table, cols: dict[str, _Column],
+                  stacklevel: int) -> tuple[_Table, dict[str, _Column], list[int]]:
+    """The table without its incomplete rows (of the selected columns), and the 0-based rows dropped."""
+    bad = _missing_rows(table, cols)
+    if not bad:
+        return table, cols, []
+    if len(bad) == table.n_rows:
+        raise DataError(f"every row has a missing value (e.g. column {bad[0][0]!r}, row 1): nothing is left "
+                        "to load", file=table.file)
+    keep = [i for i in range(table.n_rows) if i not in bad]
+    new = {}
+    for role, col in cols.items():
+        vals = col.values[keep] if isinstance(col.values, np.ndarray) else [col.values[i] for i in keep]
+        new[role] = _Column(col.name, vals, col.unit_text, col.unit_in_header, col.unit_where)
+    kept = _Table(table.file, list({id(c): c for c in new.values()}.values()), len(keep), table.text_cells,
+                  table.locate, table.offset, table.decimal_comma, table.hint_style, keep)
+
+    def show(i: int) -> str:
+        name, v = bad[i]
+        what = "empty" if _is_empty_cell(v) and not isinstance(v, float) else (
+            repr(v.strip()) if isinstance(v, str) else "NaN")
+        where = table.locate(i + table.offset, name) + ": " if table.locate is not None else ""
+        return f"row {i + 1} ({where}{name!r} is {what})"
+
+    warnings.warn(DroppedRowsWarning(
+        f"{table.file}: dropped {len(bad)} incomplete row(s) of {table.n_rows} (missing='drop'): "
+        + "; ".join(show(i) for i in bad)), stacklevel=stacklevel)
+    return kept, new, list(bad)
+
+
 def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]:
     """Column as floats, and the error of its first bad cell (or None)."""
     vals = col.values
     if isinstance(vals, np.ndarray) and vals.dtype.kind == "f":
+        if table.text_cells and np.isnan(vals).any():  # a DataFrame's NaN is a missing cell, as in a file
+            i = int(np.flatnonzero(np.isnan(vals))[0])
+            return vals, _err(table, f"missing value (NaN); every bounce needs a value ({_drop_hint(table)})",
+                              col.name, i)
         return vals, None  # NaN and inf are reported by as_states
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         return vals.astype(float), None
@@ -210,11 +284,11 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
     for i, v in enumerate(vals):
         x: float | None = None
         if table.text_cells and _is_empty_cell(v):
-            return out, _err(table, "empty cell; every bounce needs a value", col.name, i)
+            return out, _err(table, f"empty cell; every bounce needs a value ({_drop_hint(table)})", col.name, i)
         if isinstance(v, str):
             if _is_missing(v):
-                return out, _err(table, f"missing value {v.strip()!r}; every bounce needs a value",
-                                 col.name, i)
+                return out, _err(table, f"missing value {v.strip()!r}; every bounce needs a value "
+                                 f"({_drop_hint(table)})", col.name, i)
             x = _parse_number(v, decimal_comma=table.decimal_comma)
         elif isinstance(v, int | float | np.number) and not isinstance(v, bool | np.bool_):
             x = float(v)
@@ -291,7 +365,8 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
         if _is_missing(v) or (isinstance(v, float) and not math.isfinite(v)):
             shown = "empty" if _is_empty_cell(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str)
                                                                                      else v)
-            raise _err(table, f"missing setting label ({shown}); every bounce needs one", col.name, i)
+            raise _err(table, f"missing setting label ({shown}); every bounce needs one ({_drop_hint(table)})",
+                       col.name, i)
         if isinstance(v, str) and (x := _parse_number(v)) is not None and not math.isfinite(x):
             raise _err(table, f"setting label {v.strip()!r} is not a finite number nor a name; "
                        "every bounce needs a label", col.name, i)
@@ -347,6 +422,8 @@ def _campaign_from_table(
     source: str,
     ball_radius_m: float,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
+    missing: str = "raise",
+    warn_depth: int = 0,
 ) -> xr.Dataset:
     file = table.file
     if table.n_rows == 0:
@@ -365,6 +442,9 @@ def _campaign_from_table(
         longest = max(lengths, key=lambda k: lengths[k])
         raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each",
                         file=file, column=longest)
+    dropped: list[int] = []
+    if missing == "drop":
+        table, cols, dropped = _drop_missing(table, cols, 4 + warn_depth)
 
     _decimal_convention(table, [c for role, c in cols.items() if role != "setting"])
     # Cell values: report the first bad cell in row order.
@@ -392,13 +472,24 @@ def _campaign_from_table(
         kind = _ROLE_KINDS[role.split(".")[1]]
         unit, origin = _column_unit(table, chosen[role], kind, units)
         state_role = role.replace("_pi.", ".")
+        if state_role != role and state_role not in unit_of and state_role.endswith(("xdot", "ydot")):
+            state_role = state_role.rsplit(".", 1)[0] + ".speed"  # the Cartesian interval of a polar state
         if origin == "assumed" and state_role != role and unit_of[state_role][1] != "assumed":
             unit, origin = unit_of[state_role][0], "its state column"  # a half-width has its value's unit
         unit_of[role] = (unit, origin)
         if kind == "velocity":
             scaled[role] = velocity_to_scaled(parsed[role], unit, radius_m=ball_radius_m)
+        elif kind == "angle":
+            scaled[role] = np.rad2deg(parsed[role]) if unit == "rad" else parsed[role]  # degrees
         else:
             scaled[role] = spin_to_scaled(parsed[role], unit)
+    attrs = {"source_units": _describe_units(unit_of, cols)}
+    polar = [s for s in _STATES if f"{s}.speed" in cols]
+    if polar:
+        attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in _STATES)
+    for state in polar:
+        _polar_state(table, state, cols, parsed, scaled, unit_of, ball_radius_m)
+    _check_landing_sign(table, cols, scaled, unit_of)
 
     states: dict[str, np.ndarray] = {}
     for state in (*_STATES, *_PI_STATES):
@@ -412,12 +503,13 @@ def _campaign_from_table(
             raise _relocate(table, exc, cols) from None
         if state in _PI_STATES and (arr < 0).any():
             i, k = (int(v) for v in np.argwhere(arr < 0)[0])
-            raise _err(table, f"prediction-interval half-width {float(parsed[roles[k]][i])!r} is negative",
+            raise _err(table, f"prediction-interval half-width {_cell(cols[roles[k]], i)} is negative",
                        cols[roles[k]].name, i)
 
     _check_plausible(table, cols, parsed, scaled, unit_of, ball_radius_m, plausible)
 
-    attrs = {"source_units": _describe_units(unit_of, cols)}
+    if missing == "drop":
+        attrs["dropped_rows"] = [i + 1 for i in dropped]  # the file's data rows, 1-based as in errors
     try:
         return make_campaign(
             states["landing"], states["liftoff"], setting=setting,
@@ -427,6 +519,86 @@ def _campaign_from_table(
         )
     except DataError as exc:  # pragma: no cover - everything is checked above
         raise _relocate(table, exc, cols) from None
+
+
+# A radian column read as degrees: every angle within +-(pi + a few tenths) degrees.
+_RADIAN_LIKE = math.pi + 0.35
+
+
+def _polar_state(
+    table: _Table,
+    state: str,
+    cols: dict[str, _Column],
+    parsed: dict[str, np.ndarray],
+    scaled: dict[str, np.ndarray],
+    unit_of: dict[str, tuple[str, str]],
+    radius_m: float,
+) -> None:
+    """Convert a state given as speed, angle and spin to xdot, ydot (in place), refusing what is not a bounce.
+
+    Polar files give speeds >= 0 and a ball moving in +x; the angle is positive below the horizontal for
+    a landing, above it for a lift-off; spin > 0 is backspin (bouncelab's omega > 0).
+    """
+    sp, an, om = (f"{state}.{c}" for c in ("speed", "angle", "omega"))
+    speed, angle = parsed[sp], scaled[an]
+    (angle_unit, angle_origin), speed_unit = unit_of[an], unit_of[sp][0]
+    name = "landing" if state == "landing" else "lift-off"
+    if angle_origin == "assumed" and len(angle) and np.nanmax(np.abs(angle)) <= _RADIAN_LIKE:
+        declare = hints.unit_setting("angle", "rad", table.hint_style)
+        raise DataError(
+            f"the file gives no unit for the {name} angles and every one is within +-{_RADIAN_LIKE:.2f}: read as "
+            "degrees (the default) they are implausibly flat, they look like radians; say which: "
+            + (f"{declare}, or " if declare else "") + f"put the unit in the header ('{cols[an].name} (rad)' "
+            "or '(deg)')", file=table.file, column=cols[an].name)
+    if state == "landing":
+        bad_speed = ~(speed > 0)
+        bad_angle = ~((angle > 0) & (angle <= 90))
+        convention = ("a landing angle is positive below the horizontal, in (0, 90] degrees for a ball coming "
+                      "down in +x (a file that measures it the other way needs the column negated)")
+    else:
+        bad_speed = ~(speed >= 0)
+        bad_angle = ~((angle >= 0) & (angle < 180))
+        convention = ("a lift-off angle is positive above the horizontal, in [0, 180) degrees (0 to 90 going "
+                      "on in +x, above 90 going back; a negative one would send the ball into the ground)")
+    rows = np.flatnonzero(bad_speed | bad_angle)
+    if rows.size:
+        i = int(rows[0])
+        if bad_speed[i]:
+            need = "positive" if state == "landing" else "zero or positive"
+            raise _err(table, f"{name} speed {_cell(cols[sp], i, speed_unit)}: a speed must be {need}; polar "
+                       "files give speeds >= 0 with the ball moving in +x (the angle gives the direction)",
+                       cols[sp].name, i)
+        raise _err(table, f"{name} angle {_cell(cols[an], i, angle_unit)} is not plausible: {convention}",
+                   cols[an].name, i)
+    cart = state_from_polar(np.column_stack([speed, angle, parsed[om]]), kind=state, speed_unit=speed_unit,
+                            spin_unit=unit_of[om][0], radius_m=radius_m)
+    scaled[f"{state}.xdot"], scaled[f"{state}.ydot"] = cart[:, 0], cart[:, 1]
+    # The components in the file's speed unit, for the unit checks (_check_plausible) and their messages.
+    a = np.deg2rad(angle)
+    parsed[f"{state}.xdot"] = speed * np.cos(a)
+    parsed[f"{state}.ydot"] = (-1.0 if state == "landing" else 1.0) * speed * np.sin(a)
+    for comp in ("xdot", "ydot"):
+        unit_of[f"{state}.{comp}"] = unit_of[sp]
+        cols[f"{state}.{comp}"] = cols[sp]
+
+
+def _check_landing_sign(table: _Table, cols: dict[str, _Column], scaled: dict[str, np.ndarray],
+                        unit_of: dict[str, tuple[str, str]]) -> None:
+    """A Cartesian landing going up, quoted as written in the file (as_states would quote radii/s)."""
+    if "landing.speed" in cols:
+        return  # a polar landing is checked by its angle
+    ydot = scaled["landing.ydot"]
+    up = np.flatnonzero(ydot >= 0)
+    if not up.size:
+        return
+    i = int(up[0])
+    state = np.column_stack([scaled[f"landing.{c}"] for c in COMPONENTS])
+    if not np.isfinite(state[: i + 1]).all():
+        return  # a non-finite value comes first: as_states reports it
+    col = cols["landing.ydot"]
+    raise _err(table, f"landing ydot must be negative (y points up, a landing moves down); the file gives "
+               f"{_cell(col, i, unit_of['landing.ydot'][0])} (a file whose y points down needs the column "
+               "negated)", col.name, i)
 
 
 def _relocate(table: _Table, exc: DataError, cols: dict[str, _Column]) -> DataError:
@@ -464,21 +636,21 @@ def _check_plausible(
         fits = [u for u, why in verdicts.items() if why is None]
         if fits == [default]:
             continue
-        names = [cols[r].name for r in assumed]
+        names = list(dict.fromkeys(cols[r].name for r in assumed))  # a polar speed backs xdot and ydot
         why = verdicts[default]
         said = f"the file gives no {kind} unit for {', '.join(map(repr, names))}"
         if len(fits) > 1:
             msg = (f"{said}, and its numbers are plausible in {', '.join(fits[:-1])} and in {fits[-1]}"
                    + (f" (not in {default}: {why.reason})" if why is not None else "")
-                   + f"; bouncelab does not guess: {declare_units_hint(kind, fits)}")
+                   + f"; bouncelab does not guess: {declare_units_hint(kind, fits, style=table.hint_style)}")
         elif fits:
             msg = (f"{said}; read as {default}, {why.reason}; the numbers look like {fits[0]}: "
-                   f"{declare_units_hint(kind, fits)}")
+                   f"{declare_units_hint(kind, fits, style=table.hint_style)}")
         else:
             msg = (f"{said}; read as {default}, {why.reason}, and they are not plausible in "
                    f"{', '.join(CANDIDATE_UNITS[kind])} either: check the column, or "
-                   f"{declare_units_hint(kind, [default])} and widen the plausible ranges "
-                   "(plausible=PLAUSIBLE_RANGES.widened(...))")
+                   f"{declare_units_hint(kind, [default], style=table.hint_style)} and widen the plausible "
+                   f"ranges ({_widen_hint(table)})")
         if why is not None and why.row is not None:
             raise _err(table, msg, cols[f"{why.state}.{why.component}"].name, why.row)
         raise DataError(msg, file=table.file, column=names[0] if len(names) == 1 else None)
@@ -489,8 +661,71 @@ def _check_plausible(
         return
     role = f"{why.state}.{why.component}"
     unit, origin = unit_of[role]
-    value = float(parsed[role][why.row]) if why.row is not None else None
-    said = f"{value!r} {unit}" if value is not None else f"in {unit}"
+    said = _cell(cols[role], why.row, unit) if why.row is not None else f"in {unit}"  # as written in the file
+    others = [u for u in CANDIDATE_UNITS[why.kind] if u != unit]
     msg = (f"{said} (unit from {origin}): {why.reason}; the {why.kind} unit is wrong: "
-           f"{declare_units_hint(why.kind, [u for u in CANDIDATE_UNITS[why.kind] if u != unit])}")
+           f"{declare_units_hint(why.kind, others, style=table.hint_style)}, or if the values are right "
+           f"widen the plausible ranges ({_widen_hint(table)})")
     raise _err(table, msg, cols[role].name, why.row)
+
+
+def _widen_hint(table: _Table) -> str:
+    if table.hint_style == "cli":
+        return "only from Python: load_campaign(..., plausible=PLAUSIBLE_RANGES.widened(...))"
+    return "plausible=PLAUSIBLE_RANGES.widened(...)"
+
+
+def _looks_like_title(title: Sequence[Any], header: Sequence[Any], first_row: Sequence[Any],
+                      blank: Callable[[Any], bool]) -> bool:
+    """Whether a line above the header is a title or note (``Bounce test 2026-03-14, turf B``).
+
+    Conservative, so that a data row is never taken for a header: the line has fewer cells than the
+    header under it and no number, the header has no number, and the row under the header has one
+    or is a units row.
+    """
+    def cells(row: Sequence[Any]) -> list[Any]:
+        return [c for c in row if not blank(c)]
+
+    def numeric(c: Any) -> bool:
+        if isinstance(c, bool | np.bool_):
+            return False
+        return isinstance(c, int | float | np.number) or (isinstance(c, str) and _parse_number(c) is not None)
+
+    t, h, d = cells(title), cells(header), cells(first_row)
+    return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(numeric, t)) and not any(map(numeric, h))
+            and (any(map(numeric, d)) or _is_units_row(first_row, blank)))
+
+
+def _header_row_error(file: str, header_row: int, what: str, style: str) -> DataError:
+    return DataError(f"{hints.setting('header_row', header_row, style)}: {what}", file=file)
+
+
+def _table_from_dataframe(df: Any, file: str) -> _Table:
+    """A pandas DataFrame as a table: column names are the header (units in them count), rows the data;
+    numeric columns keep their arrays, and messages name the row label."""
+    import pandas as pd
+
+    if isinstance(df.columns, pd.MultiIndex):
+        names = [" ".join(str(p) for p in c).strip() for c in df.columns]
+    else:
+        names = [str(c).strip() for c in df.columns]
+    if not names:
+        raise DataError("the DataFrame has no columns", file=file)
+    labels = list(df.index)
+    # pd.NA, NaT and NaN are empty cells; everything else stays as it is (text, numbers).
+    rows = df.astype(object).where(df.notna(), None).to_numpy(dtype=object).tolist()
+
+    def locate(i: int, col: str) -> str:
+        return f"row label {labels[i]!r}"
+
+    table = _finish_table(file, names, rows, locate=locate, blank=_is_empty_cell, strict_width=False)
+    if table.offset == 0:  # no units row: numeric columns are read as arrays (fast, ints exact)
+        for col in table.columns:
+            series = df.iloc[:, names.index(col.name)]
+            if pd.api.types.is_bool_dtype(series) or not pd.api.types.is_numeric_dtype(series):
+                continue
+            if series.dtype.kind in "iu" and not series.hasnans:
+                col.values = series.to_numpy()
+            else:
+                col.values = series.to_numpy(dtype=float, na_value=np.nan)
+    return table

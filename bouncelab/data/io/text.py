@@ -6,11 +6,19 @@ import csv
 import re
 from pathlib import Path
 
-from bouncelab.data.io.table import _MISSING, _finish_table, _parse_number, _Table
+from bouncelab.data.io.table import (
+    _MISSING,
+    _finish_table,
+    _header_row_error,
+    _looks_like_title,
+    _parse_number,
+    _Table,
+)
 from bouncelab.errors import DataError
 
 
-def _read_text(path: Path, file: str, raw: bytes) -> _Table:
+def _read_text(path: Path, file: str, raw: bytes, *, header_row: int | None = None,
+               style: str = "python") -> _Table:
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -25,6 +33,7 @@ def _read_text(path: Path, file: str, raw: bytes) -> _Table:
         k += 1
     if k == len(lines):
         raise DataError("the file is empty (no header, no data)", file=file)
+    k = _header_index(lines, k, len(all_lines), file, header_row, style)
     header_no, header_line = lines[k]
     body = lines[k + 1:]
     delim = _sniff([header_line] + [line for _, line in body[:49] if not _starts_comment(line)])
@@ -114,3 +123,32 @@ def _sniff(lines: list[str]) -> str | None:
         if best is None or n > best[1]:
             best = (d, n)
     return None if best is None else best[0]
+
+
+def _header_index(lines: list[tuple[int, str]], k: int, n_lines: int, file: str, header_row: int | None,
+                  style: str) -> int:
+    """Index in ``lines`` of the header: line ``header_row`` (1-based, every line counted), else the first
+    line ``k`` that is not a comment, or the first line after it below which title lines end (see
+    _looks_like_title: every line above it is a title, it is a header and the line under it data)."""
+    if header_row is not None:
+        if header_row > n_lines:
+            raise _header_row_error(file, header_row, f"the file has {n_lines} lines", style)
+        found = [j for j, (no, _) in enumerate(lines) if no == header_row]
+        if not found:
+            raise _header_row_error(file, header_row, f"line {header_row} is blank; a header names the columns",
+                                    style)
+        return found[0]
+    for h in range(k + 1, min(k + 11, len(lines) - 1)):
+        below = [line for _, line in lines[h:h + 50] if not _starts_comment(line)]
+        above = [line for _, line in lines[k:h] if not _starts_comment(line)]
+        if len(below) < 2 or _starts_comment(lines[h][1]):
+            continue
+        delim = _sniff(below)
+        try:
+            header, first, *titles = (line.split() if delim is None else next(csv.reader([line], delimiter=delim))
+                                      for line in (below[0], below[1], *above))
+        except csv.Error:
+            continue
+        if all(_looks_like_title(t, header, first, blank=lambda c: not c.strip()) for t in titles):
+            return h
+    return k

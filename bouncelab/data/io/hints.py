@@ -1,0 +1,57 @@
+"""How loader messages name the options a person can change: Python keywords or command-line flags.
+
+A loader error often ends in advice ("pass ``units={'spin': 'rpm'}``"). From the ``bouncelab``
+command the same advice must name the flag (``--spin-unit rpm``). The loader is told which
+language to speak (``load_campaign(..., hint_style="cli")``, which only the command line passes)
+and builds every piece of advice through the functions here; messages are never rewritten after
+the fact.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from bouncelab.errors import DataError
+
+#: The languages loader messages can speak: Python keywords (default) or the command's flags.
+HINT_STYLES = ("python", "cli")
+
+# Python keyword -> command-line flag of each loader option.
+_FLAGS = {
+    "columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
+    "units": "--velocity-unit/--spin-unit",
+}
+_UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit"}
+
+
+def check_style(style: Any) -> str:
+    """``style`` if it is one of :data:`HINT_STYLES`, else a DataError naming ``hint_style``."""
+    if style not in HINT_STYLES:
+        raise DataError(f"hint_style must be one of {', '.join(map(repr, HINT_STYLES))}; got {style!r}")
+    return style
+
+
+def option(name: str, style: str) -> str:
+    """The option itself: ``columns=`` (Python) or ``--columns`` (command line)."""
+    return _FLAGS[name] if style == "cli" else f"{name}="
+
+
+def setting(name: str, value: Any, style: str) -> str:
+    """An option with its value: ``missing='drop'`` or ``--missing drop``."""
+    return f"{_FLAGS[name]} {value}" if style == "cli" else f"{name}={value!r}"
+
+
+def unit_setting(kind: str, unit: str, style: str) -> str | None:
+    """How to declare a unit: ``units={'spin': 'rpm'}`` or ``--spin-unit rpm`` (None: no flag for it)."""
+    if style == "cli":
+        flag = _UNIT_FLAGS.get(kind)
+        return None if flag is None else f"{flag} {unit}"
+    return f"units={{{kind!r}: {unit!r}}}"
+
+
+def columns_call(file: str, parts: list[tuple[str, Any]], style: str) -> str:
+    """The ``columns=`` argument (or ``--columns`` JSON) that names ``parts`` (key, names) explicitly."""
+    if style == "cli":
+        return "--columns '" + json.dumps(dict(parts)) + "'"
+    return f"load_campaign({file!r}, columns={{{', '.join(f'{k!r}: {v!r}' for k, v in parts)}}})"
