@@ -323,3 +323,27 @@ def test_damaged_files_give_data_errors_or_the_same_values(tmp_path, suffix):
         else:  # a changed digit is a different, readable file: it must still be a plausible campaign
             assert implausibility(got.landing.values, got.liftoff.values) is None
             assert validate_campaign(got).landing.shape == got.landing.shape
+
+
+# --- arguments of load_campaign: a wrong type or unit is refused, never taken as metres ------------------
+
+@pytest.mark.parametrize("radius", [True, "0.02", b"0.02", None, -0.02, float("nan"), 21.35, 2.135])
+def test_ball_radius_that_is_no_ball_radius_in_metres_is_refused(tmp_path, radius):
+    good = write(tmp_path / "good.csv", rows())
+    with pytest.raises(DataError, match="ball_radius_m"):
+        bl.load_campaign(good, units=UNITS, ball_radius_m=radius)
+    with pytest.raises(DataError, match="ball_radius_m"):
+        bl.load_campaign("A", ball_radius_m=radius)
+
+
+def test_ball_radius_in_metres_scales_the_velocities(tmp_path):
+    good = write(tmp_path / "good.csv", rows())
+    golf = bl.load_campaign(good, units=UNITS)
+    tennis = bl.load_campaign(good, units=UNITS, ball_radius_m=0.0335)
+    np.testing.assert_allclose(tennis.landing.values[:, :2] * 0.0335, golf.landing.values[:, :2] * R)
+
+
+def test_plausible_must_be_ranges(tmp_path):
+    good = write(tmp_path / "good.csv", rows())
+    with pytest.raises(bl.ParameterError, match=r"plausible must be a PlausibleRanges.*widened"):
+        bl.load_campaign(good, units=UNITS, plausible=None)

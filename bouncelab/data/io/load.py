@@ -23,7 +23,7 @@ from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _tab
 from bouncelab.data.io.text import _read_text
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, ParameterError
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -209,12 +209,17 @@ def load_campaign(
     if surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     style = hints.check_style(hint_style)
+    where = DATAFRAME_NAME if _is_dataframe(source) else str(source)
+    radius = _check_radius(ball_radius_m, where)
+    if not isinstance(plausible, PlausibleRanges):
+        raise ParameterError(f"plausible must be a PlausibleRanges, e.g. PLAUSIBLE_RANGES.widened(max_spin=40_000) "
+                             f"to accept data beyond the default ranges on purpose; got {plausible!r}")
     if missing not in MISSING_POLICIES:
         raise DataError(f"{hints.option('missing', style)} must be one of {', '.join(map(repr, MISSING_POLICIES))}; "
                         f"got {missing!r}")
     if _is_dataframe(source):
         return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
-                               sheet=sheet, ball_radius_m=ball_radius_m, plausible=plausible,
+                               sheet=sheet, ball_radius_m=radius, plausible=plausible,
                                header_row=header_row, missing=missing, style=style)
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
@@ -226,7 +231,7 @@ def load_campaign(
             ds = _open_netcdf(Path(path), file)
             out = _campaign_from_netcdf(
                 ds, file=file, source=str(path), columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
+                campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
             )
             if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
                 out.attrs["surrogate"] = surrogate
@@ -258,13 +263,6 @@ def load_campaign(
     header_line = _check_header_row(header_row, file, style)
     if header_line is not None and suffix not in (*_EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
         raise DataError(f"{hints.option('header_row', style)} only applies to text and Excel files", file=file)
-    try:
-        radius = float(ball_radius_m)
-    except (TypeError, ValueError):
-        radius = math.nan
-    if not (math.isfinite(radius) and radius > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
-                        file=file)
     absolute = str(path.resolve())
     _check_regular_file(path, file)
 
@@ -273,7 +271,7 @@ def load_campaign(
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
             return _campaign_from_netcdf(
                 ds, file=file, source=absolute, columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, plausible=plausible,
+                campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
             )
         table = _table_from_dataset(ds, file)
     elif suffix in _EXCEL_SUFFIXES:
@@ -314,12 +312,25 @@ def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str
     )
 
 
+#: Ball radii accepted by ``ball_radius_m`` (metres): a table-tennis ball to a basketball, so that a radius given
+#: in millimetres (21.35) or centimetres is refused rather than taken as metres.
+BALL_RADIUS_RANGE_M = (0.005, 0.2)
+
+
 def _check_radius(ball_radius_m: Any, file: str) -> float:
-    try:
-        radius = float(ball_radius_m)
-    except (TypeError, ValueError):
-        radius = math.nan
+    """The ball radius as a float of metres, or a DataError: a number (not a bool or text), in a ball's range."""
+    radius = math.nan
+    if not isinstance(ball_radius_m, bool | str | bytes):
+        try:
+            radius = float(ball_radius_m)
+        except (TypeError, ValueError):
+            pass
     if not (math.isfinite(radius) and radius > 0):
         raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
                         file=file)
+    low, high = BALL_RADIUS_RANGE_M
+    if not low <= radius <= high:
+        raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "
+                        f"accepted: {low:g} to {high:g} m); give the radius in metres, e.g. {radius:g} mm is "
+                        f"{radius / 1000:g}", file=file)
     return radius
