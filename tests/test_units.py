@@ -320,3 +320,14 @@ def test_docstring_examples():
     result = doctest.testmod(units, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted >= 1
     assert result.failed == 0
+
+
+def test_conversion_overflow_is_silent_inf_for_the_state_checks_to_refuse():
+    import warnings
+
+    from bouncelab.data.units import velocity_from_scaled, velocity_to_scaled
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no NumPy RuntimeWarning reaches the user
+        assert np.isinf(velocity_to_scaled(np.array([1e308]), "m/s")).all()
+        assert np.isinf(velocity_from_scaled(np.array([1e308]), "mph", radius_m=10.0)).all()

@@ -120,7 +120,8 @@ def velocity_to_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RADIU
     _check_radius(radius_m)
     factor = SPEED_UNITS[canon]
     v = _numeric(value, "velocity")
-    return v if factor is None else v * (factor / radius_m)
+    with np.errstate(over="ignore"):  # 1e308 m/s becomes inf, which the state checks refuse by name
+        return v if factor is None else v * (factor / radius_m)
 
 
 def velocity_from_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RADIUS_M):
@@ -129,7 +130,8 @@ def velocity_from_scaled(value, unit: str = "m/s", *, radius_m: float = BALL_RAD
     _check_radius(radius_m)
     factor = SPEED_UNITS[canon]
     v = _numeric(value, "velocity")
-    return v if factor is None else v * (radius_m / factor)
+    with np.errstate(over="ignore"):
+        return v if factor is None else v * (radius_m / factor)
 
 
 def spin_to_scaled(value, unit: str = "rpm"):
