@@ -423,7 +423,7 @@ def _campaign_from_table(
             states["landing"], states["liftoff"], setting=setting,
             landing_pi=states.get("landing_pi"), liftoff_pi=states.get("liftoff_pi"),
             campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, source=source,
-            data_kind="measured", attrs=attrs,
+            data_kind="measured", attrs=attrs, plausible=None,  # checked above, with the file's units
         )
     except DataError as exc:  # pragma: no cover - everything is checked above
         raise _relocate(table, exc, cols) from None
