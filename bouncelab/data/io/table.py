@@ -52,6 +52,7 @@ class _Column:
     unit_text: str | None = None  # unit from the header suffix or a units row
     unit_in_header: bool = False
     unit_where: str = ""  # where the unit was read, when not the header or a units row
+    text: Callable[[], list[str]] | None = None  # cells as written, of a column read in bulk (fastcsv)
 
     @property
     def full_key(self) -> str:
@@ -281,7 +282,7 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
 
     A missing label (empty, ``n/a``, ``NaN``, ``#N/A``...) is an error naming the cell, not a setting.
     """
-    vals = col.values
+    vals = col.values if col.text is None else col.text()  # labels are typed from their text
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         if vals.dtype.kind == "u" and vals.size and int(vals.max()) > _INT64_MAX:
             return np.array([str(int(v)) for v in vals])

@@ -6,6 +6,7 @@ import csv
 import re
 from pathlib import Path
 
+from bouncelab.data.io.fastcsv import read_plain_csv
 from bouncelab.data.io.table import _MISSING, _finish_table, _parse_number, _Table
 from bouncelab.errors import DataError
 
@@ -17,6 +18,9 @@ def _read_text(path: Path, file: str, raw: bytes) -> _Table:
         text = raw.decode("latin-1")
     if "\x00" in text:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
+    fast = read_plain_csv(file, text)  # a plain comma-separated file of numbers: read in bulk, same table
+    if fast is not None:
+        return fast
     all_lines = text.splitlines()
     lines = [(i + 1, line) for i, line in enumerate(all_lines) if line.strip()]
     # Comment lines (# or %) before the header are skipped; after it, see _is_comment.

@@ -1,0 +1,138 @@
+"""Bulk reading of plain comma-separated tables: the fast path of the text reader.
+
+A comma-separated file whose data lines hold nothing but numbers (digits, ``+ - . e E``,
+commas and line breaks: no quotes, spaces, comments, missing-value words or other marks) is
+read in one pass by pandas' C parser instead of cell by cell. Such a file can hold none of the
+cells the text reader refuses or treats specially (``#``/``%`` lines, ``NA``, decimal commas,
+quoted cells, blanks in a whitespace file...), so the table it makes is the one the cell-by-cell
+reader makes: same columns, same numbers (parsed with Python's correctly rounded conversion, as
+the cell-by-cell reader does), same setting labels, same row and line in every error. Whenever
+a file is not plain, or pandas finds anything unusual (a ragged row, an empty or non-numeric
+cell, an infinite number), this returns ``None`` and the cell-by-cell reader reads the file
+and reports what it finds.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+import pandas as pd
+
+from bouncelab.data.io.table import _finish_table, _is_units_row, _Table
+
+# Bytes a plain data line may hold.
+_PLAIN = b"0123456789eE+-.,\r\n"
+# Line breaks of str.splitlines other than "\n" and "\r\n": a header region holding one is read cell by cell.
+_OTHER_BREAKS = ("\r", "\x0b", "\x0c", "\x1c", "\x1d", "\x1e", "\x85", "\u2028", "\u2029")
+_NEGATIVE_ZERO = re.compile(rb"(?:^|[,\n])-0+(?:[,\r\n]|$)", re.MULTILINE)
+_SNIFF_LINES = 49  # data lines the text reader's delimiter sniffing looks at
+
+
+def read_plain_csv(file: str, text: str) -> _Table | None:
+    """The table of a plain comma-separated ``text``, or ``None`` to read it cell by cell."""
+    from bouncelab.data.io.text import _sniff, _starts_comment
+
+    # The header: the first line that is neither blank nor a comment, as the text reader finds it.
+    pos, lineno = 0, 0
+    while True:
+        if pos >= len(text):
+            return None
+        end = text.find("\n", pos)
+        end = len(text) if end < 0 else end
+        line = text[pos:end]
+        line = line[:-1] if line.endswith("\r") else line
+        if any(c in line for c in _OTHER_BREAKS):
+            return None
+        lineno, pos = lineno + 1, end + 1
+        if line.strip() and not _starts_comment(line):
+            header_line, header_no = line, lineno
+            break
+    body = text[pos:]
+    if not body.isascii():
+        return None
+    raw = body.encode("ascii")
+    if raw.translate(None, _PLAIN) or (b"\r" in raw and raw.count(b"\r") != raw.count(b"\r\n")):
+        return None
+    if len(raw) > csv.field_size_limit():  # no cell may exceed the csv module's limit, as the text reader finds
+        breaks = np.flatnonzero(np.frombuffer(raw, dtype=np.uint8) == ord("\n"))
+        if np.diff(np.concatenate(([-1], breaks, [len(raw)]))).max() > csv.field_size_limit():
+            return None
+
+    sample: list[str] = []
+    p = 0
+    while len(sample) < _SNIFF_LINES and p < len(body):
+        q = body.find("\n", p)
+        q = len(body) if q < 0 else q
+        if body[p:q].strip():
+            sample.append(body[p:q].rstrip("\r"))
+        p = q + 1
+    if not sample or _sniff([header_line, *sample]) != ",":
+        return None
+    if _is_units_row(sample[0].split(","), lambda c: not c):
+        return None
+    try:
+        names = [h.strip() for h in next(csv.reader([header_line], delimiter=","))]
+    except csv.Error:
+        return None
+    while names and not names[-1]:
+        names.pop()
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # float_precision="round_trip": Python's own conversion
+            frame = pd.read_csv(io.BytesIO(raw), header=None, sep=",", na_filter=False, skip_blank_lines=True,
+                                quoting=csv.QUOTE_NONE, float_precision="round_trip", engine="c",
+                                low_memory=False)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError, TypeError):
+        return None
+    if frame.shape[1] != len(names) or len(frame) == 0:
+        return None
+    values: list[object] = []
+    for j in range(frame.shape[1]):
+        series = frame[j]
+        kind = series.dtype.kind
+        if kind in "iu":
+            arr = series.to_numpy()
+            if (arr == 0).any() and _NEGATIVE_ZERO.search(raw):  # "-0" is -0.0 as a number, 0 as an integer
+                return None
+            values.append(arr)
+        elif kind == "f":
+            arr = series.to_numpy()
+            if not np.isfinite(arr).all():  # a short row's NaN, or "1e999"
+                return None
+            values.append(arr)
+        elif kind == "O" and not series.isna().any():
+            values.append(series.tolist())  # cells as written: the cell-by-cell parse reports the bad one
+        else:
+            return None
+
+    lines: list[int] = []
+
+    def locate(i: int, col: str) -> str:
+        if not lines:  # only an error asks where a row is: find the lines then
+            lines.extend(header_no + k + 1 for k, line in enumerate(body.splitlines()) if line.strip())
+        return f"line {lines[i]}"
+
+    table = _finish_table(file, names, [], locate=locate, blank=lambda c: not c, strict_width=True)
+    for column, j in zip(table.columns, [j for j, name in enumerate(names) if name], strict=True):
+        column.values = values[j]
+        if isinstance(values[j], np.ndarray) and values[j].dtype.kind == "f":
+            column.text = _cells(raw, j)
+    table.n_rows = len(frame)
+    return table
+
+
+def _cells(raw: bytes, j: int) -> Callable[[], list[str]]:
+    """Column ``j``'s cells as written (a setting label is typed from its text, not its value)."""
+
+    def cells() -> list[str]:
+        frame = pd.read_csv(io.BytesIO(raw), header=None, sep=",", usecols=[j], dtype=str, na_filter=False,
+                            skip_blank_lines=True, quoting=csv.QUOTE_NONE, engine="c")
+        return frame[j].tolist()
+
+    return cells
