@@ -144,3 +144,26 @@ def test_random_plain_files_agree(tmp_path_factory, monkeypatch, cells, setting,
     rows = [",".join([s, *r]) for s, r in zip(setting, cells, strict=False)]
     path = _write(tmp_path_factory.mktemp("fuzz"), breaks.join([HEAD, *rows]) + breaks)
     _same(path, monkeypatch)
+
+
+@pytest.mark.parametrize(
+    ("head", "bulk"),
+    [
+        (b"\xef\xbb\xbf" + HEAD.encode(), True),  # byte-order mark
+        ("# vitesse mesur\u00e9e\n".encode() + HEAD.encode(), True),  # UTF-8 above the header
+        ("# vitesse mesur\u00e9e\n".encode("latin-1") + HEAD.encode(), False),  # Latin-1: read cell by cell
+        (b"# note\x00\n" + HEAD.encode(), False),  # NUL byte: refused by the text reader
+        (b"# a\x0bb\n" + HEAD.encode(), False),  # a line break only str.splitlines knows
+    ],
+)
+def test_header_region_agrees(tmp_path, monkeypatch, head, bulk):
+    path = tmp_path / "f.csv"
+    path.write_bytes(head + b"\n" + "\n".join(ROWS).encode() + b"\n")
+    used, _ = _same(str(path), monkeypatch)
+    assert used == bulk
+
+
+def test_line_beyond_the_csv_field_limit_agrees(tmp_path, monkeypatch):
+    long_zero = "0" * 140_000 + "1"  # "000...01" is 1, but the csv module refuses the oversized cell
+    used, got = _same(_write(tmp_path, HEAD + "\n" + ROWS[0] + f"\n2,900,-700,300,400,200,{long_zero}\n"), monkeypatch)
+    assert not used and got.startswith("DataError")

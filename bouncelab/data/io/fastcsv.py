@@ -33,43 +33,44 @@ _NEGATIVE_ZERO = re.compile(rb"(?:^|[,\n])-0+(?:[,\r\n]|$)", re.MULTILINE)
 _SNIFF_LINES = 49  # data lines the text reader's delimiter sniffing looks at
 
 
-def read_plain_csv(file: str, text: str) -> _Table | None:
-    """The table of a plain comma-separated ``text``, or ``None`` to read it cell by cell."""
+def read_plain_csv(file: str, data: bytes) -> _Table | None:
+    """The table of a plain comma-separated file's bytes ``data``, or ``None`` to read it cell by cell."""
     from bouncelab.data.io.text import _sniff, _starts_comment
 
     # The header: the first line that is neither blank nor a comment, as the text reader finds it.
-    pos, lineno = 0, 0
+    # Lines above it are decoded as UTF-8 (the text reader's choice for a file whose data are ASCII).
+    pos, lineno = (3 if data.startswith(b"\xef\xbb\xbf") else 0), 0
     while True:
-        if pos >= len(text):
+        if pos >= len(data):
             return None
-        end = text.find("\n", pos)
-        end = len(text) if end < 0 else end
-        line = text[pos:end]
+        end = data.find(b"\n", pos)
+        end = len(data) if end < 0 else end
+        try:
+            line = data[pos:end].decode("utf-8")
+        except UnicodeDecodeError:
+            return None
         line = line[:-1] if line.endswith("\r") else line
-        if any(c in line for c in _OTHER_BREAKS):
+        if "\x00" in line or any(c in line for c in _OTHER_BREAKS):
             return None
         lineno, pos = lineno + 1, end + 1
         if line.strip() and not _starts_comment(line):
             header_line, header_no = line, lineno
             break
-    body = text[pos:]
-    if not body.isascii():
-        return None
-    raw = body.encode("ascii")
+    raw = data[pos:]
     if raw.translate(None, _PLAIN) or (b"\r" in raw and raw.count(b"\r") != raw.count(b"\r\n")):
         return None
-    if len(raw) > csv.field_size_limit():  # no cell may exceed the csv module's limit, as the text reader finds
-        breaks = np.flatnonzero(np.frombuffer(raw, dtype=np.uint8) == ord("\n"))
-        if np.diff(np.concatenate(([-1], breaks, [len(raw)]))).max() > csv.field_size_limit():
-            return None
-
-    sample: list[str] = []
+    # No cell may exceed the csv module's field limit, which the text reader enforces: a line that long
+    # would hold a newline-free window of half the limit at one of these steps.
+    step = csv.field_size_limit() // 2
+    if any(raw.find(b"\n", k, k + step) < 0 for k in range(0, len(raw) - step + 1, step)):
+        return None
+    sample: list[str] = []  # the lines the text reader sniffs the delimiter from
     p = 0
-    while len(sample) < _SNIFF_LINES and p < len(body):
-        q = body.find("\n", p)
-        q = len(body) if q < 0 else q
-        if body[p:q].strip():
-            sample.append(body[p:q].rstrip("\r"))
+    while len(sample) < _SNIFF_LINES and p < len(raw):
+        q = raw.find(b"\n", p)
+        q = len(raw) if q < 0 else q
+        if raw[p:q].strip():
+            sample.append(raw[p:q].rstrip(b"\r").decode("ascii"))
         p = q + 1
     if not sample or _sniff([header_line, *sample]) != ",":
         return None
@@ -115,7 +116,7 @@ def read_plain_csv(file: str, text: str) -> _Table | None:
 
     def locate(i: int, col: str) -> str:
         if not lines:  # only an error asks where a row is: find the lines then
-            lines.extend(header_no + k + 1 for k, line in enumerate(body.splitlines()) if line.strip())
+            lines.extend(header_no + k + 1 for k, line in enumerate(raw.splitlines()) if line.strip())
         return f"line {lines[i]}"
 
     table = _finish_table(file, names, [], locate=locate, blank=lambda c: not c, strict_width=True)

@@ -12,15 +12,15 @@ from bouncelab.errors import DataError
 
 
 def _read_text(path: Path, file: str, raw: bytes) -> _Table:
+    fast = read_plain_csv(file, raw)  # a plain comma-separated file of numbers: read in bulk, same table
+    if fast is not None:
+        return fast
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
     if "\x00" in text:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
-    fast = read_plain_csv(file, text)  # a plain comma-separated file of numbers: read in bulk, same table
-    if fast is not None:
-        return fast
     all_lines = text.splitlines()
     lines = [(i + 1, line) for i, line in enumerate(all_lines) if line.strip()]
     # Comment lines (# or %) before the header are skipped; after it, see _is_comment.
