@@ -91,14 +91,15 @@ def test_bulk_and_cell_by_cell_agree(tmp_path, monkeypatch, body, bulk):
 
 
 @pytest.mark.parametrize(
-    "settings_",
-    [["1", "2"], ["007", "+8"], ["1.0", "2.0"], ["1.5", "2.5"], ["0.10000000000000001", "0.2"],
-     ["99999999999999999999", "1"], ["-99999999999999999999", "1"], ["1e3", "2"]],
+    ("settings_", "bulk"),
+    [(["1", "2"], True), (["007", "+8"], True), (["1.0", "2.0"], True), (["1.5", "2.5"], True),
+     (["0.10000000000000001", "0.2"], True), (["1e3", "2"], True),
+     (["99999999999999999999", "1"], False), (["-99999999999999999999", "1"], False)],  # beyond 64 bits
 )
-def test_setting_labels_typed_from_their_text(tmp_path, monkeypatch, settings_):
+def test_setting_labels_typed_from_their_text(tmp_path, monkeypatch, settings_, bulk):
     rows = [f"{s},900,-700,300,400,200,150" for s in settings_]
     used, _ = _same(_write(tmp_path, HEAD + "\n" + "\n".join(rows) + "\n"), monkeypatch)
-    assert used
+    assert used == bulk
 
 
 @pytest.mark.parametrize(
@@ -167,3 +168,14 @@ def test_line_beyond_the_csv_field_limit_agrees(tmp_path, monkeypatch):
     long_zero = "0" * 140_000 + "1"  # "000...01" is 1, but the csv module refuses the oversized cell
     used, got = _same(_write(tmp_path, HEAD + "\n" + ROWS[0] + f"\n2,900,-700,300,400,200,{long_zero}\n"), monkeypatch)
     assert not used and got.startswith("DataError")
+
+
+@pytest.mark.parametrize(
+    "late",
+    ["3,900,-700,300,400,200,1.5", "-0,900,-700,-0,400,200,150", "3,900,-700,300,400,200,x1",
+     "3.5,900,-700,300,400,200,150", "99999999999999999999,900,-700,300,400,200,150"],
+)
+def test_late_rows_of_a_long_file_agree(tmp_path, monkeypatch, late):
+    """pandas types a long file chunk by chunk: a row far down that changes a column's type changes nothing."""
+    rows = ["1,900,-700,300,400,200,150", "2,901,-701,301,401,201,151"] * 40_000 + [late]
+    _same(_write(tmp_path, HEAD + "\n" + "\n".join(rows) + "\n"), monkeypatch)

@@ -87,8 +87,7 @@ def read_plain_csv(file: str, data: bytes) -> _Table | None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # float_precision="round_trip": Python's own conversion
             frame = pd.read_csv(io.BytesIO(raw), header=None, sep=",", na_filter=False, skip_blank_lines=True,
-                                quoting=csv.QUOTE_NONE, float_precision="round_trip", engine="c",
-                                low_memory=False)
+                                quoting=csv.QUOTE_NONE, float_precision="round_trip", engine="c")
     except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError, TypeError):
         return None
     if frame.shape[1] != len(names) or len(frame) == 0:
@@ -97,19 +96,17 @@ def read_plain_csv(file: str, data: bytes) -> _Table | None:
     for j in range(frame.shape[1]):
         series = frame[j]
         kind = series.dtype.kind
-        if kind in "iu":
+        if kind in "iuf":
             arr = series.to_numpy()
-            if (arr == 0).any() and _NEGATIVE_ZERO.search(raw):  # "-0" is -0.0 as a number, 0 as an integer
+            if kind == "f" and not np.isfinite(arr).all():  # a short row's NaN, or "1e999"
+                return None
+            # "-0" is -0.0 as a number but 0 as an integer, and pandas reads a file in chunks, each typed alone
+            if (arr == 0).any() and _NEGATIVE_ZERO.search(raw):
                 return None
             values.append(arr)
-        elif kind == "f":
-            arr = series.to_numpy()
-            if not np.isfinite(arr).all():  # a short row's NaN, or "1e999"
-                return None
-            values.append(arr)
-        elif kind == "O" and not series.isna().any():
+        elif kind == "O" and series.map(type).eq(str).all():
             values.append(series.tolist())  # cells as written: the cell-by-cell parse reports the bad one
-        else:
+        else:  # NaN of a short row, or chunks typed differently (numbers and text)
             return None
 
     lines: list[int] = []
