@@ -25,12 +25,12 @@ def _load(path, monkeypatch, *, fast: bool, **kw):
     """Load ``path`` through the bulk reader, or with it switched off; (dataset or error text, used bulk?)."""
     used = []
 
-    def spy(file, txt):
-        table = fastcsv.read_plain_csv(file, txt)
+    def spy(*args):
+        table = fastcsv.read_plain_csv(*args)
         used.append(table is not None)
         return table
 
-    monkeypatch.setattr(text, "read_plain_csv", spy if fast else (lambda file, txt: None))
+    monkeypatch.setattr(text, "read_plain_csv", spy if fast else (lambda *args: None))
     try:
         return bl.load_campaign(path, **kw), bool(used and used[0])
     except bl.DataError as exc:
@@ -179,3 +179,14 @@ def test_late_rows_of_a_long_file_agree(tmp_path, monkeypatch, late):
     """pandas types a long file chunk by chunk: a row far down that changes a column's type changes nothing."""
     rows = ["1,900,-700,300,400,200,150", "2,901,-701,301,401,201,151"] * 40_000 + [late]
     _same(_write(tmp_path, HEAD + "\n" + "\n".join(rows) + "\n"), monkeypatch)
+
+
+@pytest.mark.parametrize("blank", ["", "\r\n", "\n\n"])
+def test_comments_above_and_blank_lines_within_agree(tmp_path, monkeypatch, blank):
+    """pandas reads the file from the header down (the lines above skipped), or from memory if data lines are blank."""
+    body = "# campaign\n\n% notes\n" + HEAD + "\n" + ROWS[0] + "\n" + blank + ROWS[1] + "\n" + blank
+    used, ds = _same(_write(tmp_path, body), monkeypatch)
+    assert used and ds.sizes["bounce"] == 2
+    bad = body.replace(ROWS[1], "2,900,700,300,400,200,150")  # a landing moving up: its line is named
+    used, err = _same(_write(tmp_path, bad, "bad.csv"), monkeypatch)
+    assert used and "line" in err

@@ -12,7 +12,7 @@ from bouncelab.errors import DataError
 
 
 def _read_text(path: Path, file: str, raw: bytes) -> _Table:
-    fast = read_plain_csv(file, raw)  # a plain comma-separated file of numbers: read in bulk, same table
+    fast = read_plain_csv(file, raw, path)  # a plain comma-separated file of numbers: read in bulk, same table
     if fast is not None:
         return fast
     try:
