@@ -221,7 +221,7 @@ def test_library_warnings_are_one_line_messages(capsys):
     import warnings
 
     before = warnings.showwarning
-    code = main(["predict", "PennerFixed", "--published", "B", "--landing", "50", "-100", "3000"])
+    code = main(["predict", "PennerFixed", "--published", "B", "--landing", "50", "-100", "2000"])
     _, err = capsys.readouterr()
     assert code == EXIT_OK and warnings.showwarning is before  # restored after the command
     assert err.startswith("bouncelab predict: warning: PennerFixed.published('B') predicts non-physical")

@@ -247,7 +247,7 @@ def _run(args: argparse.Namespace) -> int:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except (DataError, OSError) as exc:  # OSError here is reading an input: writes are OutputErrors
-        print(f"bouncelab {args.command}: data error: {_oneline(exc)}", file=sys.stderr)
+        print(f"bouncelab {args.command}: data error: {_flag_hints(_oneline(exc))}", file=sys.stderr)
         return EXIT_DATA
     except (FitError, ParameterError) as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
@@ -281,6 +281,15 @@ def _oneline(exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror and exc.filename:
         return f"{exc.strerror}: {exc.filename!r}"
     return str(exc)
+
+
+# The loader's advice in Python (units={'spin': 'rpm'}), as the command line's flags.
+_UNITS_ARG = re.compile(r"units=\{'(velocity|spin)': '([^']+)'\}")
+
+
+def _flag_hints(message: str) -> str:
+    """A data error's advice spelled as flags: ``units={'spin': 'rpm'}`` becomes ``--spin-unit rpm``."""
+    return _UNITS_ARG.sub(lambda m: f"--{m.group(1)}-unit {m.group(2)}", message)
 
 
 def _figure_units(text: str | None):
@@ -492,6 +501,7 @@ def _predict(args: argparse.Namespace) -> int:
     if not chunks:
         raise DataError("give landings with --landing XDOT YDOT OMEGA, --speed-angle-spin or --input FILE")
     landing = np.vstack(chunks)
+    _check_landings(landing, args, radius)
     liftoff = units.from_scaled(law.predict(landing), velocity=args.velocity_unit, spin=args.spin_unit,
                                 radius_m=radius)
     landing_out = units.from_scaled(landing, velocity=args.velocity_unit, spin=args.spin_unit, radius_m=radius)
@@ -502,6 +512,39 @@ def _predict(args: argparse.Namespace) -> int:
     for p0, pf, reg in zip(landing_out, liftoff, regimes, strict=True):
         print(" ".join(f"{x:.6g}" for x in (*p0, *pf)) + f" {reg}")
     return EXIT_OK
+
+
+def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
+    """The unit guard of typed landings: numbers that only a wrong --velocity-unit/--spin-unit makes are refused."""
+    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, scaled_units_error
+    from bouncelab.data.validation import as_states
+    from bouncelab.errors import DataError
+
+    if args.speed_angle_spin:
+        angles = np.array(args.speed_angle_spin)[:, 1]
+        low = angles < PLAUSIBLE_RANGES.min_landing_angle
+        if low.any():  # angles <= 0 or > 90 were refused by the conversion
+            a = float(angles[low][0])
+            raise DataError(
+                f"--speed-angle-spin: an angle of incidence of {a:g} degrees is implausible for a golf landing "
+                f"(below {PLAUSIBLE_RANGES.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to "
+                f"89.5 degrees); if it is in radians ({a:g} rad = {math.degrees(a):.4g} degrees), give degrees"
+            )
+    landing, _ = as_states(landing, "landing", landing=True)  # shape and sign first: their own messages
+
+    def declare(likely: dict[str, list[str]]) -> str:
+        return "give the unit with " + " ".join(f"--{kind}-unit {units[0]}" for kind, units in likely.items())
+
+    def widen(limit: str) -> str:
+        return ("predict in Python with the law's predict() (the command line keeps bouncelab's plausible "
+                f"ranges, bouncelab.data.plausibility.PLAUSIBLE_RANGES.{limit})")
+
+    error = scaled_units_error(landing, None, radius_m=radius, ranges=PLAUSIBLE_RANGES,
+                               units={"velocity": args.velocity_unit, "spin": args.spin_unit},
+                               declare=declare, widen=widen)
+    if error is not None:
+        where = f"landing {error.row}, {error.column}" if error.row is not None else f"the landings' {error.column}"
+        raise DataError(f"{where}: {error.message}")
 
 
 def _info(args: argparse.Namespace) -> int:

@@ -18,12 +18,14 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
+import math
 import sys
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, canonical_unit
 from bouncelab.data.validation import as_states, check_same_length
 from bouncelab.errors import DataError
@@ -52,6 +54,7 @@ def make_campaign(
     source: str = "",
     data_kind: str = "unknown",
     attrs: dict[str, Any] | None = None,
+    plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
 ) -> xr.Dataset:
     """Build a validated campaign Dataset from (n, 3) arrays in scaled units.
 
@@ -73,11 +76,20 @@ def make_campaign(
         Further attrs to store. They cannot replace ``conventions`` (which
         describes the arrays' scaled units), and a ``data_kind`` given here is
         checked like the argument.
+    plausible
+        The magnitudes a golf bounce can have
+        (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`, the loader's ranges). Values
+        that only a unit mistake makes are refused: any speed beyond 90 m/s or spin beyond
+        20 000 rpm, a median landing speed below 1 m/s (m/s given as radii/s), a campaign
+        spinning nowhere faster than 300 rpm. Widen them on purpose with
+        ``PLAUSIBLE_RANGES.widened(max_spin=...)``; ``None`` checks nothing.
 
     Raises
     ------
     DataError
-        On any bad array (shape, NaN, a landing with ``ydot >= 0``, ...).
+        On any bad array (shape, NaN, a landing with ``ydot >= 0``, ...), and on values
+        implausible in scaled units: the message names the column (``xdot0`` ... ``omegaF``),
+        the unit the numbers look like and how to convert or widen.
 
     Notes
     -----
@@ -87,6 +99,7 @@ def make_campaign(
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
+    check_scaled(p0, pf, radius_m=_radius(ball_radius_m), ranges=plausible)
     # as_states may return the caller's own array; the campaign must not share memory with it.
     p0, pf = p0.copy(), pf.copy()
     data_kind = (attrs or {}).get("data_kind", data_kind)
@@ -128,6 +141,16 @@ def make_campaign(
     return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
 
 
+def _radius(ball_radius_m: Any) -> float:
+    try:
+        radius = float(ball_radius_m)
+    except (TypeError, ValueError):
+        radius = math.nan
+    if not (math.isfinite(radius) and radius > 0):
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}")
+    return radius
+
+
 def setting_labels(setting: Any, n: int) -> np.ndarray:
     """Launcher-setting labels as a length-n array of int64 or str, validated.
 
@@ -163,7 +186,9 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
     """Check that ``ds`` is a well-formed campaign and return it in canonical form.
 
     The returned Dataset has the variables in (bounce, component) order with
-    components ``xdot, ydot, omega``; values are unchanged.
+    components ``xdot, ydot, omega``; values are unchanged. This checks the form, not the
+    plausibility of the magnitudes (that is :func:`make_campaign`'s ``plausible=`` and the
+    loader's), so a campaign built with widened ranges stays valid.
 
     Raises
     ------
@@ -194,7 +219,7 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
         liftoff_pi=None if "liftoff_pi" not in pis else pis["liftoff_pi"].transpose("bounce", "component"),
         campaign=kept.pop("campaign", ""), surface=kept.pop("surface", ""),
         ball_radius_m=float(kept.pop("ball_radius_m", BALL_RADIUS_M)), source=kept.pop("source", ""),
-        data_kind=kept.pop("data_kind", "unknown"), attrs=kept,
+        data_kind=kept.pop("data_kind", "unknown"), attrs=kept, plausible=None,
     )
     if "bounce" in ds.coords:
         bounce = ds["bounce"].values

@@ -29,20 +29,24 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from bouncelab.data.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
+from bouncelab.errors import DataError
 
 __all__ = [
     "CANDIDATE_UNITS",
     "PLAUSIBLE_RANGES",
     "Implausibility",
     "PlausibleRanges",
+    "check_scaled",
     "declare_units_hint",
     "implausibility",
     "plausible_units",
+    "scaled_units_error",
 ]
 
 _RPM = 2.0 * math.pi / 60.0  # rad/s per rpm
@@ -68,12 +72,17 @@ class PlausibleRanges:
         Smallest largest ``|omega|`` of a file, landing and lift-off together, in rpm (default
         300 rpm: a ball rolling off the turf at 5 m/s already spins at 2200 rpm). Used only to
         tell units apart when a file gives none.
+    min_landing_angle
+        Smallest angle of incidence below the horizontal, in degrees, of a landing given as
+        speed, angle and spin (default 5 degrees; the paper's landings come in at 16.4 to 89.5
+        degrees): angles in radians read as degrees are all below 1.6 degrees.
     """
 
     max_speed: float = 90.0
     max_spin: float = 20_000.0
     min_median_landing_speed: float = 1.0
     min_peak_spin: float = 300.0
+    min_landing_angle: float = 5.0
 
     def widened(self, **changes: float) -> PlausibleRanges:
         """A copy with some limits changed (``PLAUSIBLE_RANGES.widened(max_spin=40_000)``)."""
@@ -225,6 +234,155 @@ def declare_units_hint(kind: str, units: tuple[str, ...] | list[str], *, style: 
         options = " or ".join(f"units={{{kind!r}: {u!r}}}" for u in units)
     example = "[m/s]" if kind == "velocity" else "[rpm]"
     return f"pass {options}, or put the unit in the column header (e.g. 'name {example}')"
+
+
+#: Column names of the states' components, as in the paper (``xdot0`` ... ``omegaF``).
+STATE_COLUMNS: dict[str, tuple[str, str, str]] = {
+    "landing": ("xdot0", "ydot0", "omega0"),
+    "liftoff": ("xdotF", "ydotF", "omegaF"),
+}
+
+
+def scaled_units_error(
+    landing,
+    liftoff=None,
+    *,
+    radius_m: float = BALL_RADIUS_M,
+    ranges: PlausibleRanges = PLAUSIBLE_RANGES,
+    units: Mapping[str, str] | None = None,
+    declare: Callable[[dict[str, list[str]]], str],
+    widen: Callable[[str], str],
+) -> DataError | None:
+    """The error for states that a wrong unit made, or ``None`` when they are plausible golf bounces.
+
+    This is the unit guard of everything that takes numbers without a file around them
+    (:func:`~bouncelab.data.campaign.make_campaign`, :func:`bouncelab.fit` on bare arrays, the
+    command line's ``predict``). The whole set is checked against ``ranges``: every value against
+    the upper limits, and, as the loader does for a column without a unit, the median landing
+    speed and (landing and lift-off given) the peak spin against the lower ones, since m/s read
+    as radii/s make every landing slower than 1 m/s.
+
+    Parameters
+    ----------
+    landing, liftoff
+        (n, 3) arrays ``[xdot, ydot, omega]`` in scaled units (radii/s, rad/s), already
+        validated; ``liftoff=None`` checks landings alone (then without the peak-spin limit: a
+        landing may have no spin).
+    radius_m
+        Ball radius of the scaling, in metres.
+    ranges
+        The limits.
+    units
+        The units the numbers were given in (``{"velocity": "m/s", "spin": "rpm"}``), default
+        the scaled ones: the message quotes the number as given and looks for the unit it was in.
+    declare
+        ``declare({kind: likely_units})``: how to give the numbers in the units they look like
+        (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.data.units.to_scaled(...)"``.
+    widen
+        ``widen(limit)``: how to accept the numbers on purpose, given the name of the limit
+        (``"max_spin"``, ...) of :class:`PlausibleRanges` they break.
+
+    Returns
+    -------
+    DataError or None
+        Naming the column (``xdot0`` ... ``omegaF``), the bounce (row, 1-based) when one bounce
+        is at fault, the units the numbers would be plausible in, how to declare and how to widen.
+    """
+    p0 = np.asarray(landing, dtype=float)
+    pf = np.empty((0, 3)) if liftoff is None else np.asarray(liftoff, dtype=float)
+    given = {kind: canonical_unit((units or {}).get(kind, CANDIDATE_UNITS[kind][0]), kind)
+             for kind in ("velocity", "spin")}
+
+    def check(a0: np.ndarray, af: np.ndarray, kind: str) -> Implausibility | None:
+        # A landing alone may have no spin: the peak-spin lower limit needs lift-offs too.
+        lower = liftoff is not None or kind == "velocity"
+        return implausibility(a0, af, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=lower)
+
+    faults = {kind: why for kind in ("velocity", "spin") if (why := check(p0, pf, kind)) is not None}
+    if not faults:
+        return None
+    likely: dict[str, list[str]] = {}
+    for kind in faults:
+        cols = [0, 1] if kind == "velocity" else [2]
+        as_given = scale_factor(given[kind], kind, radius_m)
+        likely[kind] = []
+        for unit in CANDIDATE_UNITS[kind]:
+            if canonical_unit(unit, kind) == given[kind]:
+                continue
+            factor = scale_factor(unit, kind, radius_m) / as_given
+            a0, af = p0.copy(), pf.copy()
+            a0[:, cols] *= factor
+            af[:, cols] *= factor
+            if check(a0, af, kind) is None:
+                likely[kind].append(unit)
+    kind, why = next(iter(faults.items()))
+    as_given = scale_factor(given[kind], kind, radius_m)
+    shown = {"radius/s": "radii/s"}.get(given[kind], given[kind])
+    if why.row is not None:
+        value = (p0 if why.state == "landing" else pf)[why.row, COMPONENTS.index(why.component)] / as_given
+        said = "" if as_given == 1.0 else f"{_fmt(value)} {shown}: "
+        limit = "max_speed" if kind == "velocity" else "max_spin"
+    else:
+        said = f"read in {shown}, "
+        limit = "min_median_landing_speed" if kind == "velocity" else "min_peak_spin"
+    msg = f"{said}{why.reason}; "
+    if likely[kind]:
+        msg += f"the numbers look like {' or '.join(likely[kind])}"
+    else:
+        others = [u for u in CANDIDATE_UNITS[kind] if canonical_unit(u, kind) != given[kind]]
+        msg += f"the numbers are not plausible in {', '.join(others)} either"
+    if "spin" in faults and kind != "spin":
+        msg += (f" (and the spins too: {faults['spin'].reason}"
+                + (f"; they look like {' or '.join(likely['spin'])})" if likely["spin"] else ")"))
+    found = {k: units_ for k, units_ in likely.items() if units_}
+    msg += f": {declare(found)}" if found else ": check them"
+    msg += f"; if they are right, {widen(limit)}"
+    column = STATE_COLUMNS[why.state][COMPONENTS.index(why.component)]
+    return DataError(msg, column=column, row=None if why.row is None else why.row + 1)
+
+
+def check_scaled(
+    landing,
+    liftoff,
+    *,
+    radius_m: float = BALL_RADIUS_M,
+    ranges: PlausibleRanges | None = PLAUSIBLE_RANGES,
+    accept: str = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None",
+) -> None:
+    """Refuse scaled states that only a unit mistake makes (m/s or rpm given as radii/s or rad/s).
+
+    The guard of :func:`~bouncelab.data.campaign.make_campaign` and :func:`bouncelab.fit`; see
+    :func:`scaled_units_error`. ``ranges=None`` checks nothing. ``accept`` says how to accept the
+    numbers on purpose (``{limit}`` is replaced by the limit they break).
+
+    Raises
+    ------
+    DataError
+        Naming the column (``xdot0`` ... ``omegaF``), the bounce, the likely unit, how to
+        convert and how to widen the ranges.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> landing = np.array([[20.1, -15.2, 3000.0]])   # m/s and rpm
+    >>> liftoff = np.array([[9.5, 5.1, 1500.0]])
+    >>> check_scaled(landing, liftoff)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    bouncelab.errors.DataError: column 'ydot0': read in radii/s, the median landing speed would be 0.538 m/s...
+    """
+    if ranges is None:
+        return
+
+    def declare(likely: dict[str, list[str]]) -> str:
+        pair = {k: CANDIDATE_UNITS[k][0] for k in ("velocity", "spin")} | {k: u[0] for k, u in likely.items()}
+        return ("states are in scaled units (radii/s, rad/s): convert them first, e.g. "
+                f"bouncelab.data.units.to_scaled(states, velocity={pair['velocity']!r}, spin={pair['spin']!r})")
+
+    error = scaled_units_error(landing, liftoff, radius_m=radius_m, ranges=ranges, declare=declare,
+                               widen=lambda limit: accept.format(limit=limit))
+    if error is not None:
+        raise error
 
 
 def _fmt(x: float) -> str:

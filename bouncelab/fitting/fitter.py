@@ -9,8 +9,10 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from bouncelab.data.campaign import campaign_arrays
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.errors import FitError
 from bouncelab.fitting.objective import bounce_weights, objective_label, objective_weighting, objective_weights
 from bouncelab.fitting.problem import (
@@ -41,6 +43,7 @@ def fit(
     fixed: Any = None,
     free: Any = None,
     test: Any = None,
+    plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
     **method_options: Any,
 ) -> FitResult:
     """Fit a bounce law to bounces by minimising the paper's error measure.
@@ -78,6 +81,12 @@ def fit(
     test
         Held-out bounces (a Dataset or pair), on which the errors and the law's
         diagnostics are reported too. They must not be among the fitted bounces.
+    plausible
+        The unit guard of bare arrays (a campaign Dataset was checked when it was made or
+        loaded): ``(landing, liftoff)`` values that only a unit mistake makes (m/s or rpm given
+        as radii/s or rad/s) are refused as by :func:`~bouncelab.data.campaign.make_campaign`.
+        Default :data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
+        (``PLAUSIBLE_RANGES.widened(max_spin=...)``) or pass ``None`` to check nothing.
     **method_options
         Options of the method, its keyword-only arguments, e.g. ``algorithm``,
         ``local_algorithm``, ``maxeval`` (``"global"``), ``mu_objective``
@@ -91,7 +100,8 @@ def fit(
     Raises
     ------
     DataError
-        Bad data (NaN, a landing with ydot >= 0, shapes...).
+        Bad data (NaN, a landing with ydot >= 0, shapes...), bare arrays implausible in
+        scaled units (naming the column, the unit they look like and how to convert).
     FitError
         Too few bounces, an unknown method or option, a bad objective, seed or
         algorithm, held-out bounces that were fitted too.
@@ -104,6 +114,9 @@ def fit(
     seed = check_seed(seed)
     p0, pf, setting = campaign_arrays(data)
     tst = None if test is None else campaign_arrays(test, name="test")[:2]
+    for given, states in ((data, (p0, pf)), (test, tst)):
+        if given is not None and not isinstance(given, xr.Dataset):
+            check_scaled(*states, ranges=plausible, accept=_ACCEPT_BARE)
     if tst is not None:
         _check_held_out(p0, pf, *tst)
     weights = objective_weights(objective)
@@ -123,6 +136,10 @@ def fit(
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
     return _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
+
+
+_ACCEPT_BARE = ("build a campaign that accepts them, bouncelab.make_campaign(landing, liftoff, "
+                "plausible=PLAUSIBLE_RANGES.widened({limit}=...)), and fit that, or pass plausible=None to fit")
 
 
 def check_seed(seed: Any) -> int:

@@ -15,8 +15,10 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 
 from bouncelab.data.campaign import campaign_arrays
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 from bouncelab.errors import FitError
 from bouncelab.fitting.fitter import _as_model, check_seed, fit
 from bouncelab.fitting.objective import objective_weighting
@@ -127,7 +129,11 @@ def bootstrap(
                        "(add one with bouncelab.infer_settings, or use by='bounce')")
     # Prediction-interval weighted objectives read the intervals from the Dataset: resample it whole then.
     with_pis = objective_weighting(fit_kwargs.get("objective", "delta")) == "pi"
-    full = fit(law, data if with_pis else (p0, pf), seed=seed, **fit_kwargs)
+    # The unit guard checks bare data once, in the full fit; resamples are cut from checked data.
+    plausible = fit_kwargs.pop("plausible", PLAUSIBLE_RANGES)
+    full = fit(law, data if with_pis else (p0, pf), seed=seed,
+               plausible=None if isinstance(data, xr.Dataset) else plausible, **fit_kwargs)
+    fit_kwargs["plausible"] = None
     estimate = dict(full.model.flat_parameters())
     rng = np.random.default_rng(seed)
     if by == "bounce":

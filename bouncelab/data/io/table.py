@@ -54,6 +54,7 @@ class _Column:
     unit_text: str | None = None  # unit from the header suffix or a units row
     unit_in_header: bool = False
     unit_where: str = ""  # where the unit was read, when not the header or a units row
+    text: Callable[[], list[str]] | None = None  # cells as written, of a column read in bulk (fastcsv)
 
     @property
     def full_key(self) -> str:
@@ -96,7 +97,7 @@ def _err(table: _Table, message: str, column: str | None = None, index: int | No
 
 def _cell(col: _Column, index: int, unit: str | None = None) -> str:
     """A cell as written in the file, with its unit (``'3.404 m/s'``), for messages: never a converted number."""
-    v = col.values[index]
+    v = col.text()[index] if col.text is not None else col.values[index]  # a bulk-read column keeps its text
     text = v.strip() if isinstance(v, str) else repr(v.item() if isinstance(v, np.generic) else v)
     return text if unit is None else f"{text} {unit}"
 
@@ -355,7 +356,7 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
 
     A missing label (empty, ``n/a``, ``NaN``, ``#N/A``...) is an error naming the cell, not a setting.
     """
-    vals = col.values
+    vals = col.values if col.text is None else col.text()  # labels are typed from their text
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         if vals.dtype.kind == "u" and vals.size and int(vals.max()) > _INT64_MAX:
             return np.array([str(int(v)) for v in vals])
@@ -515,7 +516,7 @@ def _campaign_from_table(
             states["landing"], states["liftoff"], setting=setting,
             landing_pi=states.get("landing_pi"), liftoff_pi=states.get("liftoff_pi"),
             campaign=campaign, surface=surface, ball_radius_m=ball_radius_m, source=source,
-            data_kind="measured", attrs=attrs,
+            data_kind="measured", attrs=attrs, plausible=None,  # checked above, with the file's units
         )
     except DataError as exc:  # pragma: no cover - everything is checked above
         raise _relocate(table, exc, cols) from None

@@ -6,6 +6,7 @@ import csv
 import re
 from pathlib import Path
 
+from bouncelab.data.io.fastcsv import read_plain_csv
 from bouncelab.data.io.table import (
     _MISSING,
     _finish_table,
@@ -19,6 +20,11 @@ from bouncelab.errors import DataError
 
 def _read_text(path: Path, file: str, raw: bytes, *, header_row: int | None = None,
                style: str = "python") -> _Table:
+    # A plain comma-separated file of numbers is read in bulk (the same table); a file with a chosen header
+    # row, title lines or anything unusual takes the cell-by-cell path below.
+    fast = read_plain_csv(file, raw, path) if header_row is None else None
+    if fast is not None:
+        return fast
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:

@@ -1,0 +1,213 @@
+"""The unit guard beyond files (issue 11 item 2): make_campaign, fit on bare arrays and the command line
+refuse numbers that only a unit mistake makes, naming the column, the likely unit and how to widen."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import bouncelab as bl
+from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
+from bouncelab.data import units
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, check_scaled
+
+RPM = 60 / (2 * np.pi)  # rpm per rad/s
+
+
+@pytest.fixture(scope="module")
+def campaign_a():
+    return bl.load_campaign("A")
+
+
+@pytest.fixture(scope="module")
+def lab_sheet(campaign_a):
+    """Campaign A as a lab sheet holds it: m/s and rpm."""
+    return (units.from_scaled(campaign_a.landing.values, velocity="m/s", spin="rpm"),
+            units.from_scaled(campaign_a.liftoff.values, velocity="m/s", spin="rpm"))
+
+
+def test_make_campaign_refuses_m_per_s_and_rpm(lab_sheet):
+    landing, liftoff = lab_sheet
+    before = landing.copy()
+    with pytest.raises(bl.DataError) as exc:
+        bl.make_campaign(landing, liftoff)
+    msg = str(exc.value)
+    assert exc.value.column == "ydot0"
+    assert "median landing speed" in msg and "look like m/s" in msg
+    assert "they look like rpm" in msg and "spin='rpm'" in msg and "velocity='m/s'" in msg
+    assert "plausible=PLAUSIBLE_RANGES.widened(" in msg and "plausible=None" in msg
+    np.testing.assert_array_equal(landing, before)  # changes nothing
+
+
+def test_make_campaign_refuses_rpm_spins_naming_column_and_bounce(campaign_a):
+    landing = campaign_a.landing.values * [1, 1, RPM]
+    with pytest.raises(bl.DataError) as exc:
+        bl.make_campaign(landing, campaign_a.liftoff.values)
+    err = exc.value
+    first = int(np.argmax(np.abs(landing[:, 2]) / RPM > 20_000))
+    assert err.column == "omega0" and err.row == first + 1
+    assert "look like rpm" in err.message and "widened(max_spin=" in err.message
+
+
+def test_make_campaign_refuses_rpm_lift_off_spins(campaign_a):
+    with pytest.raises(bl.DataError) as exc:
+        bl.make_campaign(campaign_a.landing.values, campaign_a.liftoff.values * [1, 1, 60])
+    assert exc.value.column == "omegaF"
+
+
+def test_make_campaign_refuses_m_per_s_alone(lab_sheet, campaign_a):
+    landing = lab_sheet[0].copy()
+    liftoff = lab_sheet[1].copy()
+    landing[:, 2], liftoff[:, 2] = campaign_a.landing.values[:, 2], campaign_a.liftoff.values[:, 2]
+    with pytest.raises(bl.DataError, match="look like m/s") as exc:
+        bl.make_campaign(landing, liftoff)
+    assert "spins too" not in str(exc.value) and "widened(min_median_landing_speed=" in str(exc.value)
+
+
+def test_make_campaign_refuses_spins_that_fit_no_unit(campaign_a):
+    with pytest.raises(bl.DataError, match="not plausible in rpm, rev/s either") as exc:
+        bl.make_campaign(campaign_a.landing.values * [1, 1, 1e-3], campaign_a.liftoff.values * [1, 1, 1e-3])
+    assert "min_peak_spin" in str(exc.value)
+
+
+def test_widened_or_no_ranges_accept_on_purpose(campaign_a):
+    landing = campaign_a.landing.values * [1, 1, 2.5]  # campaign A spins up to ~10 000 rpm: now 25 000
+    assert np.abs(landing[:, 2]).max() * RPM > 20_000
+    with pytest.raises(bl.DataError):
+        bl.make_campaign(landing, campaign_a.liftoff.values)
+    ds = bl.make_campaign(landing, campaign_a.liftoff.values, plausible=PLAUSIBLE_RANGES.widened(max_spin=30_000))
+    np.testing.assert_array_equal(ds.landing.values, landing)
+    assert bl.make_campaign(landing, campaign_a.liftoff.values, plausible=None).sizes["bounce"] == len(landing)
+    # a widened campaign stays valid: validation checks the form, not the ranges
+    assert bl.validate_campaign(ds).sizes["bounce"] == len(landing)
+
+
+def test_guard_uses_the_ball_radius(campaign_a):
+    # a median landing of 26 radii/s is 0.56 m/s for a 21.35 mm ball, 5.2 m/s for a 0.2 m one
+    slow, slow_f = campaign_a.landing.values * [0.02, 0.02, 1], campaign_a.liftoff.values * [0.02, 0.02, 1]
+    with pytest.raises(bl.DataError, match="median landing speed"):
+        bl.make_campaign(slow, slow_f)
+    assert bl.make_campaign(slow, slow_f, ball_radius_m=0.2).sizes["bounce"] == len(slow)
+    with pytest.raises(bl.DataError, match="ball_radius_m"):
+        bl.make_campaign(slow, slow_f, ball_radius_m=-1)
+
+
+@pytest.mark.parametrize("name", ["A", "B"])
+@pytest.mark.parametrize("surrogate", ["published", "turf"])
+def test_embedded_campaigns_pass_the_guard(name, surrogate):
+    ds = bl.load_campaign(name, surrogate=surrogate)
+    check_scaled(ds.landing.values, ds.liftoff.values)
+    assert bl.make_campaign(ds.landing.values, ds.liftoff.values).sizes["bounce"] == ds.sizes["bounce"]
+
+
+def test_fit_refuses_bare_arrays_in_lab_units(lab_sheet):
+    with pytest.raises(bl.DataError) as exc:
+        bl.fit(bl.Rigid, lab_sheet)
+    msg = str(exc.value)
+    assert "look like m/s" in msg and "bouncelab.make_campaign(landing, liftoff, plausible=" in msg
+
+
+def test_fit_refuses_bare_rpm_spins_and_held_out_arrays(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    with pytest.raises(bl.DataError) as exc:
+        bl.fit(bl.Rigid, (p0 * [1, 1, RPM], pf), method="structured")
+    assert exc.value.column == "omega0" and "look like rpm" in str(exc.value)
+    with pytest.raises(bl.DataError) as exc:
+        bl.fit(bl.Rigid, (p0[:200], pf[:200]), test=(p0[200:], pf[200:] * [1, 1, 60]), method="structured")
+    assert exc.value.column == "omegaF"
+
+
+def test_fit_accepts_bare_arrays_on_purpose(campaign_a):
+    p0, pf = campaign_a.landing.values * [1, 1, 2.5], campaign_a.liftoff.values
+    res = bl.fit(bl.Rigid, (p0, pf), method="structured", plausible=PLAUSIBLE_RANGES.widened(max_spin=30_000))
+    assert res.n_train == len(p0)
+    wide = bl.make_campaign(p0, pf, plausible=PLAUSIBLE_RANGES.widened(max_spin=30_000))
+    assert bl.fit(bl.Rigid, wide, method="structured").n_train == len(p0)  # a Dataset is checked when made
+    assert bl.fit(bl.Rigid, (p0, pf), method="structured", plausible=None).n_train == len(p0)
+
+
+def test_bootstrap_and_estimator_guard_bare_arrays(lab_sheet, campaign_a):
+    with pytest.raises(bl.DataError, match="look like m/s"):
+        bl.bootstrap(bl.Rigid, lab_sheet, n=2, by="bounce", method="structured")
+    with pytest.raises(bl.DataError, match="look like m/s"):
+        bl.BounceRegressor("Rigid", method="structured").fit(*lab_sheet)
+    # resamples of checked data are not refused (a bootstrap of a widened campaign runs)
+    wide = bl.make_campaign(campaign_a.landing.values * [1, 1, 2.5], campaign_a.liftoff.values,
+                            plausible=PLAUSIBLE_RANGES.widened(max_spin=30_000))
+    assert len(bl.bootstrap(bl.Rigid, wide, n=2, by="bounce", method="structured").samples) == 2
+
+
+# ----------------------------------------------------------------------------- command line
+@pytest.fixture(scope="module")
+def sheet_b(tmp_path_factory):
+    """The issue's file: campaign B's bounces with spins below 4800 rpm, in m/s and rpm, no units in the header."""
+    b = bl.load_campaign("B")
+    p0 = units.from_scaled(b.landing.values, velocity="m/s", spin="rpm")
+    pf = units.from_scaled(b.liftoff.values, velocity="m/s", spin="rpm")
+    keep = (np.abs(p0[:, 2]) < 4800) & (np.abs(pf[:, 2]) < 4800)
+    path = tmp_path_factory.mktemp("guard") / "sheet.csv"
+    rows = np.column_stack([p0[keep], pf[keep]])
+    np.savetxt(path, rows, delimiter=",", fmt="%.4f", header="xdot0,ydot0,omega0,xdotF,ydotF,omegaF", comments="")
+    return path
+
+
+def test_cli_fit_names_spin_column_and_flag(sheet_b, capsys):
+    code = main(["fit", "PennerFixed", str(sheet_b), "--velocity-unit", "m/s"])
+    err = capsys.readouterr().err
+    assert code == EXIT_DATA
+    assert "column 'omega0'" in err and "--spin-unit rpm" in err and "units=" not in err
+
+
+@pytest.mark.parametrize("command", [["info"], ["fit", "Rigid"]])
+def test_cli_wrong_declared_spin_unit_names_flag(sheet_b, capsys, command):
+    argv = [command[0], *command[1:], str(sheet_b), "--velocity-unit", "m/s", "--spin-unit", "rad/s"]
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == EXIT_DATA and "omega0" in err and "--spin-unit rpm" in err
+
+
+def test_cli_reproduce_refuses_lab_units(sheet_b, tmp_path, capsys):
+    code = main(["reproduce", "--data", str(sheet_b), "--velocity-unit", "m/s", "--out", str(tmp_path / "r"),
+                 "--quiet", "--no-figures"])
+    err = capsys.readouterr().err
+    assert code == EXIT_DATA and "--spin-unit rpm" in err
+    assert not (tmp_path / "r").exists()
+
+
+PUB = ["predict", "Rigid", "--published", "A"]
+
+
+def test_cli_predict_refuses_lab_units_typed_as_scaled(capsys):
+    code = main([*PUB, "--landing", "20", "-15", "3000"])
+    err = capsys.readouterr().err
+    assert code == EXIT_DATA
+    assert "--velocity-unit m/s" in err and "--spin-unit rpm" in err and "ydot0" in err
+
+
+def test_cli_predict_refuses_rpm_declared_as_rad_per_s(capsys):
+    code = main([*PUB, "--landing", "20", "-15", "3000", "--velocity-unit", "m/s"])
+    err = capsys.readouterr().err
+    assert code == EXIT_DATA and "landing 1, omega0" in err and "--spin-unit rpm" in err
+    assert "--velocity-unit" not in err.split("give the unit with")[1].split(";")[0]
+
+
+def test_cli_predict_input_file_is_guarded(tmp_path, capsys):
+    rows = tmp_path / "landings.csv"
+    rows.write_text("vx,vy,spin\n20,-15,3000\n30,-10,-500\n")
+    assert main([*PUB, "--input", str(rows)]) == EXIT_DATA
+    assert "--velocity-unit m/s" in capsys.readouterr().err
+    assert main([*PUB, "--input", str(rows), "--velocity-unit", "m/s", "--spin-unit", "rpm"]) == EXIT_OK
+
+
+def test_cli_predict_refuses_radians_for_degrees(capsys):
+    argv = [*PUB, "--speed-angle-spin", "20", "0.65", "3000", "--velocity-unit", "m/s", "--spin-unit", "rpm"]
+    assert main(argv) == EXIT_DATA
+    assert "radians" in capsys.readouterr().err
+    argv[6] = "37.2"
+    assert main(argv) == EXIT_OK
+
+
+def test_cli_predict_landing_without_spin_is_plausible(capsys):
+    """A landing alone may have no spin: the peak-spin limit applies to campaigns, not to landings."""
+    assert main([*PUB, "--landing", "900", "-700", "0"]) == EXIT_OK
+    capsys.readouterr()
