@@ -247,7 +247,7 @@ def _run(args: argparse.Namespace) -> int:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except (DataError, OSError) as exc:  # OSError here is reading an input: writes are OutputErrors
-        print(f"bouncelab {args.command}: data error: {_flag_hints(_oneline(exc))}", file=sys.stderr)
+        print(f"bouncelab {args.command}: data error: {_oneline(exc)}", file=sys.stderr)
         return EXIT_DATA
     except (FitError, ParameterError) as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
@@ -284,12 +284,6 @@ def _oneline(exc: BaseException) -> str:
 
 
 # The loader's advice in Python (units={'spin': 'rpm'}), as the command line's flags.
-_UNITS_ARG = re.compile(r"units=\{'(velocity|spin)': '([^']+)'\}")
-
-
-def _flag_hints(message: str) -> str:
-    """A data error's advice spelled as flags: ``units={'spin': 'rpm'}`` becomes ``--spin-unit rpm``."""
-    return _UNITS_ARG.sub(lambda m: f"--{m.group(1)}-unit {m.group(2)}", message)
 
 
 def _figure_units(text: str | None):
