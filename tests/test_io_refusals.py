@@ -347,3 +347,37 @@ def test_plausible_must_be_ranges(tmp_path):
     good = write(tmp_path / "good.csv", rows())
     with pytest.raises(bl.ParameterError, match=r"plausible must be a PlausibleRanges.*widened"):
         bl.load_campaign(good, units=UNITS, plausible=None)
+
+
+# --- fuzz campaign rerun: commented-out rows with trailing separators, thousands dots, Latin-1 "…" ---------
+
+@pytest.mark.parametrize("row", ["#N/A,16,-9,1620,7,3,-750,", "#N/A,16,-9,1620,7,3", "#N/A,16,-9,1620,7,3,-750,1",
+                                 "%1,16,-9,1620,7,3"])
+def test_commented_out_rows_near_the_header_width_are_refused(tmp_path, row):
+    path = tmp_path / "t.csv"
+    path.write_text(",".join(HEAD) + ",\n" + "\n".join(r + "," for r in rows()) + "\n" + row + "\n")
+    with pytest.raises(DataError, match=r"row 4\b.*line 5"):  # refused as data, never skipped as a comment
+        bl.load_campaign(path, units=UNITS)
+
+
+def test_a_comment_that_is_no_row_is_still_skipped(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text(",".join(HEAD) + "\n" + "\n".join(rows()) + "\n# measured by K. J., 2026\n")
+    assert bl.load_campaign(path, units=UNITS).sizes["bounce"] == 3
+
+
+def test_thousands_dot_in_a_semicolon_file_is_refused(tmp_path):
+    path = tmp_path / "t.csv"
+    lines = [";".join(HEAD), "1;15;-8;1.500;6;3;-800", "2;18;-10;2500;9;4;300"]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(DataError, match=r"'1\.500' is ambiguous"):
+        bl.load_campaign(path, units=UNITS)
+    path.write_text("\n".join([";".join(HEAD), "1;15;-8;1500;6;3;-800", "2;18;-10;2500;9.5;4;300"]) + "\n")
+    assert bl.load_campaign(path, units=UNITS).sizes["bounce"] == 2
+
+
+def test_latin1_ellipsis_does_not_split_a_line(tmp_path):
+    path = tmp_path / "t.csv"
+    body = "\n".join([",".join(HEAD), *rows()]) + "\n"
+    path.write_bytes("# notes: wet turf\x85 see log\n".encode("latin-1") + body.encode("latin-1"))
+    assert bl.load_campaign(path, units=UNITS).sizes["bounce"] == 3

@@ -76,6 +76,7 @@ class _Table:
     decimal_comma: bool = False
     hint_style: str = "python"  # how messages name options: Python keywords or CLI flags (io/hints.py)
     kept: list[int] | None = None  # the file's data row (0-based) of each row, once rows are dropped
+    delimiter: str | None = None  # of a text file (None: runs of blanks, or not a text file)
 
     def data_row(self, index: int) -> int:
         """The file's 0-based data row of row ``index`` of the table."""
@@ -246,7 +247,7 @@ def _drop_missing(table: _Table, cols: dict[str, _Column],
         vals = col.values[keep] if isinstance(col.values, np.ndarray) else [col.values[i] for i in keep]
         new[role] = _Column(col.name, vals, col.unit_text, col.unit_in_header, col.unit_where)
     kept = _Table(table.file, list({id(c): c for c in new.values()}.values()), len(keep), table.text_cells,
-                  table.locate, table.offset, table.decimal_comma, table.hint_style, keep)
+                  table.locate, table.offset, table.decimal_comma, table.hint_style, keep, delimiter=table.delimiter)
 
     def show(i: int) -> str:
         name, v = bad[i]
@@ -299,7 +300,8 @@ def _numbers(table: _Table, col: _Column) -> tuple[np.ndarray, DataError | None]
     return out, None
 
 
-_GROUPED = re.compile(r"[+-]?\d{1,3}([.,]\d{3})+")  # "3.000", "3,000": thousands or decimals?
+# "3.000", "3,000": thousands or decimals? ("0.250" cannot be thousands: no group starts with 0)
+_GROUPED = re.compile(r"[+-]?[1-9]\d{0,2}([.,]\d{3})+")
 _COMMA_DECIMAL = re.compile(r"[+-]?\d*,\d+([eE][+-]?\d+)?")
 
 
@@ -308,7 +310,8 @@ def _decimal_convention(table: _Table, cols: list[_Column]) -> None:
 
     In a semicolon, tab or whitespace file ``15,2`` is a decimal comma; then ``3.000`` may be a
     thousands dot (3000) or a decimal (3.0), so it is refused, as is a file mixing ``15,2`` and
-    ``15.2``. ``3,000`` with no other decimal in the file is refused too (3 or 3000?).
+    ``15.2``. ``3,000`` with no other decimal in the file is refused too (3 or 3000?), and so is
+    ``1.500`` in a semicolon file (the export of a decimal-comma locale) with no other decimal.
     """
     if not table.decimal_comma:
         return
@@ -342,8 +345,9 @@ def _decimal_convention(table: _Table, cols: list[_Column]) -> None:
             why = f"the file writes decimals with a dot ({dot[2]!r}), so the comma is a thousands separator or a slip"
         elif comma is None and dot is None:
             mark = "comma" if "," in t else "dot"
-            if mark == "dot":
-                continue  # no decimal comma anywhere: 3.000 is 3.0
+            if mark == "dot" and table.delimiter != ";":
+                continue  # no decimal comma anywhere in a tab or blank-separated file: 3.000 is 3.0
+            # a semicolon file is the spreadsheet export of a decimal-comma locale: 1.500 may well be 1500
             why = f"nothing else in the file says whether the {mark} is a decimal mark or a thousands separator"
         else:
             continue

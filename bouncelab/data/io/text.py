@@ -31,7 +31,11 @@ def _read_text(path: Path, file: str, raw: bytes, *, header_row: int | None = No
         text = raw.decode("latin-1")
     if "\x00" in text:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
-    all_lines = text.splitlines()
+    # Lines end at \n, \r\n or \r only, as in the csv module and spreadsheets: str.splitlines would also
+    # split at U+0085 (a Latin-1 "…" byte), form feeds and others.
+    all_lines = re.split(r"\r\n|\r|\n", text)
+    if all_lines and not all_lines[-1]:
+        all_lines.pop()
     lines = [(i + 1, line) for i, line in enumerate(all_lines) if line.strip()]
     # Comment lines (# or %) before the header are skipped; after it, see _is_comment.
     k = 0
@@ -86,8 +90,10 @@ def _read_text(path: Path, file: str, raw: bytes, *, header_row: int | None = No
     def locate(i: int, col: str) -> str:
         return f"line {linenos[i]}"
 
-    return _finish_table(file, names, rows, locate=locate, blank=lambda c: not c,
-                         strict_width=True, decimal_comma=delim != ",")
+    table = _finish_table(file, names, rows, locate=locate, blank=lambda c: not c,
+                          strict_width=True, decimal_comma=delim != ",")
+    table.delimiter = delim
+    return table
 
 
 def _starts_comment(line: str) -> bool:
@@ -95,11 +101,14 @@ def _starts_comment(line: str) -> bool:
 
 
 def _is_data_row(cells: list[str], width: int) -> bool:
-    """A line after the header that starts with ``#`` is data (``#N/A,20.1,...``) if it is shaped like a row."""
-    if width < 2 or len(cells) != width:
+    """A line after the header that starts with ``#`` is data (``#N/A,20.1,...``) if it is shaped like a row:
+    within one cell of the header's width (trailing separators not counted), at least half of it numbers."""
+    while cells and not cells[-1]:
+        cells = cells[:-1]
+    if width < 2 or abs(len(cells) - width) > 1:
         return False
     numeric = sum(_parse_number(c) is not None for c in cells[1:])
-    return numeric * 2 >= width - 1
+    return numeric * 2 >= len(cells) - 1
 
 
 def _merge_bracket_tokens(tokens: list[str]) -> list[str]:
