@@ -85,7 +85,7 @@ CASES = [
     ([*PUB, "--landing", "1e300", "-800", "200"], EXIT_DATA, "landing"),
     ([*PUB, "--landing", "1000", "5", "0"], EXIT_DATA, "ydot"),
     ([*PUB], EXIT_DATA, "give landings"),
-    (["predict", "Rigid", *LANDING], EXIT_DATA, "--published"),
+    (["predict", "Rigid", *LANDING], EXIT_USAGE, "--published"),
     ([*PUB, "--speed-angle-spin", "30", "95", "100"], EXIT_DATA, "angle"),
     ([*PUB, "--speed-angle-spin", "-30", "40", "100"], EXIT_DATA, "speed"),
     ([*PUB, *LANDING, "--radius-mm", "-5"], EXIT_USAGE, "positive"),
@@ -175,3 +175,22 @@ def test_input_header_and_comments_still_read(tmp_path, capsys):
     assert run([*PUB, "--input", str(f)]) == 0
     rows = [line.split() for line in capsys.readouterr()[0].splitlines() if not line.startswith("#")]
     assert [[float(v) for v in r[:3]] for r in rows] == [[1000, -800, 200], [-500, -300, 900]]
+
+
+def test_input_row_behind_a_hash_is_refused_not_skipped(tmp_path, capsys):
+    f = tmp_path / "in.csv"
+    f.write_text("xdot0,ydot0,omega0\n150,-270,400\n#N/A,-260,300\n140,-260,300\n")
+    code = run([*PUB, "--input", str(f)])
+    check(code, capsys.readouterr()[1], EXIT_DATA, "line 3 starts with '#'")
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dev_zero"])
+def test_input_that_is_not_a_regular_file_is_refused(tmp_path, capsys, kind):
+    f = tmp_path / "in.csv"
+    if kind == "fifo":
+        os.mkfifo(f)  # reading it would block forever
+    else:
+        f.symlink_to("/dev/zero")  # reading it would never end
+    code = run([*PUB, "--input", str(f)])
+    check(code, capsys.readouterr()[1], EXIT_DATA, "not a regular file")
+

@@ -436,18 +436,28 @@ def _read_rows(path: str) -> np.ndarray:
     """Landing rows of an --input file: three numbers a line (comma, semicolon or whitespace separated),
     ``#`` comments, and at most one header line (the first, with no number in it). Any other line that
     is not three numbers is an error naming it: no line is skipped silently."""
+    from bouncelab.data.io.load import _check_regular_file, _read_bytes
+    from bouncelab.data.io.text import _is_data_row
     from bouncelab.errors import DataError
 
     p = Path(path)
     if not p.exists():
         raise FileNotFoundError(f"no such file: {path}")
+    _check_regular_file(p, path)  # a FIFO would hang, /dev/zero never end: the loader's own checks
     try:
-        lines = p.read_text().splitlines()
+        lines = _read_bytes(p, path).decode("utf-8-sig").splitlines()
     except UnicodeDecodeError:
         raise DataError("not a text file of landing rows", file=path) from None
     rows = []
     seen_content = False
     for lineno, line in enumerate(lines, start=1):
+        if line.lstrip().startswith(("#", "%")):
+            cells = line.replace(",", " ").replace(";", " ").split()
+            if _is_data_row(cells, 3):  # "#N/A,-260,300": a row with a missing value, not a comment
+                raise DataError(f"line {lineno} starts with {line.lstrip()[0]!r} like a comment but holds a "
+                                f"landing row: {line.strip()!r}; give three numbers, or delete the line",
+                                file=path)
+            continue
         text = line.split("#", 1)[0].strip()
         if not text:
             continue
@@ -479,7 +489,8 @@ def _predict(args: argparse.Namespace) -> int:
     elif Path(args.law).suffix == ".json" or Path(args.law).exists():
         law = load_law(args.law)
     else:
-        raise DataError(f"{args.law!r} is neither a law JSON file nor used with --published A|B")
+        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
+                         f"(e.g. bouncelab predict {args.law} --published A --landing 1000 -800 200)")
     radius = args.radius_mm / 1000.0
     chunks = []
     if args.landing:
