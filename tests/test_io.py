@@ -587,6 +587,13 @@ def test_prediction_intervals(tmp_path):
         load_campaign(path, units=PHYS)
     assert_located(exc, path, "vyF_pi", 5)
 
+    pis["vyF_pi"][4] = 0.5
+    pis["w0_pi"][2] = 1e6  # an interval no spin measurement has: a unit mistake
+    write_table(path, [*COLS, *pis], [*COLS.values(), *pis.values()])
+    with pytest.raises(DataError, match=r"half-width 1000000(\.0)? rpm is wider than any plausible value") as exc:
+        load_campaign(path, units=PHYS)
+    assert_located(exc, path, "w0_pi", 3)
+
 
 def test_incomplete_prediction_intervals_are_ignored_with_warning(tmp_path):
     path = write_table(tmp_path / "pi2.csv", [*COLS, "vx0_err"], [*COLS.values(), np.ones(6)])

@@ -510,6 +510,15 @@ def _campaign_from_table(
             i, k = (int(v) for v in np.argwhere(arr < 0)[0])
             raise _err(table, f"prediction-interval half-width {_cell(cols[roles[k]], i)} is negative",
                        cols[roles[k]].name, i)
+        if state in _PI_STATES and plausible is not None:
+            # a half-width wider than any plausible value is a unit mistake (1e6 rpm), not an uncertainty
+            limit = np.array([plausible.max_speed / ball_radius_m] * 2 + [plausible.max_spin * 2 * math.pi / 60])
+            if (arr > limit).any():
+                i, k = (int(v) for v in np.argwhere(arr > limit)[0])
+                unit = unit_of[roles[k]][0] if roles[k] in unit_of else None
+                what = f"{plausible.max_speed:g} m/s" if k < 2 else f"{plausible.max_spin:g} rpm"
+                raise _err(table, f"prediction-interval half-width {_cell(cols[roles[k]], i, unit)} is wider than "
+                           f"any plausible value ({what}): check the column's unit", cols[roles[k]].name, i)
 
     _check_plausible(table, cols, parsed, scaled, unit_of, ball_radius_m, plausible)
 
