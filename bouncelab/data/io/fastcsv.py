@@ -113,7 +113,7 @@ def read_plain_csv(file: str, data: bytes, path: Path | None = None) -> _Table |
     table = _finish_table(file, names, [], locate=locate, blank=lambda c: not c, strict_width=True)
     for column, j in zip(table.columns, [j for j, name in enumerate(names) if name], strict=True):
         column.values = values[j]
-        if isinstance(values[j], np.ndarray) and values[j].dtype.kind == "f":
+        if isinstance(values[j], np.ndarray):  # numbers keep their text, for labels and messages
             column.text = _cells(data, pos, j)
     table.n_rows = n_rows
     return table
