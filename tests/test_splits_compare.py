@@ -95,7 +95,9 @@ def test_compare_tables(campaign_b):
     paper = cmp.published()
     assert paper.loc["Rigid", "delta"] == 0.350 and paper.loc["PiecewiseAffine", "delta"] == 0.0784
     md = cmp.to_markdown()
-    assert "| delta |" in md and "(35 %)" in md and "synthetic surrogate" in md
+    assert "| delta |" in md and "(35 %)" in md and "synthetic surrogate" in md.lower()
+    assert cmp.notes == [campaign_b.attrs["warning"] + " Agreement with the paper's numbers for its measured "
+                         "campaign is expected only roughly."]
     pw = cmp.by_class("PiecewiseAffine")
     assert list(pw.index) == ["overall", "roll", "slip"] and 0 <= pw.loc["overall", "mismatched"] <= 1
     assert cmp.table.loc["PiecewiseAffine", "train_mismatched"] == cmp.results["PiecewiseAffine"].mismatched
@@ -119,3 +121,15 @@ def test_compare_errors(campaign_b):
         bl.compare(campaign_b, ["Rigid"], split="random")
     with pytest.raises(FitError, match="at least one"):
         bl.compare(campaign_b, [])
+
+
+def test_compare_and_fit_notes_name_what_made_the_data():
+    """A simulated campaign is not called a surrogate of the published laws; a fit report on synthetic data says so."""
+    turf = bl.load_campaign("A", surrogate="turf")
+    cmp = bl.compare(turf, ["Rigid"])
+    assert "TurfContact" in cmp.notes[0] and "published piecewise" not in cmp.notes[0]
+    assert "TurfContact" in cmp.to_markdown()
+    assert turf.attrs["warning"] in bl.fit(bl.Rigid, turf).notes
+    mine = turf.assign_attrs(data_kind="measured", campaign="mine")
+    mine.attrs.pop("warning")
+    assert bl.compare(mine, ["Rigid"]).notes == [] and bl.fit(bl.Rigid, mine).notes == []

@@ -282,9 +282,11 @@ def compare(
         campaign = str(data.attrs["campaign"]).upper()
     notes = []
     if isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate":
-        notes.append("These bounces are a synthetic surrogate made from the paper's published piecewise-affine "
-                     "law, not the paper's measurements: agreement with the paper's numbers is expected only "
-                     "roughly.")
+        # the data say what made them (the published laws, a TurfContact simulation, rendered clips ...)
+        note = str(data.attrs.get("warning") or "These bounces are synthetic, not measured.")
+        if campaign is not None:
+            note += " Agreement with the paper's numbers for its measured campaign is expected only roughly."
+        notes.append(note)
     return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes, units=units)
 
 

@@ -135,7 +135,11 @@ def fit(
         raise FitError(f"fitting method {name!r} of {law_name(law)} returned {type(outcome).__name__}, "
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
-    return _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
+    result = _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
+    if isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate":
+        # a report read on its own must not pass for a fit to measurements
+        result.notes.append(str(data.attrs.get("warning") or "The data are synthetic, not measured bounces."))
+    return result
 
 
 _ACCEPT_BARE = ("build a campaign that accepts them, bouncelab.make_campaign(landing, liftoff, "
