@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import re
+import subprocess
 import sys
 
 import pytest
@@ -194,3 +195,15 @@ def test_input_that_is_not_a_regular_file_is_refused(tmp_path, capsys, kind):
     code = run([*PUB, "--input", str(f)])
     check(code, capsys.readouterr()[1], EXIT_DATA, "not a regular file")
 
+
+
+def test_fit_save_survives_a_reader_that_goes_away(tmp_path):
+    """`bouncelab fit ... --save F | head -1`: the reader leaves after one line; the law is still saved."""
+    import shlex
+
+    law = tmp_path / "law.json"
+    cmd = f"{shlex.quote(sys.executable)} -m bouncelab fit Rigid A --save {shlex.quote(str(law))} | head -1"
+    proc = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("[[Fit]] Rigid")
+    assert bl.load_law(law) == bl.fit(bl.Rigid, bl.load_campaign("A")).model

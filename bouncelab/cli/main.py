@@ -409,11 +409,18 @@ def _fit(args: argparse.Namespace) -> int:
         options["algorithm"] = args.algorithm
     res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
               bounds=bounds, **options)
-    # The result is printed before the law is saved, so a failed save loses no work.
-    if args.json:
-        print(json.dumps(res.to_dict(), indent=2, default=float), flush=True)
-    else:
-        print(res.report(), flush=True)
+    # The result is printed before the law is saved, so a failed save loses no work; a reader that went away
+    # (`| head`) does not stop the save either.
+    try:
+        if args.json:
+            print(json.dumps(res.to_dict(), indent=2, default=float), flush=True)
+        else:
+            print(res.report(), flush=True)
+    except BrokenPipeError:
+        if not args.save:
+            raise
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
     if args.save:
         try:
             res.model.to_json(args.save)  # atomic: a failed write leaves the previous file intact
