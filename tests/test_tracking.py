@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -279,6 +281,44 @@ def test_cli_track_writes_a_campaign_and_summarises_failures(tmp_path, capsys):
     ds = load_campaign(str(out))
     assert ds.sizes["bounce"] == 2 and ds.attrs["data_kind"] == "synthetic surrogate"
     assert list(ds.setting.values) == ["s0", "s1"]
+    assert [Path(str(c)).name for c in ds["clip"].values] == ["s0_r0_5000fps.npz", "s1_r1_5000fps.npz"]  # clip of each
+
+
+def test_cli_track_checks_its_outputs_and_frame_rate_before_tracking(tmp_path, capsys, monkeypatch):
+    from bouncelab.cli.main import main
+    from bouncelab.tracking import campaign as tracking_campaign
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 1)
+    avi = tmp_path / "clip.avi"
+    avi.write_bytes(b"junk")
+    monkeypatch.setattr(tracking_campaign, "_process_clip", lambda job: pytest.fail("tracked before the checks"))
+    (tmp_path / "afile").write_text("x")
+    for argv, needle in [
+        (["--fps", "5000", "--out", str(tmp_path / "c.csv")], ".nc suffix"),
+        (["--fps", "5000", "--out", str(tmp_path / "nodir" / "c.nc")], "does not exist"),
+        (["--fps", "5000", "--out", str(tmp_path)], "is a folder"),
+        (["--fps", "5000", "--out", str(tmp_path / "c.nc"), "--figures", str(tmp_path / "afile")], "is a file"),
+    ]:
+        assert main(["track", str(clips), *argv, "--quiet"]) == 2
+        assert needle in capsys.readouterr().err
+    assert main(["track", str(avi), "--out", str(tmp_path / "c.nc"), "--quiet"]) == 2  # no frame rate anywhere
+    assert "--fps is needed" in capsys.readouterr().err
+
+
+def test_rendered_npz_clips_carry_their_frame_rate(tmp_path, capsys):
+    from bouncelab.cli.main import main
+    from bouncelab.tracking.frames import stored_fps
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 1)
+    clip = next(clips.iterdir())
+    renamed = clips / "bounce.npz"  # no fps in the name either
+    clip.rename(renamed)
+    assert stored_fps(renamed) == 5000.0 and stored_fps(tmp_path / "none.npz") is None
+    out = tmp_path / "c.nc"
+    assert main(["track", str(renamed), "--out", str(out), "--quiet"]) == 0, capsys.readouterr().err
+    assert out.exists()
 
 
 def test_cli_track_exit_codes(tmp_path, capsys):

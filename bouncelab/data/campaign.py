@@ -225,6 +225,14 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
         bounce = ds["bounce"].values
         bounce = bounce.astype(np.int64) if bounce.dtype.kind in "iu" else bounce
         out = out.assign_coords(bounce=("bounce", bounce, dict(ds["bounce"].attrs)))
+    for name, coord in ds.coords.items():  # per-bounce labels (e.g. the clip each bounce came from) are kept
+        if name in out.coords or coord.dims != ("bounce",):
+            continue
+        values = coord.values
+        if values.dtype.kind == "S" or (values.dtype.kind == "O" and all(isinstance(v, str | bytes) for v in values)):
+            values = np.array([v.decode("utf-8", "replace") if isinstance(v, bytes) else v for v in values], dtype=str)
+        if values.dtype.kind in "iufU":  # what netCDF stores (netCDF-3 gives text back as objects or bytes)
+            out = out.assign_coords({name: ("bounce", values, dict(coord.attrs))})
     return out
 
 

@@ -17,7 +17,7 @@ from bouncelab.analysis.measurement import estimate_spin, measure_bounce
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
-from bouncelab.tracking.frames import read_frames
+from bouncelab.tracking.frames import read_frames, stored_fps
 from bouncelab.tracking.tracker import check_fps, track_clip
 
 __all__ = ["ClipFailure", "ClipSettings", "TrackedCampaign", "clip_settings", "measure_clip", "measure_clips"]
@@ -317,9 +317,10 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, str | None
     frames = track = m = None
     reason = None
     try:
-        check_fps(s.fps, name)  # before reading a long clip for nothing
+        fps = s.fps if s.fps is not None else stored_fps(clip)  # a rendered .npz clip knows its frame rate
+        check_fps(fps, name)  # before reading a long clip for nothing
         frames = read_frames(clip, name=name)
-        track = track_clip(frames, fps=s.fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
+        track = track_clip(frames, fps=fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
                            name=name)
         m = measure_clip(track, method=method)
     except DataError as exc:

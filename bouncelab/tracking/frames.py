@@ -69,6 +69,21 @@ def read_frames(source, *, name: str | None = None) -> np.ndarray:
     return _from_video(path, label)
 
 
+def stored_fps(source) -> float | None:
+    """The frame rate an ``.npz`` clip carries (a scalar ``fps`` entry, as ``RenderedClip.save`` writes it),
+    or None (another kind of clip, no such entry, or an unreadable file: reading the frames reports that)."""
+    if not isinstance(source, str | Path) or Path(source).suffix.lower() not in _NPZ_SUFFIXES:
+        return None
+    try:
+        with np.load(source, allow_pickle=False) as data:
+            if "fps" not in data.files or np.asarray(data["fps"]).size != 1:
+                return None
+            fps = float(np.asarray(data["fps"]).ravel()[0])
+    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+        return None
+    return fps
+
+
 def _from_array(arr: np.ndarray, label: str) -> np.ndarray:
     if arr.dtype.kind not in "uif" or arr.dtype == np.bool_:
         raise DataError(f"frames must be numbers; got dtype {arr.dtype}", file=label)
