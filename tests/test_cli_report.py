@@ -316,3 +316,18 @@ def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypat
     with pytest.raises(bl.DataError, match="surrogate must be one of"):
         rp.reproduce(["B"], out=tmp_path / "r3", figures=False, progress=False, surrogate="paper")
     assert not (tmp_path / "r3").exists()
+
+
+def test_reproduce_on_a_campaign_too_small_for_the_svm_still_writes_the_report(tmp_path, monkeypatch):
+    """A small tracked campaign (few slipping bounces) gets the report, Table 2 without the SVM plane and a note."""
+    monkeypatch.setattr(rp, "BEYOND_PAPER_LAWS", ())  # the paper's laws are enough here, and much faster
+    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    ds = bl.load_campaign("A")
+    cls = np.asarray(bl.classify_slip_roll(ds.landing.values, ds.liftoff.values))
+    keep = np.r_[np.flatnonzero(cls == "roll")[:60], np.flatnonzero(cls == "slip")[:5]]
+    small = bl.save_campaign(ds.isel(bounce=np.sort(keep)).assign_attrs(data_kind="measured"), tmp_path / "s.nc")
+    report = rp.reproduce(data=[small], out=tmp_path / "rep", figures=False, progress=False)
+    notes = " ".join(report.sections["s"]["notes"])
+    assert "no SVM plane" in notes and "at least 8 bounces" in notes
+    table2 = (tmp_path / "rep" / "tables" / "s_table2.md").read_text()
+    assert "delta-optimal plane" in table2 and "SVM plane: overall" not in table2
