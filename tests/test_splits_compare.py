@@ -133,3 +133,10 @@ def test_compare_and_fit_notes_name_what_made_the_data():
     mine = turf.assign_attrs(data_kind="measured", campaign="mine")
     mine.attrs.pop("warning")
     assert bl.compare(mine, ["Rigid"]).notes == [] and bl.fit(bl.Rigid, mine).notes == []
+
+
+def test_compare_takes_law_names_in_any_case(campaign_b):
+    cmp = bl.compare(campaign_b, ["rigid", "PENNERFIXED"])
+    assert list(cmp.table.index) == ["Rigid", "PennerFixed"]
+    with pytest.raises(bl.FitError, match="unknown law"):
+        bl.compare(campaign_b, ["rigidd"])

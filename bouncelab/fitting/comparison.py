@@ -189,9 +189,10 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
 
 
 def law_instance(law: Any) -> BounceModel:
+    """A law to fit from a registered name (any case: "turfcontact" is TurfContact), a class or an instance."""
     if isinstance(law, str):
         try:
-            return law_class(law)()
+            return law_class(law, case_sensitive=False)()
         except ParameterError as exc:
             raise FitError(str(exc)) from None
     if (isinstance(law, type) and issubclass(law, BounceModel)) or isinstance(law, BounceModel):

@@ -119,7 +119,8 @@ class CompliantImpact(CompiledLaw):
     ----------
     r : float, optional
         Normal restitution, dimensionless, in [0.1357, 1] (a dashpot that cannot pull
-        gives no less: critical damping leaves with :math:`e^{-2}`).
+        gives no less: critical damping leaves with :math:`e^{-2} \approx 0.1353`; ``R_MIN`` is the
+        restitution at damping ratio 0.999).
     mu : float, optional
         Coulomb friction, dimensionless, >= 0.
     kappa : float, optional
