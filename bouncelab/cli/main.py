@@ -570,7 +570,8 @@ def _info(args: argparse.Namespace) -> int:
 def describe(ds: Any) -> str:
     """A short text description of a campaign Dataset."""
     n = ds.sizes["bounce"]
-    lines = [f"campaign {ds.attrs.get('campaign', '?')!s}: {n} bounces, data kind: {ds.attrs.get('data_kind')}"]
+    name = ds.attrs.get("campaign") or "(unnamed)"
+    lines = [f"campaign {name!s}: {n} bounces, data kind: {ds.attrs.get('data_kind')}"]
     if ds.attrs.get("warning"):
         lines.append(f"  note: {ds.attrs['warning']}")
     lines.append(f"  surface: {ds.attrs.get('surface', '')}")
