@@ -65,6 +65,32 @@ def best_of(f, repeats: int) -> tuple[float, object]:
     return best, out
 
 
+_PEAK_CHILD = """
+import sys
+def vm(key):
+    for line in open('/proc/self/status'):
+        if line.startswith(key):
+            return int(line.split()[1]) * 1024
+import bouncelab as bl, pandas as pd, numpy as np
+sys.path.insert(0, sys.argv[3])
+from bench_load import pandas_with_checks
+before = vm('VmRSS:')
+out = bl.load_campaign(sys.argv[2]) if sys.argv[1] == 'bouncelab' else pandas_with_checks(sys.argv[2])
+print(vm('VmHWM:') - before)
+"""
+
+
+def peak_memory(which: str, path: Path) -> int | None:
+    """Peak resident memory a load adds, in bytes, measured in a fresh interpreter (Linux /proc; else None)."""
+    import subprocess
+
+    if not Path("/proc/self/status").exists():
+        return None
+    proc = subprocess.run([sys.executable, "-c", _PEAK_CHILD, which, str(path), os.path.dirname(__file__)],
+                          capture_output=True, text=True, check=True)
+    return int(proc.stdout.split()[-1])
+
+
 def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rows", type=int, default=1_000_000)
@@ -77,14 +103,22 @@ def main(argv: list[str] | None = None) -> dict:
         bl.load_campaign(path)  # imports and first-call costs out of the timing
         ours, ds = best_of(lambda: bl.load_campaign(path), args.repeats)
         peer, (landing, liftoff, _) = best_of(lambda: pandas_with_checks(path), args.repeats)
+        mem = {which: peak_memory(which, path) for which in ("bouncelab", "pandas")}
+        file_bytes = path.stat().st_size
     agree = bool(np.array_equal(ds.landing.values, landing) and np.array_equal(ds.liftoff.values, liftoff))
     ratio = ours / peer
     print(f"load a {args.rows:,}-row CSV file ({size:.0f} MB), {os.cpu_count()} cores, best of {args.repeats}")
     print(f"{'bouncelab.load_campaign':<34}{ours:>8.2f} s   target < 3 s: {'met' if ours < 3 else 'NOT MET'}")
     print(f"{'pandas.read_csv + checks':<34}{peer:>8.2f} s")
     print(f"{'ratio':<34}{ratio:>8.2f} x   target <= 3x: {'met' if ratio <= 3 else 'NOT MET'}")
+    if mem["bouncelab"] is not None:
+        ours_x, peer_x = mem["bouncelab"] / file_bytes, mem["pandas"] / file_bytes
+        print(f"{'peak memory added, bouncelab':<34}{mem['bouncelab'] / 1e6:>8.0f} MB = {ours_x:.2f}x the file   "
+              f"target < 3x: {'met' if ours_x < 3 else 'NOT MET'}")
+        print(f"{'peak memory added, pandas + checks':<34}{mem['pandas'] / 1e6:>8.0f} MB = {peer_x:.2f}x the file")
     print(f"same numbers: {agree}")
-    return {"rows": args.rows, "bouncelab_s": ours, "pandas_s": peer, "ratio": ratio, "agree": agree}
+    return {"rows": args.rows, "bouncelab_s": ours, "pandas_s": peer, "ratio": ratio, "agree": agree,
+            "bouncelab_peak_bytes": mem["bouncelab"], "pandas_peak_bytes": mem["pandas"], "file_bytes": file_bytes}
 
 
 if __name__ == "__main__":
