@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 import re
 import warnings
 from collections.abc import Callable
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from bouncelab.data.io.table import _finish_table, _is_units_row, _Table
+from bouncelab.errors import DataError
 
 # Bytes a plain data line may hold.
 _PLAIN = b"0123456789eE+-.,\r\n"
@@ -90,6 +92,7 @@ def read_plain_csv(file: str, data: bytes, path: Path | None = None) -> _Table |
         names.pop()
 
     values = None
+    from_path = False
     if path is not None:
         # From the file, skipping the lines down to the header, blank lines kept: one row per line, else the
         # skip went wrong. A blank line is a row of empty cells, not taken here: then from memory, as below.
@@ -97,26 +100,62 @@ def read_plain_csv(file: str, data: bytes, path: Path | None = None) -> _Table |
         n_lines = data.count(b"\n", pos) + (pos < len(data) and not data.endswith(b"\n"))
         if frame is not None and len(frame) == n_lines:
             values = _columns(frame, data, pos, len(names), empty_cells=False)
+            from_path = values is not None
     if values is None:
         values = _columns(_parse(io.BytesIO(memoryview(data)[pos:])), data, pos, len(names))
     if values is None:
         return None
     n_rows = len(values[0])
 
-    lines: list[int] = []
+    if from_path:
+        # Every line under the header is a row: row i is on line header_no + 1 + i, and the cells' text is
+        # read again from the file when asked (so the file's bytes need not stay in memory beside the table).
+        assert path is not None
+        stamp = _stamp(path)
 
-    def locate(i: int, col: str) -> str:
-        if not lines:  # only an error asks where a row is: find the lines then
-            lines.extend(header_no + k + 1 for k, line in enumerate(data[pos:].splitlines()) if line.strip())
-        return f"line {lines[i]}"
+        def locate(i: int, col: str) -> str:
+            return f"line {header_no + 1 + i}"
+
+        def text_of(j: int) -> Callable[[], list[str]]:
+            return _cells_from_file(file, path, lineno, j, stamp)
+    else:
+        lines: list[int] = []
+
+        def locate(i: int, col: str) -> str:
+            if not lines:  # only an error asks where a row is: find the lines then
+                lines.extend(header_no + k + 1 for k, line in enumerate(data[pos:].splitlines()) if line.strip())
+            return f"line {lines[i]}"
+
+        def text_of(j: int) -> Callable[[], list[str]]:
+            return _cells(data, pos, j)
 
     table = _finish_table(file, names, [], locate=locate, blank=lambda c: not c, strict_width=True)
     for column, j in zip(table.columns, [j for j, name in enumerate(names) if name], strict=True):
         column.values = values[j]
         if isinstance(values[j], np.ndarray):  # numbers keep their text, for labels and messages
-            column.text = _cells(data, pos, j)
+            column.text = text_of(j)
     table.n_rows = n_rows
     return table
+
+
+def _stamp(path: Path) -> tuple[int, int]:
+    st = os.stat(path)
+    return st.st_size, st.st_mtime_ns
+
+
+def _cells_from_file(file: str, path: Path, skiprows: int, j: int, stamp: tuple[int, int]
+                     ) -> Callable[[], list[str]]:
+    """Column ``j``'s cells as written, read again from the file, which must not have changed since."""
+
+    def cells() -> list[str]:
+        if _stamp(path) != stamp:
+            raise DataError("the file changed while it was being read; load it again", file=file)
+        frame = pd.read_csv(path, header=None, sep=",", usecols=[j], dtype=str, skiprows=skiprows,
+                            na_filter=False, skip_blank_lines=False, quoting=csv.QUOTE_NONE, engine="c",
+                            encoding="utf-8")
+        return frame[j].tolist()
+
+    return cells
 
 
 def _parse(source: Path | io.BytesIO, skiprows: int = 0, skip_blank_lines: bool = True) -> pd.DataFrame | None:

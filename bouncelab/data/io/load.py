@@ -69,9 +69,13 @@ def _read_bytes(path: Path, file: str) -> bytes:
     except PermissionError:
         raise DataError("permission denied: the file cannot be read", file=file) from None
     with os.fdopen(fd, "rb") as fh:
-        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+        st = os.fstat(fh.fileno())
+        if not stat.S_ISREG(st.st_mode):
             raise DataError("it is not a regular file; bouncelab reads data only from regular files", file=file)
-        data = fh.read(MAX_FILE_BYTES + 1)
+        # read what the file holds (a read of MAX_FILE_BYTES would reserve a GiB), then anything it grew by
+        data = fh.read(min(st.st_size, MAX_FILE_BYTES) + 1)
+        if len(data) > st.st_size:
+            data += fh.read(MAX_FILE_BYTES + 1 - len(data))
     if len(data) > MAX_FILE_BYTES:
         raise DataError(f"the file is larger than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads", file=file)
     return data

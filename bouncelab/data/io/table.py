@@ -360,7 +360,10 @@ def _setting_values(table: _Table, col: _Column) -> np.ndarray:
 
     A missing label (empty, ``n/a``, ``NaN``, ``#N/A``...) is an error naming the cell, not a setting.
     """
-    vals = col.values if col.text is None else col.text()  # labels are typed from their text
+    # Labels are typed from their text ("1.0" is not the label "1"), except whole numbers read in bulk as
+    # integers, which are exactly what their text says (and typing 10^6 of them cell by cell takes seconds).
+    bulk_ints = isinstance(col.values, np.ndarray) and col.values.dtype.kind in "iu"
+    vals = col.values if col.text is None or bulk_ints else col.text()
     if isinstance(vals, np.ndarray) and vals.dtype.kind in "iu":
         if vals.dtype.kind == "u" and vals.size and int(vals.max()) > _INT64_MAX:
             return np.array([str(int(v)) for v in vals])
