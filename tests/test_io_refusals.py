@@ -381,3 +381,15 @@ def test_latin1_ellipsis_does_not_split_a_line(tmp_path):
     body = "\n".join([",".join(HEAD), *rows()]) + "\n"
     path.write_bytes("# notes: wet turf\x85 see log\n".encode("latin-1") + body.encode("latin-1"))
     assert bl.load_campaign(path, units=UNITS).sizes["bounce"] == 3
+
+
+def test_campaign_file_with_numbers_only_damage_makes_is_refused(tmp_path):
+    """A damaged netCDF-3 file can hold spins of 1e-150: a campaign file gets the lower limits too."""
+    ds = bl.load_campaign("A")
+    tiny = ds.copy(deep=True)
+    tiny["landing"].values[:, 2] *= 1e-150
+    tiny["liftoff"].values[:, 2] *= 1e-150
+    path = bl.save_campaign(tiny, tmp_path / "damaged.nc")
+    with pytest.raises(DataError, match=r"damaged\.nc.*omega"):
+        bl.load_campaign(path)
+    assert bl.load_campaign(bl.save_campaign(ds, tmp_path / "good.nc")).sizes["bounce"] == 330

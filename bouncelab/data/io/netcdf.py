@@ -13,7 +13,7 @@ import xarray as xr
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.columns import _header_unit
 from bouncelab.data.io.table import _check_duplicates, _Column, _module_available, _Table, _table_of_columns
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, implausibility
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled, implausibility
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 
@@ -119,6 +119,12 @@ def _campaign_from_netcdf(
         raise DataError(f"{why.state} {why.component} of bounce {why.row}: {why.reason}; the file is not in "
                         "scaled units (radii/s, rad/s) as a campaign file must be", file=file, column=why.state,
                         row=None if why.row is None else why.row + 1)
+    try:  # and the lower limits: all spins tiny, landings far too slow (a damaged file, or m/s and rpm)
+        check_scaled(out["landing"].values, out["liftoff"].values,
+                     radius_m=float(out.attrs.get("ball_radius_m", BALL_RADIUS_M)), ranges=plausible,
+                     accept="pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) to load_campaign")
+    except DataError as exc:
+        raise DataError(f"{exc}; a campaign file holds scaled units (radii/s, rad/s)", file=file) from None
     if campaign is not None:
         out.attrs["campaign"] = str(campaign)
     if surface is not None:
