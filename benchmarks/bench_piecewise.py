@@ -18,12 +18,14 @@ import argparse
 import os
 import sys
 import time
+import warnings
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bouncelab as bl
+from bouncelab.errors import NonphysicalLiftoffWarning
 
 
 def bounces(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -32,14 +34,17 @@ def bounces(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     base = bl.load_campaign("B").landing.values
     p0 = base[rng.integers(0, len(base), n)] * (1 + 0.05 * rng.standard_normal((n, 3)))
     p0[:, 1] = -np.abs(p0[:, 1])
-    pf = bl.PiecewiseAffine.published("B").predict(p0)
+    with warnings.catch_warnings():  # the published law B sends ~1 % into the ground: known, documented
+        warnings.simplefilter("ignore", NonphysicalLiftoffWarning)
+        pf = bl.PiecewiseAffine.published("B").predict(p0)
     pf += 0.05 * np.linalg.norm(p0, axis=1, keepdims=True) * rng.standard_normal((n, 3))
     return p0, pf
 
 
 def timed(data, **options) -> tuple[float, float]:
     t = time.perf_counter()
-    res = bl.fit(bl.PiecewiseAffine, data, **options)
+    # plausible=None: 5 % jitter of 10^6 landings takes a few spins past the 20,000 rpm of the unit guard
+    res = bl.fit(bl.PiecewiseAffine, data, plausible=None, **options)
     return time.perf_counter() - t, res.delta
 
 
@@ -54,7 +59,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         data = bounces(n)
         t, d = timed(data)
         # the law that generated the data: a floor the fit should reach at every size
-        truth = bl.delta(data[0], data[1], bl.PiecewiseAffine.published("B").predict(data[0]))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NonphysicalLiftoffWarning)
+            truth = bl.delta(data[0], data[1], bl.PiecewiseAffine.published("B").predict(data[0]))
         row = {"n": n, "s": t, "delta": d, "truth": truth}
         if n <= args.peer_max:
             row["peer_s"], row["peer_delta"] = timed(data, max_search_bounces=max(n, 100))

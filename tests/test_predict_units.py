@@ -192,3 +192,22 @@ def test_regime_in_physical_units_and_large_name_arrays_warn() -> None:
     with pytest.warns(LargeResultWarning, match="codes=True"):
         names = law.regime(big)
     np.testing.assert_array_equal(names, np.asarray(law.regimes)[codes])
+
+
+def test_compiled_gate_agrees_with_the_flags() -> None:
+    """Published laws check every prediction with one compiled pass; it must flag exactly when the flags do."""
+    from bouncelab.laws.nonphysical import any_flagged, liftoff_flags
+
+    rng = np.random.default_rng(5)
+    n = 120_000  # above the size where the pass runs in parallel chunks
+    p = np.column_stack([rng.uniform(-1500, 1500, n), -rng.uniform(50, 1200, n), rng.uniform(-900, 1500, n)])
+    out = p * [0.6, -0.5, 0.3]
+    assert not any_flagged(p, out)
+    for row, change in ((0, (1, -1.0)), (n - 1, (1, 0.0)), (77_777, (0, 1e4))):  # first, last, mid-chunk row
+        bad = out.copy()
+        bad[row, change[0]] = change[1]
+        g, e = liftoff_flags(p, bad)
+        assert any_flagged(p, bad) and (g.any() or e.any())
+    edge = out.copy()  # exactly the landing's energy: not a gain, in both
+    edge[5] = p[5] * [1, -1, 1]
+    assert any_flagged(p, edge) == bool(np.logical_or(*liftoff_flags(p, edge)).any())

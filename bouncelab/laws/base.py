@@ -487,7 +487,7 @@ class BounceModel:
         array([[   12.36,    26.12, -4962.15]])
         """
         from bouncelab.laws._physical_io import PhysicalIO, is_lazy
-        from bouncelab.laws.nonphysical import LiftoffFlags, liftoff_flags, published_campaign
+        from bouncelab.laws.nonphysical import LiftoffFlags, any_flagged, liftoff_flags, published_campaign
 
         theta = self._theta()
         if is_lazy(landing):
@@ -498,7 +498,7 @@ class BounceModel:
         io = PhysicalIO(units, form, radius_m) if PhysicalIO.needed(units, form) else None
         p, out, wrap = self._predict_flat(landing if io is None else io.landing(landing), theta)
         flags = None
-        if return_flags or published_campaign(self) is not None:
+        if return_flags or (published_campaign(self) is not None and any_flagged(p, out)):
             from bouncelab.laws.nonphysical import warn_if_published_nonphysical
 
             flags = liftoff_flags(p, out)
