@@ -450,3 +450,12 @@ def test_reproduce_compares_a_user_law(tmp_path, monkeypatch):
     with pytest.raises(FitError):
         rp.reproduce(["A"], out=tmp_path / "rep2", figures=False, progress=False, laws=["NoSuchLaw"])
     assert not (tmp_path / "rep2").exists()
+
+
+def test_load_law_given_json_text_says_what_it_takes():
+    text = bl.Rigid(r=0.5, mu=0.3).to_dict()
+    import json
+
+    with pytest.raises(bl.ParameterError, match=r"path of a law JSON file.*law_from_dict"):
+        bl.load_law(json.dumps(text))
+    assert bl.laws.law_from_dict(json.loads(json.dumps(text))) == bl.Rigid(r=0.5, mu=0.3)

@@ -779,6 +779,9 @@ def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = Non
 
 def load_law(path: str | Path) -> BounceModel:
     """Read a law written by :meth:`BounceModel.to_json`."""
+    if isinstance(path, str) and path.lstrip().startswith("{"):  # the JSON itself, not a file name
+        raise ParameterError("load_law takes the path of a law JSON file; for JSON text use "
+                             "bouncelab.laws.law_from_dict(json.loads(text))")
     try:
         d = json.loads(Path(path).read_text())
     except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
