@@ -18,7 +18,6 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
-import math
 import sys
 from typing import Any
 
@@ -26,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
-from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, canonical_unit
+from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, ball_radius, canonical_unit
 from bouncelab.data.validation import as_states, check_same_length
 from bouncelab.errors import DataError
 
@@ -99,7 +98,7 @@ def make_campaign(
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
-    check_scaled(p0, pf, radius_m=_radius(ball_radius_m), ranges=plausible)
+    check_scaled(p0, pf, radius_m=ball_radius(ball_radius_m), ranges=plausible)
     # as_states may return the caller's own array; the campaign must not share memory with it.
     p0, pf = p0.copy(), pf.copy()
     data_kind = (attrs or {}).get("data_kind", data_kind)
@@ -139,16 +138,6 @@ def make_campaign(
     all_attrs.update(attrs or {})
     all_attrs["conventions"] = CONVENTIONS
     return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
-
-
-def _radius(ball_radius_m: Any) -> float:
-    try:
-        radius = float(ball_radius_m)
-    except (TypeError, ValueError):
-        radius = math.nan
-    if not (math.isfinite(radius) and radius > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}")
-    return radius
 
 
 def setting_labels(setting: Any, n: int) -> np.ndarray:

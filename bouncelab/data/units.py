@@ -26,11 +26,13 @@ from bouncelab.errors import DataError
 
 __all__ = [
     "BALL_RADIUS_M",
+    "BALL_RADIUS_RANGE_M",
     "COMPONENTS",
     "COMPONENT_UNITS",
     "INERTIA_FACTOR",
     "SPEED_UNITS",
     "SPIN_UNITS",
+    "ball_radius",
     "from_scaled",
     "landing_from_speed_angle_spin",
     "physical_to_scaled",
@@ -349,6 +351,32 @@ def tangential_velocity(state):
     """Tangential velocity of the contact point, ``v_P = xdot + omega`` (radii/s), of (..., 3) states."""
     s = _state_array(state)
     return s[..., 0] + s[..., 2]
+
+
+#: Ball radii that ``ball_radius_m`` arguments accept (metres): a table-tennis ball to a basketball, so that a
+#: radius given in millimetres (21.35) or centimetres is refused rather than taken as metres.
+BALL_RADIUS_RANGE_M = (0.005, 0.2)
+
+
+def ball_radius(value: object, *, file: str | None = None) -> float:
+    """A ``ball_radius_m`` argument as a float of metres, or a DataError naming it.
+
+    A number (not a bool or text), finite, positive and within :data:`BALL_RADIUS_RANGE_M`.
+    """
+    radius = math.nan
+    if not isinstance(value, bool | str | bytes):
+        try:
+            radius = float(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            pass
+    if not (math.isfinite(radius) and radius > 0):
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {value!r}", file=file)
+    low, high = BALL_RADIUS_RANGE_M
+    if not low <= radius <= high:
+        raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "
+                        f"accepted: {low:g} to {high:g} m); give the radius in metres, e.g. {radius:g} mm is "
+                        f"{radius / 1000:g}", file=file)
+    return radius
 
 
 def _check_radius(radius_m: float) -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 import stat
 import sys
@@ -22,7 +21,7 @@ from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _o
 from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
 from bouncelab.data.io.text import _read_text
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.units import BALL_RADIUS_M
+from bouncelab.data.units import BALL_RADIUS_M, ball_radius
 from bouncelab.errors import DataError, ParameterError
 
 if TYPE_CHECKING:
@@ -214,7 +213,7 @@ def load_campaign(
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     style = hints.check_style(hint_style)
     where = DATAFRAME_NAME if _is_dataframe(source) else str(source)
-    radius = _check_radius(ball_radius_m, where)
+    radius = ball_radius(ball_radius_m, file=where)
     if not isinstance(plausible, PlausibleRanges):
         raise ParameterError(f"plausible must be a PlausibleRanges, e.g. PLAUSIBLE_RANGES.widened(max_spin=40_000) "
                              f"to accept data beyond the default ranges on purpose; got {plausible!r}")
@@ -305,36 +304,11 @@ def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str
     for name, value in (("sheet", sheet), ("header_row", header_row)):
         if value is not None:
             raise DataError(f"{hints.option(name, style)} does not apply to a DataFrame", file=file)
-    radius = _check_radius(ball_radius_m, file)
     table = _table_from_dataframe(df, file)
     table.hint_style = style
     return _campaign_from_table(
         table, columns=columns, units=_check_units_arg(units, file, style),
         campaign="DataFrame" if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source="pandas.DataFrame", ball_radius_m=radius, plausible=plausible, missing=missing, warn_depth=1,
+        source="pandas.DataFrame", ball_radius_m=ball_radius_m, plausible=plausible, missing=missing, warn_depth=1,
     )
-
-
-#: Ball radii accepted by ``ball_radius_m`` (metres): a table-tennis ball to a basketball, so that a radius given
-#: in millimetres (21.35) or centimetres is refused rather than taken as metres.
-BALL_RADIUS_RANGE_M = (0.005, 0.2)
-
-
-def _check_radius(ball_radius_m: Any, file: str) -> float:
-    """The ball radius as a float of metres, or a DataError: a number (not a bool or text), in a ball's range."""
-    radius = math.nan
-    if not isinstance(ball_radius_m, bool | str | bytes):
-        try:
-            radius = float(ball_radius_m)
-        except (TypeError, ValueError):
-            pass
-    if not (math.isfinite(radius) and radius > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {ball_radius_m!r}",
-                        file=file)
-    low, high = BALL_RADIUS_RANGE_M
-    if not low <= radius <= high:
-        raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "
-                        f"accepted: {low:g} to {high:g} m); give the radius in metres, e.g. {radius:g} mm is "
-                        f"{radius / 1000:g}", file=file)
-    return radius
