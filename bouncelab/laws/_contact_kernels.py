@@ -65,6 +65,45 @@ def _slip_f(t, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0):
     return sig * (vp0 + 3.5 * j) - mu * ndot / kt
 
 
+@jit(inline="always")
+def _switch_f(stick, t, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0):
+    """The function whose root is the next switch: the end of sticking (``stick``) or of slipping."""
+    if stick:
+        return _stick_g(t, t0, u0, v1, kap, kt, mu, v0, z, wd)
+    return _slip_f(t, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0)
+
+
+@jit
+def _switch_time(stick, a, b, tc, scale, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0):
+    """The switching time in (a, b] by Illinois false position, the bracket kept (``b``, on the far side)."""
+    fa = max(_switch_f(stick, a, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale, 0.0)
+    fb = _switch_f(stick, b, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale
+    side = 0
+    for _k in range(ROOT_ITER):
+        den = fb - fa
+        m = (a * fb - b * fa) / den if den != 0.0 else 0.5 * (a + b)
+        if not (a < m < b):
+            m = 0.5 * (a + b)
+            if m <= a or m >= b:
+                break
+        fm = _switch_f(stick, m, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale
+        if fm < 0.0:
+            b = m
+            fb = fm
+            if side < 0:
+                fa *= 0.5
+            side = -1
+        else:
+            a = m
+            fa = fm
+            if side > 0:
+                fb *= 0.5
+            side = 1
+        if b - a <= ROOT_TOL * tc:
+            break
+    return b
+
+
 @jit
 def compliant_kernel(xd, yd, w, theta):
     """theta = [r, mu, kappa, zeta, omega_d, t_c] (the last three from CompliantImpact._kernel_theta)."""
@@ -125,31 +164,7 @@ def compliant_kernel(xd, yd, w, theta):
                     t0 = tc
                     break
             # root of g in (a, b]: Illinois false position, bracket kept
-            fa = max(_stick_g(a, t0, u0, v1, kap, kt, mu, v0, z, wd) + scale, 0.0)
-            fb = _stick_g(b, t0, u0, v1, kap, kt, mu, v0, z, wd) + scale
-            side = 0
-            for _k in range(ROOT_ITER):
-                den = fb - fa
-                m = (a * fb - b * fa) / den if den != 0.0 else 0.5 * (a + b)
-                if not (a < m < b):
-                    m = 0.5 * (a + b)
-                    if m <= a or m >= b:
-                        break
-                fm = _stick_g(m, t0, u0, v1, kap, kt, mu, v0, z, wd) + scale
-                if fm < 0.0:
-                    b = m
-                    fb = fm
-                    if side < 0:
-                        fa *= 0.5
-                    side = -1
-                else:
-                    a = m
-                    fa = fm
-                    if side > 0:
-                        fb *= 0.5
-                    side = 1
-                if b - a <= ROOT_TOL * tc:
-                    break
+            b = _switch_time(True, a, b, tc, scale, t0, u0, v1, kap, 0.0, 1.0, vp0, kt, mu, v0, z, wd, 0.0)
             u, v = _stick_state(b - t0, u0, v1, kap)
             j0 = (v - vp0) / 3.5
             t0 = b
@@ -181,31 +196,7 @@ def compliant_kernel(xd, yd, w, theta):
                 j0 = j0 - sig * mu * (dd0 - dd)
                 t0 = tc
                 break
-            fa = max(_slip_f(a, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale, 0.0)
-            fb = _slip_f(b, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale
-            side = 0
-            for _k in range(ROOT_ITER):
-                den = fb - fa
-                m = (a * fb - b * fa) / den if den != 0.0 else 0.5 * (a + b)
-                if not (a < m < b):
-                    m = 0.5 * (a + b)
-                    if m <= a or m >= b:
-                        break
-                fm = _slip_f(m, t0, j0, sig, vp0, kt, mu, v0, z, wd, dd0) + scale
-                if fm < 0.0:
-                    b = m
-                    fb = fm
-                    if side < 0:
-                        fa *= 0.5
-                    side = -1
-                else:
-                    a = m
-                    fa = fm
-                    if side > 0:
-                        fb *= 0.5
-                    side = 1
-                if b - a <= ROOT_TOL * tc:
-                    break
+            b = _switch_time(False, a, b, tc, scale, t0, u0, v1, kap, j0, sig, vp0, kt, mu, v0, z, wd, dd0)
             n, _, dd = _normal(b, v0, z, wd)
             j0 = j0 - sig * mu * (dd0 - dd)
             u0 = sig * mu * n / kt
