@@ -33,6 +33,17 @@ def random_landings(rng: np.random.Generator, n: int = 2000, *, both_directions:
     return np.column_stack([xd, yd, w])
 
 
+def contact_landings(n: int, seed: int = 0) -> np.ndarray:
+    """Landings for the contact laws' property tests: forward and backward, backspin and topspin."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(-300, 1300, n), rng.uniform(-950, -50, n), rng.uniform(-400, 1000, n)])
+
+
+def kinetic_energy(p: np.ndarray) -> np.ndarray:
+    """Kinetic energy per m R^2 of (..., 3) states: (xdot^2 + ydot^2)/2 + I omega^2 / 2 with I = 2/5 m R^2."""
+    return 0.5 * (p[..., 0] ** 2 + p[..., 1] ** 2) + 0.2 * p[..., 2] ** 2
+
+
 @pytest.fixture
 def landings(rng: np.random.Generator) -> np.ndarray:
     return random_landings(rng)

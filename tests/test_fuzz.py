@@ -17,6 +17,7 @@ from hypothesis.extra import numpy as hnp  # noqa: E402
 import bouncelab as bl  # noqa: E402
 from bouncelab.data.validation import as_states  # noqa: E402
 from bouncelab.errors import DataError  # noqa: E402
+from tests.conftest import kinetic_energy  # noqa: E402
 
 # Profiles "bouncelab" (the default here, 60 examples per test) and "fuzz" (1200) are registered in conftest.py.
 
@@ -58,10 +59,6 @@ def odd_inputs():
     )
 
 
-def kinetic(p: np.ndarray) -> np.ndarray:
-    return 0.5 * (p[..., 0] ** 2 + p[..., 1] ** 2) + 0.2 * p[..., 2] ** 2
-
-
 def check(law, landing) -> None:
     try:
         out = law.predict(landing)
@@ -77,7 +74,7 @@ def check(law, landing) -> None:
     assert np.isfinite(out).all(), (landing, out)
     assert np.all(np.abs(out) < 1e15)
     if law in ENERGY_SAFE:
-        assert np.all(kinetic(out) <= kinetic(p) * (1 + 1e-12) + 1e-9)
+        assert np.all(kinetic_energy(out) <= kinetic_energy(p) * (1 + 1e-12) + 1e-9)
     regimes = np.asarray(law.regime(landing))
     assert regimes.shape == p.shape[:-1] and set(np.ravel(regimes)) <= set(law.regimes)
 

@@ -13,7 +13,7 @@ import bouncelab as bl
 from benchmarks import numpy_reference
 from bouncelab.errors import DataError, NotFittedError, ParameterError
 from bouncelab.laws.base import BounceModel, Parameter
-from tests.conftest import random_landings
+from tests.conftest import kinetic_energy, random_landings
 
 RIGID_FAMILY = [
     bl.Rigid(r=0.54, mu=0.4),
@@ -26,11 +26,6 @@ RIGID_FAMILY = [
 # The independent reference: plain NumPy written from the paper's equations (also the benchmarks' peer).
 rigid_reference = numpy_reference.rigid
 penner_reference = numpy_reference.penner
-
-
-def kinetic_energy(p: np.ndarray) -> np.ndarray:
-    """Kinetic energy per m R^2: (xdot^2 + ydot^2)/2 + I omega^2 / 2 with I = 2/5 m R^2."""
-    return 0.5 * (p[:, 0] ** 2 + p[:, 1] ** 2) + 0.2 * p[:, 2] ** 2
 
 
 def mirror(p: np.ndarray) -> np.ndarray:
