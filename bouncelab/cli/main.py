@@ -240,8 +240,7 @@ def _run(args: argparse.Namespace) -> int:
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
         # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _stdout_to_devnull()
         return EXIT_OK
     except (UsageError, OutputError) as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
@@ -258,6 +257,12 @@ def _run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _stdout_to_devnull() -> None:
+    """After a broken pipe: further output (and Python's flush at exit) goes nowhere instead of failing."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 def _one_line_warnings(command: str) -> None:
@@ -419,8 +424,7 @@ def _fit(args: argparse.Namespace) -> int:
     except BrokenPipeError:
         if not args.save:
             raise
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _stdout_to_devnull()
     if args.save:
         try:
             res.model.to_json(args.save)  # atomic: a failed write leaves the previous file intact

@@ -68,7 +68,8 @@ def make_campaign(
     campaign, surface, source
         Descriptive attrs.
     ball_radius_m
-        Ball radius used for the scaling, in metres.
+        Ball radius used for the scaling, in metres (within
+        :data:`~bouncelab.data.units.BALL_RADIUS_RANGE_M`; see :func:`~bouncelab.data.units.ball_radius`).
     data_kind
         ``"measured"``, ``"synthetic surrogate"`` or ``"unknown"``.
     attrs

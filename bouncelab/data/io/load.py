@@ -157,7 +157,8 @@ def load_campaign(
     sheet
         Excel sheet name or 0-based index (default: the first sheet).
     ball_radius_m
-        Ball radius in metres used to scale velocities.
+        Ball radius in metres used to scale velocities (a number in
+        :data:`~bouncelab.data.units.BALL_RADIUS_RANGE_M`, 5 mm to 20 cm: 21.35 is refused as millimetres).
     plausible
         The magnitudes a golf bounce can have
         (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
