@@ -44,6 +44,7 @@ import xarray as xr
 
 from bouncelab.atomic import atomic_write_text
 from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
+from bouncelab.data.campaign import synthetic_warning
 from bouncelab.errors import BouncelabError, DataError, FitError
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "reproduce"]
@@ -373,8 +374,8 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
     camp = str(ds.attrs.get("campaign", "")).upper()
     section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {},
                                "paper_campaign": camp if camp in published.CAMPAIGNS else None}
-    if ds.attrs.get("data_kind") == "synthetic surrogate":
-        section["notes"].append(ds.attrs.get("warning", "synthetic surrogate data"))
+    if (note := synthetic_warning(ds)) is not None:
+        section["notes"].append(note)
     if "setting" not in ds.coords:
         labels = infer_settings(ds)
         ds = ds.assign_coords(setting=("bounce", labels))

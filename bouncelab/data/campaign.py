@@ -29,7 +29,9 @@ from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, bal
 from bouncelab.data.validation import as_states, check_same_length
 from bouncelab.errors import DataError
 
-__all__ = ["CONVENTIONS", "campaign_arrays", "make_campaign", "setting_labels", "validate_campaign"]
+__all__ = [
+    "CONVENTIONS", "campaign_arrays", "make_campaign", "setting_labels", "synthetic_warning", "validate_campaign",
+]
 
 #: Text stored in every campaign's attrs so a file explains its own sign conventions.
 CONVENTIONS = (
@@ -139,6 +141,14 @@ def make_campaign(
     all_attrs.update(attrs or {})
     all_attrs["conventions"] = CONVENTIONS
     return xr.Dataset(data_vars, coords=coords, attrs=all_attrs)
+
+
+def synthetic_warning(data: Any) -> str | None:
+    """What a report must say of synthetic data: the campaign's own ``warning`` (what made it), or a plain
+    "not measured" when it has none; None for measured data and for anything but a campaign Dataset."""
+    if not isinstance(data, xr.Dataset) or data.attrs.get("data_kind") != "synthetic surrogate":
+        return None
+    return str(data.attrs.get("warning") or "These bounces are synthetic, not measured.")
 
 
 def setting_labels(setting: Any, n: int) -> np.ndarray:

@@ -16,6 +16,7 @@ import pandas as pd
 import xarray as xr
 
 from bouncelab.data import published
+from bouncelab.data.campaign import synthetic_warning
 from bouncelab.errors import FitError, ParameterError
 from bouncelab.fitting.fitter import _as_model, check_seed, fit
 from bouncelab.fitting.result import FitResult
@@ -282,9 +283,8 @@ def compare(
     if isinstance(data, xr.Dataset) and str(data.attrs.get("campaign", "")).upper() in published.CAMPAIGNS:
         campaign = str(data.attrs["campaign"]).upper()
     notes = []
-    if isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate":
-        # the data say what made them (the published laws, a TurfContact simulation, rendered clips ...)
-        note = str(data.attrs.get("warning") or "These bounces are synthetic, not measured.")
+    note = synthetic_warning(data)  # the data say what made them (published laws, a simulation, rendered clips)
+    if note is not None:
         if campaign is not None:
             note += " Agreement with the paper's numbers for its measured campaign is expected only roughly."
         notes.append(note)

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
+from bouncelab.data.campaign import campaign_arrays, synthetic_warning
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.errors import FitError
 from bouncelab.fitting.objective import bounce_weights, objective_label, objective_weighting, objective_weights
@@ -136,9 +136,9 @@ def fit(
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
     result = _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
-    if isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate":
-        # a report read on its own must not pass for a fit to measurements
-        result.notes.append(str(data.attrs.get("warning") or "The data are synthetic, not measured bounces."))
+    note = synthetic_warning(data)  # a report read on its own must not pass for a fit to measurements
+    if note is not None:
+        result.notes.append(note)
     return result
 
 
