@@ -150,12 +150,17 @@ def _cells_from_file(file: str, path: Path, skiprows: int, j: int, stamp: tuple[
     def cells() -> list[str]:
         if _stamp(path) != stamp:
             raise DataError("the file changed while it was being read; load it again", file=file)
-        frame = pd.read_csv(path, header=None, sep=",", usecols=[j], dtype=str, skiprows=skiprows,
-                            na_filter=False, skip_blank_lines=False, quoting=csv.QUOTE_NONE, engine="c",
-                            encoding="utf-8")
-        return frame[j].tolist()
+        return _text_column(path, j, skiprows=skiprows, skip_blank_lines=False)
 
     return cells
+
+
+def _text_column(source: Path | io.BytesIO, j: int, *, skiprows: int = 0, skip_blank_lines: bool = True
+                 ) -> list[str]:
+    """Column ``j`` of plain comma-separated rows, each cell as written."""
+    frame = pd.read_csv(source, header=None, sep=",", usecols=[j], dtype=str, skiprows=skiprows, na_filter=False,
+                        skip_blank_lines=skip_blank_lines, quoting=csv.QUOTE_NONE, engine="c", encoding="utf-8")
+    return frame[j].tolist()
 
 
 def _parse(source: Path | io.BytesIO, skiprows: int = 0, skip_blank_lines: bool = True) -> pd.DataFrame | None:
@@ -198,8 +203,6 @@ def _cells(data: bytes, pos: int, j: int) -> Callable[[], list[str]]:
     """Column ``j``'s cells as written (a setting label is typed from its text, not its value)."""
 
     def cells() -> list[str]:
-        frame = pd.read_csv(io.BytesIO(memoryview(data)[pos:]), header=None, sep=",", usecols=[j], dtype=str,
-                            na_filter=False, skip_blank_lines=True, quoting=csv.QUOTE_NONE, engine="c")
-        return frame[j].tolist()
+        return _text_column(io.BytesIO(memoryview(data)[pos:]), j)
 
     return cells
