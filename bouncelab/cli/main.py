@@ -390,24 +390,13 @@ def _bounds(text: str | None) -> dict[str, tuple] | None:
     return {name: tuple(pair) for name, pair in raw.items()}
 
 
-def _check_save_path(path: str) -> None:
-    """Refuse, before a possibly long fit, a --save path that cannot be written."""
-    from bouncelab.cli.reproduce import OutputError
-
-    p = Path(path).expanduser()
-    if p.is_dir():
-        raise OutputError(f"--save {path!r} is a folder; give a file name such as law.json")
-    if not p.parent.is_dir():
-        raise OutputError(f"--save {path!r}: the folder {str(p.parent)!r} does not exist")
-
-
 def _fit(args: argparse.Namespace) -> int:
-    from bouncelab.cli.reproduce import OutputError
+    from bouncelab.cli.reproduce import OutputError, check_output_file
     from bouncelab.fitting import fit
 
     bounds = _bounds(args.bounds)
     if args.save:
-        _check_save_path(args.save)
+        check_output_file(args.save, "--save", "law.json")  # before a possibly long fit
     data = _load(args.data, args)
     options = _method_options(args.options)
     if args.algorithm is not None:  # an option of the search methods

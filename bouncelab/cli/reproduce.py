@@ -56,6 +56,18 @@ MANIFEST = ".bouncelab-report.json"
 class OutputError(BouncelabError, ValueError):
     """The output folder cannot be used or written (not a previous report, read-only, disk full...)."""
 
+
+def check_output_file(path: str, flag: str, example: str, suffix: str | None = None) -> None:
+    """Refuse, before a possibly long job, an output file path that cannot be written (OutputError naming
+    ``flag``): a folder, a missing parent folder, or (when ``suffix`` is given) another file type."""
+    p = Path(path).expanduser()
+    if p.is_dir():
+        raise OutputError(f"{flag} {path!r} is a folder; give a file name such as {example}")
+    if suffix is not None and p.suffix.lower() != suffix:
+        raise OutputError(f"{flag} {path!r}: give the file a {suffix} suffix, e.g. {example}")
+    if not p.parent.is_dir():
+        raise OutputError(f"{flag} {path!r}: the folder {str(p.parent)!r} does not exist")
+
 #: Resamples of the parameter bootstrap in the report (3 to 4 s per campaign here; the refits run one after another).
 BOOTSTRAP_RESAMPLES = 100
 

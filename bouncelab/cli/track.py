@@ -83,18 +83,13 @@ class _Bar:
               end="" if done < total else "\n", file=sys.stderr, flush=True)
 
 
-def _output_problem(out: str, figures: str | None) -> str | None:
-    """What is wrong with --out or --figures, checked before the work (None: nothing)."""
-    path = Path(out).expanduser()
-    if path.is_dir():
-        return f"--out {out!r} is a folder; give a .nc file name"
-    if path.suffix.lower() != ".nc":
-        return f"--out {out!r}: the campaign is written as netCDF; give the file a .nc suffix"
-    if not path.parent.resolve().is_dir():
-        return f"--out {out!r}: the folder {str(path.parent)!r} does not exist"
+def _check_outputs(out: str, figures: str | None) -> None:
+    """Refuse --out and --figures before any tracking, which a bad output path would throw away (OutputError)."""
+    from bouncelab.cli.reproduce import OutputError, check_output_file
+
+    check_output_file(out, "--out", "campaign.nc", suffix=".nc")
     if figures is not None and Path(figures).expanduser().exists() and not Path(figures).expanduser().is_dir():
-        return f"--figures {figures!r} is a file, not a folder"
-    return None
+        raise OutputError(f"--figures {figures!r} is a file, not a folder")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -107,13 +102,12 @@ def run(args: argparse.Namespace) -> int:
         if v is not None and not v > 0:
             print(f"bouncelab track: --{name.replace('_', '-')} must be positive; got {v}", file=sys.stderr)
             return EXIT_USAGE
-    problem = _output_problem(args.out, args.figures)
+    _check_outputs(args.out, args.figures)
     clips = expand_clips(args.clips)
-    if problem is None and args.fps is None and not args.manifest and not args.pattern \
+    if args.fps is None and not args.manifest and not args.pattern \
             and not any(Path(c).suffix.lower() == ".npz" for c in clips):
-        problem = "--fps is needed: the frame rate is not in a manifest, a --pattern or the clips (e.g. --fps 5000)"
-    if problem is not None:  # before any tracking, which a bad output path would throw away
-        print(f"bouncelab track: {problem}", file=sys.stderr)
+        print("bouncelab track: --fps is needed: the frame rate is not in a manifest, a --pattern or the clips "
+              "(e.g. --fps 5000)", file=sys.stderr)
         return EXIT_USAGE
     if not clips:
         print("bouncelab track: no clips found in the folders given", file=sys.stderr)
