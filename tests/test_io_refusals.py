@@ -393,3 +393,11 @@ def test_campaign_file_with_numbers_only_damage_makes_is_refused(tmp_path):
     with pytest.raises(DataError, match=r"damaged\.nc.*omega"):
         bl.load_campaign(path)
     assert bl.load_campaign(bl.save_campaign(ds, tmp_path / "good.nc")).sizes["bounce"] == 330
+
+
+def test_make_campaign_takes_the_same_ball_radius_check():
+    land, lift = scaled(LAND), scaled(LIFT)
+    for radius in (21.35, True, "0.02135"):
+        with pytest.raises(DataError, match="ball_radius_m"):
+            make_campaign(land, lift, ball_radius_m=radius)
+    assert make_campaign(land, lift, ball_radius_m=0.0335).attrs["ball_radius_m"] == 0.0335
