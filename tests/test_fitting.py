@@ -317,3 +317,17 @@ def test_search_options_are_honoured(campaign_a):
     assert no_polish.delta >= bl.fit(bl.Rigid, campaign_a).delta - 1e-12
     with pytest.raises(FitError, match="svm_C"):
         bl.fit(bl.PiecewiseAffine, campaign_a, method="svm", svm_C=0.0)
+
+
+def test_fit_takes_a_law_name_in_any_case(campaign_a):
+    by_class = bl.fit(bl.Rigid, campaign_a, seed=3)
+    by_name = bl.fit("rigid", campaign_a, seed=3)
+    assert isinstance(by_name.model, bl.Rigid)
+    assert by_name.delta == pytest.approx(by_class.delta, rel=1e-12)
+    assert bl.cross_validate("PennerFixed", campaign_a, k=2, seed=0).law == "PennerFixed"
+
+
+@pytest.mark.parametrize("bad, match", [("Rigidd", "Rigidd"), (3.0, "law name"), (None, "law name")])
+def test_fit_refuses_what_is_not_a_law(bad, match, campaign_a):
+    with pytest.raises(FitError, match=match):
+        bl.fit(bad, campaign_a)

@@ -56,3 +56,31 @@ def test_refine_stays_in_the_box_and_stops_at_its_budget():
     assert ((x >= lo) & (x <= hi)).all()
     assert res["evaluations"] >= 1
     assert np.isfinite(res["objective_fresh_seeds"])
+
+
+def test_surrogate_limits_measures_the_floor_the_jump_and_rolling_liftoffs():
+    import bouncelab as bl
+    from benchmarks import surrogate_limits as lim
+
+    out = lim.main(["--campaign", "A", "--laws", "PennerFixed", "Rigid"])["A"]
+    pw = out["PiecewiseAffine (published)"]
+    # The published law's two maps differ at its plane (a continuous law would give ~0 there).
+    assert pw["n_near_plane"] > 10 and pw["jump_near_plane"] > 0.05
+    # PennerFixed contains Rigid (beta = 0), so its floor cannot be higher; neither reaches 0.
+    assert 0.05 < out["PennerFixed"]["delta_floor"] < out["Rigid"]["delta_floor"]
+    p0 = bl.load_campaign("A", surrogate="published")["landing"].values
+    noise_free = np.asarray(bl.PiecewiseAffine.published("A").predict(p0))
+    assert pw["rolling_liftoff_fraction"] == pytest.approx(lim.rolling_fraction(p0, noise_free))
+    assert 0 <= out["Rigid"]["rolling_liftoff_fraction"] <= 1
+
+
+def test_plane_jump_is_zero_for_a_continuous_piecewise_law():
+    import bouncelab as bl
+    from benchmarks import surrogate_limits as lim
+
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(3, 3))
+    law = bl.PiecewiseAffine(normal=[0.2, 1.0, 0.1], offset=-100.0, A1=a, b1=[1.0, 2.0, 3.0], A2=a, b2=[1.0, 2.0, 3.0])
+    p0 = bl.load_campaign("A", surrogate="published")["landing"].values
+    n, near, overall = lim.plane_jump(law, p0, 0.5)
+    assert n > 0 and near == pytest.approx(0.0, abs=1e-12) and overall == pytest.approx(0.0, abs=1e-12)

@@ -17,12 +17,12 @@ import xarray as xr
 
 from bouncelab.data import published
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.errors import FitError, ParameterError
-from bouncelab.fitting.fitter import _as_model, check_seed, fit
+from bouncelab.errors import FitError
+from bouncelab.fitting.fitter import check_seed, fit, law_instance
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
 from bouncelab.fitting.tasks import map_tasks
-from bouncelab.laws.base import BounceModel, law_class, law_name
+from bouncelab.laws.base import BounceModel, law_name
 from bouncelab.metrics import ERROR_COLUMNS
 
 __all__ = ["PAPER_LAWS", "Comparison", "compare", "law_instance"]
@@ -187,18 +187,6 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     if percent:
         return f"{100 * v:.{digits}g} %"
     return f"{v:.{digits}g}"
-
-
-def law_instance(law: Any) -> BounceModel:
-    """A law to fit from a registered name (any case: "turfcontact" is TurfContact), a class or an instance."""
-    if isinstance(law, str):
-        try:
-            return law_class(law, case_sensitive=False)()
-        except ParameterError as exc:
-            raise FitError(str(exc)) from None
-    if (isinstance(law, type) and issubclass(law, BounceModel)) or isinstance(law, BounceModel):
-        return _as_model(law)
-    raise FitError(f"laws must be names, classes or instances of bounce laws; got {law!r}")
 
 
 def _summarise(value: Any) -> Any:

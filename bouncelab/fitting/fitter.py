@@ -13,7 +13,7 @@ import xarray as xr
 
 from bouncelab.data.campaign import campaign_arrays, synthetic_warning
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
-from bouncelab.errors import FitError
+from bouncelab.errors import FitError, ParameterError
 from bouncelab.fitting.objective import bounce_weights, objective_label, objective_weighting, objective_weights
 from bouncelab.fitting.problem import (
     DEFAULT_ALGORITHM,
@@ -23,10 +23,10 @@ from bouncelab.fitting.problem import (
     resolve_fixed,
 )
 from bouncelab.fitting.result import FitResult
-from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_name, registered_laws
+from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_class, law_name, registered_laws
 from bouncelab.metrics import error_terms
 
-__all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "default_maxeval", "fit", "resolve_bounds"]
+__all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "default_maxeval", "fit", "law_instance", "resolve_bounds"]
 
 #: Largest seed accepted (NLopt and NumPy take it as an unsigned 64-bit number).
 SEED_MAX = 2**63 - 1
@@ -51,7 +51,8 @@ def fit(
     Parameters
     ----------
     model
-        A law instance (its parameters, if set, are the start of the search) or a law class.
+        A law instance (its parameters, if set, are the start of the search), a law class,
+        or a registered law name in any case (``"Rigid"``, ``"turfcontact"``, ``"module:Class"``).
     data
         A campaign Dataset or a ``(landing, liftoff)`` pair of (n, 3) arrays in
         scaled units.
@@ -110,7 +111,7 @@ def fit(
         unknown parameter name.
     """
     start_time = time.perf_counter()
-    law = _as_model(model)
+    law = law_instance(model)
     seed = check_seed(seed)
     p0, pf, setting = campaign_arrays(data)
     tst = None if test is None else campaign_arrays(test, name="test")[:2]
@@ -153,12 +154,26 @@ def check_seed(seed: Any) -> int:
     return int(seed)
 
 
-def _as_model(model: Any) -> BounceModel:
-    if isinstance(model, type) and issubclass(model, BounceModel):
-        return model()
-    if isinstance(model, BounceModel):
-        return model
-    raise FitError(f"model must be a BounceModel instance or class; got {type(model).__name__}")
+def law_instance(law: Any) -> BounceModel:
+    """A law to fit from a registered name (any case: "turfcontact" is TurfContact), a class or an instance.
+
+    A class is instantiated with its defaults; an instance is used as given.
+
+    Raises
+    ------
+    FitError
+        An unknown name (listing the known ones) or anything that is not a bounce law.
+    """
+    if isinstance(law, str):
+        try:
+            return law_class(law, case_sensitive=False)()
+        except ParameterError as exc:
+            raise FitError(str(exc)) from None
+    if isinstance(law, type) and issubclass(law, BounceModel):
+        return law()
+    if isinstance(law, BounceModel):
+        return law
+    raise FitError(f"a law must be a law name, a BounceModel class or instance; got {law!r}")
 
 
 def _method(law: BounceModel, method: str | None):

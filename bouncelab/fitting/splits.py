@@ -95,7 +95,7 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     Parameters
     ----------
     model
-        A law instance or class, as for :func:`bouncelab.fit`.
+        A law instance, class or name, as for :func:`bouncelab.fit`.
     data
         A campaign Dataset with a ``setting`` coordinate.
     k
@@ -115,10 +115,10 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     """
     from sklearn.model_selection import GroupKFold
 
-    from bouncelab.fitting.fitter import _as_model, check_seed
+    from bouncelab.fitting.fitter import check_seed, law_instance
     from bouncelab.fitting.tasks import map_tasks
 
-    law = _as_model(model)
+    law = law_instance(model)
     seed = check_seed(seed)
     setting = _settings_of(data)
     n_groups = len(pd.unique(setting))

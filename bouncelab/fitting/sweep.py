@@ -12,7 +12,7 @@ import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import _as_model, check_seed, fit
+from bouncelab.fitting.fitter import check_seed, fit, law_instance
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_name
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
@@ -36,7 +36,7 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
     Parameters
     ----------
     model
-        A law class or instance (its options, and its values as starts of the fits).
+        A law class, instance or name (its options, and its values as starts of the fits).
     data
         A campaign Dataset or a ``(landing, liftoff)`` pair.
     grid
@@ -71,7 +71,7 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
     >>> list(table.columns)[:3]
     ['mu', 'r', 'delta']
     """
-    law = _as_model(model)
+    law = law_instance(model)
     seed = check_seed(seed)
     points = _points(grid)
     params = {s.name for s in law.parameter_specs}

@@ -20,7 +20,7 @@ import xarray as xr
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import _as_model, check_seed, fit
+from bouncelab.fitting.fitter import check_seed, fit, law_instance
 from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import law_name
@@ -86,7 +86,7 @@ def bootstrap(
     Parameters
     ----------
     model
-        A law class or instance (as for :func:`bouncelab.fit`).
+        A law class, instance or name (as for :func:`bouncelab.fit`).
     data
         A campaign Dataset (with a ``setting`` coordinate for ``by="setting"``) or a
         ``(landing, liftoff)`` pair (``by="bounce"`` only).
@@ -109,7 +109,7 @@ def bootstrap(
     >>> import bouncelab as bl
     >>> bl.bootstrap(bl.Rigid, bl.load_campaign("A"), n=50).summary()  # doctest: +SKIP
     """
-    law = _as_model(model)
+    law = law_instance(model)
     seed = check_seed(seed)
     if not law.parameter_specs:
         raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none")
