@@ -99,6 +99,33 @@ def test_polar_landing_angle_out_of_range_refused() -> None:
         law.predict(xr.DataArray([[20.0, -30.0, 100.0]], dims=("bounce", "component")), units=SI)
 
 
+@pytest.mark.parametrize("landing, kw, column, row, hint", [
+    # 2000 "m/s": radii/s given as m/s
+    ([[20.0, -8.0, 2000.0], [2000.0, -800.0, 2000.0]], {}, "xdot0", 2, "'velocity': 'radius/s'"),
+    # 30 000 "rpm" is beyond what any golf ball spins, in any unit
+    ([[20.0, -8.0, 30_000.0]], {}, "omega0", 1, "max_spin"),
+    # an angle in radians given as degrees
+    ([[20.0, 0.6, 2000.0]], {"form": "polar"}, "angle", 1, "radians"),
+])
+def test_physical_landings_that_only_a_unit_mistake_makes_are_refused(landing, kw, column, row, hint) -> None:
+    law = bl.Rigid.published("A")
+    for method in (law.predict, law.regime):
+        with pytest.raises(DataError, match=hint) as err:
+            method(np.array(landing), units=SI, **kw)
+        assert (err.value.column, err.value.row) == (column, row)
+        method(np.array(landing), units=SI, plausible=None, **kw)  # accepted on purpose
+    wide = bl.data.plausibility.PLAUSIBLE_RANGES.widened(max_speed=1e4, max_spin=1e5, min_landing_angle=0.1)
+    assert np.isfinite(law.predict(np.array(landing), units=SI, plausible=wide, **kw)).all()
+
+
+def test_scaled_landings_are_not_unit_guarded_and_a_bad_guard_is_refused() -> None:
+    law = bl.Rigid.published("A")
+    # Scaled Cartesian states are the law's own: any physical state is predicted.
+    assert np.isfinite(law.predict([[2000.0, -800.0, 2000.0]])).all()
+    with pytest.raises(DataError, match="plausible must be"):
+        law.predict([[20.0, -8.0, 200.0]], units=SI, plausible={"max_speed": 90})
+
+
 class Booster(BounceModel):
     """Not a physical law: bounces up with ``g`` times the landing speed (energy gain for g > 1)."""
 

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, scaled_units_error
 from bouncelab.data.units import (
     BALL_RADIUS_M,
     COMPONENTS,
@@ -35,9 +36,14 @@ def is_lazy(x: Any) -> bool:
 class PhysicalIO:
     """Conversion of one ``predict`` call's landings and lift-offs (None when all is scaled Cartesian)."""
 
-    def __init__(self, units: Any, form: Any, radius_m: float) -> None:
+    def __init__(self, units: Any, form: Any, radius_m: float | None,
+                 plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> None:
         _unit_pair(units)  # validate early, before any work
+        if plausible is not None and not isinstance(plausible, PlausibleRanges):
+            raise DataError(f"plausible must be a bouncelab.data.plausibility.PlausibleRanges or None; "
+                            f"got {plausible!r}")
         self.units = units
+        self.plausible = plausible
         self.form_in, self.form_out = _form_pair(form)
         self.radius_m = BALL_RADIUS_M if radius_m is None else radius_m
         self.index = None
@@ -72,7 +78,34 @@ class PhysicalIO:
             raise DataError(f"landing must be a real (..., 3) array of {list(names)}; got "
                             f"{arr.dtype} values of shape {arr.shape}")
         self.lead = arr.shape[:-1]
-        return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
+        scaled = physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
+        self._check_plausible(arr.reshape(-1, 3), scaled.reshape(-1, 3))
+        return scaled
+
+    def _check_plausible(self, given: np.ndarray, scaled: np.ndarray) -> None:
+        """Refuse landings that only a wrong unit (or radians for degrees) makes, as the file loader does."""
+        ranges = self.plausible
+        if ranges is None or not np.isfinite(scaled).all():  # NaN/inf: the validation names them next
+            return
+        widen = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
+        if self.form_in == "polar":
+            low = given[:, 1] < ranges.min_landing_angle
+            if low.any():
+                row = int(np.argmax(low))
+                a = float(given[row, 1])
+                raise DataError(
+                    f"an angle of incidence of {a:g} degrees is implausible for a golf landing (below "
+                    f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees); "
+                    f"if it is in radians ({a:g} rad = {np.degrees(a):.4g} degrees), give degrees; if it is "
+                    f"right, {widen.format(limit='min_landing_angle')}", column="angle", row=row + 1)
+        pair = _unit_pair(self.units) or ("radius/s", "rad/s")
+        given = {"velocity": pair[0], "spin": pair[1]}
+        error = scaled_units_error(
+            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given,
+            declare=lambda likely: f"pass units={given | {k: u[0] for k, u in likely.items()}}",
+            widen=lambda limit: widen.format(limit=limit))
+        if error is not None:
+            raise error
 
     def liftoff(self, out: np.ndarray) -> Any:
         """Scaled (n, 3) lift-offs in the caller's units, form and kind."""

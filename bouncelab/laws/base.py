@@ -60,6 +60,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.validation import States, as_states, check_values
 from bouncelab.errors import DataError, LawDefinitionError, NotFittedError, ParameterError
 from bouncelab.laws.parameters import Parameter, Parameters
@@ -428,7 +429,7 @@ class BounceModel:
     # ---------------------------------------------------------------- prediction
     def predict(self, landing: States, units: Mapping[str, str] | str | None = None, *,
                 form: str | tuple[str, str] = "cartesian", radius_m: float | None = None,
-                return_flags: bool = False) -> Any:
+                return_flags: bool = False, plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> Any:
         """Lift-off states for landing states.
 
         Parameters
@@ -454,6 +455,13 @@ class BounceModel:
             columns ``speed``, ``angle``, ``spin``.
         radius_m
             Ball radius in metres for physical units (default 21.35 mm).
+        plausible
+            The unit guard of landings given with ``units=`` or ``form="polar"``: numbers that
+            only a unit mistake makes (2000 "m/s", 30 000 "rpm", an angle in radians given as
+            degrees) are refused, as by the file loader. Default
+            :data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
+            (``PLAUSIBLE_RANGES.widened(max_speed=...)``) or pass ``None``. Scaled Cartesian
+            landings (the default) are not checked: the law predicts any physical state.
         return_flags
             Also return a :class:`~bouncelab.laws.nonphysical.LiftoffFlags` marking
             non-physical lift-offs (``ydotF <= 0``, energy gain), computed in the same
@@ -470,7 +478,8 @@ class BounceModel:
         DataError
             Wrong shape, NaN/inf, masked or complex values, magnitudes beyond
             :data:`bouncelab.data.validation.STATE_LIMIT`, a landing with
-            ``ydot0 >= 0`` (row named), an unknown unit or form, a polar angle out of range.
+            ``ydot0 >= 0`` (row named), an unknown unit or form, a polar angle out of range,
+            physical landings outside ``plausible`` (naming the row, the column and the unit they look like).
         NotFittedError
             Some parameters have no value.
 
@@ -495,7 +504,7 @@ class BounceModel:
                 raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only; "
                                 "drop units=, form= and return_flags=")
             return self._predict_lazy(landing)
-        io = PhysicalIO(units, form, radius_m) if PhysicalIO.needed(units, form) else None
+        io = PhysicalIO(units, form, radius_m, plausible) if PhysicalIO.needed(units, form) else None
         p, out, wrap = self._predict_flat(landing if io is None else io.landing(landing), theta)
         flags = None
         if return_flags or (published_campaign(self) is not None and any_flagged(p, out)):
@@ -510,12 +519,13 @@ class BounceModel:
         return result, LiftoffFlags(into_ground=per(flags[0]), energy_gain=per(flags[1]))
 
     def regime(self, landing: States, units: Mapping[str, str] | str | None = None, *, codes: bool = False,
-               form: str = "cartesian", radius_m: float | None = None) -> Any:
+               form: str = "cartesian", radius_m: float | None = None,
+               plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> Any:
         """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
 
         Returns an array with the leading shape of ``landing`` (a labelled
         DataArray for a DataArray input; lazy for a dask-backed one). ``units``,
-        ``form`` and ``radius_m`` describe the landings as in :meth:`predict`.
+        ``form``, ``radius_m`` and ``plausible`` describe and check the landings as in :meth:`predict`.
         Names take 4 bytes per character per landing (52 MB per million landings
         for ``"slip_backward"``), codes one byte: from :data:`REGIME_NAMES_WARN`
         landings on, names come with a :class:`~bouncelab.errors.LargeResultWarning`.
@@ -527,7 +537,7 @@ class BounceModel:
             if PhysicalIO.needed(units, form):
                 raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only")
             return self._regime_lazy(landing, codes)
-        io = PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m) \
+        io = PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m, plausible) \
             if PhysicalIO.needed(units, form) else None
         _p, c, wrap = self._regime_flat(landing if io is None else io.landing(landing), theta)
         if io is not None:
