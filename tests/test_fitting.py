@@ -186,8 +186,8 @@ def test_bad_data():
         bl.fit(bl.Rigid, (p0, p0[:4]))
     with pytest.raises(DataError):
         bl.fit(bl.Rigid, "not data")
-    with pytest.raises(FitError, match="model"):
-        bl.fit("Rigid", (p0, p0))
+    with pytest.raises(FitError, match="law"):
+        bl.fit(42, (p0, p0))
 
 
 def test_bad_methods_and_algorithms(campaign_a):

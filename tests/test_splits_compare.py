@@ -140,3 +140,38 @@ def test_compare_takes_law_names_in_any_case(campaign_b):
     assert list(cmp.table.index) == ["Rigid", "PennerFixed"]
     with pytest.raises(bl.FitError, match="unknown law"):
         bl.compare(campaign_b, ["rigidd"])
+
+
+def _tilt_law(name: str, unit: str, to_rad: float) -> type:
+    """A toy law whose one parameter, ``tilt``, is in ``unit`` (to_rad converts it to radians)."""
+
+    def _predict(self, p, theta):
+        c = np.cos(theta[0] * to_rad)
+        return p * np.array([0.5 * c, -0.5 * c, 0.2])
+
+    def _regime(self, p, theta):
+        return np.zeros(len(p), dtype=np.int8)
+
+    def __init__(self, tilt=None):
+        self.tilt = tilt
+        bl.BounceModel.__init__(self)
+
+    hi = 89.0 if unit == "deg" else np.radians(89.0)
+    spec = bl.laws.Parameter("tilt", (0.0, hi), (0.0, hi), unit, "tilt of the contact")
+    return type(name, (bl.BounceModel,), {"parameter_specs": (spec,), "regimes": ("bounce",),
+                                          "__init__": __init__, "_predict": _predict, "_regime": _regime})
+
+
+def test_compare_keeps_a_shared_parameter_name_apart_by_unit(campaign_b):
+    deg, rad = _tilt_law("TiltDeg", "deg", np.pi / 180), _tilt_law("TiltRad", "rad", 1.0)
+    cmp = bl.compare(campaign_b, [deg, rad, "Rigid"])
+    assert {"tilt [deg]", "tilt [rad]"} <= set(cmp.parameter_columns())
+    d, r = (bl.laws.base.law_name(law) for law in (deg, rad))  # user laws: "module:Class"
+    assert np.isnan(cmp.table.loc[d, "tilt [rad]"]) and np.isnan(cmp.table.loc[r, "tilt [deg]"])
+    # The same fitted tilt, in its own unit in its own column.
+    assert cmp.table.loc[d, "tilt [deg]"] == pytest.approx(np.degrees(cmp.table.loc[r, "tilt [rad]"]),
+                                                          rel=1e-3, abs=1e-3)
+    md = cmp.to_markdown()
+    assert "| tilt [deg] |" in md and "| tilt [rad] |" in md and "[deg] [deg]" not in md
+    # One unit per name stays one column, as before.
+    assert "mu" in bl.compare(campaign_b, ["Rigid", "PennerFixed"]).parameter_columns()

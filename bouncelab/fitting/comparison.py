@@ -115,7 +115,7 @@ class Comparison:
 
     def _label(self, q: str) -> str:
         unit = self.units.get(q, "1")
-        return _LABELS.get(q, q if unit == "1" else f"{q} [{unit}]")
+        return _LABELS.get(q, q if unit == "1" or q.endswith(f" [{unit}]") else f"{q} [{unit}]")
 
     def to_markdown(self, digits: int = 3) -> str:
         """The comparison as markdown, laid out as the paper's Tables 3 and 2.
@@ -248,12 +248,18 @@ def compare(
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
     fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs) for m in models], executor)
     results = dict(zip(names, fits, strict=True))
+    # A parameter name carried with different units by different laws gets one column per unit.
+    seen: dict[str, set[str]] = {}
+    for res in results.values():
+        for pname, p in res.model.params.items():
+            seen.setdefault(pname, set()).add(p.unit)
     rows, units = {}, {}
     for name, res in results.items():
         row: dict[str, Any] = {}
         for pname, p in res.model.params.items():
-            row[pname] = _summarise(p.value)
-            units[pname] = p.unit
+            col = pname if len(seen[pname]) == 1 or p.unit == "1" else f"{pname} [{p.unit}]"
+            row[col] = _summarise(p.value)
+            units[col] = p.unit
         for prefix in ("train", "test"):
             if prefix in res.errors.index.get_level_values(0):
                 for c in ERROR_COLUMNS:
