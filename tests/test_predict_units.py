@@ -238,3 +238,61 @@ def test_compiled_gate_agrees_with_the_flags() -> None:
     edge = out.copy()  # exactly the landing's energy: not a gain, in both
     edge[5] = p[5] * [1, -1, 1]
     assert any_flagged(p, edge) == bool(np.logical_or(*liftoff_flags(p, edge)).any())
+
+
+def test_polar_landings_are_guarded_by_their_speed_as_given() -> None:
+    law = bl.Rigid.published("A")
+    with pytest.raises(DataError, match=r"^column 'speed', row 1: 120 m/s") as err:
+        law.predict([[120.0, 45.0, 2000.0]], units=SI, form="polar")  # 85 m/s in each component
+    assert err.value.column == "speed"
+    with pytest.raises(DataError, match=r"2000 m/s.*look like radius/s"):
+        law.predict([[20.0, 30.0, 2000.0], [2000.0, 30.0, 2000.0]], units=SI, form="polar")
+    with pytest.raises(DataError) as err:
+        law.predict([[20.0, 30.0, 30_000.0]], units=SI, form="polar")
+    assert (err.value.column, err.value.row) == ("spin", 1)
+
+
+def test_declared_units_are_held_to_the_upper_limits_only() -> None:
+    law = bl.Rigid.published("A")
+    # A single slow landing is a slow landing, not a unit mistake, when its unit is declared.
+    slow = law.predict([[0.5, 30.0, 100.0]], units=SI, form="polar")
+    both = law.predict([[0.5, 30.0, 100.0], [20.0, 30.0, 2000.0]], units=SI, form="polar")
+    np.testing.assert_allclose(slow[0], both[0])
+    assert np.isfinite(law.predict([[3.0, -2.0, 50.0]], units={"velocity": "km/h", "spin": "rpm"})).all()
+
+
+def test_scaled_units_spelled_out_are_not_guarded_either() -> None:
+    law = bl.Rigid.published("A")
+    landing = [[20_000.0, -1000.0, 30_000.0]]
+    np.testing.assert_array_equal(law.predict(landing, units="scaled"), law.predict(landing))
+
+
+@pytest.mark.parametrize("radius", [21.35, 0.0, -0.02, "0.02135", True])
+def test_a_ball_radius_that_is_not_metres_is_refused(radius) -> None:
+    law = bl.Rigid.published("A")
+    with pytest.raises(DataError, match="ball_radius_m"):
+        law.predict([[20.0, -8.0, 2000.0]], units=SI, radius_m=radius)
+    with pytest.raises(DataError, match="ball_radius_m"):
+        law.regime([[20.0, -8.0, 2000.0]], units=SI, radius_m=radius)
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"max_spin": None}, "max_spin must be a positive number in rpm"),
+    ({"max_spin": "40000"}, "max_spin"),
+    ({"max_speed": -1.0}, "max_speed"),
+    ({"min_landing_angle": float("inf")}, "min_landing_angle must be a finite number >= 0"),
+    ({"max_spn": 3.0}, "no limit \\['max_spn'\\]"),
+])
+def test_plausible_ranges_refuse_limits_that_are_not_limits(change, match) -> None:
+    from bouncelab.data.plausibility import PLAUSIBLE_RANGES
+
+    with pytest.raises(bl.errors.ParameterError, match=match):
+        PLAUSIBLE_RANGES.widened(**change)
+    assert PLAUSIBLE_RANGES.widened(max_spin=np.int64(30_000), min_peak_spin=0).max_spin == 30_000
+
+
+def test_an_upward_physical_landing_is_named_in_the_units_given() -> None:
+    law = bl.Rigid.published("A")
+    with pytest.raises(DataError, match=r"got 10.0 m/s \(1 bounce") as err:
+        law.predict([[20.0, -8.0, 2000.0], [20.0, 10.0, 2000.0]], units=SI)
+    assert (err.value.column, err.value.row) == ("landing.ydot", 2)

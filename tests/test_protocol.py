@@ -450,3 +450,28 @@ def test_load_law_given_json_text_says_what_it_takes():
     with pytest.raises(bl.ParameterError, match=r"path of a law JSON file.*law_from_dict"):
         bl.load_law(json.dumps(text))
     assert bl.laws.law_from_dict(json.loads(json.dumps(text))) == bl.Rigid(r=0.5, mu=0.3)
+
+
+def test_a_law_name_in_its_exact_case_wins_over_one_differing_in_case():
+    from bouncelab.errors import FitError, ParameterError
+    from bouncelab.laws.base import law_class
+
+    def init(self, g=None):
+        self.g = g
+        bl.BounceModel.__init__(self)
+
+    def make(name):
+        return type(name, (bl.BounceModel,), {
+            "__module__": "caselaws", "__init__": init,
+            "parameter_specs": (bl.laws.Parameter("g", (0.0, 1.0), (0.0, 1.0), "1", "g"),),
+            "regimes": ("bounce",), "_predict": lambda self, p, theta: p * np.array([theta[0], -theta[0], 0.0]),
+            "_regime": lambda self, p, theta: np.zeros(len(p), dtype=np.int8)})
+
+    upper, lower = make("CaseLaw"), make("caselaw")
+    for name, cls in (("CaseLaw", upper), ("caselaw", lower), ("caselaws:CaseLaw", upper), ("caselaws:caselaw", lower)):
+        assert law_class(name, case_sensitive=False) is cls
+        assert type(bl.fit(name, bl.load_campaign("A"))).__name__ == "FitResult"
+    with pytest.raises(FitError, match="ambiguous"):
+        bl.fit("CASELAW", bl.load_campaign("A"))
+    with pytest.raises(ParameterError, match="no bounce law is registered as module:QualName 'numpy:ndarray'"):
+        law_class("numpy:ndarray")

@@ -165,13 +165,34 @@ def _tilt_law(name: str, unit: str, to_rad: float) -> type:
 def test_compare_keeps_a_shared_parameter_name_apart_by_unit(campaign_b):
     deg, rad = _tilt_law("TiltDeg", "deg", np.pi / 180), _tilt_law("TiltRad", "rad", 1.0)
     cmp = bl.compare(campaign_b, [deg, rad, "Rigid"])
-    assert {"tilt [deg]", "tilt [rad]"} <= set(cmp.parameter_columns())
+    # The first law keeps the plain name; the other unit gets its own column.
+    assert {"tilt", "tilt [rad]"} <= set(cmp.parameter_columns()) and cmp.units["tilt"] == "deg"
     d, r = (bl.laws.base.law_name(law) for law in (deg, rad))  # user laws: "module:Class"
-    assert np.isnan(cmp.table.loc[d, "tilt [rad]"]) and np.isnan(cmp.table.loc[r, "tilt [deg]"])
+    assert np.isnan(cmp.table.loc[d, "tilt [rad]"]) and np.isnan(cmp.table.loc[r, "tilt"])
     # The same fitted tilt, in its own unit in its own column.
-    assert cmp.table.loc[d, "tilt [deg]"] == pytest.approx(np.degrees(cmp.table.loc[r, "tilt [rad]"]),
-                                                          rel=1e-3, abs=1e-3)
+    assert cmp.table.loc[d, "tilt"] == pytest.approx(np.degrees(cmp.table.loc[r, "tilt [rad]"]), rel=1e-3, abs=1e-3)
     md = cmp.to_markdown()
-    assert "| tilt [deg] |" in md and "| tilt [rad] |" in md and "[deg] [deg]" not in md
+    assert "| tilt [deg] |" in md and "| tilt [rad] |" in md and "[rad] [rad]" not in md
     # One unit per name stays one column, as before.
     assert "mu" in bl.compare(campaign_b, ["Rigid", "PennerFixed"]).parameter_columns()
+
+
+def test_bouncelab_laws_keep_their_parameter_columns_and_the_papers_values(campaign_b):
+    spec = bl.laws.Parameter("beta_deg", (0.0, 1.5), (0.0, 1.5), "rad", "a tilt in radians under the same name")
+
+    def _predict(self, p, theta):
+        c = np.cos(theta[0])
+        return p * np.array([0.5 * c, -0.5 * c, 0.2])
+
+    def __init__(self, beta_deg=None):
+        self.beta_deg = beta_deg
+        bl.BounceModel.__init__(self)
+
+    radians = type("BetaInRadians", (bl.BounceModel,), {
+        "parameter_specs": (spec,), "regimes": ("bounce",), "__init__": __init__, "_predict": _predict,
+        "_regime": lambda self, p, theta: np.zeros(len(p), dtype=np.int8)})
+    # Whatever the order, PennerFixed keeps "beta_deg" and the paper's 18.4 degrees stay beside it.
+    cmp = bl.compare(campaign_b, [radians, "PennerFixed"])
+    assert "beta_deg" in cmp.table.columns and "beta_deg [rad]" in cmp.table.columns
+    assert cmp.published().loc["PennerFixed", "beta_deg"] == pytest.approx(18.4, abs=0.05)
+    assert cmp.side_by_side().loc["PennerFixed", ("beta_deg", "paper")] == pytest.approx(18.4, abs=0.05)

@@ -29,13 +29,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from bouncelab.data.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, ParameterError
 
 __all__ = [
     "CANDIDATE_UNITS",
@@ -59,7 +60,8 @@ class PlausibleRanges:
     Attributes
     ----------
     max_speed
-        Largest ``|xdot|`` or ``|ydot|``, landing or lift-off, in m/s (default 90 m/s: faster
+        Largest ``|xdot|`` or ``|ydot|`` (the speed, for states given as speed, angle and spin),
+        landing or lift-off, in m/s (default 90 m/s: faster
         than the fastest drive; the paper's fastest landing is 56.1 m/s).
     max_spin
         Largest ``|omega|``, landing or lift-off, in rpm (default 20 000 rpm; the paper's
@@ -84,10 +86,35 @@ class PlausibleRanges:
     min_peak_spin: float = 300.0
     min_landing_angle: float = 5.0
 
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            number = isinstance(value, numbers.Real) and not isinstance(value, bool) and not math.isnan(value)
+            # An upper limit may be math.inf (no limit); a lower one may be 0 (no limit).
+            ok = number and (value > 0 if f.name.startswith("max_") else 0 <= value < math.inf)
+            if not ok:
+                what = "a positive number" if f.name.startswith("max_") else "a finite number >= 0"
+                drop = "math.inf" if f.name.startswith("max_") else "0"
+                raise ParameterError(f"PlausibleRanges.{f.name} must be {what} in {_UNITS[f.name]} "
+                                     f"({drop} drops the limit); got {value!r}")
+
     def widened(self, **changes: float) -> PlausibleRanges:
-        """A copy with some limits changed (``PLAUSIBLE_RANGES.widened(max_spin=40_000)``)."""
+        """A copy with some limits changed (``PLAUSIBLE_RANGES.widened(max_spin=40_000)``).
+
+        Raises
+        ------
+        ParameterError
+            An unknown limit (naming the known ones) or a value that is not a positive number.
+        """
+        known = [f.name for f in dataclasses.fields(self)]
+        unknown = sorted(set(changes) - set(known))
+        if unknown:
+            raise ParameterError(f"PlausibleRanges has no limit {unknown}; its limits are {known}")
         return dataclasses.replace(self, **changes)
 
+
+_UNITS = {"max_speed": "m/s", "max_spin": "rpm", "min_median_landing_speed": "m/s", "min_peak_spin": "rpm",
+          "min_landing_angle": "degrees"}
 
 #: The default ranges (see :class:`PlausibleRanges`).
 PLAUSIBLE_RANGES = PlausibleRanges()
@@ -250,6 +277,7 @@ def scaled_units_error(
     radius_m: float = BALL_RADIUS_M,
     ranges: PlausibleRanges = PLAUSIBLE_RANGES,
     units: Mapping[str, str] | None = None,
+    lower: bool = True,
     declare: Callable[[dict[str, list[str]]], str],
     widen: Callable[[str], str],
 ) -> DataError | None:
@@ -275,6 +303,10 @@ def scaled_units_error(
     units
         The units the numbers were given in (``{"velocity": "m/s", "spin": "rpm"}``), default
         the scaled ones: the message quotes the number as given and looks for the unit it was in.
+    lower
+        Whether the lower limits can fault the numbers (default True); ``False`` when their units
+        were declared, as for a file with declared units. The units the numbers look like are
+        always found with both limits.
     declare
         ``declare({kind: likely_units})``: how to give the numbers in the units they look like
         (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.data.units.to_scaled(...)"``.
@@ -298,7 +330,12 @@ def scaled_units_error(
         lower = liftoff is not None or kind == "velocity"
         return implausibility(a0, af, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=lower)
 
-    faults = {kind: why for kind in ("velocity", "spin") if (why := check(p0, pf, kind)) is not None}
+    def fault(kind: str) -> Implausibility | None:
+        if lower:
+            return check(p0, pf, kind)
+        return implausibility(p0, pf, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=False)
+
+    faults = {kind: why for kind in ("velocity", "spin") if (why := fault(kind)) is not None}
     if not faults:
         return None
     likely: dict[str, list[str]] = {}

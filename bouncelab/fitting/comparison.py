@@ -248,16 +248,18 @@ def compare(
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
     fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs) for m in models], executor)
     results = dict(zip(names, fits, strict=True))
-    # A parameter name carried with different units by different laws gets one column per unit.
-    seen: dict[str, set[str]] = {}
-    for res in results.values():
+    # A parameter name carried in different units by different laws gets a column per unit: the
+    # plain name keeps the unit of bouncelab's own law that has it (so the paper's values stay beside
+    # it), else of the first law; the others are named "name [unit]".
+    plain: dict[str, str] = {}
+    for res in sorted(results.values(), key=lambda r: ":" in law_name(r.model)):  # bouncelab's own first
         for pname, p in res.model.params.items():
-            seen.setdefault(pname, set()).add(p.unit)
+            plain.setdefault(pname, p.unit)
     rows, units = {}, {}
     for name, res in results.items():
         row: dict[str, Any] = {}
         for pname, p in res.model.params.items():
-            col = pname if len(seen[pname]) == 1 or p.unit == "1" else f"{pname} [{p.unit}]"
+            col = pname if p.unit == plain[pname] else f"{pname} [{p.unit}]"
             row[col] = _summarise(p.value)
             units[col] = p.unit
         for prefix in ("train", "test"):

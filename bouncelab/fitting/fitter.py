@@ -33,7 +33,7 @@ SEED_MAX = 2**63 - 1
 
 
 def fit(
-    model: BounceModel | type[BounceModel],
+    model: BounceModel | type[BounceModel] | str,
     data: Any,
     *,
     method: str | None = None,

@@ -20,6 +20,7 @@ from bouncelab.data.units import (
     POLAR_COMPONENTS,
     _form_pair,
     _unit_pair,
+    ball_radius,
     physical_to_scaled,
     scaled_to_physical,
 )
@@ -45,13 +46,14 @@ class PhysicalIO:
         self.units = units
         self.plausible = plausible
         self.form_in, self.form_out = _form_pair(form)
-        self.radius_m = BALL_RADIUS_M if radius_m is None else radius_m
+        self.radius_m = BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)  # metres, not mm
         self.index = None
         self.lead: tuple[int, ...] = ()
 
     @staticmethod
     def needed(units: Any, form: Any) -> bool:
-        return not (units is None and form == "cartesian")
+        """Whether the landings need converting (anything but scaled Cartesian states); validates ``units``."""
+        return not (_unit_pair(units) is None and isinstance(form, str) and form == "cartesian")
 
     def landing(self, landing: Any) -> np.ndarray:
         """The landings as a scaled Cartesian (..., 3) float array."""
@@ -78,33 +80,49 @@ class PhysicalIO:
             raise DataError(f"landing must be a real (..., 3) array of {list(names)}; got "
                             f"{arr.dtype} values of shape {arr.shape}")
         self.lead = arr.shape[:-1]
+        if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
+            up = arr.reshape(-1, 3)[:, 1] >= 0
+            if up.any():
+                row = int(np.argmax(up))
+                unit = (_unit_pair(self.units) or ("radii/s",))[0]
+                raise DataError(f"landing ydot must be negative (y points up, a landing moves down); got "
+                                f"{float(arr.reshape(-1, 3)[row, 1])!r} {unit} ({int(up.sum())} bounce(s) affected)",
+                                column="landing.ydot", row=row + 1)
         scaled = physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
-        self._check_plausible(arr.reshape(-1, 3), scaled.reshape(-1, 3))
+        self._check_plausible(arr.reshape(-1, 3).astype(float), scaled.reshape(-1, 3))
         return scaled
 
-    def _check_plausible(self, given: np.ndarray, scaled: np.ndarray) -> None:
-        """Refuse landings that only a wrong unit (or radians for degrees) makes, as the file loader does."""
+    def _check_plausible(self, raw: np.ndarray, scaled: np.ndarray) -> None:
+        """Refuse landings that only a wrong unit (or radians for degrees) makes, as the file loader does.
+
+        Units are declared here, so only the upper limits apply (as for a file with declared units).
+        """
         ranges = self.plausible
         if ranges is None or not np.isfinite(scaled).all():  # NaN/inf: the validation names them next
             return
         widen = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
-        if self.form_in == "polar":
-            low = given[:, 1] < ranges.min_landing_angle
+        polar = self.form_in == "polar"
+        if polar:
+            low = raw[:, 1] < ranges.min_landing_angle
             if low.any():
                 row = int(np.argmax(low))
-                a = float(given[row, 1])
+                a = float(raw[row, 1])
                 raise DataError(
                     f"an angle of incidence of {a:g} degrees is implausible for a golf landing (below "
                     f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees); "
                     f"if it is in radians ({a:g} rad = {np.degrees(a):.4g} degrees), give degrees; if it is "
                     f"right, {widen.format(limit='min_landing_angle')}", column="angle", row=row + 1)
+            # Check the speed as given, not its components (120 m/s at 45 degrees is 85 m/s in each).
+            scaled = np.column_stack([np.hypot(scaled[:, 0], scaled[:, 1]), np.zeros(len(scaled)), scaled[:, 2]])
         pair = _unit_pair(self.units) or ("radius/s", "rad/s")
         given = {"velocity": pair[0], "spin": pair[1]}
         error = scaled_units_error(
-            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given,
+            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given, lower=False,
             declare=lambda likely: f"pass units={given | {k: u[0] for k, u in likely.items()}}",
             widen=lambda limit: widen.format(limit=limit))
         if error is not None:
+            if polar:
+                raise DataError(error.message, column={"xdot0": "speed"}.get(error.column, "spin"), row=error.row)
             raise error
 
     def liftoff(self, out: np.ndarray) -> Any:

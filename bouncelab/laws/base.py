@@ -250,6 +250,11 @@ def law_class(name: str, *, case_sensitive: bool = True) -> type[BounceModel]:
     """
     if not isinstance(name, str) or not name:
         raise ParameterError(f"a law name must be a non-empty string; got {name!r}")
+    if not case_sensitive:
+        try:  # the exact spelling wins over laws whose names differ from it only in case
+            return law_class(name, case_sensitive=True)
+        except ParameterError:
+            pass
     with _REGISTRY_LOCK:
         classes = list(_REGISTRY.values())
 
@@ -260,9 +265,13 @@ def law_class(name: str, *, case_sensitive: bool = True) -> type[BounceModel]:
         hits = [c for c in classes if same(f"{c.__module__}:{c.__qualname__}", name)]
         if len(hits) == 1:
             return hits[0]
+        if len(hits) > 1:
+            cands = sorted(f"{c.__module__}:{c.__qualname__}" for c in hits)
+            raise ParameterError(f"the law name {name!r} is ambiguous; use one of the qualified names {cands}")
         raise ParameterError(
-            f"unknown law {name!r}: no such class is defined in this process; import the module that defines it "
-            "first (a law description never imports code)"
+            f"unknown law {name!r}: no bounce law is registered as module:QualName {name!r} in this process (e.g. "
+            "'bouncelab.laws.rigid:Rigid'); import the module that defines it first (a law description never "
+            "imports code)"
         )
     builtin = [c for c in classes if _is_builtin(c) and same(c.__name__, name)]
     if len(builtin) == 1:
@@ -519,7 +528,7 @@ class BounceModel:
         return result, LiftoffFlags(into_ground=per(flags[0]), energy_gain=per(flags[1]))
 
     def regime(self, landing: States, units: Mapping[str, str] | str | None = None, *, codes: bool = False,
-               form: str = "cartesian", radius_m: float | None = None,
+               form: str | tuple[str, str] = "cartesian", radius_m: float | None = None,
                plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> Any:
         """Regime of each landing: names from :attr:`regimes`, or int8 codes into it with ``codes=True``.
 
