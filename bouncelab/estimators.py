@@ -102,13 +102,16 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
         return self
 
     # ------------------------------------------------------------------ fit, predict, score
-    def fit(self, X: Any, y: Any) -> BounceRegressor:
+    def fit(self, X: Any, y: Any, sample_weight: Any = None) -> BounceRegressor:
         """Fit the law to landings ``X`` and lift-offs ``y`` ((n, 3) each, scaled units).
+
+        ``sample_weight`` (one non-negative weight per bounce) weighs each bounce in the fit, as
+        :func:`bouncelab.fit`'s ``sample_weight``.
 
         Raises
         ------
         DataError
-            Bad arrays (shape, NaN, a landing with ``ydot0 >= 0``, different numbers of rows).
+            Bad arrays (shape, NaN, a landing with ``ydot0 >= 0``, different numbers of rows), bad weights.
         FitError, ParameterError
             As :func:`bouncelab.fit` (too few bounces, a bad objective, bounds or method).
         """
@@ -119,7 +122,8 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
                             "an (n, 3) array [xdotF, ydotF, omegaF]")
         p0, pf = _pair(X, y, min_samples=2)
         result = fit(_law_instance(self.law), (p0, pf), method=self.method, objective=self.objective,
-                     seed=self.seed, bounds=self.bounds, fixed=self.fixed, **dict(self.method_options or {}))
+                     seed=self.seed, bounds=self.bounds, fixed=self.fixed, sample_weight=sample_weight,
+                     **dict(self.method_options or {}))
         self.fit_result_ = result
         self.law_ = result.model
         self.n_features_in_ = 3
@@ -135,12 +139,14 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
 
         ``sample_weight`` weighs each bounce's term of delta (a weighted mean).
         """
+        from bouncelab.fitting.objective import sample_weights
         from bouncelab.metrics import error_terms
 
         check_is_fitted(self, "law_")
         p0, pf = _pair(X, y)
+        weights = sample_weights(sample_weight, len(p0))  # as in fit: one finite weight >= 0 per bounce
         terms = error_terms(p0, pf, self.law_.predict(p0))[:, 0]
-        return -float(np.average(terms, weights=sample_weight))
+        return -float(np.average(terms, weights=weights))
 
 
 def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:

@@ -331,3 +331,87 @@ def test_fit_takes_a_law_name_in_any_case(campaign_a):
 def test_fit_refuses_what_is_not_a_law(bad, match, campaign_a):
     with pytest.raises(FitError, match=match):
         bl.fit(bad, campaign_a)
+
+
+# ------------------------------------------------------------------------------ sample weights
+@pytest.mark.parametrize("law, method", [("Rigid", "structured"), ("Rigid", "global"), ("PennerFixed", "global"),
+                                         ("PiecewiseAffine", "plane"), ("PiecewiseAffine", "svm")])
+def test_integer_sample_weights_are_repeated_bounces(law, method, campaign_a):
+    # Weight k on a bounce is the bounce k times (0: dropped), in every stage of every method.
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    w = np.random.default_rng(0).integers(0, 3, len(p0))
+    idx = np.repeat(np.arange(len(p0)), w)
+    weighted = bl.fit(law, (p0, pf), method=method, sample_weight=w, seed=1)
+    repeated = bl.fit(law, (p0[idx], pf[idx]), method=method, seed=1)
+    assert weighted.objective_value == pytest.approx(repeated.objective_value, rel=1e-6)
+    assert weighted.objective.endswith("sample-weighted")
+    if law != "PiecewiseAffine":  # a piecewise plane is one of many with the same delta
+        np.testing.assert_allclose(weighted.model._theta(), repeated.model._theta(), rtol=1e-6)
+    # The reported delta stays the paper's unweighted mean over the fitted bounces (weight 0: left out).
+    kept = w > 0
+    assert weighted.n_train == kept.sum() and any("sample_weight 0 left out" in n for n in weighted.notes)
+    assert weighted.delta == pytest.approx(bl.delta(p0[kept], pf[kept], weighted.model.predict(p0[kept])), rel=1e-12)
+
+
+def test_sample_weights_change_the_fit_and_equal_weights_do_not(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    plain = bl.fit("PennerFixed", (p0, pf))
+    assert bl.fit("PennerFixed", (p0, pf), sample_weight=np.full(len(p0), 7.0)).model == plain.model
+    skew = np.where(p0[:, 0] > np.median(p0[:, 0]), 10.0, 1.0)
+    assert bl.fit("PennerFixed", (p0, pf), sample_weight=skew).model != plain.model
+
+
+@pytest.mark.parametrize("weights, match", [
+    (np.ones(5), "330 real numbers"), (["a"] * 330, "real numbers"),
+    (np.r_[np.ones(3), -1.0, np.ones(326)], "row 4"), (np.r_[np.nan, np.ones(329)], "row 1"),
+    (np.zeros(330), "zero for every bounce"),
+])
+def test_bad_sample_weights_are_refused(weights, match, campaign_a):
+    with pytest.raises(DataError, match=match) as err:
+        bl.fit("Rigid", campaign_a, sample_weight=weights)
+    assert err.value.column == "sample_weight"
+
+
+def test_functions_that_split_or_resample_refuse_sample_weights(campaign_a):
+    w = np.ones(campaign_a.sizes["bounce"])
+    for call in (lambda: bl.cross_validate("Rigid", campaign_a, k=2, sample_weight=w),
+                 lambda: bl.bootstrap("Rigid", campaign_a, n=2, sample_weight=w),
+                 lambda: bl.sweep("Rigid", campaign_a, {"mu": [0.3]}, sample_weight=w),
+                 lambda: bl.compare(campaign_a, ["Rigid"], split="setting", sample_weight=w)):
+        with pytest.raises(FitError, match="takes no sample_weight"):
+            call()
+    # Without a split, compare fits all bounces and passes the weights on.
+    cmp = bl.compare(campaign_a, ["Rigid"], sample_weight=w * 2)
+    assert cmp.results["Rigid"].objective.endswith("sample-weighted")
+
+
+def test_only_the_ratios_of_sample_weights_matter_even_at_extreme_scales(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    w = np.random.default_rng(4).uniform(0.5, 2.0, len(p0))
+    ref = bl.fit("Rigid", (p0, pf), method="structured", sample_weight=w)
+    for scale in (1e-300, 1e300):
+        res = bl.fit("Rigid", (p0, pf), method="structured", sample_weight=w * scale)
+        # (rounding in the rescaled weights may move the search's last steps: agreement to its tolerance)
+        np.testing.assert_allclose(res.model._theta(), ref.model._theta(), rtol=1e-6)
+        assert res.objective_value == pytest.approx(ref.objective_value, rel=1e-9)
+
+
+def test_zero_weights_leave_bounces_out_of_every_count(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    one = np.zeros(len(p0))
+    one[0] = 1.0
+    with pytest.raises(FitError, match="too few"):  # one bounce left, as if only it were given
+        bl.fit("PennerFixed", (p0, pf), sample_weight=one)
+    twelve = np.zeros(len(p0))
+    twelve[:12] = 1.0
+    with pytest.raises(FitError):
+        bl.fit("PiecewiseAffine", (p0, pf), sample_weight=twelve)
+
+
+def test_structured_least_squares_mu_is_weighted(campaign_a):
+    p0, pf = campaign_a.landing.values, campaign_a.liftoff.values
+    k = np.random.default_rng(1).integers(0, 4, len(p0))
+    rep = np.repeat(np.arange(len(p0)), k)
+    a = bl.fit("Rigid", (p0, pf), method="structured", mu_objective="lstsq", sample_weight=k)
+    b = bl.fit("Rigid", (p0[rep], pf[rep]), method="structured", mu_objective="lstsq")
+    np.testing.assert_allclose(a.model._theta(), b.model._theta(), rtol=1e-6)

@@ -475,3 +475,14 @@ def test_a_law_name_in_its_exact_case_wins_over_one_differing_in_case():
         bl.fit("CASELAW", bl.load_campaign("A"))
     with pytest.raises(ParameterError, match="no bounce law is registered as module:QualName 'numpy:ndarray'"):
         law_class("numpy:ndarray")
+
+
+def test_the_documented_compiled_law_weighs_its_least_squares_by_the_sample_weights(compiled_law):
+    ds = bl.load_campaign("B")
+    p0, pf = ds.landing.values, ds.liftoff.values
+    w = np.random.default_rng(3).integers(0, 3, len(p0))
+    idx = np.repeat(np.arange(len(p0)), w)
+    for weighted in (False, True):
+        a = bl.fit(compiled_law, (p0, pf), sample_weight=w, weighted=weighted)
+        b = bl.fit(compiled_law, (p0[idx], pf[idx]), weighted=weighted)
+        np.testing.assert_allclose(a.model._theta(), b.model._theta(), rtol=1e-9, atol=1e-9)

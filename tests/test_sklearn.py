@@ -30,6 +30,11 @@ NOT_APPLICABLE = {
     "check_estimators_nan_inf": _UPWARD, "check_estimators_pickle": _UPWARD,
     "check_f_contiguous_array_estimator": _UPWARD, "check_methods_sample_order_invariance": _UPWARD,
     "check_methods_subset_invariance": _UPWARD, "check_dict_unchanged": _UPWARD, "check_fit2d_predict1d": _UPWARD,
+    # sample weights: the same properties are tested on bounces in test_sample_weight_properties_on_bounces
+    "check_sample_weights_pandas_series": "fits a DataFrame of 2 unnamed columns; a landing has 3 named ones",
+    "check_sample_weights_not_an_array": _WIDTH, "check_all_zero_sample_weights_error": _WIDTH,
+    "check_sample_weights_shape": _WIDTH, "check_sample_weights_not_overwritten": _WIDTH,
+    "check_sample_weight_equivalence_on_dense_data": _WIDTH, "check_sample_weights_list": _UPWARD,
 }
 
 
@@ -120,3 +125,48 @@ def test_set_params_on_the_law_and_clone() -> None:
     assert est.law == bl.Rigid(r=0.5, mu=0.7) and est.seed == 4
     assert clone(est).law is est.law  # laws are immutable values: their own clones
     assert est.get_params(deep=True)["law__mu"] == 0.7
+
+
+def test_sample_weight_in_fit_and_in_scikit_learn_cross_validation(bounces) -> None:
+    X, Y, groups = bounces
+    w = np.random.default_rng(1).integers(0, 3, len(X)).astype(float)
+    est = bl.BounceRegressor("PennerFixed").fit(X, Y, sample_weight=w)
+    assert est.law_ == bl.fit("PennerFixed", (X, Y), sample_weight=w).model
+    # scikit-learn splits the weights with the bounces (params are passed to fit).
+    scores = cross_val_score(bl.BounceRegressor("Rigid"), X, Y, groups=groups, cv=GroupKFold(3),
+                             params={"sample_weight": w})
+    plain = cross_val_score(bl.BounceRegressor("Rigid"), X, Y, groups=groups, cv=GroupKFold(3))
+    assert scores.shape == (3,) and not np.allclose(scores, plain)
+    with pytest.raises(DataError, match="sample_weight"):
+        bl.BounceRegressor("Rigid").fit(X, Y, sample_weight=w[:-1])
+
+
+def test_sample_weight_properties_on_bounces(bounces) -> None:
+    """scikit-learn's sample-weight checks, on bounces (its own use random data no landing can be)."""
+    import pandas as pd
+
+    X, Y, _ = bounces
+    w = np.random.default_rng(2).integers(0, 3, len(X)).astype(float)
+    kept = w.copy()
+    ref = bl.BounceRegressor("PennerFixed").fit(X, Y, sample_weight=w)
+    np.testing.assert_array_equal(w, kept)  # not overwritten
+    for other in (list(w), pd.Series(w), w.astype(int)):  # list, Series, integers
+        assert bl.BounceRegressor("PennerFixed").fit(X, Y, sample_weight=other).law_ == ref.law_
+    idx = np.repeat(np.arange(len(X)), w.astype(int))  # equivalence with repeated bounces
+    np.testing.assert_allclose(bl.BounceRegressor("PennerFixed").fit(X[idx], Y[idx]).law_._theta(),
+                               ref.law_._theta(), rtol=1e-6)
+    with pytest.raises(ValueError, match="zero for every bounce"):  # all zero: a ValueError naming weights
+        bl.BounceRegressor("PennerFixed").fit(X, Y, sample_weight=np.zeros(len(X)))
+    with pytest.raises(ValueError, match="sample_weight must be"):  # wrong shape
+        bl.BounceRegressor("PennerFixed").fit(X, Y, sample_weight=np.ones((len(X), 2)))
+
+
+def test_score_checks_its_sample_weights_as_fit_does(bounces) -> None:
+    X, Y, _ = bounces
+    est = bl.BounceRegressor("Rigid").fit(X, Y)
+    w = np.ones(len(X))
+    assert est.score(X, Y, sample_weight=w * 3) == pytest.approx(est.score(X, Y))
+    for bad, match in ((-w, "row 1"), (np.r_[np.nan, w[1:]], "row 1"), (w[:-1], "sample_weight must be"),
+                       (0 * w, "zero for every bounce")):
+        with pytest.raises(DataError, match=match):
+            est.score(X, Y, sample_weight=bad)

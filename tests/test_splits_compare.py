@@ -196,3 +196,11 @@ def test_bouncelab_laws_keep_their_parameter_columns_and_the_papers_values(campa
     assert "beta_deg" in cmp.table.columns and "beta_deg [rad]" in cmp.table.columns
     assert cmp.published().loc["PennerFixed", "beta_deg"] == pytest.approx(18.4, abs=0.05)
     assert cmp.side_by_side().loc["PennerFixed", ("beta_deg", "paper")] == pytest.approx(18.4, abs=0.05)
+
+
+def test_compare_says_when_the_fits_minimised_something_else(campaign_b):
+    w = np.ones(campaign_b.sizes["bounce"])
+    assert not any("Fitted by minimising" in n for n in bl.compare(campaign_b, ["Rigid"]).notes)
+    weighted = bl.compare(campaign_b, ["Rigid"], sample_weight=w)
+    assert any("delta, sample-weighted, not the paper's delta" in n for n in weighted.notes)
+    assert "sample-weighted" in weighted.to_markdown()

@@ -18,7 +18,7 @@ import xarray as xr
 from bouncelab.data import published
 from bouncelab.data.campaign import synthetic_warning
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import check_seed, fit, law_instance
+from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
 from bouncelab.fitting.tasks import map_tasks
@@ -245,6 +245,8 @@ def compare(
     names = [law_name(m) for m in models]
     if len(set(names)) != len(names):
         raise FitError(f"each law may appear once; got {names}")
+    if split is not None:
+        refuse_sample_weight(fit_kwargs, "compare(split='setting')")
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
     fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs) for m in models], executor)
     results = dict(zip(names, fits, strict=True))
@@ -279,6 +281,10 @@ def compare(
     if isinstance(data, xr.Dataset) and str(data.attrs.get("campaign", "")).upper() in published.CAMPAIGNS:
         campaign = str(data.attrs["campaign"]).upper()
     notes = []
+    objectives = sorted({res.objective for res in results.values()} - {"delta"})
+    if objectives:  # the errors beside the paper's are its measures; the fits minimised something else
+        notes.append(f"Fitted by minimising {', '.join(objectives)}, not the paper's delta; the errors shown are the "
+                     "paper's unweighted delta and Delta q of those fits.")
     note = synthetic_warning(data)  # the data say what made them (published laws, a simulation, rendered clips)
     if note is not None:
         if campaign is not None:

@@ -14,7 +14,14 @@ import xarray as xr
 from bouncelab.data.campaign import campaign_arrays, synthetic_warning
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.errors import FitError, ParameterError
-from bouncelab.fitting.objective import bounce_weights, objective_label, objective_weighting, objective_weights
+from bouncelab.fitting.objective import (
+    bounce_weights,
+    mean_one,
+    objective_label,
+    objective_weighting,
+    objective_weights,
+    sample_weights,
+)
 from bouncelab.fitting.problem import (
     DEFAULT_ALGORITHM,
     Problem,
@@ -44,6 +51,7 @@ def fit(
     free: Any = None,
     test: Any = None,
     plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
+    sample_weight: Any = None,
     **method_options: Any,
 ) -> FitResult:
     """Fit a bounce law to bounces by minimising the paper's error measure.
@@ -88,6 +96,15 @@ def fit(
         as radii/s or rad/s) are refused as by :func:`~bouncelab.data.campaign.make_campaign`.
         Default :data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
         (``PLAUSIBLE_RANGES.widened(max_spin=...)``) or pass ``None`` to check nothing.
+    sample_weight
+        One non-negative weight per bounce; only their ratios matter (they are scaled to mean 1).
+        Each bounce's term of the objective is multiplied by it, and so is its row in any other
+        stage of the method (the least squares of r and mu in Rigid's ``"structured"``; the
+        affine maps, the SVM and its standardisation in PiecewiseAffine's ``"plane"`` and
+        ``"svm"``; an SVM's ``C`` applies to a bounce of average weight). A bounce of weight 0 is
+        left out, as if not given. Default None: all bounces alike, as in the paper. The reported
+        ``delta`` and ``Delta q`` stay the paper's unweighted means over the fitted bounces;
+        ``objective_value`` is weighted.
     **method_options
         Options of the method, its keyword-only arguments, e.g. ``algorithm``,
         ``local_algorithm``, ``maxeval`` (``"global"``), ``mu_objective``
@@ -101,8 +118,8 @@ def fit(
     Raises
     ------
     DataError
-        Bad data (NaN, a landing with ydot >= 0, shapes...), bare arrays implausible in
-        scaled units (naming the column, the unit they look like and how to convert).
+        Bad data (NaN, a landing with ydot >= 0, shapes...), a bad ``sample_weight`` (row
+        named), bare arrays implausible in scaled units (naming the column, the unit they look like and how to convert).
     FitError
         Too few bounces, an unknown method or option, a bad objective, seed or
         algorithm, held-out bounces that were fitted too.
@@ -123,6 +140,16 @@ def fit(
     weights = objective_weights(objective)
     weighting = objective_weighting(objective)
     per_bounce = bounce_weights(data, p0) if weighting == "pi" else None
+    user_weights = sample_weights(sample_weight, len(p0))
+    dropped = 0
+    if user_weights is not None:
+        keep = user_weights > 0  # a weight of zero leaves the bounce out, as if it were not given
+        dropped = int((~keep).sum())
+        if dropped:
+            p0, pf, user_weights = p0[keep], pf[keep], user_weights[keep]
+            setting = None if setting is None else setting[keep]
+            per_bounce = None if per_bounce is None else per_bounce[keep]
+        user_weights = mean_one(user_weights)
     name, func = _method(law, method)
     _check_options(law, name, func, method_options)
     if not law.parameter_specs:
@@ -130,13 +157,16 @@ def fit(
     box = resolve_bounds(type(law), bounds)
     held = resolve_fixed(law, fixed, free)
     problem = Problem(law, p0, pf, setting=setting, weights=weights, seed=seed, box=box, fixed=held, test=tst,
-                      bounce_weights=per_bounce)
+                      bounce_weights=per_bounce, sample_weight=user_weights)
     outcome = func(law, problem, **method_options)
     if not isinstance(outcome, FitOutcome) or type(outcome.model) is not type(law):
         raise FitError(f"fitting method {name!r} of {law_name(law)} returned {type(outcome).__name__}, "
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
-    result = _result(outcome, name, objective_label(weights, weighting), problem, box, held, seed, start_time)
+    label = objective_label(weights, weighting) + ("" if user_weights is None else ", sample-weighted")
+    result = _result(outcome, name, label, problem, box, held, seed, start_time)
+    if dropped:
+        result.notes.append(f"{dropped} bounce(s) with sample_weight 0 left out: {problem.n} fitted")
     note = synthetic_warning(data)  # a report read on its own must not pass for a fit to measurements
     if note is not None:
         result.notes.append(note)
@@ -152,6 +182,15 @@ def check_seed(seed: Any) -> int:
     if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= int(seed) <= SEED_MAX:
         raise FitError(f"seed must be an integer in [0, 2**63); got {seed!r}")
     return int(seed)
+
+
+def refuse_sample_weight(fit_kwargs: Mapping[str, Any], where: str,
+                         why: str = "it splits or resamples the bounces and the weights would not follow them") -> None:
+    """FitError if ``sample_weight`` is among the fit options of a function that cannot honour it."""
+    if "sample_weight" in fit_kwargs:
+        raise FitError(f"{where} takes no sample_weight: {why}; fit with bouncelab.fit(..., sample_weight=...), "
+                       "or use bouncelab.BounceRegressor with scikit-learn's cross-validation, which splits the "
+                       "weights with the bounces")
 
 
 def law_instance(law: Any) -> BounceModel:

@@ -36,8 +36,16 @@ import numpy as np
 from bouncelab.errors import FitError
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["WEIGHTINGS", "ErrorMeasure", "bounce_weights", "objective_label", "objective_weighting",
-           "objective_weights"]
+__all__ = [
+    "WEIGHTINGS",
+    "ErrorMeasure",
+    "bounce_weights",
+    "mean_one",
+    "objective_label",
+    "objective_weighting",
+    "objective_weights",
+    "sample_weights",
+]
 
 #: How each bounce's error is weighted: by ``1 / ||p0||`` (the paper) or by ``1 / h`` (prediction intervals).
 WEIGHTINGS = ("landing", "pi")
@@ -111,6 +119,40 @@ def bounce_weights(data: Any, landing: np.ndarray) -> np.ndarray:
         raise FitError(f"bounce {row + 1} has prediction intervals of zero width ({int(bad.sum())} bounce(s)); a "
                        "prediction-interval weighted objective cannot weigh it")
     return 1.0 / np.sqrt(h2)
+
+
+def sample_weights(sample_weight: Any, n: int) -> np.ndarray | None:
+    """The user's per-bounce weights, validated, as float64 (None stays None).
+
+    Raises
+    ------
+    DataError
+        Not one real number per bounce, or a weight that is negative, NaN or infinite (row named),
+        or all weights zero.
+    """
+    from bouncelab.errors import DataError
+
+    if sample_weight is None:
+        return None
+    w = np.asarray(sample_weight)
+    if w.dtype.kind not in "iuf" or w.shape != (n,):
+        raise DataError(f"sample_weight must be {n} real numbers, one per bounce; got {w.dtype} values of shape "
+                        f"{w.shape}", column="sample_weight")
+    w = w.astype(np.float64)
+    bad = ~np.isfinite(w) | (w < 0)
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise DataError(f"a weight must be a finite number >= 0; got {w[row]!r} ({int(bad.sum())} bounce(s))",
+                        column="sample_weight", row=row + 1)
+    if not (w > 0).any():
+        raise DataError("sample_weight is zero for every bounce; nothing would be fitted", column="sample_weight")
+    return np.ascontiguousarray(w)
+
+
+def mean_one(w: np.ndarray) -> np.ndarray:
+    """Positive weights scaled to mean 1 (only their ratios matter), without overflow or underflow."""
+    w = w / w.max()
+    return np.ascontiguousarray(w / w.mean())
 
 
 def objective_label(weights: np.ndarray, weighting: str = "landing") -> str:

@@ -130,12 +130,17 @@ class Problem:
 
     def __init__(self, law: BounceModel, landing: np.ndarray, liftoff: np.ndarray, *, setting: Any,
                  weights: np.ndarray, seed: int, box: dict[str, tuple[Any, Any]], fixed: dict[str, Any],
-                 test: tuple[np.ndarray, np.ndarray] | None, bounce_weights: np.ndarray | None = None) -> None:
+                 test: tuple[np.ndarray, np.ndarray] | None, bounce_weights: np.ndarray | None = None,
+                 sample_weight: np.ndarray | None = None) -> None:
         self.law = law
         self.landing = landing
         self.liftoff = liftoff
-        # Each bounce's weight in the objective: 1 / ||p0|| (delta), or 1 / h from prediction intervals.
+        # Each bounce's weight in the objective: 1 / ||p0|| (delta), or 1 / h from prediction intervals,
+        # times the user's sample weight (mean 1, so the objective stays a weighted mean).
         self.inv_norm = inverse_norms(landing) if bounce_weights is None else bounce_weights
+        if sample_weight is not None:
+            self.inv_norm = np.ascontiguousarray(self.inv_norm * sample_weight)
+        self.sample_weight = sample_weight
         self.setting = setting
         self.n = len(landing)
         self.weights = np.asarray(weights, dtype=np.float64)

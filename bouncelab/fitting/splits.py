@@ -115,10 +115,11 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     """
     from sklearn.model_selection import GroupKFold
 
-    from bouncelab.fitting.fitter import check_seed, law_instance
+    from bouncelab.fitting.fitter import check_seed, law_instance, refuse_sample_weight
     from bouncelab.fitting.tasks import map_tasks
 
     law = law_instance(model)
+    refuse_sample_weight(fit_kwargs, "cross_validate")
     seed = check_seed(seed)
     setting = _settings_of(data)
     n_groups = len(pd.unique(setting))

@@ -12,7 +12,7 @@ import pandas as pd
 
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import check_seed, fit, law_instance
+from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_name
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
@@ -72,6 +72,7 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
     ['mu', 'r', 'delta']
     """
     law = law_instance(model)
+    refuse_sample_weight(fit_kwargs, "sweep", "its table reports the paper's unweighted errors at each point")
     seed = check_seed(seed)
     points = _points(grid)
     params = {s.name for s in law.parameter_specs}

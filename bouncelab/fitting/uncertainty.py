@@ -20,7 +20,7 @@ import xarray as xr
 from bouncelab.data.campaign import campaign_arrays
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 from bouncelab.errors import FitError
-from bouncelab.fitting.fitter import check_seed, fit, law_instance
+from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import law_name
@@ -110,6 +110,7 @@ def bootstrap(
     >>> bl.bootstrap(bl.Rigid, bl.load_campaign("A"), n=50).summary()  # doctest: +SKIP
     """
     law = law_instance(model)
+    refuse_sample_weight(fit_kwargs, "bootstrap")
     seed = check_seed(seed)
     if not law.parameter_specs:
         raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none")

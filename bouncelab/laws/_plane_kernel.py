@@ -58,8 +58,8 @@ def _solve4(A, B):
 
 
 @jit(nogil=True)
-def side_moments(Z, PF, u0, u1, u2, t, start, stop):
-    """Normal equations [z 1]^T [z 1] and [z 1]^T p_F of each side of the plane over rows [start, stop)."""
+def side_moments(Z, PF, W, u0, u1, u2, t, start, stop):
+    """Weighted normal equations [z 1]^T W [z 1] and [z 1]^T W p_F of each side over rows [start, stop)."""
     XtX = np.zeros((2, 4, 4))
     XtY = np.zeros((2, 4, 3))
     counts = np.zeros(2, dtype=np.int64)
@@ -71,11 +71,12 @@ def side_moments(Z, PF, u0, u1, u2, t, start, stop):
         x[1] = Z[i, 1]
         x[2] = Z[i, 2]
         x[3] = 1.0
+        w = W[i]
         for a in range(4):
             for b in range(a, 4):
-                XtX[s, a, b] += x[a] * x[b]
+                XtX[s, a, b] += w * x[a] * x[b]
             for k in range(3):
-                XtY[s, a, k] += x[a] * PF[i, k]
+                XtY[s, a, k] += w * x[a] * PF[i, k]
     return XtX, XtY, counts
 
 
@@ -106,9 +107,9 @@ def score(Z, PF, inv_norm, u0, u1, u2, t, B0, B1, start, stop):
 
 
 @jit(nogil=True)
-def _plane_delta_serial(Z, PF, inv_norm, u0, u1, u2, t, min_side):
+def _plane_delta_serial(Z, PF, W, inv_norm, u0, u1, u2, t, min_side):
     n = Z.shape[0]
-    XtX, XtY, counts = side_moments(Z, PF, u0, u1, u2, t, 0, n)
+    XtX, XtY, counts = side_moments(Z, PF, W, u0, u1, u2, t, 0, n)
     short = max(min_side - counts[0], 0) + max(min_side - counts[1], 0)
     if short > 0:
         return INFEASIBLE + short
@@ -118,14 +119,18 @@ def _plane_delta_serial(Z, PF, inv_norm, u0, u1, u2, t, min_side):
     return score(Z, PF, inv_norm, u0, u1, u2, t, B0, B1, 0, n) / n
 
 
-def plane_delta(Z: np.ndarray, PF: np.ndarray, inv_norm: np.ndarray, u: np.ndarray, t: float,
+def plane_delta(Z: np.ndarray, PF: np.ndarray, W: np.ndarray, inv_norm: np.ndarray, u: np.ndarray, t: float,
                 min_side: int) -> float:
-    """delta of the least-squares piecewise-affine law split by the plane u . z = t (standardised z)."""
+    """delta of the least-squares piecewise-affine law split by the plane u . z = t (standardised z).
+
+    ``W`` weighs each bounce in the least squares of the maps (ones: the paper's unweighted fit),
+    ``inv_norm`` its error in delta.
+    """
     n = Z.shape[0]
     u0, u1, u2 = float(u[0]), float(u[1]), float(u[2])
     if n < PARALLEL_MIN:
-        return _plane_delta_serial(Z, PF, inv_norm, u0, u1, u2, t, min_side)
-    parts = run_chunked(side_moments, n, Z, PF, u0, u1, u2, t)
+        return _plane_delta_serial(Z, PF, W, inv_norm, u0, u1, u2, t, min_side)
+    parts = run_chunked(side_moments, n, Z, PF, W, u0, u1, u2, t)
     XtX = np.sum([p[0] for p in parts], axis=0)
     XtY = np.sum([p[1] for p in parts], axis=0)
     counts = np.sum([p[2] for p in parts], axis=0)

@@ -118,6 +118,10 @@ class FitProblem(Protocol):
         Parameters held in this fit, name -> value.
     test
         Held-out ``(landing, liftoff)`` or None (for information; never fitted).
+    sample_weight
+        The user's weight of each bounce (non-negative, mean 1), or None. It is already in
+        ``inv_norm`` (so in :meth:`objective`); a method that fits anything else from the
+        bounces (least squares, a classifier) must weigh them by it too.
     """
 
     landing: np.ndarray
@@ -130,6 +134,7 @@ class FitProblem(Protocol):
     box: dict[str, tuple[Any, Any]]
     fixed: dict[str, Any]
     test: tuple[np.ndarray, np.ndarray] | None
+    sample_weight: np.ndarray | None
 
     def objective(self, law: BounceModel) -> Callable[[np.ndarray], float]:
         """The weighted mean error as a function of the law's flat parameter vector."""

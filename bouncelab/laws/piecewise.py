@@ -240,7 +240,8 @@ class PiecewiseAffine(CompiledLaw):
         slip = pf_._slip_codes(p0, pf).astype(bool)
         if held is not None:
             normal, offset = held
-            model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side)
+            model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side,
+                                          sample_weight=problem.sample_weight)
             return self._outcome(problem, model, "least squares maps (plane held)",
                                  ["plane held fixed; both maps by least squares"])
         try:
@@ -257,7 +258,7 @@ class PiecewiseAffine(CompiledLaw):
         else:
             try:
                 svm = pf_.fit_svm(p0, pf, C=svm_C, min_side=min_side, plane="hyperplane", max_bounces=5000,
-                                  seed=problem.seed)
+                                  seed=problem.seed, sample_weight=problem.sample_weight)
                 start = (svm.model.normal, svm.model.offset)
             except FitError as exc:
                 if "svm_C" in str(exc):
@@ -265,9 +266,10 @@ class PiecewiseAffine(CompiledLaw):
                 start = None
         found = pf_.search_plane(p0, pf, problem.inv_norm, problem.search, start=start, seed=problem.seed,
                                  algorithm=algorithm, local_algorithm=local_algorithm, maxeval=int(maxeval),
-                                 min_side=min_side, max_search_bounces=max_search_bounces)
+                                 min_side=min_side, max_search_bounces=max_search_bounces,
+                                 sample_weight=problem.sample_weight)
         normal, offset = pf_.orient_slip_side(p0, slip, found.normal, found.offset)
-        model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side)
+        model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side, sample_weight=problem.sample_weight)
         first, last = found.outcomes[0], found.outcomes[-1]
         stop = "; ".join(o.global_stop + (f"; polish: {o.local_stop}" if o.local_stop else "") for o in found.outcomes)
         algo = (f"{first.algorithms[0]} + {first.algorithms[1] or 'no polish'} over the plane; "
@@ -296,7 +298,7 @@ class PiecewiseAffine(CompiledLaw):
             raise FitError("method 'svm' finds the plane; to hold it use method='plane' with fixed=['normal', "
                            "'offset']")
         res = pf_.fit_svm(p0, pf, C=svm_C, min_side=int(min_side), plane=svm_plane, scaling=svm_scaling,
-                          max_bounces=int(max_svm_bounces), seed=problem.seed)
+                          max_bounces=int(max_svm_bounces), seed=problem.seed, sample_weight=problem.sample_weight)
         algo = f"SVC(kernel='linear', C={res.svm_C:g}) + least squares"
         return self._outcome(problem, res.model, algo, res.notes, stop="SVM converged" if res.converged else
                              "SVM iteration limit", extras={"svm_support": res.svm_support,

@@ -112,17 +112,19 @@ class PlaneFit:
     notes: list[str] = field(default_factory=list)
 
 
-def standardise(p0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Landings scaled to zero mean and unit variance per component, with the mean and scale used."""
-    mean = p0.mean(axis=0)
-    scale = p0.std(axis=0)
+def standardise(p0: np.ndarray, weights: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Landings scaled to zero (weighted) mean and unit (weighted) variance per component, with the mean and scale."""
+    mean = np.average(p0, axis=0, weights=weights)
+    scale = np.sqrt(np.average((p0 - mean) ** 2, axis=0, weights=weights))
     scale[scale == 0] = 1.0
     return (p0 - mean) / scale, mean, scale
 
 
 def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset: float, *,
-                      min_side: int = MIN_SIDE):
+                      min_side: int = MIN_SIDE, sample_weight: np.ndarray | None = None):
     """The law with the given plane and a least-squares affine map ``pF = A p0 + b`` on each side.
+
+    ``sample_weight`` (one non-negative weight per bounce) makes the least squares weighted.
 
     Raises
     ------
@@ -142,7 +144,11 @@ def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset
                 "(4 coefficients per lift-off component)"
             )
         X = np.column_stack([p0[mask], np.ones(m)])
-        coef, _, rank, _ = np.linalg.lstsq(X, pf[mask], rcond=None)
+        Y = pf[mask]
+        if sample_weight is not None:  # weighted least squares: rows scaled by sqrt(w)
+            root = np.sqrt(sample_weight[mask])[:, None]
+            X, Y = X * root, Y * root
+        coef, _, rank, _ = np.linalg.lstsq(X, Y, rcond=None)
         if rank < 4:
             raise FitError(f"the landings on {name} do not span 3-D space; its affine map is undetermined")
         maps.append((coef[:3].T, coef[3]))
@@ -188,7 +194,7 @@ def _ols_omega_plane(points: np.ndarray, what: str) -> tuple[np.ndarray, float]:
 
 def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = MIN_SIDE,
             plane: str = "hyperplane", scaling: str = "standardize", max_bounces: int | None = None,
-            seed: int = 0) -> PlaneFit:
+            seed: int = 0, sample_weight: np.ndarray | None = None) -> PlaneFit:
     """The paper's procedure: linear SVM on the slip/roll labels, a plane, and least-squares maps.
 
     Parameters
@@ -208,6 +214,9 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         (an SVM's cost grows faster than the number of bounces); None: all.
     seed
         Seed of that subsample.
+    sample_weight
+        One non-negative weight per bounce, for the SVM (scikit-learn's per-sample ``C``
+        scaling) and the least-squares maps; None: all equal (the paper's procedure).
 
     Raises
     ------
@@ -243,14 +252,15 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         train = np.sort(np.random.default_rng(seed).choice(len(p0), int(max_bounces), replace=False))
         notes.append(f"SVM trained on a random subsample of {len(train)} of the {len(p0)} bounces")
     x, y = p0[train], slip[train]
+    sw = None if sample_weight is None else sample_weight[train]
     if scaling == "standardize":
-        _, mean, scale = standardise(x)
+        _, mean, scale = standardise(x, sw)
     else:
         mean, scale = np.zeros(3), np.ones(3)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ConvergenceWarning)
         svc = SVC(kernel="linear", C=C, max_iter=-1 if scaling == "standardize" else UNSCALED_MAX_ITER)
-        svc.fit((x - mean) / scale, y)
+        svc.fit((x - mean) / scale, y, sample_weight=sw)
     converged = not any(issubclass(w.category, ConvergenceWarning) for w in caught)
     if not converged:
         notes.append(f"the SMO solver stopped at its iteration limit ({UNSCALED_MAX_ITER}) without converging")
@@ -274,7 +284,7 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         notes.append(f"plane through the {len(margin)} on-margin support vectors by least squares on omega0 "
                      f"(C = {C:g}, {scaling} landings)")
     normal, offset = orient_slip_side(p0, slip, normal, offset)
-    model = least_squares_law(p0, pf, normal, offset, min_side=min_side)
+    model = least_squares_law(p0, pf, normal, offset, min_side=min_side, sample_weight=sample_weight)
     return PlaneFit(model=model, svm_support=support, margin_support=margin, svm_C=C, svm_plane=plane,
                     svm_scaling=scaling, converged=converged, notes=notes)
 
@@ -313,8 +323,11 @@ class SearchedPlane:
 
 def search_plane(p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, search: Any, *, start: Any,
                  seed: int, algorithm: str, local_algorithm: str | None, maxeval: int, min_side: int,
-                 max_search_bounces: int) -> SearchedPlane:
+                 max_search_bounces: int, sample_weight: np.ndarray | None = None) -> SearchedPlane:
     """The plane minimising delta of the least-squares piecewise law (see the module notes).
+
+    ``sample_weight`` weighs the bounces in the maps' least squares (None: unweighted); ``inv_norm``
+    weighs their errors in delta.
 
     ``search(f, x0, **options)`` is the fitting problem's NLopt service; ``start`` a
     ``(normal, offset)`` pair in landing units, or None for the centre of the box.
@@ -323,6 +336,7 @@ def search_plane(p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, search: A
 
     z, mean, scale = standardise(p0)
     n = len(p0)
+    w = np.ones(n) if sample_weight is None else np.ascontiguousarray(sample_weight, dtype=np.float64)
     notes = []
     x0 = np.array([0.5, 0.5, 0.5]) if start is None else plane_to_unit(start[0], start[1], mean, scale)
 
@@ -330,10 +344,11 @@ def search_plane(p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, search: A
         zz = z if idx is None else np.ascontiguousarray(z[idx])
         ff = pf if idx is None else np.ascontiguousarray(pf[idx])
         ii = inv_norm if idx is None else np.ascontiguousarray(inv_norm[idx])
+        ww = w if idx is None else np.ascontiguousarray(w[idx])
 
         def f(x: np.ndarray) -> float:
             u, t = unit_to_plane(x)
-            return kernel.plane_delta(zz, ff, ii, u, t, min_side)
+            return kernel.plane_delta(zz, ff, ww, ii, u, t, min_side)
 
         return f
 

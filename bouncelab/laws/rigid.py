@@ -92,13 +92,14 @@ class Rigid(CompiledLaw):
         p0, pf = problem.landing, problem.liftoff
         r_lo, r_hi = problem.box["r"]
         r = problem.fixed.get("r")
-        if r is None:
-            r = float(np.clip(-(pf[:, 1] @ p0[:, 1]) / (p0[:, 1] @ p0[:, 1]), r_lo, r_hi))
+        w = np.ones(len(p0)) if problem.sample_weight is None else problem.sample_weight
+        if r is None:  # least squares on ydotF = -r ydot0 (weighted by the sample weights, if any)
+            r = float(np.clip(-((w * pf[:, 1]) @ p0[:, 1]) / ((w * p0[:, 1]) @ p0[:, 1]), r_lo, r_hi))
         start = self.replace(r=r, mu=None)
 
         def lstsq(theta: np.ndarray) -> float:
             res = (pf - start._predict(p0, theta))[:, [0, 2]]
-            return float((res * res).sum())
+            return float((res * res).sum(axis=1) @ w)
 
         outcome = problem.run_global(start, hold={"r": r}, algorithm="DIRECT_L", maxeval=200,
                                      criterion=None if mu_objective == "delta" else lstsq)

@@ -37,7 +37,9 @@ class AffineMap(CompiledLaw):
         if problem.fixed:  # a closed form of all twelve numbers: it cannot hold some of them
             raise bl.FitError(f"method 'lstsq' cannot hold {sorted(problem.fixed)}; use method='global'")
         X = np.column_stack([problem.landing, np.ones(problem.n)])
-        w = problem.inv_norm if weighted else np.ones(problem.n)
+        w = 1 / np.linalg.norm(problem.landing, axis=1) if weighted else np.ones(problem.n)
+        if problem.sample_weight is not None:  # the caller's weights (bl.fit(..., sample_weight=...))
+            w = w * np.sqrt(problem.sample_weight)
         coef, *_ = np.linalg.lstsq(X * w[:, None], problem.liftoff * w[:, None], rcond=None)
         resid = (problem.liftoff - X @ coef) * w[:, None]
         cov = np.linalg.inv((X * w[:, None]).T @ (X * w[:, None]))  # (X^T X)^-1, one per component
