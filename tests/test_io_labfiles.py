@@ -109,6 +109,25 @@ def test_angles_in_radians(tmp_path):
     check(load_campaign(path, units={"angle": "rad"}))
 
 
+def test_angle_unit_on_the_command_line(tmp_path, capsys):
+    from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
+
+    table = {("angle_in" if "angle_in" in k else "angle_out" if "angle_out" in k else k): v
+             for k, v in POLAR.items()}
+    table["angle_in"], table["angle_out"] = np.deg2rad(ANGLE_IN), np.deg2rad(ANGLE_OUT)
+    path = str(write(tmp_path / "bare.csv", table))
+    assert main(["info", path]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "look like radians" in err and "--angle-unit rad" in err and "units=" not in err
+    assert main(["info", path, "--angle-unit", "rad"]) == EXIT_OK
+    assert "6 bounces" in capsys.readouterr().out
+    out = tmp_path / "fit.json"
+    assert main(["fit", "Rigid", path, "--angle-unit", "rad", "--save", str(out)]) == EXIT_OK
+    from bouncelab.laws.base import load_law
+
+    assert load_law(out) == bl.fit(bl.Rigid, load_campaign(path, units={"angle": "rad"})).model
+
+
 def test_flat_angles_declared_in_degrees_are_kept(tmp_path):
     table = dict(POLAR)
     table["angle_out (deg)"] = np.full(6, 2.0)  # skimming lift-offs, said to be degrees

@@ -96,6 +96,8 @@ def _load(source: str, args: argparse.Namespace):
         units["velocity"] = args.velocity_unit
     if getattr(args, "spin_unit", None):
         units["spin"] = args.spin_unit
+    if getattr(args, "angle_unit", None):
+        units["angle"] = args.angle_unit
     surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
     # Loader options only when given, so an embedded campaign is loaded as before; hint_style="cli" makes
     # the loader's advice name these flags (--spin-unit rpm) instead of Python keywords.
@@ -120,6 +122,9 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                         "them out, with a warning listing them)")
     p.add_argument("--velocity-unit", help="velocity unit of the file (m/s, ft/s, mph, km/h, radius/s)")
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
+    p.add_argument("--angle-unit", choices=("deg", "rad"),
+                   help="unit of the angles of a file giving speed, angle and spin (default deg, unless the header "
+                        "says)")
     p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
                    help="which synthetic surrogate the embedded campaigns A and B are: published (default: made "
                         "from the paper's published laws) or turf (simulated with the TurfContact law through "

@@ -22,7 +22,7 @@ _FLAGS = {
     "columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
     "units": "--velocity-unit/--spin-unit",
 }
-_UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit"}
+_UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 
 
 def check_style(style: Any) -> str:
