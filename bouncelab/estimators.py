@@ -32,8 +32,8 @@ import numpy as np
 from sklearn.base import BaseEstimator, MultiOutputMixin, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from bouncelab.errors import DataError, ParameterError
-from bouncelab.laws.base import BounceModel, law_class
+from bouncelab.errors import DataError, FitError, ParameterError
+from bouncelab.laws.base import BounceModel
 
 __all__ = ["BounceRegressor"]
 
@@ -44,7 +44,7 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
     Parameters
     ----------
     law : str, BounceModel class or instance, default "Rigid"
-        The law to fit: a name (``"PennerFixed"``, or ``"module:QualName"`` for your
+        The law to fit: a name in any case (``"PennerFixed"``, or ``"module:QualName"`` for your
         own laws), a class, or an instance (its values, if any, start the search;
         its options, e.g. ``fade_xdot``, are kept). ``law__<name>`` in
         :meth:`set_params` and in ``GridSearchCV`` grids sets a parameter or option
@@ -172,10 +172,10 @@ def _pair(X: Any, y: Any, min_samples: int = 1) -> tuple[np.ndarray, np.ndarray]
 
 
 def _law_instance(law: Any) -> BounceModel:
-    if isinstance(law, str):
-        return law_class(law)()
-    if isinstance(law, type) and issubclass(law, BounceModel):
-        return law()
-    if isinstance(law, BounceModel):
-        return law
-    raise ParameterError(f"law must be a law name, class or instance; got {law!r}")
+    """The ``law`` parameter as a law, read as :func:`bouncelab.fit` reads it; a bad one is a ParameterError."""
+    from bouncelab.fitting.fitter import law_instance
+
+    try:
+        return law_instance(law)
+    except FitError as exc:
+        raise ParameterError(str(exc)) from None

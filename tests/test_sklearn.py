@@ -170,3 +170,11 @@ def test_score_checks_its_sample_weights_as_fit_does(bounces) -> None:
                        (0 * w, "zero for every bounce")):
         with pytest.raises(DataError, match=match):
             est.score(X, Y, sample_weight=bad)
+
+
+def test_the_law_parameter_is_read_as_fit_reads_it(bounces) -> None:
+    X, Y, _ = bounces
+    assert isinstance(bl.BounceRegressor("pennerfixed").fit(X, Y).law_, bl.PennerFixed)  # any case, as bl.fit
+    for bad in ("Nope", 3):  # a bad estimator parameter stays a ParameterError
+        with pytest.raises(bl.errors.ParameterError, match=r"Nope|law name"):
+            bl.BounceRegressor(bad).fit(X, Y)

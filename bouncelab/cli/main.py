@@ -526,20 +526,14 @@ def _predict(args: argparse.Namespace) -> int:
 
 def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
     """The unit guard of typed landings: numbers that only a wrong --velocity-unit/--spin-unit makes are refused."""
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, scaled_units_error
+    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, scaled_units_error
     from bouncelab.data.validation import as_states
     from bouncelab.errors import DataError
 
-    if args.speed_angle_spin:
-        angles = np.array(args.speed_angle_spin)[:, 1]
-        low = angles < PLAUSIBLE_RANGES.min_landing_angle
-        if low.any():  # angles <= 0 or > 90 were refused by the conversion
-            a = float(angles[low][0])
-            raise DataError(
-                f"--speed-angle-spin: an angle of incidence of {a:g} degrees is implausible for a golf landing "
-                f"(below {PLAUSIBLE_RANGES.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to "
-                f"89.5 degrees); if it is in radians ({a:g} rad = {math.degrees(a):.4g} degrees), give degrees"
-            )
+    if args.speed_angle_spin:  # angles <= 0 or > 90 were refused by the conversion
+        angle = landing_angle_error(np.array(args.speed_angle_spin)[:, 1], PLAUSIBLE_RANGES)
+        if angle is not None:
+            raise DataError(f"--speed-angle-spin: {angle[1]}")
     landing, _ = as_states(landing, "landing", landing=True)  # shape and sign first: their own messages
 
     def declare(likely: dict[str, list[str]]) -> str:

@@ -46,6 +46,7 @@ __all__ = [
     "check_scaled",
     "declare_units_hint",
     "implausibility",
+    "landing_angle_error",
     "plausible_units",
     "scaled_units_error",
 ]
@@ -104,7 +105,8 @@ class PlausibleRanges:
         Raises
         ------
         ParameterError
-            An unknown limit (naming the known ones) or a value that is not a positive number.
+            An unknown limit (naming the known ones), or a value that is not a limit (an upper
+            limit must be positive, a lower one finite and >= 0).
         """
         known = [f.name for f in dataclasses.fields(self)]
         unknown = sorted(set(changes) - set(known))
@@ -278,6 +280,7 @@ def scaled_units_error(
     ranges: PlausibleRanges = PLAUSIBLE_RANGES,
     units: Mapping[str, str] | None = None,
     lower: bool = True,
+    landing_columns: tuple[str, str, str] = ("xdot0", "ydot0", "omega0"),
     declare: Callable[[dict[str, list[str]]], str],
     widen: Callable[[str], str],
 ) -> DataError | None:
@@ -307,6 +310,9 @@ def scaled_units_error(
         Whether the lower limits can fault the numbers (default True); ``False`` when their units
         were declared, as for a file with declared units. The units the numbers look like are
         always found with both limits.
+    landing_columns
+        How the error names the landing's three columns (e.g. ``("speed", "speed", "spin")`` for
+        a check of the speeds of landings given as speed, angle and spin, put in the first column).
     declare
         ``declare({kind: likely_units})``: how to give the numbers in the units they look like
         (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.data.units.to_scaled(...)"``.
@@ -325,17 +331,12 @@ def scaled_units_error(
     given = {kind: canonical_unit((units or {}).get(kind, CANDIDATE_UNITS[kind][0]), kind)
              for kind in ("velocity", "spin")}
 
-    def check(a0: np.ndarray, af: np.ndarray, kind: str) -> Implausibility | None:
+    def check(a0: np.ndarray, af: np.ndarray, kind: str, with_lower: bool = True) -> Implausibility | None:
         # A landing alone may have no spin: the peak-spin lower limit needs lift-offs too.
-        lower = liftoff is not None or kind == "velocity"
-        return implausibility(a0, af, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=lower)
+        use_lower = with_lower and (liftoff is not None or kind == "velocity")
+        return implausibility(a0, af, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=use_lower)
 
-    def fault(kind: str) -> Implausibility | None:
-        if lower:
-            return check(p0, pf, kind)
-        return implausibility(p0, pf, radius_m=radius_m, ranges=ranges, kinds=(kind,), lower=False)
-
-    faults = {kind: why for kind in ("velocity", "spin") if (why := fault(kind)) is not None}
+    faults = {kind: why for kind in ("velocity", "spin") if (why := check(p0, pf, kind, lower)) is not None}
     if not faults:
         return None
     likely: dict[str, list[str]] = {}
@@ -374,8 +375,26 @@ def scaled_units_error(
     found = {k: units_ for k, units_ in likely.items() if units_}
     msg += f": {declare(found)}" if found else ": check them"
     msg += f"; if they are right, {widen(limit)}"
-    column = STATE_COLUMNS[why.state][COMPONENTS.index(why.component)]
-    return DataError(msg, column=column, row=None if why.row is None else why.row + 1)
+    names = landing_columns if why.state == "landing" else STATE_COLUMNS["liftoff"]
+    return DataError(msg, column=names[COMPONENTS.index(why.component)], row=None if why.row is None else why.row + 1)
+
+
+def landing_angle_error(angles_deg, ranges: PlausibleRanges = PLAUSIBLE_RANGES) -> tuple[int, str] | None:
+    """``(row, sentence)`` for the first angle of incidence that looks like radians given as degrees, or None.
+
+    Angles in degrees below ``ranges.min_landing_angle`` are refused: the paper's landings come in
+    at 16.4 to 89.5 degrees, and radians read as degrees are all below 1.6 degrees. ``row`` is
+    0-based; the sentence says what to do (give degrees), not how to widen the limit.
+    """
+    angles = np.asarray(angles_deg, dtype=float)
+    low = angles < ranges.min_landing_angle
+    if not low.any():
+        return None
+    row = int(np.argmax(low))
+    a = float(angles[row])
+    return row, (f"an angle of incidence of {a:g} degrees is implausible for a golf landing (below "
+                 f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees); "
+                 f"if it is in radians ({a:g} rad = {math.degrees(a):.4g} degrees), give degrees")
 
 
 def check_scaled(

@@ -16,7 +16,8 @@ import xarray as xr
 from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
 from bouncelab.errors import DataError
 
-__all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_same_length", "check_values", "inverse_norms"]
+__all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
+           "inverse_norms"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
@@ -228,14 +229,19 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
             "affected)", file=file, column=f"{name}.{COMPONENTS[col]}", row=int(row) + 1,
         )
     if landing:
-        up = arr[:, 1] >= 0
-        if up.any():
-            row = int(np.argmax(up))
-            raise DataError(
-                f"landing ydot must be negative (y points up, a landing moves down); "
-                f"got {float(arr[row, 1])!r} ({int(up.sum())} bounce(s) affected)",
-                file=file, column=f"{name}.ydot", row=row + 1,
-            )
+        check_downward(arr[:, 1], name, file=file)
+
+
+def check_downward(ydot: np.ndarray, name: str = "landing", *, unit: str = "", file: str | None = None) -> None:
+    """DataError naming the first landing whose ``ydot >= 0`` (``unit``: how the value is quoted, if not scaled)."""
+    up = ydot >= 0
+    if up.any():
+        row = int(np.argmax(up))
+        raise DataError(
+            f"landing ydot must be negative (y points up, a landing moves down); "
+            f"got {float(ydot[row])!r}{' ' + unit if unit else ''} ({int(up.sum())} bounce(s) affected)",
+            file=file, column=f"{name}.ydot", row=row + 1,
+        )
 
 
 def inverse_norms(p0: np.ndarray, name: str = "landing", file: str | None = None) -> np.ndarray:

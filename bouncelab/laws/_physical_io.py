@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, scaled_units_error
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_angle_error, scaled_units_error
 from bouncelab.data.units import (
     BALL_RADIUS_M,
     COMPONENTS,
@@ -24,6 +24,7 @@ from bouncelab.data.units import (
     physical_to_scaled,
     scaled_to_physical,
 )
+from bouncelab.data.validation import check_downward
 from bouncelab.errors import DataError
 
 __all__ = ["PhysicalIO", "is_lazy"]
@@ -81,13 +82,7 @@ class PhysicalIO:
                             f"{arr.dtype} values of shape {arr.shape}")
         self.lead = arr.shape[:-1]
         if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
-            up = arr.reshape(-1, 3)[:, 1] >= 0
-            if up.any():
-                row = int(np.argmax(up))
-                unit = (_unit_pair(self.units) or ("radii/s",))[0]
-                raise DataError(f"landing ydot must be negative (y points up, a landing moves down); got "
-                                f"{float(arr.reshape(-1, 3)[row, 1])!r} {unit} ({int(up.sum())} bounce(s) affected)",
-                                column="landing.ydot", row=row + 1)
+            check_downward(arr.reshape(-1, 3)[:, 1], unit=(_unit_pair(self.units) or ("radii/s",))[0])
         scaled = physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
         self._check_plausible(arr.reshape(-1, 3).astype(float), scaled.reshape(-1, 3))
         return scaled
@@ -101,28 +96,22 @@ class PhysicalIO:
         if ranges is None or not np.isfinite(scaled).all():  # NaN/inf: the validation names them next
             return
         widen = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
-        polar = self.form_in == "polar"
-        if polar:
-            low = raw[:, 1] < ranges.min_landing_angle
-            if low.any():
-                row = int(np.argmax(low))
-                a = float(raw[row, 1])
-                raise DataError(
-                    f"an angle of incidence of {a:g} degrees is implausible for a golf landing (below "
-                    f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees); "
-                    f"if it is in radians ({a:g} rad = {np.degrees(a):.4g} degrees), give degrees; if it is "
-                    f"right, {widen.format(limit='min_landing_angle')}", column="angle", row=row + 1)
+        columns = ("xdot0", "ydot0", "omega0")
+        if self.form_in == "polar":
+            angle = landing_angle_error(raw[:, 1], ranges)
+            if angle is not None:
+                raise DataError(f"{angle[1]}; if it is right, {widen.format(limit='min_landing_angle')}",
+                                column="angle", row=angle[0] + 1)
             # Check the speed as given, not its components (120 m/s at 45 degrees is 85 m/s in each).
             scaled = np.column_stack([np.hypot(scaled[:, 0], scaled[:, 1]), np.zeros(len(scaled)), scaled[:, 2]])
+            columns = ("speed", "speed", "spin")
         pair = _unit_pair(self.units) or ("radius/s", "rad/s")
         given = {"velocity": pair[0], "spin": pair[1]}
         error = scaled_units_error(
-            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given, lower=False,
+            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given, lower=False, landing_columns=columns,
             declare=lambda likely: f"pass units={given | {k: u[0] for k, u in likely.items()}}",
             widen=lambda limit: widen.format(limit=limit))
         if error is not None:
-            if polar:
-                raise DataError(error.message, column={"xdot0": "speed"}.get(error.column, "spin"), row=error.row)
             raise error
 
     def liftoff(self, out: np.ndarray) -> Any:

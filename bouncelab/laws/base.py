@@ -119,7 +119,7 @@ class FitProblem(Protocol):
     test
         Held-out ``(landing, liftoff)`` or None (for information; never fitted).
     sample_weight
-        The user's weight of each bounce (non-negative, mean 1), or None. It is already in
+        The user's weight of each bounce (positive: bounces of weight 0 are left out; mean 1), or None. It is in
         ``inv_norm`` (so in :meth:`objective`); a method that fits anything else from the
         bounces (least squares, a classifier) must weigh them by it too.
     """
