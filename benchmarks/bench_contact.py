@@ -5,10 +5,11 @@ Everything is timed in the same run. Prints
 
 1. the speed-up of each law over ``scipy.integrate.solve_ivp`` integrating the same
    equations bounce by bounce (``benchmarks/contact_reference.py``), both at a lift-off
-   accuracy of 1e-6 of the landing speed: solve_ivp's ``rtol`` and TurfContact's number of
-   RK4 steps are each the loosest setting whose worst error over the sample is below 1e-6,
-   measured against a tighter reference (target: at least 100x);
-2. ``predict`` throughput (targets: CompliantImpact 10^6 bounces/s, TurfContact 10^5 bounces/s);
+   accuracy of 1e-6 of the landing speed: solve_ivp's ``rtol`` and TurfContact's and
+   CraterContact's number of RK4 steps are each the loosest setting whose worst error over the
+   sample is below 1e-6, measured against a tighter reference (target: at least 100x);
+2. ``predict`` throughput (targets: CompliantImpact 10^6 bounces/s, TurfContact 10^5 bounces/s;
+   CraterContact reported);
 3. the time of a global fit of TurfContact to campaign B (693 bounces; target under 30 s).
 """
 
@@ -24,11 +25,13 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bouncelab as bl
-from benchmarks.contact_reference import compliant_reference, turf_reference
+from benchmarks.contact_reference import compliant_reference, crater_reference, turf_reference
 
 TOL = 1e-6
 COMPLIANT = {"r": 0.5, "mu": 0.4, "kappa": 1.5}
 TURF = {"log10_k": 6.8, "c": 1.0, "e_y": 0.3, "mu": 0.6, "log10_kt": 6.0, "lam": 3.0}
+CRATER = {"r0": 0.6, "v_r": 2000.0, "mu_k": 0.15, "mu_s": 1.0, "v_s": 150.0, "lam": 0.25, "kappa": 0.1,
+          "e_t": 0.2, "beta0": 5.0, "beta_n": 4.0, "beta_t": 3.0}
 
 
 def landings(n: int, seed: int = 0) -> np.ndarray:
@@ -65,6 +68,23 @@ def turf_steps_loop():
     def run(P, theta, nsteps, out):
         for i in range(P.shape[0]):
             a, b, c, _ = turf_integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+        return out
+
+    return run
+
+
+def crater_steps_loop():
+    from numba import njit
+
+    from bouncelab.laws._contact_kernels import crater_integrate
+
+    @njit(nogil=True)
+    def run(P, theta, nsteps, out):
+        for i in range(P.shape[0]):
+            a, b, c, _ = crater_integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
@@ -117,6 +137,29 @@ def main() -> None:
     print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
           f"-> speed-up {t_ivp / t_bl:,.0f}x")
 
+    ctheta = np.array(list(CRATER.values()))
+    kctheta = np.append(ctheta, bl.CraterContact(**CRATER).fade_xdot)
+    crun = crater_steps_loop()
+    # the truth: the solve_ivp reference itself, far tighter (independent of the compiled kernel)
+    truth = np.array([crater_reference(q, ctheta, rtol=1e-13, atol=1e-13)[:3] for q in p])
+    rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: crater_reference(q, ctheta, rtol=rt, atol=rt)[:3], p, truth)
+    for nsteps in (12, 24, 48, 96, 192, 384, 768, 1536):
+        o = crun(p, kctheta, nsteps, np.empty_like(p))
+        if rel_err(o, truth, p) < TOL:
+            break
+    err_bl = rel_err(o, truth, p)
+    big = np.tile(p, (200, 1))
+    crun(big[:2], kctheta, nsteps, np.empty_like(big[:2]))
+    _, dt = timed(lambda: crun(big, kctheta, nsteps, np.empty_like(big)))
+    t_bl = dt / len(big)
+    cl = bl.CraterContact(**CRATER)
+    err_default = rel_err(cl.predict(p), truth, p)
+    print(f"\nCraterContact vs solve_ivp (DOP853, rtol={rtol:g}), {n_ivp} landings, accuracy target {TOL:g}:")
+    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab with {nsteps} RK4 steps {err_bl:.1e} "
+          f"(predict's default 48 steps: {err_default:.1e})")
+    print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
+          f"-> speed-up {t_ivp / t_bl:,.0f}x")
+
     # ---- 2. predict throughput
     P = landings(n_big, seed=2)
     ci.predict(P[:100])
@@ -133,6 +176,9 @@ def main() -> None:
     bl.TurfContact.predict_varying(P[:100], rows[:100])
     _, dt = timed(lambda: bl.TurfContact.predict_varying(P[:m], rows))
     print(f"TurfContact.predict_varying (one parameter row per bounce): {m / dt / 1e3:.0f} thousand/s")
+    cl.predict(P[:100])
+    _, dt = timed(lambda: cl.predict(P[:m]))
+    print(f"CraterContact.predict:   {m / dt / 1e3:.0f} thousand bounces/s ({m:,} bounces, default 48 steps)")
 
     # ---- 3. fit time
     ds = bl.load_campaign("B")

@@ -65,6 +65,7 @@ class Parametrisation:
 
     law: str
     max_sigma: float = 0.5
+    scatter: tuple[str, ...] | None = None  # parameters that vary from spot to spot (None: all)
 
     @property
     def law_class(self) -> type:
@@ -79,31 +80,45 @@ class Parametrisation:
         return specs
 
     @property
+    def scattered(self) -> list:
+        """The specs whose spot-to-spot sd is searched."""
+        if self.scatter is None:
+            return self.specs
+        known = {s.name: s for s in self.specs}
+        unknown = [n for n in self.scatter if n not in known]
+        if unknown:
+            raise SystemExit(f"--scatter names {unknown}, which {self.law} does not have; it has {list(known)}")
+        return [known[n] for n in self.scatter]
+
+    @property
     def names(self) -> list[str]:
-        return [s.name for s in self.specs] + [f"sigma_{s.name}" for s in self.specs]
+        return [s.name for s in self.specs] + [f"sigma_{s.name}" for s in self.scattered]
 
     def bounds(self) -> list[tuple[float, float]]:
         out = []
         for s in self.specs:
             lo, hi = (float(v[0]) for v in s.bound_arrays())
             out.append((lo, hi))
-        return out + [(0.0, self.max_sigma)] * len(self.specs)
+        return out + [(0.0, self.max_sigma)] * len(self.scattered)
 
     def turf(self, x: Sequence[float]) -> Turf:
         specs = self.specs
         k = len(specs)
         law = self.law_class(**{s.name: float(v) for s, v in zip(specs, x[:k], strict=True)})
         scatter: dict[str, Any] = {}
-        for (lo, hi), s, sigma in zip(self.bounds()[:k], specs, x[k:], strict=True):
+        box = dict(zip([s.name for s in specs], self.bounds()[:k], strict=True))
+        for s, sigma in zip(self.scattered, x[k:], strict=True):
+            lo, hi = box[s.name]
             if sigma > 0:
                 positive = float(s.physical_arrays()[0][0]) >= 0
                 scatter[s.name] = LogNormal(float(sigma)) if positive else Normal(float(sigma) * (hi - lo))
         return Turf(law, scatter, name=f"calibrated {self.law}")
 
 
-def evaluate(x: Sequence[float], campaign: str, law: str, seeds: Sequence[int], max_sigma: float = 0.5) -> dict:
+def evaluate(x: Sequence[float], campaign: str, law: str, seeds: Sequence[int], max_sigma: float = 0.5,
+             scatter: tuple[str, ...] | None = None) -> dict:
     """Simulate ``campaign`` with the turf of ``x`` for each seed; the mean table and its objective J."""
-    par = Parametrisation(law, max_sigma)
+    par = Parametrisation(law, max_sigma, scatter)
     turf = par.turf(np.asarray(x, dtype=float))
     design = LauncherDesign.for_campaign(campaign)
     tables = []
@@ -119,10 +134,11 @@ def evaluate(x: Sequence[float], campaign: str, law: str, seeds: Sequence[int], 
     return {"x": list(map(float, x)), "objective": cal.calibration_objective(table), "table": table}
 
 
-def objective(x: np.ndarray, campaign: str, law: str, seeds: Sequence[int], max_sigma: float) -> float:
+def objective(x: np.ndarray, campaign: str, law: str, seeds: Sequence[int], max_sigma: float,
+              scatter: tuple[str, ...] | None = None) -> float:
     """J of candidate ``x`` (a failing simulation costs a large finite value)."""
     try:
-        return float(evaluate(x, campaign, law, seeds, max_sigma)["objective"])
+        return float(evaluate(x, campaign, law, seeds, max_sigma, scatter)["objective"])
     except (bl.BouncelabError, FloatingPointError):
         return 1e3
 
@@ -157,13 +173,14 @@ def dask_map(scheduler: str | None, workers: int) -> tuple[Callable[[Callable, I
 
 
 def calibrate(campaign: str, *, law: str, maxiter: int, popsize: int, replicates: int, seed: int,
-              scheduler: str | None, workers: int, max_sigma: float, final_seeds: int) -> dict:
+              scheduler: str | None, workers: int, max_sigma: float, final_seeds: int,
+              scatter: tuple[str, ...] | None = None) -> dict:
     """Run differential evolution for one campaign; return the best candidate and its tables."""
     from functools import partial
 
     from scipy.optimize import differential_evolution
 
-    par = Parametrisation(law, max_sigma)
+    par = Parametrisation(law, max_sigma, scatter)
     seeds = [1000 + i for i in range(replicates)]
     run, close = dask_map(scheduler, workers)
     evaluations = 0
@@ -177,13 +194,14 @@ def calibrate(campaign: str, *, law: str, maxiter: int, popsize: int, replicates
     start = time.perf_counter()
     try:
         result = differential_evolution(
-            partial(objective, campaign=campaign, law=law, seeds=seeds, max_sigma=max_sigma),
+            partial(objective, campaign=campaign, law=law, seeds=seeds, max_sigma=max_sigma, scatter=scatter),
             par.bounds(), maxiter=maxiter, popsize=popsize, seed=seed, polish=False, tol=0.0,
             updating="deferred", workers=workers_map, init="sobol",
         )
         search_s = time.perf_counter() - start
         fresh = [5000 + i for i in range(final_seeds)]
-        final = run(partial(evaluate, campaign=campaign, law=law, seeds=fresh, max_sigma=max_sigma), [result.x])[0]
+        final = run(partial(evaluate, campaign=campaign, law=law, seeds=fresh, max_sigma=max_sigma, scatter=scatter),
+                    [result.x])[0]
     finally:
         close()
     return {
@@ -200,23 +218,43 @@ def calibrate(campaign: str, *, law: str, maxiter: int, popsize: int, replicates
     }
 
 
-def fitted_start(campaign: str, law: str, sigma: float = 0.1) -> np.ndarray:
-    """Start vector: the law fitted to the embedded campaign, every log-sd ``sigma``."""
+def fitted_start(campaign: str, law: str, sigma: float = 0.1, scatter: tuple[str, ...] | None = None) -> np.ndarray:
+    """Start vector: the law fitted to the embedded campaign, every searched log-sd ``sigma``."""
     fitted = bl.fit(law_class(law), bl.load_campaign(campaign))
     params = fitted.law.parameters if hasattr(fitted, "law") else fitted.parameters
-    nominal = [float(np.asarray(params[s.name])) for s in Parametrisation(law).specs]
-    return np.array(nominal + [sigma] * len(nominal))
+    par = Parametrisation(law, scatter=scatter)
+    nominal = [float(np.asarray(params[s.name])) for s in par.specs]
+    return np.array(nominal + [sigma] * len(par.scattered))
+
+
+def json_start(path: str, campaign: str, law: str, scatter: tuple[str, ...] | None, sigma: float = 0.1) -> np.ndarray:
+    """Start vector from a JSON file: a previous ``--output`` (the entry of ``campaign``) or a mapping name -> value.
+
+    Names the file lacks: a searched log-sd starts at ``sigma``; a missing nominal value is an error.
+    """
+    with open(path) as f:
+        data = json.load(f)
+    if isinstance(data, list):
+        entries = [e for e in data if e.get("campaign") == campaign]
+        if not entries:
+            raise SystemExit(f"{path} has no result for campaign {campaign}")
+        data = dict(zip(entries[0]["names"], entries[0]["x"], strict=True))
+    par = Parametrisation(law, scatter=scatter)
+    missing = [s.name for s in par.specs if s.name not in data]
+    if missing:
+        raise SystemExit(f"{path} gives no value for {missing}")
+    return np.array([float(data[n]) if n in data else sigma for n in par.names])
 
 
 def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replicates: int, seed: int,
-           max_sigma: float, final_seeds: int) -> dict:
+           max_sigma: float, final_seeds: int, scatter: tuple[str, ...] | None = None) -> dict:
     """Nelder-Mead (adaptive, restarted from a perturbed best point) within ``budget`` seconds, one process.
 
     Candidates outside the box are clipped into it and pay the squared distance as a penalty.
     """
     from scipy.optimize import minimize
 
-    par = Parametrisation(law, max_sigma)
+    par = Parametrisation(law, max_sigma, scatter)
     lo, hi = np.array(par.bounds()).T
     seeds = [1000 + i for i in range(replicates)]
     log: list[tuple[float, list[float]]] = []
@@ -229,7 +267,7 @@ def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replica
         if time.perf_counter() - t0 > budget:
             raise _Budget
         x = np.clip(z, lo, hi)
-        value = objective(x, campaign, law, seeds, max_sigma) + float(np.sum((z - x) ** 2))
+        value = objective(x, campaign, law, seeds, max_sigma, scatter) + float(np.sum((z - x) ** 2))
         log.append((value, list(map(float, x))))
         return value
 
@@ -243,7 +281,7 @@ def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replica
     except _Budget:
         pass
     best = min(log)
-    final = evaluate(best[1], campaign, law, [5000 + i for i in range(final_seeds)], max_sigma)
+    final = evaluate(best[1], campaign, law, [5000 + i for i in range(final_seeds)], max_sigma, scatter)
     return {"campaign": campaign, "law": law, "names": par.names, "x": final["x"],
             "objective_search": best[0], "objective_fresh_seeds": final["objective"], "table": final["table"],
             "evaluations": len(log), "search_seconds": time.perf_counter() - t0,
@@ -266,20 +304,27 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--output", default=None, help="write the results as JSON here")
     ap.add_argument("--method", default="de", choices=["de", "nelder-mead"],
                     help="differential evolution on dask, or a time-boxed Nelder-Mead in this process")
-    ap.add_argument("--start", default="fit", choices=["fit"],
-                    help="Nelder-Mead start: the law fitted to the embedded campaign, log-sd 0.1")
+    ap.add_argument("--start", default="fit",
+                    help="Nelder-Mead start: 'fit' (the law fitted to the embedded campaign, log-sd 0.1) or a JSON "
+                         "file: a previous --output (its point for the campaign) or a mapping name -> value")
     ap.add_argument("--budget", type=float, default=300.0, help="Nelder-Mead wall time per campaign (s)")
+    ap.add_argument("--scatter", nargs="+", default=None, metavar="NAME",
+                    help="parameters that vary from spot to spot (default: all); the others do not scatter")
     args = ap.parse_args(argv)
+    scatter = None if args.scatter is None else tuple(args.scatter)
     results = []
     for campaign in args.campaign:
         if args.method == "nelder-mead":
-            res = refine(campaign, law=args.law, start=fitted_start(campaign, args.law), budget=args.budget,
-                         replicates=args.replicates, seed=args.seed, max_sigma=args.max_sigma,
-                         final_seeds=args.final_seeds)
+            start = (fitted_start(campaign, args.law, scatter=scatter) if args.start == "fit"
+                     else json_start(args.start, campaign, args.law, scatter))
+            res = refine(campaign, law=args.law, start=start,
+                         budget=args.budget, replicates=args.replicates, seed=args.seed, max_sigma=args.max_sigma,
+                         final_seeds=args.final_seeds, scatter=scatter)
         else:
             res = calibrate(campaign, law=args.law, maxiter=args.maxiter, popsize=args.popsize,
                             replicates=args.replicates, seed=args.seed, scheduler=args.scheduler,
-                            workers=args.workers, max_sigma=args.max_sigma, final_seeds=args.final_seeds)
+                            workers=args.workers, max_sigma=args.max_sigma, final_seeds=args.final_seeds,
+                            scatter=scatter)
         results.append(res)
         print(f"campaign {campaign}: {res['evaluations']} candidates in {res['search_seconds']:.1f} s, "
               f"J = {res['objective_search']:.4f} (search seeds), {res['objective_fresh_seeds']:.4f} (fresh seeds)")

@@ -1,7 +1,7 @@
 """Reference implementations of the contact laws with scipy.integrate.solve_ivp (the code a researcher would write).
 
-The same equations as :class:`bouncelab.CompliantImpact` and :class:`bouncelab.TurfContact`,
-integrated bounce by bounce with ``solve_ivp`` (DOP853) and its event location for
+The same equations as :class:`bouncelab.CompliantImpact`, :class:`bouncelab.TurfContact` and
+:class:`bouncelab.CraterContact`, integrated bounce by bounce with ``solve_ivp`` (DOP853) and its event location for
 every mode switch. Used by the tests at a few points (accuracy) and by
 ``benchmarks/bench_contact.py`` (speed at equal accuracy).
 """
@@ -13,7 +13,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["compliant_reference", "turf_reference"]
+__all__ = ["compliant_reference", "crater_reference", "turf_reference"]
 
 
 def compliant_reference(p0, r: float, mu: float, kappa: float, rtol: float = 1e-12, atol: float = 1e-12):
@@ -141,3 +141,95 @@ def turf_reference(p0, theta, rtol: float = 1e-11, atol: float = 1e-12):
                 y[5] = sig * mu * n / kt
                 stick = True
     return np.array([y[3], -y[1], y[4]])
+
+
+def crater_reference(p0, theta, fade_xdot: float = 50.0, rtol: float = 1e-11, atol: float = 1e-12):
+    """Lift-off state and regime of CraterContact by solve_ivp, from the equations of its docstring.
+
+    ``theta`` = (r0, v_r, mu_k, mu_s, v_s, lam, kappa, e_t, beta0, beta_n, beta_t). State [v_t, omega]
+    in the crater wall's frame, integrated over the normal impulse p in [0, P]; an event where the contact
+    point stops (v_P = v_t + omega = 0). Every stop gets the stick test (also one reached after slipping
+    back: the regime is then ``grip``); a stuck contact stays stuck, its phase in closed form. The recoil's
+    energy cap is read as: the recoil adds at most the kinetic energy lost so far (normal loss included),
+    so the bounce never gains energy. Returns (xdotF, ydotF, omegaF, regime).
+    """
+    r0, v_r, mu_k, mu_s, v_s, lam, kappa, e_t, beta0, beta_n, beta_t = (float(v) for v in theta)
+    xd, yd, w = (float(v) for v in p0)
+    mirror = xd < 0.0
+    if mirror:  # a ball moving in -x is the mirror image
+        xd, w = -xd, -w
+    beta = (beta0 + beta_n * abs(yd) / 1000.0 + beta_t * xd / 1000.0) * min(xd / fade_xdot, 1.0)
+    b = math.radians(min(beta, 60.0))
+    cb, sb = math.cos(b), math.sin(b)
+    vt0, vn = cb * xd + sb * yd, -sb * xd + cb * yd
+    an = abs(vn)
+    r = r0 / (1.0 + an / v_r)
+    total = (1.0 + r) * an
+    lam_n = lam / an
+    lever = 1.0 + 2.5 * kappa  # dv_P/dp = 3.5 f + lever g
+
+    def mu(v):
+        return mu_k + (mu_s - mu_k) * math.exp(-v / v_s)
+
+    def plough(s):
+        return -lam_n * (s[0] + kappa * s[1])
+
+    y = np.array([vt0, w])
+    vp0 = vt0 + w
+    scale = abs(xd) + abs(yd) + abs(w)
+    p = 0.0
+    sig = 1.0 if vp0 > 0 else -1.0
+    pstar = None
+    reversed_ = False
+    if vp0 == 0.0:  # lands with its contact point at rest: the stick test below at p = 0
+        sig = 0.0
+    for _ in range(100):
+        if sig == 0.0:  # v_P = 0: does friction (at most mu_s) hold it against the ploughing torque?
+            g = plough(y)
+            if abs(lever * g) / 3.5 <= mu_s:
+                pstar = p
+                break
+            sig = 1.0 if g > 0 else -1.0  # slips the way ploughing drives it
+            if p > 0.0:
+                reversed_ = True
+
+        def rhs(_p, s, sig=sig):
+            g = plough(s)
+            # mu continued analytically past v_P = 0 (not clipped there): the solver's step across the
+            # event stays smooth, and the event is located on an accurate dense output
+            f = -sig * mu(max(sig * (s[0] + s[1]), -20.0 * v_s))  # (bounded for trial steps far beyond)
+            return [g + f, 2.5 * (f + kappa * g)]
+
+        def stop(_p, s, sig=sig, p_start=p):
+            return sig * (s[0] + s[1]) if _p > p_start else 1.0
+
+        stop.terminal, stop.direction = True, -1
+        sol = solve_ivp(rhs, (p, total), y, method="DOP853", rtol=rtol, atol=atol * scale, events=[stop])
+        y = sol.y[:, -1].copy()
+        p = sol.t[-1]
+        if not sol.t_events[0].size or p >= total:
+            break
+        y = sol.y_events[0][0].copy()
+        p = sol.t_events[0][0]
+        sig = 0.0
+    if pstar is not None:
+        # stuck to the end: v_P = 0, omega = -v_t, dv_t/dp = g + f with f = -lever g / 3.5 and
+        # g = -lam_n (1 - kappa) v_t, i.e. dv_t/dp = -(5/7) lam_n (1 - kappa)^2 v_t (closed form)
+        u = (5.0 * y[0] - 2.0 * y[1]) / 7.0  # the rolling speed: v_t on the stick line
+        vt = u * math.exp(-(5.0 / 7.0) * lam_n * (1.0 - kappa) ** 2 * (total - pstar))
+        y = np.array([vt, -vt])
+        # bristle recoil: v_P = -e_t v_P0 (1 - p*/P), rolling speed unchanged, energy gain capped by the loss
+        e0 = 0.5 * (vt0 * vt0 + vn * vn) + 0.2 * w * w
+        e1 = 0.5 * (y[0] ** 2 + (r * an) ** 2) + 0.2 * y[1] ** 2
+        vpf = -e_t * vp0 * (1.0 - pstar / total)
+        cap = math.sqrt(7.0 * max(e0 - e1, 0.0))  # tangential energy at fixed rolling speed: 0.7 u^2 + v_P^2 / 7
+        vpf = math.copysign(min(abs(vpf), cap), vpf)
+        y = y + np.array([1.0, 2.5]) * vpf / 3.5
+        regime = "grip"
+    else:
+        regime = "reversed" if reversed_ else "slip"
+    vtf, vnf = y[0], r * an
+    xf, yf, wf = cb * vtf - sb * vnf, sb * vtf + cb * vnf, y[1]
+    if mirror:
+        xf, wf = -xf, -wf
+    return xf, yf, wf, regime

@@ -35,7 +35,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import bouncelab as bl
 from bouncelab.simulation.calibration import ROLLING_THRESHOLD
 
-DEFAULT_LAWS = ("Rigid", "PennerFixed", "TangentialRestitution", "CompliantImpact", "TurfContact")
+DEFAULT_LAWS = ("Rigid", "PennerFixed", "TangentialRestitution", "CompliantImpact", "TurfContact", "CraterContact")
 
 
 def rolling_fraction(p0: np.ndarray, pf: np.ndarray) -> float:

@@ -236,11 +236,12 @@ def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
     assert "setting" in ds.coords and np.isfinite(ds["liftoff_pi"].values).all()
     assert ds.attrs["surrogate"] == "turf"
     assert ds.attrs["data_kind"] == "synthetic surrogate" and ds.attrs["simulated"] == "yes"
-    assert "NOT MEASURED" in ds.attrs["warning"] and "TurfContact" in ds.attrs["warning"]
+    law = TURF_CALIBRATION[campaign]["law"]
+    assert "NOT MEASURED" in ds.attrs["warning"] and law in ds.attrs["warning"]
     # the attrs hold the parameters the file was simulated with, and they are the calibrated ones
     assert json.loads(ds.attrs["turf_calibration"]) == TURF_CALIBRATION[campaign]
     turf = json.loads(ds.attrs["simulation_json"])["turf"]
-    assert turf["law"]["law"] == "TurfContact"
+    assert turf["law"]["law"] == law
     # a different campaign from the published surrogate
     pub = bouncelab.load_campaign(campaign)
     assert pub.attrs["surrogate"] == "published"
@@ -269,13 +270,15 @@ def test_surrogate_for_a_file_is_refused_not_ignored(tmp_path):
 
 def test_cli_surrogate_option_chooses_the_embedded_campaign(capsys):
     from bouncelab.cli.main import main
+    from bouncelab.data.surrogate import TURF_CALIBRATION
 
     assert main(["info", "A", "--surrogate", "turf"]) == 0
     turf = capsys.readouterr()
     assert main(["info", "A"]) == 0
     pub = capsys.readouterr()
-    assert "surrogate 'turf'" in turf.out + turf.err and "TurfContact" in turf.out + turf.err
-    assert "surrogate 'published'" in pub.out + pub.err and "TurfContact" not in pub.out + pub.err
+    law = TURF_CALIBRATION["A"]["law"]
+    assert "surrogate 'turf'" in turf.out + turf.err and law in turf.out + turf.err
+    assert "surrogate 'published'" in pub.out + pub.err and law not in pub.out + pub.err
     with pytest.raises(SystemExit) as bad:  # argparse refuses an unknown name, and lists the known ones
         main(["info", "A", "--surrogate", "paper"])
     assert bad.value.code == 2 and "'published', 'turf'" in capsys.readouterr().err

@@ -127,8 +127,8 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                         "says)")
     p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
                    help="which synthetic surrogate the embedded campaigns A and B are: published (default: made "
-                        "from the paper's published laws) or turf (simulated with the TurfContact law through "
-                        "camera frames); see docs/simulation.md")
+                        "from the paper's published laws) or turf (simulated from turf physics, the calibrated law of "
+                        "bouncelab.data.surrogate.TURF_CALIBRATION, through camera frames); see docs/simulation.md")
 
 
 def _add_import_option(p: argparse.ArgumentParser) -> None:

@@ -214,7 +214,7 @@ def _umask() -> int:
 #: Laws fitted beside the paper's in every report: Walton's tangential restitution and the physics-based laws.
 BEYOND_PAPER_LAWS = ("TangentialRestitution", "CompliantImpact", "TurfContact")
 #: Laws left out of the report's cross-validation because each fit takes seconds (they integrate every bounce).
-NOT_CROSS_VALIDATED = frozenset({"TurfContact"})
+NOT_CROSS_VALIDATED = frozenset({"TurfContact", "CraterContact"})
 
 
 def _steps_per_campaign(figures: bool) -> int:

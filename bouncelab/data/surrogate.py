@@ -77,7 +77,7 @@ __all__ = [
 ]
 
 #: The embedded surrogates: ``"published"`` (this module's generator, from the paper's published laws)
-#: and ``"turf"`` (:func:`bouncelab.simulate_campaign` with a calibrated TurfContact turf).
+#: and ``"turf"`` (:func:`bouncelab.simulate_campaign` with the calibrated turf of :data:`TURF_CALIBRATION`).
 SURROGATES = ("published", "turf")
 
 #: Seeds of the embedded surrogates (``bouncelab/data/files/campaign_{A,B}.nc``).
@@ -218,21 +218,26 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     )
 
 
-#: The calibrated turf of the ``"turf"`` surrogates: TurfContact's nominal parameters, the
-#: spot-to-spot standard deviation of the natural log of each (LogNormal scatter), and the seed
-#: of :func:`bouncelab.simulate_campaign`. Found by ``benchmarks/calibrate_surrogates.py``
-#: (see docs/simulation.md for the run and how close it comes to the paper).
+#: The calibrated turf of the ``"turf"`` surrogates: the turf law (CraterContact), its nominal
+#: parameters, the spot-to-spot standard deviation of the natural log of those that vary (LogNormal
+#: scatter; the others do not vary), and the seed of :func:`bouncelab.simulate_campaign`. Found by
+#: ``benchmarks/calibrate_surrogates.py`` (see docs/simulation.md for the runs and how close they come
+#: to the paper).
 TURF_CALIBRATION: dict[str, dict] = {
     "A": {
-        "law": "TurfContact",
-        "nominal": {"log10_k": 7.2619, "c": 1.1042, "e_y": 0.4691, "mu": 0.2817, "log10_kt": 6.2944, "lam": 2.2544},
-        "log_sd": {"log10_k": 0.0227, "c": 0.1642, "e_y": 0.1479, "mu": 0.0906, "log10_kt": 0.0184, "lam": 0.0498},
+        "law": "CraterContact",
+        "nominal": {"r0": 0.51517, "v_r": 10402.0, "mu_k": 0.083368, "mu_s": 0.46922, "v_s": 546.04,
+                    "lam": 0.1921, "kappa": 0.21613, "e_t": 0.27975, "beta0": 6.6045, "beta_n": 0.00014079,
+                    "beta_t": 0.0},
+        "log_sd": {"r0": 0.03497, "mu_k": 0.07613, "lam": 0.1044, "e_t": 0.1167, "beta0": 0.1753},
         "seed": 330,
     },
     "B": {
-        "law": "TurfContact",
-        "nominal": {"log10_k": 5.0, "c": 4.8528, "e_y": 1.0424, "mu": 0.3238, "log10_kt": 4.5, "lam": 0.7493},
-        "log_sd": {"log10_k": 0.0957, "c": 0.1218, "e_y": 0.0989, "mu": 0.1005, "log10_kt": 0.0832, "lam": 0.1099},
+        "law": "CraterContact",
+        "nominal": {"r0": 0.88676, "v_r": 251.23, "mu_k": 0.55695, "mu_s": 0.23337, "v_s": 367.96,
+                    "lam": 0.20287, "kappa": 1.0535e-05, "e_t": 0.5601, "beta0": 1.6884e-05, "beta_n": 8.8027,
+                    "beta_t": 13.04},
+        "log_sd": {"r0": 0.07319, "mu_k": 0.05444, "lam": 0.08453, "e_t": 0.08846, "beta0": 0.1258},
         "seed": 693,
     },
 }
@@ -254,7 +259,7 @@ def generate_turf_surrogate(campaign: str, *, seed: int | None = None) -> xr.Dat
     """Simulate the ``"turf"`` surrogate of campaign "A" or "B" (the embedded ``campaign_{A,B}_turf.nc``).
 
     The paper's launcher design (:meth:`bouncelab.simulation.LauncherDesign.for_campaign`),
-    the calibrated TurfContact turf with spot-to-spot scatter (:func:`turf_for_campaign`) and the
+    the calibrated turf law (:data:`TURF_CALIBRATION`) with spot-to-spot scatter (:func:`turf_for_campaign`) and the
     default camera, through :func:`bouncelab.simulate_campaign` with the seed of
     :data:`TURF_CALIBRATION` (or ``seed``). The attrs say the data are simulated and hold the
     turf's parameters (``turf_calibration``, JSON) besides the simulator's own description.

@@ -8,6 +8,7 @@
 :class:`TangentialRestitution`  Walton's hard-sphere law: gripping balls reverse v_P (beyond the paper)
 :class:`CompliantImpact`        spring-dashpot with a tangential spring and Coulomb slider (Stronge)
 :class:`TurfContact`            elasto-plastic, rate-dependent turf with ploughing and a bristle, integrated
+:class:`CraterContact`          crater-wall tilt, velocity-weakening friction, ploughing and bristle recoil
 ==============================  =====================================================
 
 Writing a law: subclass :class:`BounceModel` (NumPy maths in ``_predict``) or
@@ -31,6 +32,7 @@ from bouncelab.laws.base import (
 )
 from bouncelab.laws.compiled import CompiledLaw, num_threads, set_num_threads
 from bouncelab.laws.compliant import CompliantImpact
+from bouncelab.laws.crater import CraterContact
 from bouncelab.laws.penner import K_P_MAX, PennerFixed, PennerVarying
 from bouncelab.laws.piecewise import PiecewiseAffine
 from bouncelab.laws.rigid import Rigid
@@ -42,6 +44,7 @@ __all__ = [
     "BounceModel",
     "CompiledLaw",
     "CompliantImpact",
+    "CraterContact",
     "FitOutcome",
     "FitProblem",
     "Parameter",

@@ -47,8 +47,9 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
     ----------
     law : CompiledLaw subclass or instance
         A law with scalar parameters whose kernel takes its parameter vector as
-        is (e.g. :class:`~bouncelab.laws.turf.TurfContact`). An instance only
-        supplies its class; its values are not used.
+        is (e.g. :class:`~bouncelab.laws.turf.TurfContact`), or an instance of one that
+        converts them first (its options, e.g. CraterContact's ``fade_xdot``, are used).
+        An instance's parameter values are not used.
     landing : array-like, shape (n, 3)
         Landing states ``[xdot0, ydot0, omega0]`` in scaled units (validated as by ``predict``).
     params : array-like, shape (n, k) or (k,), or a mapping name -> array of length n
@@ -65,15 +66,18 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
     numpy.ndarray, shape (n, 3)
         Lift-off states (and the regime codes if ``codes``).
     """
-    cls = law if isinstance(law, type) else type(law)
-    if kernel is None:
-        kernel = getattr(cls, "kernel", None)
-    if kernel is None or isinstance(kernel, property):
-        raise ParameterError(f"{cls.__name__} has no class-level compiled kernel; predict_per_bounce needs one")
     from bouncelab.laws.compiled import CompiledLaw
 
-    if cls._kernel_theta is not CompiledLaw._kernel_theta:
-        raise ParameterError(f"{cls.__name__} converts its parameters before its kernel; use predict per law")
+    cls = law if isinstance(law, type) else type(law)
+    converts = cls._kernel_theta is not CompiledLaw._kernel_theta
+    if converts and isinstance(law, type):
+        # its options (e.g. CraterContact's fade_xdot) live on an instance, which converts each row
+        raise ParameterError(f"{cls.__name__} converts its parameters before its kernel; pass an instance, "
+                             "whose options are used")
+    if kernel is None:
+        kernel = law.kernel if converts else getattr(cls, "kernel", None)
+    if kernel is None or isinstance(kernel, property):
+        raise ParameterError(f"{cls.__name__} has no class-level compiled kernel; predict_per_bounce needs one")
     specs = cls.parameter_specs
     if any(s.shape != () for s in specs):
         raise ParameterError(f"{cls.__name__} has array parameters; predict_per_bounce takes scalar ones")
@@ -101,6 +105,8 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
             i = int(np.flatnonzero(bad)[0])
             raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]!r}, "
                                  f"outside its physical range [{lo}, {hi}]")
+    if converts and n:
+        T = np.ascontiguousarray(np.stack([law._kt(row) for row in T]))
     out = np.empty_like(p)
     c = np.empty(n, dtype=np.int8)
     if n:  # rows are independent: large calls are shared by the thread pool (results do not depend on it)

@@ -424,3 +424,183 @@ def turf_integrate(xd, yd, w, theta, nsteps):
 def turf_kernel(xd, yd, w, theta):
     """theta = [log10_k, c (ms/radius), e_y (radii), mu, log10_kt, lam]."""
     return turf_integrate(xd, yd, w, theta, TURF_STEPS)
+
+
+# ============================================================================= CraterContact
+# The contact is integrated in the normal impulse p (per unit mass) accumulated in the frame of the
+# crater wall, from 0 to P = (1 + r)|v_n|: friction and ploughing are forces proportional to the
+# normal force, so p is their natural clock and no normal-force history is needed.
+CRATER_STEPS = 48      # RK4 steps over the normal impulse of a contact (see CraterContact's accuracy note)
+CRATER_ROOT_ITER = 60  # cap on the false-position iterations that locate the instant the contact point stops
+CRATER_MAX_BETA = 60.0  # degrees: the crater wall is never steeper than this
+
+
+@jit(inline="always")
+def _crater_rhs(vt, w, sig, lp, kap, mk, dm, vs):
+    """d(v_t, omega)/dp while slipping in direction sig: Coulomb friction mu(|v_P|) and the ploughing dashpot."""
+    f = -sig * (mk + dm * math.exp(-abs(vt + w) / vs))
+    g = -lp * (vt + kap * w)
+    return g + f, 2.5 * (f + kap * g)
+
+
+@jit(inline="always")
+def _crater_step(vt, w, h, sig, lp, kap, mk, dm, vs):
+    """One classical Runge-Kutta step of size h (in normal impulse) while slipping."""
+    a0, a1 = _crater_rhs(vt, w, sig, lp, kap, mk, dm, vs)
+    b0, b1 = _crater_rhs(vt + 0.5 * h * a0, w + 0.5 * h * a1, sig, lp, kap, mk, dm, vs)
+    c0, c1 = _crater_rhs(vt + 0.5 * h * b0, w + 0.5 * h * b1, sig, lp, kap, mk, dm, vs)
+    d0, d1 = _crater_rhs(vt + h * c0, w + h * c1, sig, lp, kap, mk, dm, vs)
+    q = h / 6.0
+    return vt + q * (a0 + 2.0 * b0 + 2.0 * c0 + d0), w + q * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
+
+
+@jit
+def _crater_stop(vt, w, h, sig, lp, kap, mk, dm, vs):
+    """The sub-step tau in (0, h] after which the contact point stops (sig v_P = 0), by Illinois false position.
+
+    A step that starts on the stop line (just after slipping back from a stop) first brackets the
+    end of its excursion by doubling sub-steps from 1e-12 h, so the root at its start is not taken.
+    """
+    a, fa = 0.0, sig * (vt + w)
+    b = h
+    x1, y1 = _crater_step(vt, w, b, sig, lp, kap, mk, dm, vs)
+    fb = sig * (x1 + y1)
+    eps = 1e-12 * (abs(vt) + abs(w) + vs)  # v_P is v_t + omega: rounding hides smaller values
+    if fa <= eps:
+        t = 1e-12 * h
+        while t < h:
+            x1, y1 = _crater_step(vt, w, t, sig, lp, kap, mk, dm, vs)
+            ft = sig * (x1 + y1)
+            if ft < -eps:
+                if a == 0.0:
+                    return t  # back on the stop line at once
+                b, fb = t, ft
+                break
+            if ft > eps:
+                a, fa = t, ft
+            t *= 2.0
+    side = 0
+    for _ in range(CRATER_ROOT_ITER):
+        if fa - fb <= 0.0:
+            break
+        c = (a * fb - b * fa) / (fb - fa)
+        x1, y1 = _crater_step(vt, w, c, sig, lp, kap, mk, dm, vs)
+        fc = sig * (x1 + y1)
+        if fc > 0.0:
+            a, fa = c, fc
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            b, fb = c, fc
+            if side == 1:
+                fa *= 0.5
+            side = 1
+        if b - a <= 1e-12 * h:
+            break
+    return b
+
+
+@jit
+def crater_integrate(xd, yd, w, theta, nsteps):
+    """CraterContact with ``nsteps`` RK4 steps over the contact's normal impulse: (xdotF, ydotF, omegaF, regime).
+
+    theta = (r0, v_r, mu_k, mu_s, v_s, lam, kappa, e_t, beta0, beta_n, beta_t, fade_xdot).
+    """
+    r0, vr, mk, ms, vs, lam, kap, et = theta[0], theta[1], theta[2], theta[3], theta[4], theta[5], theta[6], theta[7]
+    b0, bn, bt, fade = theta[8], theta[9], theta[10], theta[11]
+    # Mirror a ball moving in -x onto +x (the law is mirror symmetric by construction).
+    sg = 1.0 if xd >= 0.0 else -1.0
+    x = sg * xd
+    om = sg * w
+    # The crater wall rises against the direction of travel, steeper for deeper (faster) landings.
+    beta = (b0 + bn * abs(yd) / 1000.0 + bt * x / 1000.0) * (math.pi / 180.0)
+    if fade > 0.0 and x < fade:
+        beta *= x / fade
+    beta = min(beta, CRATER_MAX_BETA * math.pi / 180.0)
+    cb = math.cos(beta)
+    sb = math.sin(beta)
+    vt = cb * x + sb * yd
+    vn = -sb * x + cb * yd  # < 0 for any landing (x >= 0, yd < 0, beta in [0, 60 deg])
+    an = max(-vn, 1e-300)
+    r = r0 / (1.0 + an / vr)
+    total = (1.0 + r) * an
+    lp = lam / an  # ploughing per unit normal impulse: a frictionless ball keeps exp(-lam (1 + r)) of v_t
+    dm = ms - mk
+    vp0 = vt + om
+    # Stuck contact point: friction holds v_P = 0 against the ploughing torque while it can.
+    hold = (1.0 - kap) * (1.0 + 2.5 * kap) / 3.5
+    decay = 2.5 * (1.0 - kap) * (1.0 - kap) / 3.5
+    stuck = False
+    pstar = total
+    if vp0 > 0.0:
+        sig = 1.0
+    elif vp0 < 0.0:
+        sig = -1.0
+    else:
+        sig = -1.0 if vt > 0.0 else 1.0
+        if lp * abs(vt) * hold <= ms:
+            stuck = True
+            pstar = 0.0
+    sig0 = sig
+    h = total / nsteps
+    # Friction changes over the slip speed v_s near v_P = 0: there a step may change v_P by at most a
+    # quarter of |v_P| + v_s at its current rate (scaled with nsteps, so convergence studies refine it too).
+    hv = 0.25 * CRATER_STEPS / nsteps
+    p = 0.0
+    if stuck:
+        vt *= math.exp(-decay * lp * total)
+        om = -vt
+    else:
+        for _ in range(1000 * nsteps):  # far more than any contact needs (tested: p always reaches P)
+            if p >= total * (1.0 - 1e-14):
+                break
+            a0, a1 = _crater_rhs(vt, om, sig, lp, kap, mk, dm, vs)
+            vp = abs(vt + om)
+            # stable too where friction balances ploughing (steady sliding): the step times the rate at which
+            # v_P relaxes there, 3.5 |dmu/dv| + ploughing's, stays below 1/2
+            stiff = 3.5 * abs(dm) / vs * math.exp(-vp / vs) + lp * (1.0 + 2.5 * kap)
+            step = min(h, total - p, hv * (vp + vs) / (abs(a0 + a1) + 1e-300), 2.0 * hv / (stiff + 1e-300))
+            nvt, nom = _crater_step(vt, om, step, sig, lp, kap, mk, dm, vs)
+            if sig * (nvt + nom) > 0.0:
+                vt, om, p = nvt, nom, p + step
+                continue
+            # the contact point stops inside this step: locate the instant, then stick or slip back
+            tau = _crater_stop(vt, om, step, sig, lp, kap, mk, dm, vs)
+            vt, om = _crater_step(vt, om, tau, sig, lp, kap, mk, dm, vs)
+            p += tau
+            # Stuck, ploughing pushes v_P towards -sign(v_t). If it pushes back to the side the contact
+            # came from, the stop itself shows friction holds (the hold test can only miss by rounding).
+            pushed = -1.0 if vt > 0.0 else 1.0
+            if lp * abs(vt) * hold <= ms or pushed == sig:
+                stuck = True
+                pstar = p
+                vt *= math.exp(-decay * lp * (total - p))
+                om = -vt
+                break
+            sig = pushed
+    vnf = r * an
+    code = 0
+    if stuck:
+        code = 1
+        # The bristles return part of the tangential motion they stopped (Walton's e_t), more the earlier
+        # the contact stuck, never more energy than the contact has dissipated.
+        rev = -et * vp0 * (1.0 - pstar / total)
+        ke0 = 0.5 * (x * x + yd * yd) + 0.2 * w * w
+        room = 7.0 * (ke0 - 0.5 * vnf * vnf - 0.7 * vt * vt)
+        if rev * rev > room:
+            rev = math.copysign(math.sqrt(max(room, 0.0)), rev)
+        m = vt  # the rolling speed 5/7 v_t - 2/7 omega, unchanged by a contact-point impulse
+        vt = m + rev / 3.5
+        om = 2.5 * rev / 3.5 - m
+    elif sig != sig0:
+        code = 2
+    xf = cb * vt - sb * vnf
+    yf = sb * vt + cb * vnf
+    return sg * xf, yf, sg * om, code
+
+
+@jit
+def crater_kernel(xd, yd, w, theta):
+    """CraterContact with its default CRATER_STEPS steps (the CompiledLaw kernel)."""
+    return crater_integrate(xd, yd, w, theta, CRATER_STEPS)

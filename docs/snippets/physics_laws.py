@@ -8,7 +8,8 @@ import bouncelab as bl
 from bouncelab.analysis import lever_arm_summary
 from bouncelab.plots import plot_lever_arm, save_figure
 
-LAWS = [bl.Rigid, bl.PennerFixed, bl.PiecewiseAffine, bl.TangentialRestitution, bl.CompliantImpact, bl.TurfContact]
+LAWS = [bl.Rigid, bl.PennerFixed, bl.PiecewiseAffine, bl.TangentialRestitution, bl.CompliantImpact, bl.TurfContact,
+        bl.CraterContact]
 
 for campaign in "AB":
     ds = bl.load_campaign(campaign)
@@ -18,7 +19,7 @@ for campaign in "AB":
         start = time.perf_counter()
         fits[law.__name__] = res = bl.fit(law, ds, seed=0)
         print(f"  {law.__name__:22s} delta = {res.delta:.4f}   ({time.perf_counter() - start:5.1f} s)")
-        if law in (bl.CompliantImpact, bl.TurfContact):
+        if law in (bl.CompliantImpact, bl.TurfContact, bl.CraterContact):
             print("   ", res.model)
             for line in res.model._summary_lines():
                 print("   ", line)
@@ -29,7 +30,7 @@ for campaign in "AB":
     speeds = np.array([100.0, 300.0, 500.0, 700.0, 900.0])
     print("  TurfContact restitution of vertical landings at", speeds, "radii/s:", turf.restitution(speeds).round(3))
     vp0 = ds["landing"].values[:, 0] + ds["landing"].values[:, 2]
-    for name in ("CompliantImpact", "TurfContact"):
+    for name in ("CompliantImpact", "TurfContact", "CraterContact"):
         m = fits[name].model
         out = m.predict(ds["landing"].values)
         vpf = out[:, 0] + out[:, 2]

@@ -168,8 +168,8 @@ def load_campaign(
         Which embedded campaign ``"A"``/``"B"`` loads (ignored for files):
         ``"published"`` (default) the synthetic surrogate made from the paper's
         published piecewise-affine laws (:func:`bouncelab.generate_surrogate`),
-        ``"turf"`` the campaign simulated from a calibrated TurfContact turf and
-        measured through camera frames (:func:`bouncelab.simulate_campaign`;
+        ``"turf"`` the campaign simulated from a calibrated physical turf law
+        (:data:`bouncelab.data.surrogate.TURF_CALIBRATION`) and measured through camera frames (:func:`bouncelab.simulate_campaign`;
         ``docs/simulation.md``). The name is stored in attrs ``surrogate``.
     header_row
         The 1-based line of a text file (or row of a spreadsheet) that holds
