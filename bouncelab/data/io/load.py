@@ -169,8 +169,9 @@ def load_campaign(
         ``"published"`` (default) the synthetic surrogate made from the paper's
         published piecewise-affine laws (:func:`bouncelab.generate_surrogate`),
         ``"turf"`` the campaign simulated from a calibrated physical turf law
-        (:data:`bouncelab.data.surrogate.TURF_CALIBRATION`) and measured through camera frames (:func:`bouncelab.simulate_campaign`;
-        ``docs/simulation.md``). The name is stored in attrs ``surrogate``.
+        (:data:`bouncelab.data.surrogate.TURF_CALIBRATION`) and measured through
+        camera frames (:func:`bouncelab.simulate_campaign`; ``docs/simulation.md``).
+        The name is stored in attrs ``surrogate``.
     header_row
         The 1-based line of a text file (or row of a spreadsheet) that holds
         the header, counting every line; the lines above it are ignored.
