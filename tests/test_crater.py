@@ -119,7 +119,7 @@ def test_every_regime_occurs():
 
 
 def test_integrator_converges_within_its_stated_tolerance():
-    """48 steps are within the stated 7e-5 ||p0|| of 1536, in the same regime, and the error falls at fourth order."""
+    """48 steps are within the stated 1e-4 ||p0|| of 1536, in the same regime, and the error falls at fourth order."""
     rng = np.random.default_rng(5)
     p = contact_landings(300, seed=5)
     norm = np.linalg.norm(p, axis=1)
@@ -133,7 +133,7 @@ def test_integrator_converges_within_its_stated_tolerance():
             errs[n].append(np.abs(np.array(got[:3]) - ref).max() / norm[i])
     e48, e96 = np.array(errs[48]), np.array(errs[96])
     assert CRATER_STEPS == 48
-    assert e48.max() < 7e-5
+    assert e48.max() < 1e-4
     assert np.median(e96[e48 > 1e-9] / e48[e48 > 1e-9]) < 1 / 8
 
 
@@ -166,7 +166,7 @@ def test_simulated_turf_uses_each_spot_s_parameters():
         np.testing.assert_array_equal(out[i], law.predict(p[i : i + 1])[0])
 
 
-@pytest.mark.parametrize("value", [0.0, -5.0, "fast", float("nan")])
+@pytest.mark.parametrize("value", [0.0, -5.0, "fast", "20", True, None, float("nan")])
 def test_fade_option_is_validated(value):
     with pytest.raises(bl.ParameterError, match="fade_xdot"):
         bl.CraterContact(**BASE, fade_xdot=value)
@@ -199,7 +199,7 @@ def test_agrees_with_solve_ivp():
 
     ``benchmarks/contact_reference.py`` integrates the tangential ODE over p with DOP853 (rtol 1e-11) and locates
     every stop of the contact point as an event: it is exact to ~1e-10 ||p0||, so the difference is the law's own
-    error, stated as 7e-5 ||p0|| at worst for its 48 RK4 steps (measured here: about 1e-7).
+    error, stated as about 1e-4 ||p0|| at worst for its 48 RK4 steps (measured here: about 1e-7).
     """
     from benchmarks.contact_reference import crater_reference
 
@@ -251,7 +251,7 @@ def test_hard_stops_agree_with_solve_ivp(landing, theta):
     law = bl.CraterContact(**dict(zip([s.name for s in SPECS], theta, strict=True)))
     got = law.predict([landing])[0]
     assert law.regime([landing])[0] == ref[3] == "grip"
-    assert np.abs(got - np.array(ref[:3])).max() / np.linalg.norm(landing) < 7e-5
+    assert np.abs(got - np.array(ref[:3])).max() / np.linalg.norm(landing) < 1e-4
 
 
 def test_friction_and_fit_report():
@@ -262,3 +262,50 @@ def test_friction_and_fit_report():
     res = bl.fit(bl.CraterContact, bl.make_campaign(p, law.predict(p)), maxeval=80, local_algorithm=None, seed=0)
     text = str(res)
     assert "restitution of vertical landings" in text and "friction at slip speeds" in text
+
+
+def test_predict_varying_reads_mappings_by_name_and_uses_the_instance_option():
+    import pandas as pd
+
+    p = contact_landings(5, seed=14)
+    law = LAWS[0].replace(fade_xdot=10.0)
+    p[0] = [20.0, -800.0, 0.0]  # inside the fade: the option matters
+    rows = pd.DataFrame([law.parameters] * len(p))
+    swapped = rows[list(reversed(rows.columns))]
+    np.testing.assert_array_equal(law.predict_varying(p, swapped), law.predict(p))
+    np.testing.assert_array_equal(law.predict_varying(p, dict(law.parameters)), law.predict(p))
+    default = bl.CraterContact.predict_varying(p, rows)  # on the class: the default fade of 50
+    np.testing.assert_array_equal(default, law.replace(fade_xdot=50.0).predict(p))
+    assert not np.allclose(default[0], law.predict(p)[0])
+
+
+@pytest.mark.parametrize(("params", "match"), [
+    ({**BASE, "fade_xdot": 20.0}, r"unknown \['fade_xdot'\]"),
+    ({k: v for k, v in BASE.items() if k != "lam"}, r"missing \['lam'\]"),
+    ({**BASE, "r0": [0.5, 0.6]}, "'r0' needs one value or one per landing"),
+    ({**BASE, "mu_k": "0.2"}, "'mu_k' must be numbers"),
+    ({**BASE, "v_s": float("nan")}, "'v_s' of row 0 must be finite"),
+    ([[0.5] * 10], r"shape \(5, 11\) in the order"),
+])
+def test_predict_varying_refuses_bad_params_by_name(params, match):
+    with pytest.raises(bl.ParameterError, match=match):
+        bl.CraterContact.predict_varying(contact_landings(5, seed=15), params)
+
+
+def test_helpers_refuse_bad_speeds_and_missing_parameters():
+    with pytest.raises(bl.NotFittedError):
+        bl.CraterContact().friction([0.0])
+    for bad in ("abc", [0.0], [-500.0], [float("inf")]):
+        with pytest.raises(bl.DataError, match="speed must be"):
+            LAWS[0].restitution(bad)
+    with pytest.raises(bl.DataError, match="slip_speed must be"):
+        LAWS[0].friction(["fast"])
+
+
+def test_steep_walls_can_send_a_ball_into_the_ground_and_predict_flags_it():
+    """A documented limit: with heavy backspin on a steep wall the ball slides back down it (ydotF <= 0)."""
+    law = bl.CraterContact(**{**BASE, "beta_t": 30.0, "beta_n": 30.0})
+    p = np.array([[2500.0, -2200.0, 1500.0], [1000.0, -800.0, 0.0]])
+    out, flags = law.predict(p, return_flags=True)
+    assert out[0, 1] <= 0 < out[1, 1]
+    assert list(flags.into_ground) == [True, False]

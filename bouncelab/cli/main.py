@@ -174,8 +174,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_data_options(rep)
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
-    fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine, TangentialRestitution or "
-                                 "a user law's module:Class (case-insensitive)")
+    fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine, TangentialRestitution, "
+                                 "CompliantImpact, TurfContact, CraterContact or a user law's module:Class "
+                                 "(case-insensitive)")
     fit.add_argument("data", nargs="?", default="A", help="A, B (embedded) or a data file (default: A)")
     fit.add_argument("--method", help="a fitting method of the law: global (every law), structured (Rigid), "
                                       "plane (PiecewiseAffine's default) or svm (PiecewiseAffine)")

@@ -8,6 +8,7 @@ campaigns). The kernel is the law's own, so each row gives exactly what
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -17,6 +18,14 @@ from bouncelab.data.validation import as_states
 from bouncelab.errors import ParameterError
 
 __all__ = ["predict_per_bounce"]
+
+
+def _numbers(values: Any, what: str) -> np.ndarray:
+    """``values`` as a float array, or a ParameterError naming ``what`` (text, None, objects)."""
+    arr = np.asarray(values)
+    if arr.dtype.kind not in "iuf":
+        raise ParameterError(f"{what} must be numbers; got values of type {arr.dtype}")
+    return arr.astype(float)
 
 _ROW_LOOPS: dict[int, tuple[Any, Any]] = {}
 
@@ -54,8 +63,10 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
         Landing states ``[xdot0, ydot0, omega0]`` in scaled units (validated as by ``predict``).
     params : array-like, shape (n, k) or (k,), or a mapping name -> array of length n
         One row of the law's ``k`` parameters per landing, in the order of
-        ``parameter_specs`` (a single row is broadcast). Each value is checked
-        against its parameter's physical range.
+        ``parameter_specs`` (a single row is broadcast); or a mapping (a dict, a
+        DataFrame) naming exactly the law's parameters, each one value or one per
+        landing, read by name. Each value must be a finite number within its
+        parameter's physical range.
     codes : bool
         Also return the int8 regime code of each bounce.
     kernel : numba function, optional
@@ -84,26 +95,41 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
     p, _ = as_states(landing, "landing", landing=True)
     p = np.ascontiguousarray(p.reshape(-1, 3), dtype=np.float64)
     n = len(p)
-    if isinstance(params, dict):
-        missing = [s.name for s in specs if s.name not in params]
-        if missing:
-            raise ParameterError(f"{cls.__name__}: params lacks {missing}")
-        cols = [np.broadcast_to(np.asarray(params[s.name], dtype=float), (n,)) for s in specs]
+    names = [s.name for s in specs]
+    if isinstance(params, Mapping) or hasattr(params, "columns"):  # by name: a dict, a DataFrame, ...
+        keys = list(params.keys())
+        missing = [k for k in names if k not in keys]
+        unknown = [k for k in keys if k not in names]
+        if missing or unknown:
+            raise ParameterError(f"{cls.__name__}: params must name exactly its parameters {names}"
+                                 + (f"; missing {missing}" if missing else "")
+                                 + (f"; unknown {unknown} (options are not per bounce)" if unknown else ""))
+        cols = []
+        for k in names:
+            col = _numbers(params[k], f"{cls.__name__}: parameter {k!r}")
+            if col.ndim > 1 or col.size not in (1, n):
+                raise ParameterError(f"{cls.__name__}: parameter {k!r} needs one value or one per landing ({n}); "
+                                     f"got shape {col.shape}")
+            cols.append(np.broadcast_to(col.reshape(-1), (n,)))
         T = np.column_stack(cols) if n else np.empty((0, len(specs)))
     else:
-        T = np.asarray(params, dtype=float)
+        T = _numbers(params, f"{cls.__name__}: params")
         if T.ndim == 1:
             T = np.broadcast_to(T, (n, T.shape[0]))
         if T.ndim != 2 or T.shape != (n, len(specs)):
-            raise ParameterError(f"{cls.__name__}: params must have shape ({n}, {len(specs)}); got {T.shape}")
+            raise ParameterError(f"{cls.__name__}: params must have shape ({n}, {len(specs)}) in the order "
+                                 f"{names}; got {T.shape}")
     T = np.ascontiguousarray(T, dtype=np.float64)
     for j, s in enumerate(specs):
         col = T[:, j]
         lo, hi = s.physical
-        bad = ~np.isfinite(col) | (col < lo) | (col > hi)
+        if not np.isfinite(col).all():
+            i = int(np.flatnonzero(~np.isfinite(col))[0])
+            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} must be finite; got {col[i]}")
+        bad = (col < lo) | (col > hi)
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]!r}, "
+            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]:g}, "
                                  f"outside its physical range [{lo}, {hi}]")
     if converts and n:
         T = np.ascontiguousarray(np.stack([law._kt(row) for row in T]))

@@ -2,11 +2,12 @@ r"""CraterContact: a ball on the wall of its own crater, with velocity-weakening
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import ParameterError
+from bouncelab.errors import DataError, ParameterError
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 
@@ -14,6 +15,31 @@ __all__ = ["CRATER_FADE_XDOT", "CraterContact"]
 
 #: Default of the ``fade_xdot`` option (radii/s): the crater wall's tilt fades to zero below this xdot0.
 CRATER_FADE_XDOT = 50.0
+
+
+def _speeds(values: Any, name: str, *, positive: bool) -> np.ndarray:
+    """``values`` as a 1-d float array of finite speeds (radii/s), or a DataError naming ``name``."""
+    arr = np.atleast_1d(np.asarray(values))
+    if arr.dtype.kind not in "iuf":
+        raise DataError(f"{name} must be numbers of radii/s; got values of type {arr.dtype}")
+    arr = arr.astype(float).reshape(-1)
+    bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        need = "a positive, finite" if positive else "a finite"
+        raise DataError(f"{name} must be {need} number of radii/s; element {i} is {arr[i]}")
+    return arr
+
+
+class _class_or_instance:
+    """A method that receives the class when called on it and the instance when called on one."""
+
+    def __init__(self, func: Any) -> None:
+        self.func = func
+        self.__doc__ = func.__doc__
+
+    def __get__(self, obj: Any, cls: type) -> Any:
+        return functools.partial(self.func, cls if obj is None else obj)
 
 
 def _kernels():
@@ -56,7 +82,7 @@ class CraterContact(CompiledLaw):
     * :math:`g`, **ploughing**: the turf in front of the ball resists the motion of the part of
       the ball it touches, a dashpot acting :math:`\kappa` radii below the centre (κ = 0: through
       the centre, no torque; κ = 1: at the contact point). Its power :math:`-\tfrac{\lambda}{|v_n|}
-      (v_t + \kappa\omega)^2` is never positive. A frictionless, spinless ball keeps
+      (v_t + \kappa\omega)^2` is never positive. With κ = 0 a frictionless, spinless ball keeps
       :math:`e^{-\lambda(1+r)}` of :math:`v_t`.
     * :math:`f`, **turf friction**, velocity weakening: while the contact point slips with
       :math:`v_P = v_t + \omega`, :math:`f = -\operatorname{sign}(v_P)\,\mu(|v_P|)`,
@@ -83,13 +109,18 @@ class CraterContact(CompiledLaw):
     is located inside its step by Illinois false position (to 1e-12 of a step), and a contact that
     slips back from a stop is followed to its next stop. **Accuracy** (measured against 1536 steps
     over 100 000 random landings and parameter sets of the search box; tested on 300): lift-off
-    within 7e-5 of the landing speed ‖p₀‖ at worst, 1.4e-6 for 99 %, the same regime every time;
+    within about 1e-4 of the landing speed ‖p₀‖ at worst (7e-5 in that sample, up to 1.05e-4 in
+    others over the whole allowed ranges), 1.4e-6 for 99 %, the same regime every time;
     doubling the steps divides the typical error by about 16 (fourth order). It agrees with an
     independent ``solve_ivp`` implementation (``benchmarks/contact_reference.py``).
-    ``bouncelab.laws._contact_kernels.crater_integrate`` takes the number of steps for tighter work.
 
-    Regimes: ``slip`` (slips throughout in one direction), ``grip`` (the contact point stuck),
-    ``reversed`` (it slipped back without sticking).
+    Regimes, what happened during contact: ``slip`` (slips throughout in one direction), ``grip``
+    (the contact point stuck; it leaves with :math:`v_P` reversed by the recoil if
+    :math:`e_t > 0`), ``reversed`` (it slipped back without ever sticking).
+
+    **Limit.** With heavy backspin on a steep wall the ball can slide back down it and leave with
+    :math:`\dot y_F \le 0` (into the ground; the law has no second contact):
+    ``predict(..., return_flags=True)`` marks such lift-offs.
 
     Limits: ``beta0 = beta_n = beta_t = 0``, ``lam = 0``, ``e_t = 0``, ``mu_s = mu_k`` and
     ``v_r`` large give the rigid bounce of :class:`~bouncelab.Rigid` with ``r = r0``, ``mu = mu_k``;
@@ -139,7 +170,8 @@ class CraterContact(CompiledLaw):
         Parameter("mu_k", (0.0, 1.0), (0.0, 10.0), "1", "friction of a fast slip"),
         Parameter("mu_s", (0.0, 2.0), (0.0, 10.0), "1", "friction at zero slip"),
         Parameter("v_s", (5.0, 1000.0), (1e-3, 1e7), "radius/s", "slip speed over which friction weakens"),
-        Parameter("lam", (0.0, 1.0), (0.0, 20.0), "1", "ploughing (a spinless ball keeps exp(-lam (1+r)) of v_t)"),
+        Parameter("lam", (0.0, 1.0), (0.0, 20.0), "1",
+                  "ploughing (with kappa 0 a spinless ball keeps exp(-lam (1+r)) of v_t)"),
         Parameter("kappa", (0.0, 1.0), (0.0, 1.0), "radius", "depth below the centre of the ploughing force"),
         Parameter("e_t", (0.0, 1.0), (0.0, 1.0), "1", "tangential restitution of a gripped contact"),
         Parameter("beta0", (0.0, 30.0), (0.0, 60.0), "deg", "tilt of the crater wall at a slow landing"),
@@ -169,11 +201,10 @@ class CraterContact(CompiledLaw):
 
     def _validate_parameters(self) -> None:
         super()._validate_parameters()
-        try:
-            fade = float(self.fade_xdot)
-        except (TypeError, ValueError, OverflowError):
-            raise ParameterError(f"CraterContact option 'fade_xdot' must be a number of radii/s; "
-                                 f"got {self.fade_xdot!r}") from None
+        value = self.fade_xdot
+        if isinstance(value, (bool, str, bytes)) or not isinstance(value, (int, float, np.number)):
+            raise ParameterError(f"CraterContact option 'fade_xdot' must be a number of radii/s; got {value!r}")
+        fade = float(value)
         if not (np.isfinite(fade) and fade > 0):
             raise ParameterError(f"CraterContact option 'fade_xdot' must be a positive number of radii/s; "
                                  f"got {self.fade_xdot!r}")
@@ -186,25 +217,32 @@ class CraterContact(CompiledLaw):
     def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
         return np.append(theta, self.fade_xdot)
 
-    @classmethod
-    def predict_varying(cls, landing: Any, params: Any, *, codes: bool = False,
-                        fade_xdot: float = CRATER_FADE_XDOT) -> Any:
+    @_class_or_instance
+    def predict_varying(owner: Any, landing: Any, params: Any, *, codes: bool = False,
+                        fade_xdot: float | None = None) -> Any:
         """Lift-off of ``n`` landings with a parameter vector per landing (spot-to-spot variation).
 
         ``params`` is an ``(n, 11)`` array in the order of ``parameter_specs`` (a single row
-        broadcasts) or a mapping name -> length-n array; each row gives what
-        ``CraterContact(**row).predict(landing_row)`` gives.
+        broadcasts) or a mapping (dict, DataFrame) naming the eleven parameters; each row gives
+        what ``CraterContact(**row).predict(landing_row)`` gives. The option ``fade_xdot`` is the
+        argument's, else the instance's when called on one (``law.predict_varying``), else the
+        default :data:`CRATER_FADE_XDOT`.
         """
         from bouncelab.laws._contact import predict_per_bounce
 
+        if fade_xdot is None:
+            fade_xdot = owner.fade_xdot if isinstance(owner, CraterContact) else CRATER_FADE_XDOT
         # an instance carries the option; its parameter values are placeholders, never used
-        law = cls(**{s.name: 0.5 * sum(s.bounds) for s in cls.parameter_specs}, fade_xdot=fade_xdot)
+        law = CraterContact(**{s.name: 0.5 * sum(s.bounds) for s in CraterContact.parameter_specs},
+                            fade_xdot=fade_xdot)
         return predict_per_bounce(law, landing, params, codes=codes, kernel=_kernels().crater_kernel)
 
     def friction(self, slip_speed: Any) -> np.ndarray:
         """Friction coefficient mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s) at slip speeds ``v`` (radii/s)."""
-        v = np.abs(np.atleast_1d(np.asarray(slip_speed, dtype=float)))
-        return self.mu_k + (self.mu_s - self.mu_k) * np.exp(-v / self.v_s)
+        theta = self._theta()  # NotFittedError if a parameter has no value
+        mu_k, mu_s, v_s = (float(theta[i]) for i in (2, 3, 4))
+        v = np.abs(_speeds(slip_speed, "slip_speed", positive=False))
+        return mu_k + (mu_s - mu_k) * np.exp(-v / v_s)
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:
@@ -216,6 +254,6 @@ class CraterContact(CompiledLaw):
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin, no tilt)."""
-        s = np.atleast_1d(np.asarray(speed, dtype=float))
+        s = _speeds(speed, "speed", positive=True)
         land = np.column_stack([np.zeros_like(s), -s, np.zeros_like(s)])
         return self.predict(land)[:, 1] / s
