@@ -59,15 +59,14 @@ def loosest_ivp(ref_fn, p, truth):
     return rtol, err, dt / len(p)
 
 
-def turf_steps_loop():
+def steps_loop(integrate):
+    """A compiled loop over landings of ``integrate(xd, yd, w, theta, nsteps)`` (a contact law's integrator)."""
     from numba import njit
-
-    from bouncelab.laws._contact_kernels import turf_integrate
 
     @njit(nogil=True)
     def run(P, theta, nsteps, out):
         for i in range(P.shape[0]):
-            a, b, c, _ = turf_integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
+            a, b, c, _ = integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
@@ -76,21 +75,30 @@ def turf_steps_loop():
     return run
 
 
-def crater_steps_loop():
-    from numba import njit
+def rk4_against_ivp(name, law, integrate, reference, p, truth, step_choices, default_steps):
+    """Print an RK4 law against its solve_ivp reference, both at the loosest setting within TOL of ``truth``.
 
-    from bouncelab.laws._contact_kernels import crater_integrate
-
-    @njit(nogil=True)
-    def run(P, theta, nsteps, out):
-        for i in range(P.shape[0]):
-            a, b, c, _ = crater_integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
-            out[i, 0] = a
-            out[i, 1] = b
-            out[i, 2] = c
-        return out
-
-    return run
+    ``reference(q, rtol)`` is the solve_ivp lift-off of landing ``q``; ``integrate`` the law's kernel
+    integrator, run with the kernel vector of ``law`` and each of ``step_choices`` until within TOL.
+    """
+    ktheta = law._kt(law._theta())
+    run = steps_loop(integrate)
+    rtol, err_ivp, t_ivp = loosest_ivp(reference, p, truth)
+    for nsteps in step_choices:
+        o = run(p, ktheta, nsteps, np.empty_like(p))
+        if rel_err(o, truth, p) < TOL:
+            break
+    err_bl = rel_err(o, truth, p)
+    big = np.tile(p, (200, 1))
+    run(big[:2], ktheta, nsteps, np.empty_like(big[:2]))
+    _, dt = timed(lambda: run(big, ktheta, nsteps, np.empty_like(big)))
+    t_bl = dt / len(big)
+    err_default = rel_err(law.predict(p), truth, p)
+    print(f"\n{name} vs solve_ivp (DOP853, rtol={rtol:g}), {len(p)} landings, accuracy target {TOL:g}:")
+    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab with {nsteps} RK4 steps {err_bl:.1e} "
+          f"(predict's default {default_steps} steps: {err_default:.1e})")
+    print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
+          f"-> speed-up {t_ivp / t_bl:,.0f}x")
 
 
 def main() -> None:
@@ -116,49 +124,22 @@ def main() -> None:
     print(f"  time per bounce: solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.3f} us  "
           f"-> speed-up {t_ivp / t_bl:,.0f}x")
 
-    theta = np.array(list(TURF.values()))
-    run = turf_steps_loop()
-    truth = run(p, theta, 4096, np.empty_like(p))
-    rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: turf_reference(q, theta, rtol=rt, atol=rt), p, truth)
-    for nsteps in (32, 64, 128, 256, 512, 1024):
-        o = run(p, theta, nsteps, np.empty_like(p))
-        if rel_err(o, truth, p) < TOL:
-            break
-    err_bl = rel_err(o, truth, p)
-    big = np.tile(p, (200, 1))
-    run(big[:2], theta, nsteps, np.empty_like(big[:2]))
-    _, dt = timed(lambda: run(big, theta, nsteps, np.empty_like(big)))
-    t_bl = dt / len(big)
-    tl = bl.TurfContact(**TURF)
-    err_default = rel_err(tl.predict(p), truth, p)
-    print(f"\nTurfContact vs solve_ivp (DOP853, rtol={rtol:g}), {n_ivp} landings, accuracy target {TOL:g}:")
-    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab with {nsteps} RK4 steps {err_bl:.1e} "
-          f"(predict's default 64 steps: {err_default:.1e})")
-    print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
-          f"-> speed-up {t_ivp / t_bl:,.0f}x")
+    from bouncelab.laws._contact_kernels import CRATER_STEPS, crater_integrate, turf_integrate
+    from bouncelab.laws.turf import TURF_STEPS
 
+    tl = bl.TurfContact(**TURF)
+    theta = np.array(list(TURF.values()))
+    truth = steps_loop(turf_integrate)(p, theta, 4096, np.empty_like(p))  # the kernel itself, far finer
+    rk4_against_ivp("TurfContact", tl, turf_integrate, lambda q, rt: turf_reference(q, theta, rtol=rt, atol=rt),
+                    p, truth, (32, 64, 128, 256, 512, 1024), TURF_STEPS)
+
+    cl = bl.CraterContact(**CRATER)
     ctheta = np.array(list(CRATER.values()))
-    kctheta = np.append(ctheta, bl.CraterContact(**CRATER).fade_xdot)
-    crun = crater_steps_loop()
     # the truth: the solve_ivp reference itself, far tighter (independent of the compiled kernel)
     truth = np.array([crater_reference(q, ctheta, rtol=1e-13, atol=1e-13)[:3] for q in p])
-    rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: crater_reference(q, ctheta, rtol=rt, atol=rt)[:3], p, truth)
-    for nsteps in (12, 24, 48, 96, 192, 384, 768, 1536):
-        o = crun(p, kctheta, nsteps, np.empty_like(p))
-        if rel_err(o, truth, p) < TOL:
-            break
-    err_bl = rel_err(o, truth, p)
-    big = np.tile(p, (200, 1))
-    crun(big[:2], kctheta, nsteps, np.empty_like(big[:2]))
-    _, dt = timed(lambda: crun(big, kctheta, nsteps, np.empty_like(big)))
-    t_bl = dt / len(big)
-    cl = bl.CraterContact(**CRATER)
-    err_default = rel_err(cl.predict(p), truth, p)
-    print(f"\nCraterContact vs solve_ivp (DOP853, rtol={rtol:g}), {n_ivp} landings, accuracy target {TOL:g}:")
-    print(f"  error: solve_ivp {err_ivp:.1e}, bouncelab with {nsteps} RK4 steps {err_bl:.1e} "
-          f"(predict's default 48 steps: {err_default:.1e})")
-    print(f"  time per bounce (one thread): solve_ivp {t_ivp * 1e6:9.1f} us, bouncelab {t_bl * 1e6:7.2f} us  "
-          f"-> speed-up {t_ivp / t_bl:,.0f}x")
+    rk4_against_ivp("CraterContact", cl, crater_integrate,
+                    lambda q, rt: crater_reference(q, ctheta, rtol=rt, atol=rt)[:3],
+                    p, truth, (12, 24, 48, 96, 192, 384, 768, 1536), CRATER_STEPS)
 
     # ---- 2. predict throughput
     P = landings(n_big, seed=2)

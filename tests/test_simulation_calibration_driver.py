@@ -84,3 +84,32 @@ def test_plane_jump_is_zero_for_a_continuous_piecewise_law():
     p0 = bl.load_campaign("A", surrogate="published")["landing"].values
     n, near, overall = lim.plane_jump(law, p0, 0.5)
     assert n > 0 and near == pytest.approx(0.0, abs=1e-12) and overall == pytest.approx(0.0, abs=1e-12)
+
+
+def test_scatter_option_searches_only_the_named_sds():
+    par = drv.Parametrisation("TangentialRestitution", max_sigma=0.4, scatter=("mu",))
+    assert par.names == ["r", "mu", "e_t", "sigma_mu"]
+    assert par.bounds()[3:] == [(0.0, 0.4)]
+    turf = par.turf([0.4, 0.5, 0.2, 0.3])
+    assert turf.scatter == {"mu": LogNormal(0.3)}
+    with pytest.raises(SystemExit, match=r"--scatter names \['beta'\]"):
+        drv.Parametrisation("TangentialRestitution", scatter=("beta",)).bounds()
+
+
+def test_json_start_reads_a_previous_output_or_a_mapping(tmp_path):
+    law, scatter = "TangentialRestitution", ("r", "mu")
+    previous = tmp_path / "run.json"
+    previous.write_text(json.dumps([
+        {"campaign": "B", "names": ["r", "mu", "e_t", "sigma_r", "sigma_mu"], "x": [0.1, 0.2, 0.3, 0.4, 0.5]},
+        {"campaign": "A", "names": ["r", "mu", "e_t", "sigma_r", "sigma_mu"], "x": [0.6, 0.7, 0.8, 0.05, 0.06]},
+    ]))
+    np.testing.assert_array_equal(drv.json_start(str(previous), "A", law, scatter), [0.6, 0.7, 0.8, 0.05, 0.06])
+    mapping = tmp_path / "start.json"
+    mapping.write_text(json.dumps({"r": 0.5, "mu": 0.4, "e_t": 0.1, "sigma_mu": 0.2}))
+    # a log-sd the file does not give starts at 0.1
+    np.testing.assert_array_equal(drv.json_start(str(mapping), "A", law, scatter), [0.5, 0.4, 0.1, 0.1, 0.2])
+    mapping.write_text(json.dumps({"r": 0.5, "mu": 0.4}))
+    with pytest.raises(SystemExit, match=r"gives no value for \['e_t'\]"):
+        drv.json_start(str(mapping), "A", law, scatter)
+    with pytest.raises(SystemExit, match="no result for campaign"):
+        drv.json_start(str(previous), "C", law, scatter)

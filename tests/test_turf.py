@@ -223,3 +223,9 @@ def test_stable_and_dissipative_over_the_whole_search_box():
         out = law.predict(p)
         assert np.all(np.isfinite(out))
         assert np.all(kinetic_energy(out) <= kinetic_energy(p) * (1 + 1e-9))
+
+
+def test_restitution_refuses_speeds_that_are_not_positive_numbers():
+    for bad in ("fast", [0.0], [-300.0], [float("nan")]):
+        with pytest.raises(bl.DataError, match=r"speed must be (a positive, finite number|numbers)"):
+            LAWS[0].restitution(bad)

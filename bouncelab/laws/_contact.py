@@ -1,4 +1,4 @@
-"""Shared machinery of the contact laws: prediction with a different parameter vector per bounce.
+"""Shared machinery of the contact laws: prediction with a different parameter vector per bounce, restitution.
 
 :func:`predict_per_bounce` evaluates a compiled law's kernel on ``n`` landings
 with ``n`` parameter rows (spot-to-spot variation of a surface, simulated
@@ -15,9 +15,12 @@ import numpy as np
 
 from bouncelab._parallel import run_rows
 from bouncelab.data.validation import as_states
-from bouncelab.errors import ParameterError
+from bouncelab.errors import DataError, ParameterError
 
-__all__ = ["predict_per_bounce"]
+__all__ = ["check_speeds", "kernel_rows", "predict_per_bounce", "restitution_line", "run_kernel_rows",
+           "vertical_restitution"]
+
+_ROW_LOOPS: dict[int, tuple[Any, Any]] = {}
 
 
 def _numbers(values: Any, what: str) -> np.ndarray:
@@ -27,10 +30,9 @@ def _numbers(values: Any, what: str) -> np.ndarray:
         raise ParameterError(f"{what} must be numbers; got values of type {arr.dtype}")
     return arr.astype(float)
 
-_ROW_LOOPS: dict[int, tuple[Any, Any]] = {}
-
 
 def _row_loop(kernel: Any) -> Any:
+    """The compiled loop calling ``kernel`` on landing row ``i`` with kernel-vector row ``i`` (cached per kernel)."""
     hit = _ROW_LOOPS.get(id(kernel))
     if hit is not None and hit[0] is kernel:
         return hit[1]
@@ -47,6 +49,66 @@ def _row_loop(kernel: Any) -> Any:
 
     _ROW_LOOPS[id(kernel)] = (kernel, loop)
     return loop
+
+
+def kernel_rows(law: Any, theta: np.ndarray) -> np.ndarray:
+    """The kernel's vector of each row of parameter vectors ``theta`` (n, k): ``law._kt`` row by row.
+
+    Unchanged (as contiguous float64) for a law (class or instance) whose kernel takes its
+    parameters as they are; a law that converts them must be an instance (its options are used).
+    """
+    from bouncelab.laws.compiled import CompiledLaw
+
+    theta = np.ascontiguousarray(theta, dtype=np.float64)
+    cls = law if isinstance(law, type) else type(law)
+    if cls._kernel_theta is CompiledLaw._kernel_theta or not len(theta):
+        return theta
+    return np.ascontiguousarray(np.stack([law._kt(row) for row in theta]))
+
+
+def run_kernel_rows(kernel: Any, landing: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lift-offs (n, 3) and regime codes (n,) of ``kernel`` on each landing with its own kernel vector.
+
+    Rows are independent: large calls are shared by the thread pool, and the results do not depend on it.
+    """
+    out = np.empty_like(landing)
+    codes = np.empty(len(landing), dtype=np.int8)
+    if len(landing):
+        run_rows(_row_loop(kernel), len(landing), landing, rows, out, codes)
+    return out, codes
+
+
+def check_speeds(values: Any, name: str, *, positive: bool) -> np.ndarray:
+    """``values`` as a 1-d float array of finite speeds (radii/s), or a DataError naming ``name``."""
+    arr = np.atleast_1d(np.asarray(values))
+    if arr.dtype.kind not in "iuf":
+        raise DataError(f"{name} must be numbers of radii/s; got values of type {arr.dtype}")
+    arr = arr.astype(float).reshape(-1)
+    bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        need = "a positive, finite" if positive else "a finite"
+        raise DataError(f"{name} must be {need} number of radii/s; element {i} is {arr[i]}")
+    return arr
+
+
+def vertical_restitution(law: Any, speed: Any) -> np.ndarray:
+    """Normal restitution |ydotF / ydot0| of ``law`` for vertical, spinless landings at ``speed`` radii/s.
+
+    Raises
+    ------
+    DataError
+        A speed that is not a positive, finite number (element named).
+    """
+    s = check_speeds(speed, "speed", positive=True)
+    land = np.column_stack([np.zeros_like(s), -s, np.zeros_like(s)])
+    return law.predict(land)[:, 1] / s
+
+
+def restitution_line(law: Any) -> str:
+    """The fit report's line on a contact law's restitution at 200 / 500 / 900 radii/s."""
+    r = vertical_restitution(law, [200.0, 500.0, 900.0])
+    return f"restitution of vertical landings at 200 / 500 / 900 radii/s: {r[0]:.3f} / {r[1]:.3f} / {r[2]:.3f}"
 
 
 def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = False, kernel: Any = None) -> Any:
@@ -86,7 +148,7 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
         raise ParameterError(f"{cls.__name__} converts its parameters before its kernel; pass an instance, "
                              "whose options are used")
     if kernel is None:
-        kernel = law.kernel if converts else getattr(cls, "kernel", None)
+        kernel = getattr(law, "kernel", None)  # an instance's own; a class's only if it is class-level
     if kernel is None or isinstance(kernel, property):
         raise ParameterError(f"{cls.__name__} has no class-level compiled kernel; predict_per_bounce needs one")
     specs = cls.parameter_specs
@@ -131,10 +193,5 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
             i = int(np.flatnonzero(bad)[0])
             raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]:g}, "
                                  f"outside its physical range [{lo}, {hi}]")
-    if converts and n:
-        T = np.ascontiguousarray(np.stack([law._kt(row) for row in T]))
-    out = np.empty_like(p)
-    c = np.empty(n, dtype=np.int8)
-    if n:  # rows are independent: large calls are shared by the thread pool (results do not depend on it)
-        run_rows(_row_loop(kernel), n, p, T, out, c)
+    out, c = run_kernel_rows(kernel, p, kernel_rows(law, T))
     return (out, c) if codes else out

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.errors import ParameterError
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 
@@ -15,20 +15,6 @@ __all__ = ["CRATER_FADE_XDOT", "CraterContact"]
 
 #: Default of the ``fade_xdot`` option (radii/s): the crater wall's tilt fades to zero below this xdot0.
 CRATER_FADE_XDOT = 50.0
-
-
-def _speeds(values: Any, name: str, *, positive: bool) -> np.ndarray:
-    """``values`` as a 1-d float array of finite speeds (radii/s), or a DataError naming ``name``."""
-    arr = np.atleast_1d(np.asarray(values))
-    if arr.dtype.kind not in "iuf":
-        raise DataError(f"{name} must be numbers of radii/s; got values of type {arr.dtype}")
-    arr = arr.astype(float).reshape(-1)
-    bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
-    if np.any(bad):
-        i = int(np.flatnonzero(bad)[0])
-        need = "a positive, finite" if positive else "a finite"
-        raise DataError(f"{name} must be {need} number of radii/s; element {i} is {arr[i]}")
-    return arr
 
 
 class _class_or_instance:
@@ -241,19 +227,22 @@ class CraterContact(CompiledLaw):
         """Friction coefficient mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s) at slip speeds ``v`` (radii/s)."""
         theta = self._theta()  # NotFittedError if a parameter has no value
         mu_k, mu_s, v_s = (float(theta[i]) for i in (2, 3, 4))
-        v = np.abs(_speeds(slip_speed, "slip_speed", positive=False))
+        from bouncelab.laws._contact import check_speeds
+
+        v = np.abs(check_speeds(slip_speed, "slip_speed", positive=False))
         return mu_k + (mu_s - mu_k) * np.exp(-v / v_s)
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:
             return []
-        r = self.restitution([200.0, 500.0, 900.0])
+        from bouncelab.laws._contact import restitution_line
+
         mu = self.friction([0.0, 100.0, 500.0])
-        return [f"restitution of vertical landings at 200 / 500 / 900 radii/s: {r[0]:.3f} / {r[1]:.3f} / {r[2]:.3f}",
+        return [restitution_line(self),
                 f"friction at slip speeds 0 / 100 / 500 radii/s: {mu[0]:.3f} / {mu[1]:.3f} / {mu[2]:.3f}"]
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin, no tilt)."""
-        s = _speeds(speed, "speed", positive=True)
-        land = np.column_stack([np.zeros_like(s), -s, np.zeros_like(s)])
-        return self.predict(land)[:, 1] / s
+        from bouncelab.laws._contact import vertical_restitution
+
+        return vertical_restitution(self, speed)

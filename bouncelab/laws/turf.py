@@ -209,12 +209,13 @@ class TurfContact(CompiledLaw):
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin)."""
-        s = np.atleast_1d(np.asarray(speed, dtype=float))
-        land = np.column_stack([np.zeros_like(s), -s, np.zeros_like(s)])
-        return self.predict(land)[:, 1] / s
+        from bouncelab.laws._contact import vertical_restitution
+
+        return vertical_restitution(self, speed)
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:
             return []
-        r = self.restitution([200.0, 500.0, 900.0])
-        return [f"restitution of vertical landings at 200 / 500 / 900 radii/s: {r[0]:.3f} / {r[1]:.3f} / {r[2]:.3f}"]
+        from bouncelab.laws._contact import restitution_line
+
+        return [restitution_line(self)]

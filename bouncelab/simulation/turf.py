@@ -267,11 +267,9 @@ class Turf:
         if len(landing) and np.all(theta == theta[:1]):  # no scatter: one call
             return law._predict(landing, theta[0]), np.asarray(law._regime(landing, theta[0]), dtype=np.int8)
         if isinstance(law, CompiledLaw) and len(landing):
-            kt = np.ascontiguousarray(np.stack([law._kt(row) for row in theta]))
-            out = np.empty_like(landing)
-            codes = np.empty(len(landing), dtype=np.int8)
-            _per_row_loop(law.kernel)(landing, kt, out, codes)
-            return out, codes
+            from bouncelab.laws._contact import kernel_rows, run_kernel_rows
+
+            return run_kernel_rows(law.kernel, landing, kernel_rows(law, theta))
         out = np.empty_like(landing)
         codes = np.empty(len(landing), dtype=np.int8)
         for i in range(len(landing)):
@@ -290,25 +288,3 @@ class Turf:
             "contact_duration": self.contact.to_dict(),
         }
 
-
-_LOOPS: dict[int, tuple[Any, Any]] = {}
-
-
-def _per_row_loop(kernel: Any) -> Any:
-    """A compiled loop calling ``kernel`` on row ``i`` of the landings with row ``i`` of the parameters."""
-    hit = _LOOPS.get(id(kernel))
-    if hit is None or hit[0] is not kernel:
-        from bouncelab._jit import jit
-
-        @jit(nogil=True)
-        def loop(P, KT, out, codes):  # pragma: no cover - compiled
-            for i in range(P.shape[0]):
-                a, b, c, code = kernel(P[i, 0], P[i, 1], P[i, 2], KT[i])
-                out[i, 0] = a
-                out[i, 1] = b
-                out[i, 2] = c
-                codes[i] = code
-
-        hit = (kernel, loop)
-        _LOOPS[id(kernel)] = hit
-    return hit[1]
