@@ -15,6 +15,7 @@ import pytest
 import bouncelab as bl
 from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
 from bouncelab.data.io import load_campaign, save_campaign
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 from bouncelab.data.units import state_from_polar
 from bouncelab.errors import DataError, DroppedRowsWarning
 
@@ -183,6 +184,147 @@ def test_polar_columns_mapping_is_validated(tmp_path):
     with pytest.raises(DataError, match=r"'speed': \.\.\., 'angle': \.\.\., 'spin'"):
         load_campaign(path, columns={"landing": {"speed": "speed_in", "angle": "angle_in"},
                                      "liftoff": ["speed_out", "angle_out", "spin_out"]})
+
+
+MIXED = {**{k: CART[k] for k in ("vx0 (m/s)", "vy0 (m/s)", "w0 (rpm)")},
+         **{k: POLAR[k] for k in ("speed_out (m/s)", "angle_out (deg)", "spin_out (rpm)")}}
+LISTS = {"landing": ["vx0", "vy0", "w0"], "liftoff": ["speed_out", "angle_out", "spin_out"]}
+
+
+@pytest.mark.parametrize("unit_headers", [False, True])
+def test_polar_columns_listed_as_xdot_ydot_omega_are_refused(tmp_path, unit_headers):
+    # Before: with bare headers and units= this loaded silently, the lift-off speed of 12 m/s as xdot and its
+    # angle of 20 degrees as a ydot of 20 m/s; with unit headers it was refused for "a angle unit, not a
+    # velocity unit", which did not say that the list was the mistake. (No angle beyond 90 degrees here: read
+    # as 105 m/s, that one tripped the plausible ranges, blaming the velocity unit.)
+    angles = np.r_[ANGLE_OUT[:3], 75.0, ANGLE_OUT[4:]]
+    table = {**MIXED, "angle_out (deg)": angles}
+    if not unit_headers:
+        table = {k.split(" ")[0]: v for k, v in table.items()}
+    path = write(tmp_path / "mixed.csv", table)
+    units = None if unit_headers else {"velocity": "m/s", "spin": "rpm"}
+    with pytest.raises(DataError) as exc:
+        load_campaign(path, units=units, columns=LISTS)
+    speed, angle, spin = ("speed_out (m/s)", "angle_out (deg)", "spin_out (rpm)") if unit_headers else (
+        "speed_out", "angle_out", "spin_out")
+    assert exc.value.file == str(path) and exc.value.column == speed and exc.value.row is None
+    msg = exc.value.message
+    assert msg.startswith(f"the column names {speed!r} and {angle!r} say they hold the lift-off speed and angle, "
+                          "but columns=['liftoff'] reads them as the xdot and ydot; a state given as speed, angle "
+                          "and spin is named by a mapping")
+    assert f"columns={{'liftoff': {{'speed': {speed!r}, 'angle': {angle!r}, 'spin': {spin!r}}}}}" in msg
+    assert "unit" not in msg
+    # What it says to pass loads the right numbers.
+    ds = load_campaign(path, units=units, columns={
+        "landing": LISTS["landing"], "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}})
+    np.testing.assert_allclose(ds["landing"].values, EXP_LANDING, rtol=1e-12)
+    np.testing.assert_allclose(ds["liftoff"].values, state_from_polar(np.column_stack([SPEED_OUT, angles, SPIN_OUT]),
+                                                                      kind="liftoff"), rtol=1e-12, atol=1e-9)
+
+
+def test_polar_states_listed_as_xdot_ydot_omega_are_refused_for_their_names(tmp_path):
+    # Before: refused only by luck, for "landing ydot must be negative" (the angle of 40 read as 40 m/s up).
+    path = write(tmp_path / "polar.csv", {k.split(" ")[0]: v for k, v in POLAR.items()})
+    lists = {"landing": ["speed_in", "angle_in", "spin_in"], "liftoff": ["speed_out", "angle_out", "spin_out"]}
+    with pytest.raises(DataError, match=r"the column names 'speed_in' and 'angle_in' say they hold the landing "
+                       r"speed and angle, but columns=\['landing'\] reads them as the xdot and ydot") as exc:
+        load_campaign(path, units={"velocity": "m/s", "spin": "rpm"}, columns=lists)
+    assert exc.value.column == "speed_in"
+    # One column is enough, and a DataFrame is read the same way.
+    df = pd.DataFrame({k.split(" ")[0]: v for k, v in MIXED.items()})
+    with pytest.raises(DataError, match=r"the column name 'angle_out' says it holds the lift-off angle, but "
+                       r"columns=\['liftoff'\] reads it as the ydot; .* columns=\{'liftoff': \{'speed': "
+                       r"'<liftoff speed column>', 'angle': 'angle_out', 'spin': 'spin_out'\}\}; or rename the "
+                       r"column if it does hold what is asked") as exc:
+        load_campaign(df, units={"velocity": "m/s", "spin": "rpm"},
+                      columns={"landing": LISTS["landing"], "liftoff": ["vx0", "angle_out", "spin_out"]})
+    assert exc.value.column == "angle_out" and exc.value.file == "<DataFrame>"
+
+
+def test_cartesian_columns_named_as_speed_and_angle_are_refused(tmp_path):
+    # Before: loaded silently, vx_in read as the landing speed and vy_in as its angle.
+    names = ["vx_in", "vy_in", "w_in", "speed_out", "angle_out", "spin_out"]
+    path = write(tmp_path / "vx.csv", dict(zip(names, POLAR.values(), strict=True)))
+    columns = {"landing": {"speed": "vx_in", "angle": "vy_in", "spin": "w_in"},
+               "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}}
+    with pytest.raises(DataError) as exc:
+        load_campaign(path, units={"velocity": "m/s", "spin": "rpm"}, columns=columns)
+    assert exc.value.column == "vx_in"
+    assert exc.value.message == (
+        "the column names 'vx_in' and 'vy_in' say they hold the landing xdot and ydot, but columns=['landing'] reads "
+        "them as the speed and angle; a state given as xdot, ydot and omega is named by a list: columns={'landing': "
+        "['vx_in', 'vy_in', 'w_in']}; or rename the columns if they do hold what is asked")
+
+
+def test_columns_the_loader_does_not_recognise_are_taken_as_given(tmp_path):
+    # Only names the synonym table gives to the other form are refused: any other name may be either.
+    cart = dict(zip("abcdef", CART.values(), strict=True))
+    check(load_campaign(write(tmp_path / "c.csv", cart), units={"velocity": "m/s", "spin": "rpm"},
+                        columns={"landing": ["a", "b", "c"], "liftoff": ["d", "e", "f"]}))
+    polar = dict(zip(["a", "b", "c", "speed", "angle", "spin"], POLAR.values(), strict=True))  # no phase: unknown
+    check(load_campaign(write(tmp_path / "p.csv", polar), units={"velocity": "m/s", "spin": "rpm"}, columns={
+        "landing": {"speed": "a", "angle": "b", "spin": "c"},
+        "liftoff": {"speed": "speed", "angle": "angle", "spin": "spin"}}))
+
+
+def test_columns_in_the_wrong_form_on_the_command_line(tmp_path, capsys):
+    path = str(write(tmp_path / "mixed.csv", MIXED))
+    assert main(["info", path, "--columns", json.dumps(LISTS)]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "--columns '{\"liftoff\": {\"speed\": \"speed_out (m/s)\", \"angle\": \"angle_out (deg)\", " \
+           "\"spin\": \"spin_out (rpm)\"}}'" in err and "columns=" not in err
+
+
+@pytest.mark.parametrize(("cell", "value"), [
+    (("spin_in (rpm)", 2), "inf"),
+    (("spin_out (rpm)", 3), "-inf"),
+    (("spin_in (rpm)", 5), "1e999"),
+    (("speed_in (m/s)", 2), "inf"),
+    (("speed_out (m/s)", 4), "inf"),
+    (("angle_in (deg)", 6), "inf"),
+    (("angle_out (deg)", 5), "-inf"),
+])
+def test_non_finite_polar_values_are_refused_naming_the_cell(tmp_path, cell, value):
+    # Before: an infinite speed or spin raised "spin must be finite; got inf (element (1,))" from
+    # state_from_polar, with no file, column or row; an infinite angle was "not plausible".
+    path = write(tmp_path / "inf.csv", POLAR, cells={cell: value})
+    with pytest.raises(DataError) as exc:
+        load_campaign(path)
+    state = "landing" if "_in" in cell[0] else "lift-off"
+    unit = cell[0].split("(")[1].rstrip(")")
+    assert exc.value.message == (f"{state} {cell[0].split('_')[0]} {value} {unit} is not a finite number; every "
+                                 f"bounce needs a finite speed, angle and spin (line {cell[1] + 1})")
+    assert exc.value.file == str(path) and exc.value.column == cell[0] and exc.value.row == cell[1]
+
+
+def test_non_finite_polar_values_from_arrays_are_refused_naming_the_cell(tmp_path):
+    import scipy.io
+
+    df = pd.DataFrame(POLAR, index=[f"b{i}" for i in range(6)])
+    df.loc["b1", "spin_out (rpm)"] = np.inf
+    with pytest.raises(DataError, match=r"lift-off spin inf rpm is not a finite number") as exc:
+        load_campaign(df)
+    assert exc.value.column == "spin_out (rpm)" and exc.value.row == 2 and "row label 'b1'" in str(exc.value)
+    for name in ("spin_in", "speed_in", "angle_in"):  # NaN: a .mat file's missing value
+        arrays = {k.split(" ")[0]: np.array(v) for k, v in POLAR.items()}
+        arrays[name][2] = np.nan
+        scipy.io.savemat(tmp_path / "nan.mat", arrays)
+        with pytest.raises(DataError, match=f"landing {name.split('_')[0]} nan .* is not a finite number") as exc:
+            load_campaign(tmp_path / "nan.mat", units={"velocity": "m/s", "spin": "rpm"})
+        assert exc.value.column == name and exc.value.row == 3
+
+
+def test_a_header_unit_of_another_kind_is_named_with_its_article(tmp_path):
+    # Before: "the header gives the unit 'deg', a angle unit, not a velocity unit".
+    table = dict(zip(["a (m/s)", "b (deg)", "c (rpm)", "d (m/s)", "e (m/s)", "f (rpm)"], POLAR.values(), strict=True))
+    path = write(tmp_path / "units.csv", table)
+    with pytest.raises(DataError, match="the header gives the unit 'deg', an angle unit, not a velocity unit"):
+        load_campaign(path, columns={"landing": ["a", "b", "c"], "liftoff": ["d", "e", "f"]})
+    polar = {"landing": {"speed": "a", "angle": "b", "spin": "c"}}
+    with pytest.raises(DataError, match="the header gives the unit 'm/s', a velocity unit, not an angle unit"):
+        load_campaign(path, columns={**polar, "liftoff": {"speed": "d", "angle": "e", "spin": "f"}})
+    with pytest.raises(DataError, match="the header gives the unit 'rpm', a spin unit, not an angle unit"):
+        load_campaign(path, columns={**polar, "liftoff": {"speed": "d", "angle": "f", "spin": "e"}})
 
 
 # ---------------------------------------------------------------------------
@@ -442,3 +584,294 @@ def test_reproduce_with_embedded_campaign_and_file_options(tmp_path, capsys, mon
     assert code == EXIT_OK, capsys.readouterr().err
     assert loaded["A"].sizes["bounce"] == 330  # --header-row applies to the file only
     check(loaded[str(path)])
+
+
+# ---------------------------------------------------------------------------
+# Polar prediction intervals: speed, angle and spin half-widths propagated to xdot, ydot, omega
+# ---------------------------------------------------------------------------
+
+# 95 % half-widths of the six bounces above: m/s, degrees, rpm.
+SPEED_IN_PI = np.array([0.5, 0.4, 0.6, 0.3, 0.35, 0.45])
+ANGLE_IN_PI = np.array([1.0, 0.8, 1.2, 0.5, 0.7, 0.9])
+SPIN_IN_PI = np.array([100.0, 120.0, 90.0, 80.0, 60.0, 70.0])
+SPEED_OUT_PI = np.array([0.3, 0.25, 0.35, 0.2, 0.3, 0.4])
+ANGLE_OUT_PI = np.array([1.5, 2.0, 1.0, 3.0, 2.5, 4.0])
+SPIN_OUT_PI = np.array([150.0, 140.0, 160.0, 90.0, 70.0, 80.0])
+POLAR_PI = {"speed_in_pi (m/s)": SPEED_IN_PI, "angle_in_pi (deg)": ANGLE_IN_PI, "spin_in_pi (rpm)": SPIN_IN_PI,
+            "speed_out_pi (m/s)": SPEED_OUT_PI, "angle_out_pi (deg)": ANGLE_OUT_PI, "spin_out_pi (rpm)": SPIN_OUT_PI}
+PROPAGATED = "polar (speed, angle and spin half-widths propagated to first order, speed and angle errors independent)"
+
+
+def numeric_halfwidths(polar: np.ndarray, hw: np.ndarray, kind: str) -> np.ndarray:
+    """Half-widths of xdot, ydot, omega from those of speed (m/s), angle (deg), spin (rpm) of independent
+    errors, by differentiating state_from_polar numerically (central differences): sqrt(sum_j (J_ij h_j)^2)."""
+    var = np.zeros_like(polar)
+    for j, step in enumerate((1e-4, 1e-4, 1e-2)):
+        d = np.zeros(3)
+        d[j] = step
+        jac = (state_from_polar(polar + d, kind=kind) - state_from_polar(polar - d, kind=kind)) / (2 * step)
+        var += (jac * hw[:, [j]]) ** 2
+    return np.sqrt(var)
+
+
+EXP_LANDING_PI = numeric_halfwidths(np.column_stack([SPEED_IN, ANGLE_IN, SPIN_IN]),
+                                    np.column_stack([SPEED_IN_PI, ANGLE_IN_PI, SPIN_IN_PI]), "landing")
+EXP_LIFTOFF_PI = numeric_halfwidths(np.column_stack([SPEED_OUT, ANGLE_OUT, SPIN_OUT]),
+                                    np.column_stack([SPEED_OUT_PI, ANGLE_OUT_PI, SPIN_OUT_PI]), "liftoff")
+
+
+def check_pi(ds, landing=EXP_LANDING_PI, liftoff=EXP_LIFTOFF_PI) -> None:
+    check(ds)
+    np.testing.assert_allclose(ds["landing_pi"].values, landing, rtol=1e-7)
+    np.testing.assert_allclose(ds["liftoff_pi"].values, liftoff, rtol=1e-7)
+
+
+def test_polar_intervals_are_propagated_to_first_order(tmp_path):
+    # Not a tautology: a half-width of the angle in degrees used as radians is 57 times too wide, and cos
+    # and sin swapped would change every row (the lift-off angles include 0 and 105 degrees).
+    assert not np.allclose(EXP_LIFTOFF_PI[:, 0], EXP_LIFTOFF_PI[:, 1], rtol=0.1)
+    ds = load_campaign(write(tmp_path / "pi.csv", {**POLAR, **POLAR_PI}))
+    check_pi(ds)
+    assert ds.attrs["source_form"] == "landing polar, liftoff polar"
+    assert ds.attrs["interval_form"] == f"landing {PROPAGATED}, liftoff {PROPAGATED}"
+    # The spin half-width is converted like the spin, never negated (the spins of rows 4-6 are negative).
+    np.testing.assert_allclose(ds["landing_pi"].values[:, 2], SPIN_IN_PI * RPM, rtol=1e-15)
+    # Saved and loaded back, the intervals and how they were obtained survive.
+    save_campaign(ds, tmp_path / "pi.nc")
+    again = load_campaign(tmp_path / "pi.nc")
+    np.testing.assert_array_equal(again["liftoff_pi"].values, ds["liftoff_pi"].values)
+    assert again.attrs["interval_form"] == ds.attrs["interval_form"]
+
+
+def test_polar_intervals_named_explicitly_and_from_a_dataframe(tmp_path):
+    names = ["v_a", "a_a", "w_a", "v_b", "a_b", "w_b", "dv_a", "da_a", "dw_a", "dv_b", "da_b", "dw_b"]
+    table = dict(zip(names, [*POLAR.values(), *POLAR_PI.values()], strict=True))
+    path = write(tmp_path / "odd.csv", table)
+    columns = {"landing": {"speed": "v_a", "angle": "a_a", "spin": "w_a"},
+               "liftoff": {"speed": "v_b", "angle": "a_b", "spin": "w_b"},
+               "landing_pi": {"speed": "dv_a", "angle": "da_a", "spin": "dw_a"},
+               "liftoff_pi": {"speed": "dv_b", "angle": "da_b", "omega": "dw_b"}}
+    csv = load_campaign(path, units={"velocity": "m/s", "spin": "rpm"}, columns=columns)
+    check_pi(csv)
+    assert csv.attrs["interval_form"] == f"landing {PROPAGATED}, liftoff {PROPAGATED}"
+    df = load_campaign(pd.DataFrame(table, index=[f"b{i}" for i in range(6)]),
+                       units={"velocity": "m/s", "spin": "rpm"}, columns=columns)
+    np.testing.assert_array_equal(df["landing_pi"].values, csv["landing_pi"].values)
+    np.testing.assert_array_equal(df["liftoff_pi"].values, csv["liftoff_pi"].values)
+    check_pi(load_campaign(pd.DataFrame({**POLAR, **POLAR_PI})))  # found from the headers too
+    # Only the intervals named are read: without liftoff_pi, no lift-off intervals.
+    del columns["liftoff_pi"]
+    only = load_campaign(path, units={"velocity": "m/s", "spin": "rpm"}, columns=columns)
+    assert "liftoff_pi" not in only and only.attrs["interval_form"] == f"landing {PROPAGATED}"
+
+
+def test_cartesian_landing_with_polar_liftoff_and_both_intervals(tmp_path):
+    cart_pi = {"vx0_pi (m/s)": np.full(6, 0.2), "vy0_pi (m/s)": np.full(6, 0.3), "w0_pi (rpm)": SPIN_IN_PI}
+    table = {**{k: CART[k] for k in ("vx0 (m/s)", "vy0 (m/s)", "w0 (rpm)")}, **cart_pi,
+             **{k: POLAR[k] for k in ("speed_out (m/s)", "angle_out (deg)", "spin_out (rpm)")},
+             **{k: POLAR_PI[k] for k in ("speed_out_pi (m/s)", "angle_out_pi (deg)", "spin_out_pi (rpm)")}}
+    landing_pi = np.column_stack([np.full(6, 0.2 / R), np.full(6, 0.3 / R), SPIN_IN_PI * RPM])
+    path = write(tmp_path / "mixed.csv", table)
+    ds = load_campaign(path)
+    check_pi(ds, landing=landing_pi)
+    assert ds.attrs["source_form"] == "landing cartesian, liftoff polar"
+    assert ds.attrs["interval_form"] == f"landing cartesian, liftoff {PROPAGATED}"
+    explicit = load_campaign(path, columns={
+        "landing": ["vx0", "vy0", "w0"], "landing_pi": ["vx0_pi", "vy0_pi", "w0_pi"],
+        "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"},
+        "liftoff_pi": {"speed": "speed_out_pi", "angle": "angle_out_pi", "spin": "spin_out_pi"}})
+    check_pi(explicit, landing=landing_pi)
+
+
+def test_interval_units_from_headers_and_from_the_state_columns(tmp_path):
+    ft, rad = 0.3048, math.pi / 180
+    table = {**POLAR, "angle_out (rad)": ANGLE_OUT * rad,
+             # own units: ft/s, radians, rev/s (rpm / 60)
+             "speed_in_pi (ft/s)": SPEED_IN_PI / ft, "angle_in_pi (rad)": ANGLE_IN_PI * rad,
+             "spin_in_pi (rev/s)": SPIN_IN_PI / 60,
+             # no unit: each has its state column's (m/s; radians, as the lift-off angle says; rpm)
+             "speed_out_pi": SPEED_OUT_PI, "angle_out_pi": ANGLE_OUT_PI * rad, "spin_out_pi": SPIN_OUT_PI}
+    del table["angle_out (deg)"]
+    ds = load_campaign(write(tmp_path / "units.csv", table))
+    check_pi(ds)
+    assert "speed_in_pi (ft/s): ft/s" in ds.attrs["source_units"]
+    # The same half-widths in rpm and degrees read as declared units would be 60 and 57 times off:
+    wrong = {**table, "spin_in_pi (rpm)": SPIN_IN_PI / 60}
+    del wrong["spin_in_pi (rev/s)"]
+    assert not np.allclose(load_campaign(write(tmp_path / "w.csv", wrong))["landing_pi"].values[:, 2],
+                           EXP_LANDING_PI[:, 2])
+
+
+def test_polar_intervals_with_missing_drop(tmp_path):
+    path = write(tmp_path / "na.csv", {**POLAR, **POLAR_PI}, cells={("angle_in_pi (deg)", 3): "NA"})
+    with pytest.raises(DataError, match="missing value 'NA'") as exc:
+        load_campaign(path)
+    assert exc.value.column == "angle_in_pi (deg)" and exc.value.row == 3
+    with pytest.warns(DroppedRowsWarning, match="'angle_in_pi \\(deg\\)' is 'NA'"):
+        ds = load_campaign(path, missing="drop")
+    keep = [0, 1, 3, 4, 5]
+    np.testing.assert_allclose(ds["landing_pi"].values, EXP_LANDING_PI[keep], rtol=1e-7)
+
+
+def test_cartesian_half_widths_of_a_polar_state_are_still_read(tmp_path):
+    # As before: Cartesian half-widths need no propagation; without a unit they have the speed column's.
+    table = {**POLAR, "vx_in_pi": np.full(6, 0.5), "vy_in_pi": np.full(6, 0.4), "spin_in_pi (rpm)": SPIN_IN_PI}
+    ds = load_campaign(write(tmp_path / "cart_pi.csv", table))
+    np.testing.assert_allclose(ds["landing_pi"].values,
+                               np.column_stack([np.full(6, 0.5 / R), np.full(6, 0.4 / R), SPIN_IN_PI * RPM]))
+    assert "interval_form" not in ds.attrs
+
+
+def test_a_lone_spin_half_width_is_ignored_with_a_warning(tmp_path):
+    with pytest.warns(UserWarning, match=r"incomplete landing_pi columns \['spin_in_pi \(rpm\)'\]; name all "
+                      r"three \(xdot, ydot, omega; or speed, angle, spin\)") as rec:
+        ds = load_campaign(write(tmp_path / "spin.csv", {**POLAR, "spin_in_pi (rpm)": SPIN_IN_PI}))
+    assert "landing_pi" not in ds and "interval_form" not in ds.attrs
+    assert rec[0].filename == __file__
+
+
+@pytest.mark.parametrize(("cell", "value", "needle"), [
+    (("speed_in_pi (m/s)", 2), "-0.4", "prediction-interval half-width -0.4 m/s is negative"),
+    (("angle_out_pi (deg)", 5), "-2.5", "prediction-interval half-width -2.5 deg is negative"),
+    (("spin_out_pi (rpm)", 1), "-150", "prediction-interval half-width -150 rpm is negative"),
+    (("angle_in_pi (deg)", 4), "0.5°", "non-numeric value '0.5°'"),
+    (("speed_out_pi (m/s)", 6), "inf", "prediction-interval half-width inf m/s is not a finite number"),
+    (("angle_in_pi (deg)", 2), "95", "half-width 95 deg is wider than any plausible angle half-width (90 deg"),
+    (("spin_in_pi (rpm)", 3), "25000", "half-width 25000 rpm is wider than any plausible value (20000 rpm)"),
+    (("speed_in_pi (m/s)", 2), "200", "the landing xdot half-width propagated from the speed half-width 200 m/s "
+     "and the angle half-width 0.8 deg (at speed 24.6 m/s, angle 39.5 deg) is 154.3 m/s, wider than any plausible "
+     "value (90 m/s): check the unit of 'speed_in_pi (m/s)'"),
+])
+def test_bad_polar_half_widths_are_refused_naming_the_cell(tmp_path, cell, value, needle):
+    path = write(tmp_path / "bad.csv", {**POLAR, **POLAR_PI}, cells={cell: value})
+    with pytest.raises(DataError) as exc:
+        load_campaign(path)
+    assert needle in str(exc.value)
+    assert exc.value.file == str(path) and exc.value.column == cell[0] and exc.value.row == cell[1]
+    assert f"line {cell[1] + 1}" in str(exc.value)
+
+
+def test_a_propagated_half_width_too_wide_by_its_angle_names_the_angle_column(tmp_path):
+    # 80 m/s at 55 degrees is a plausible landing (46 and 66 m/s); an 89 degree half-width of its angle makes
+    # the xdot one v sin(a) h_a = 102 m/s, while its speed half-width adds cos(a) * 0.3 m/s.
+    table = {**POLAR, **POLAR_PI, "speed_in (m/s)": np.r_[SPEED_IN[:3], 80.0, SPEED_IN[4:]]}
+    with pytest.raises(DataError) as exc:
+        load_campaign(write(tmp_path / "wide.csv", table, cells={("angle_in_pi (deg)", 4): "89"}))
+    assert exc.value.column == "angle_in_pi (deg)" and exc.value.row == 4
+    assert "the landing xdot half-width propagated from the speed half-width 0.3 m/s and the angle half-width " \
+           "89 deg (at speed 80.0 m/s, angle 55.0 deg) is 101.8 m/s" in str(exc.value)
+    # The check is the plausible ranges' one: widened on purpose, the same numbers load.
+    ds = load_campaign(write(tmp_path / "wide.csv", table, cells={("angle_in_pi (deg)", 4): "89"}),
+                       plausible=PLAUSIBLE_RANGES.widened(max_speed=120))
+    assert 101.7 < ds["landing_pi"].values[3, 0] * R < 101.9
+
+
+def test_bad_polar_half_widths_in_a_dataframe_name_the_row_label():
+    df = pd.DataFrame({**POLAR, **POLAR_PI}, index=[f"b{i}" for i in range(6)])
+    df.loc["b2", "angle_in_pi (deg)"] = -1.0
+    with pytest.raises(DataError, match=r"half-width -1\.0 deg is negative") as exc:
+        load_campaign(df)
+    assert exc.value.column == "angle_in_pi (deg)" and exc.value.row == 3 and "row label 'b2'" in str(exc.value)
+
+
+@pytest.mark.parametrize(("drop", "missing"), [
+    (["spin_in_pi (rpm)"], "spin"),
+    (["angle_in_pi (deg)", "spin_in_pi (rpm)"], "angle and spin"),
+    (["speed_in_pi (m/s)"], "speed"),
+])
+def test_polar_half_widths_for_some_columns_only_are_refused(tmp_path, drop, missing):
+    table = {k: v for k, v in {**POLAR, **POLAR_PI}.items() if k not in drop}
+    with pytest.raises(DataError) as exc:
+        load_campaign(write(tmp_path / "some.csv", table))
+    msg = str(exc.value)
+    assert f"but none for its {missing}: all three (speed, angle, spin) are needed" in msg
+    for name in drop:  # the columns= to pass, with a place for each missing column
+        key = {"speed": "speed", "angle": "angle", "spin": "spin"}[name.split("_")[0]]
+        assert f"'{key}': '<landing_pi {key} column>'" in msg
+    assert "'liftoff_pi': {'speed': 'speed_out_pi (m/s)', 'angle': 'angle_out_pi (deg)'" in msg
+
+
+def test_polar_half_widths_of_a_cartesian_state_are_refused(tmp_path):
+    table = {**CART, **{k: POLAR_PI[k] for k in ("speed_in_pi (m/s)", "angle_in_pi (deg)", "spin_in_pi (rpm)")}}
+    path = write(tmp_path / "cart.csv", table)
+    with pytest.raises(DataError) as exc:
+        load_campaign(path)
+    msg = str(exc.value)
+    assert "the columns ['speed_in_pi (m/s)', 'angle_in_pi (deg)'] are half-widths of the landing speed or angle, "\
+           "but the landing is read from its Cartesian columns" in msg and "does not guess" in msg
+    with pytest.raises(DataError, match=r"columns=\['landing_pi'\] gives polar half-widths .* but "
+                       r"columns=\['landing'\] reads the landing from Cartesian columns"):
+        load_campaign(path, columns={"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"],
+                                     "landing_pi": {"speed": "speed_in_pi", "angle": "angle_in_pi",
+                                                    "spin": "spin_in_pi"}})
+    # Complete Cartesian half-widths of a Cartesian state are read beside polar ones (derived columns, sharing
+    # the spin's), as the state is read beside derived speeds and angles.
+    cart_pi = {"vx0_pi (m/s)": np.full(6, 0.2), "vy0_pi (m/s)": np.full(6, 0.3)}
+    ds = load_campaign(write(tmp_path / "both.csv", {**table, **cart_pi, "speed_in (m/s)": SPEED_IN,
+                                                     "angle_in (deg)": ANGLE_IN}))
+    np.testing.assert_allclose(ds["landing_pi"].values[:, 0], 0.2 / R)
+    assert "interval_form" not in ds.attrs
+
+
+def test_polar_and_cartesian_half_widths_of_a_polar_state_are_refused(tmp_path):
+    table = {**POLAR, **POLAR_PI, "vx_in_pi (m/s)": np.full(6, 0.2)}
+    with pytest.raises(DataError) as exc:
+        load_campaign(write(tmp_path / "two.csv", table))
+    assert "the landing has both Cartesian half-widths ['vx_in_pi (m/s)'] and polar ones " \
+           "['speed_in_pi (m/s)', 'angle_in_pi (deg)']; say which to read in columns=" in str(exc.value)
+
+
+def test_half_widths_named_in_the_wrong_form_are_refused(tmp_path):
+    # Before: a list of polar half-widths was read as xdot, ydot, omega, a 1 degree half-width as 1 m/s.
+    plain = {k.split(" ")[0]: v for k, v in {**POLAR, **POLAR_PI}.items()}
+    path = write(tmp_path / "plain.csv", plain)
+    states = {"landing": {"speed": "speed_in", "angle": "angle_in", "spin": "spin_in"},
+              "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}}
+    units = {"velocity": "m/s", "spin": "rpm"}
+    with pytest.raises(DataError) as exc:
+        load_campaign(path, units=units, columns={**states, "landing_pi": ["speed_in_pi", "angle_in_pi", "spin_in_pi"]})
+    assert exc.value.column == "speed_in_pi"
+    assert "the column names 'speed_in_pi' and 'angle_in_pi' say they hold the half-widths of the landing speed and " \
+           "angle, but columns=['landing_pi'] reads them as the xdot and ydot half-widths; speed, angle and spin " \
+           "half-widths are named by a mapping (and propagated to xdot, ydot, omega): columns={'landing_pi': " \
+           "{'speed': 'speed_in_pi', 'angle': 'angle_in_pi', 'spin': 'spin_in_pi'}}" in str(exc.value)
+    table = {**POLAR, "vx_out_pi": np.full(6, 0.2), "vy_out_pi": np.full(6, 0.3), "spin_out_pi": SPIN_OUT_PI}
+    with pytest.raises(DataError, match="half-widths of the lift-off xdot and ydot, but columns=\\['liftoff_pi'\\] "
+                       "reads them as the speed and angle half-widths; the xdot, ydot and omega half-widths are named "
+                       "by a list: columns=\\{'liftoff_pi': \\['vx_out_pi', 'vy_out_pi', 'spin_out_pi'\\]\\}") as exc:
+        load_campaign(write(tmp_path / "c.csv", table), columns={
+            **states, "liftoff_pi": {"speed": "vx_out_pi", "angle": "vy_out_pi", "spin": "spin_out_pi"}})
+    assert exc.value.column == "vx_out_pi"
+    with pytest.raises(DataError, match=r"columns=\['landing_pi'\] must be a list of 3 column names \(xdot, ydot, "
+                       r"omega\) or a mapping \{'speed': \.\.\., 'angle': \.\.\., 'spin': \.\.\.\}"):
+        load_campaign(path, units=units, columns={**states, "landing_pi": {"speed": "speed_in_pi"}})
+
+
+def test_polar_interval_names_are_recognised():
+    import bouncelab.data.io.columns as cols
+
+    expect = {"landing_pi.speed": ["speed_in_pi", "PI speed in", "Speed In CI95", "vel_in_err"],
+              "landing_pi.angle": ["angle_in_pi", "descent angle hw", "theta0_unc"],
+              "liftoff_pi.angle": ["launch angle uncertainty", "angle_out_err"],
+              "liftoff_pi.speed": ["launch speed pi", "ballspeed_out_halfwidth"],
+              "liftoff_pi.omega": ["launch spin ci"]}
+    for role, names in expect.items():
+        for name in names:
+            key = cols._normalize(name)
+            assert (cols._role_of(key) or cols._polar_role_of(key)) == role, name
+    # No polar interval name is a Cartesian name of any kind (_role_of is asked first).
+    for key in cols._POLAR_KEYS:
+        for m in cols._PI_MARKERS:
+            assert cols._role_of(key + m) is None and cols._role_of(m + key) is None, key + m
+
+
+def test_polar_interval_errors_on_the_command_line(tmp_path, capsys):
+    table = {k: v for k, v in {**POLAR, **POLAR_PI}.items() if k != "spin_out_pi (rpm)"}
+    path = str(write(tmp_path / "some.csv", table))
+    assert main(["info", path]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "but none for its spin" in err and "--columns '{" in err and "columns=" not in err
+    assert '"liftoff_pi": {"speed": "speed_out_pi (m/s)", "angle": "angle_out_pi (deg)", "spin": ' \
+           '"<liftoff_pi spin column>"}' in err
+    full = str(write(tmp_path / "full.csv", {**POLAR, **POLAR_PI}))
+    assert main(["info", full]) == EXIT_OK

@@ -331,3 +331,55 @@ def test_conversion_overflow_is_silent_inf_for_the_state_checks_to_refuse():
         warnings.simplefilter("error")  # no NumPy RuntimeWarning reaches the user
         assert np.isinf(velocity_to_scaled(np.array([1e308]), "m/s")).all()
         assert np.isinf(velocity_from_scaled(np.array([1e308]), "mph", radius_m=10.0)).all()
+
+
+# ---------------------------------------------------------------------------
+# polar_halfwidths_to_cartesian
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("kind", "polar"), [
+    ("landing", [25.0, 40.0, 3000.0]), ("landing", [18.0, 88.0, -1200.0]),
+    ("liftoff", [12.0, 20.0, 1500.0]), ("liftoff", [9.8, 105.0, 600.0]), ("liftoff", [10.1, 0.0, 590.0]),
+])
+def test_polar_halfwidths_match_a_monte_carlo_of_small_independent_errors(kind, polar):
+    # 95 % half-widths of Gaussian errors (sd = h / 1.96): the propagated half-width of each component is
+    # the 95 % quantile of its error, which a Monte Carlo through state_from_polar measures independently.
+    hw = np.array([0.2, 0.5, 50.0])  # m/s, degrees, rpm: small enough for the first order to hold
+    rng = np.random.default_rng(11)
+    draws = np.asarray(polar) + rng.standard_normal((400_000, 3)) * hw / 1.96
+    errors = units.state_from_polar(draws, kind=kind) - units.state_from_polar(polar, kind=kind)
+    empirical = np.quantile(np.abs(errors), 0.95, axis=0)
+    got = units.polar_halfwidths_to_cartesian(polar, hw, kind=kind)
+    np.testing.assert_allclose(got, empirical, rtol=0.01)
+
+
+def test_polar_halfwidths_units_broadcasting_and_degrees():
+    polar = np.array([[25.0, 40.0, 3000.0], [18.0, 55.0, -1200.0]])
+    got = units.polar_halfwidths_to_cartesian(polar, [0.5, 1.0, 100.0])
+    # The same in ft/s and rev/s, with another ball: scaled by the radius, spin half-width as rad/s.
+    ft = units.polar_halfwidths_to_cartesian(polar / [0.3048, 1, 60], [0.5 / 0.3048, 1.0, 100 / 60],
+                                             speed_unit="ft/s", spin_unit="rev/s")
+    np.testing.assert_allclose(ft, got, rtol=1e-12)
+    big = units.polar_halfwidths_to_cartesian(polar, [0.5, 1.0, 100.0], radius_m=2 * units.BALL_RADIUS_M)
+    np.testing.assert_allclose(big[:, :2], got[:, :2] / 2, rtol=1e-12)
+    np.testing.assert_allclose(got[:, 2], 100 * 2 * math.pi / 60, rtol=1e-15)  # never negated
+    # Only an angle error, at 90 degrees: all of it in xdot, v * h_a with h_a in radians.
+    only_angle = units.polar_halfwidths_to_cartesian([25.0, 90.0, 0.0], [0.0, 1.0, 0.0])
+    np.testing.assert_allclose(only_angle, [25.0 / units.BALL_RADIUS_M * math.pi / 180, 0.0, 0.0], atol=1e-9)
+    assert got.shape == (2, 3)
+
+
+@pytest.mark.parametrize(("polar", "hw", "kind", "needle"), [
+    ([25.0, 40.0, 3000.0], [-0.5, 1.0, 100.0], "landing", "half-widths must be finite and >= 0; got -0.5"),
+    ([25.0, 40.0, 3000.0], [0.5, np.nan, 100.0], "landing", "half-widths must be finite and >= 0; got nan"),
+    ([25.0, 40.0, 3000.0], [0.5, 1.0, np.inf], "landing", "half-widths must be finite and >= 0; got inf"),
+    ([25.0, -40.0, 3000.0], [0.5, 1.0, 100.0], "landing", "landing angle must be in (0, 180)"),
+    ([-2.0, 40.0, 3000.0], [0.5, 1.0, 100.0], "liftoff", "liftoff speed must be non-negative"),
+    ([25.0, 40.0, 3000.0], [0.5, 1.0], "landing", "half-widths need 3 components"),
+    ([25.0, 40.0, 3000.0], [0.5, "x", 1.0], "landing", "must be numeric"),
+])
+def test_polar_halfwidths_refuse_bad_input(polar, hw, kind, needle):
+    with pytest.raises(DataError) as exc:
+        units.polar_halfwidths_to_cartesian(polar, hw, kind=kind)
+    assert needle in str(exc.value)

@@ -37,6 +37,7 @@ __all__ = [
     "landing_from_speed_angle_spin",
     "physical_to_scaled",
     "polar_from_state",
+    "polar_halfwidths_to_cartesian",
     "scaled_to_physical",
     "speed_angle_spin",
     "spin_from_scaled",
@@ -291,6 +292,86 @@ def polar_from_state(state, *, kind: str = "liftoff", speed_unit: str = "m/s", s
         np.rad2deg(np.arctan2(y, s[..., 0])),
         spin_from_scaled(s[..., 2], spin_unit),
     ], axis=-1)
+
+
+def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", speed_unit: str = "m/s",
+                                  spin_unit: str = "rpm", radius_m: float = BALL_RADIUS_M) -> np.ndarray:
+    r"""Scaled half-widths ``[xdot, ydot, omega]`` of states measured as speed, angle and spin.
+
+    First-order (linear) propagation, through :func:`state_from_polar`, of the
+    half-widths of the speed ``v``, the angle ``a`` and the spin, taking the
+    speed and angle errors as independent:
+
+    .. math::
+
+        h_{\dot x} = \sqrt{(\cos a \, h_v)^2 + (v \sin a \, h_a)^2}, \qquad
+        h_{\dot y} = \sqrt{(\sin a \, h_v)^2 + (v \cos a \, h_a)^2}, \qquad
+        h_\omega = h_s,
+
+    with ``v`` and ``h_v`` in radii/s, ``a`` and ``h_a`` in radians and ``h_s``
+    (the spin's half-width) in rad/s. Neither the sign convention of the angle
+    (below the horizontal for a landing, above it for a lift-off) nor that of
+    ``ydot`` changes a half-width, so both kinds give the same result.
+
+    Parameters
+    ----------
+    polar
+        (..., 3) ``[speed, angle_deg, spin]``, as for :func:`state_from_polar`.
+    halfwidths
+        (..., 3) half-widths ``[h_speed, h_angle_deg, h_spin]``, each >= 0, in the
+        units of ``polar`` (speed and spin units, angle in degrees); broadcast
+        against ``polar``.
+    kind
+        ``"landing"`` or ``"liftoff"``: which angles ``polar`` may hold (see
+        :func:`state_from_polar`).
+    speed_unit, spin_unit
+        Units of the speed and spin and of their half-widths.
+    radius_m
+        Ball radius in metres, to scale the velocities.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) half-widths of ``[xdot, ydot, omega]`` in radii/s, radii/s and rad/s.
+
+    Raises
+    ------
+    DataError
+        Anything :func:`state_from_polar` refuses in ``polar``; a half-width that is
+        negative, NaN or infinite (naming the element); non-numeric values, wrong
+        shapes, an unknown unit.
+
+    Notes
+    -----
+    The propagation is exact for the derivatives at the measured point and is
+    accurate while ``h_a`` (in radians) and ``h_v / v`` are small; it keeps the
+    coverage of the input half-widths (95 % in, 95 % out) when the errors are
+    Gaussian. The ``xdot`` and ``ydot`` errors it produces are correlated (both
+    come from the same speed and angle errors); half-widths per component cannot
+    hold that correlation.
+
+    Examples
+    --------
+    A 25 m/s landing at 40 degrees with half-widths of 0.5 m/s and 1 degree:
+
+    >>> polar_halfwidths_to_cartesian([25.0, 40.0, 3000], [0.5, 1.0, 100]).round(2)
+    array([22.24, 21.72, 10.47])
+    """
+    s = _state_array(polar)
+    h = _numeric(halfwidths, "half-widths [speed, angle, spin]")
+    if h.shape[-1:] != (3,):
+        raise DataError(f"half-widths need 3 components (speed, angle, spin) in their last axis; got shape {h.shape}")
+    state_from_polar(s, kind=kind, speed_unit=speed_unit, spin_unit=spin_unit, radius_m=radius_m)  # validates
+    # A negative half-width would be squared away below: refuse it (and NaN, inf) first.
+    _require(np.isfinite(h) & (h >= 0), h, "prediction-interval half-widths must be finite and >= 0")
+    v = velocity_to_scaled(s[..., 0], speed_unit, radius_m=radius_m)
+    h_v = velocity_to_scaled(h[..., 0], speed_unit, radius_m=radius_m)
+    a, h_a = np.deg2rad(s[..., 1]), np.deg2rad(h[..., 1])  # d(v cos a)/da needs radians
+    h_s = spin_to_scaled(h[..., 2], spin_unit)
+    cos, sin = np.cos(a), np.sin(a)
+    with np.errstate(over="ignore"):  # an overflow is inf, which the callers refuse by name
+        out = np.broadcast_arrays(np.hypot(cos * h_v, v * sin * h_a), np.hypot(sin * h_v, v * cos * h_a), h_s)
+    return np.stack(out, axis=-1)
 
 
 def _unit_pair(units) -> tuple[str, str] | None:

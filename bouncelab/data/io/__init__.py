@@ -112,6 +112,13 @@ explicitly ``columns={"landing": {"speed": ..., "angle": ..., "spin": ...}}``.
 The landing angle is positive below the horizontal, the lift-off angle above
 it, in degrees unless the header or ``units={"angle": "rad"}`` says rad; speeds
 are >= 0 with the ball moving in +x and spin > 0 is backspin (omega > 0).
+Such a state's intervals may be half-widths of its speed, angle and spin
+(``speed_in_pi``, ``angle_in_pi``, ``spin_in_pi``, or
+``columns={"landing_pi": {"speed": ..., "angle": ..., "spin": ...}}``): they
+are propagated to first order, with independent speed and angle errors, to the
+xdot, ydot, omega half-widths the campaign holds
+(:func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`), and the attr
+``interval_form`` says so.
 
 Requested names are matched with the same tolerance (``"vx in"`` finds
 ``"VX_IN [m/s]"``); a name that matches two file columns is an error unless it

@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 _STATES = ("landing", "liftoff")
 _PI_STATES = ("landing_pi", "liftoff_pi")
+_NAMES = {"landing": "landing", "liftoff": "lift-off"}  # a state as messages write it
 
 
 _STEMS: dict[str, tuple[str, ...]] = {
@@ -128,7 +129,7 @@ POLAR_ROLES = ("speed", "angle", "omega")
 _SETTING_KEYS = frozenset(_SETTING_NAMES)
 _ROLES = (
     *(f"{s}.{c}" for s in (*_STATES, *_PI_STATES) for c in COMPONENTS),
-    *(f"{s}.{c}" for s in _STATES for c in ("speed", "angle")),
+    *(f"{s}.{c}" for s in (*_STATES, *_PI_STATES) for c in ("speed", "angle")),
     "setting",
 )
 
@@ -149,8 +150,20 @@ def _role_of(key: str) -> str | None:
 
 
 def _polar_role_of(key: str) -> str | None:
-    """The polar role (``landing.speed``, ``liftoff.angle``...) a normalised column name stands for."""
-    return _POLAR_KEYS.get(key)
+    """The polar role (``landing.speed``, ``liftoff.angle``...) a normalised column name stands for.
+
+    A polar name with an interval marker before or after it is the half-width of that column
+    (``speed_in_pi`` is ``landing_pi.speed``), as :func:`_role_of` reads Cartesian ones.
+    """
+    if key in _POLAR_KEYS:
+        return _POLAR_KEYS[key]
+    for m in _PI_MARKERS:
+        for rest in (key[: -len(m)] if key.endswith(m) else None,
+                     key[len(m):] if key.startswith(m) else None):
+            if rest and rest in _POLAR_KEYS:
+                state, comp = _POLAR_KEYS[rest].split(".")
+                return f"{state}_pi.{comp}"
+    return None
 
 
 def _normalize(name: str) -> str:
@@ -271,13 +284,13 @@ _POLAR_MAP_KEYS = {"speed": "speed", "angle": "angle", "spin": "omega", "omega":
 
 
 def _state_roles(state: str, names: Any) -> dict[str, str] | None:
-    """Component -> requested name for one state of columns=: a list (xdot, ydot, omega), or a mapping
-    with the keys xdot, ydot, omega or (landing and lift-off only) speed, angle, spin."""
+    """Component -> requested name for one state (or its intervals) of columns=: a list (xdot, ydot,
+    omega), or a mapping with the keys xdot, ydot, omega or speed, angle, spin."""
     if isinstance(names, Mapping):
         keys = set(map(str, names))
         if keys == set(_CARTESIAN_KEYS):
             return {_CARTESIAN_KEYS[k]: str(v) for k, v in names.items()}
-        if state in _STATES and keys in ({"speed", "angle", "spin"}, {"speed", "angle", "omega"}):
+        if keys in ({"speed", "angle", "spin"}, {"speed", "angle", "omega"}):
             return {_POLAR_MAP_KEYS[k]: str(v) for k, v in names.items()}
         return None
     if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
@@ -307,16 +320,96 @@ def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Ch
             continue
         roles = _state_roles(state, names)
         if roles is None:
-            polar = " or a mapping {'speed': ..., 'angle': ..., 'spin': ...}" if state in _STATES else ""
             raise DataError(
-                f"{opt}[{state!r}] must be a list of 3 column names (xdot, ydot, omega){polar}; got {names!r}",
-                file=table.file,
+                f"{opt}[{state!r}] must be a list of 3 column names (xdot, ydot, omega) or a mapping "
+                f"{{'speed': ..., 'angle': ..., 'spin': ...}}; got {names!r}", file=table.file,
             )
         for comp, name in roles.items():
             chosen[f"{state}.{comp}"] = _find_requested(table, name, f"{state} {comp}")
     if columns.get("setting") is not None:
         chosen["setting"] = _find_requested(table, str(columns["setting"]), "setting")
+    _check_forms(table, chosen, opt)
     return chosen
+
+
+def _synonym_role(col: _Column) -> str | None:
+    """The role a column's name stands for in the synonym table (whole name first), or None."""
+    return (_role_of(col.full_key) or _polar_role_of(col.full_key) or _role_of(col.base_key)
+            or _polar_role_of(col.base_key))
+
+
+def _check_forms(table: _Table, chosen: dict[str, _Choice], opt: str) -> None:
+    """Refuse explicit columns whose form (Cartesian or polar) does not fit their names or their state.
+
+    A column the synonym table recognises as a speed or an angle (``speed_in``, ``angle_in_pi``) named
+    in a list (read as xdot, ydot, omega), or one recognised as an xdot or ydot (``vx_in``) named as a
+    speed or angle, would be a silently wrong number (an angle of 40 degrees read as 40 m/s); names
+    the table does not recognise (``a``, ``v_b``) are taken as given. Polar half-widths are propagated
+    through the polar state they belong to, so they need one.
+    """
+    for state in _STATES:
+        _check_form(table, chosen, state, opt)
+    for state, pi in zip(_STATES, _PI_STATES, strict=True):
+        if f"{pi}.speed" in chosen and f"{state}.speed" not in chosen:
+            raise DataError(
+                f"{opt}[{pi!r}] gives polar half-widths (speed, angle, spin) but {opt}[{state!r}] reads the "
+                f"{_NAMES[state]} from Cartesian columns (xdot, ydot, omega): polar half-widths are propagated "
+                f"through the polar state they belong to; give the {_NAMES[state]} as {{'speed': ..., 'angle': "
+                f"..., 'spin': ...}} too, or {pi!r} as a list of the xdot, ydot, omega half-widths",
+                file=table.file)
+        _check_form(table, chosen, pi, opt)
+
+
+def _check_form(table: _Table, chosen: dict[str, _Choice], key: str, opt: str) -> None:
+    """Refuse the columns of ``columns=[key]`` (a state or its intervals) whose names say the other form."""
+    polar = f"{key}.speed" in chosen
+    asked = POLAR_ROLES if polar else COMPONENTS
+    if f"{key}.{asked[0]}" not in chosen:
+        return  # not given
+    interval = key in _PI_STATES
+    named = {comp: _synonym_role(chosen[f"{key}.{comp}"].column) for comp in asked}
+    other = ("xdot", "ydot") if polar else ("speed", "angle")
+    # Only a name of the same kind counts: a state's column named as a state's, an interval's as an interval's.
+    wrong = [(comp, role) for comp, role in named.items()
+             if role is not None and "." in role and ("_pi." in role) == interval and role.split(".")[1] in other]
+    if not wrong:
+        return
+    spin = {"omega": "spin"} if polar else {}
+    one = len(wrong) == 1
+    cols = [chosen[f"{key}.{comp}"].column for comp, _ in wrong]
+    by_state: dict[str, list[str]] = {}  # what the names say, per state
+    for _, role in wrong:
+        state, comp = role.split(".")
+        by_state.setdefault(_NAMES[state.removesuffix("_pi")], []).append(comp)
+    said = " and the ".join(f"{s} {' and '.join(comps)}" for s, comps in by_state.items())
+    read = " and ".join(spin.get(comp, comp) for comp, _ in wrong)
+    said = f"the half-width{'' if one else 's'} of the {said}" if interval else f"the {said}"
+    read += f" half-width{'' if one else 's'}" if interval else ""
+
+    def pick(comp: str) -> str:  # the column whose name says it is ``comp`` of ``key``, for the fix
+        for c in asked:
+            if named[c] == f"{key}.{comp}":
+                return chosen[f"{key}.{c}"].column.name
+        if comp == "omega" and named["omega"] is None:  # the spin is the omega of either form
+            return chosen[f"{key}.omega"].column.name
+        return f"<{key} {'spin' if comp == 'omega' and not polar else comp} column>"
+
+    if polar:  # their names say Cartesian: a list
+        entry = hints.columns_entry(key, [pick(c) for c in COMPONENTS], table.hint_style)
+        fix = (f"the xdot, ydot and omega half-widths are named by a list: {entry}" if interval else
+               f"a state given as xdot, ydot and omega is named by a list: {entry}")
+    else:  # their names say polar: a mapping
+        entry = hints.columns_entry(key, {k: pick(c) for k, c in zip(("speed", "angle", "spin"), POLAR_ROLES,
+                                                                        strict=True)}, table.hint_style)
+        fix = (f"speed, angle and spin half-widths are named by a mapping (and propagated to xdot, ydot, omega): "
+               f"{entry}" if interval else
+               f"a state given as speed, angle and spin is named by a mapping (a list is read as xdot, ydot, "
+               f"omega): {entry}")
+    raise DataError(
+        f"the column name{'' if one else 's'} {' and '.join(repr(c.name) for c in cols)} "
+        f"{'says it holds' if one else 'say they hold'} {said}, but {opt}[{key!r}] reads "
+        f"{'it' if one else 'them'} as the {read}; {fix}; or rename the column{'' if one else 's'} if "
+        f"{'it does' if one else 'they do'} hold what is asked", file=table.file, column=cols[0].name)
 
 
 def _candidates(table: _Table) -> dict[str, list[_Choice]]:
@@ -342,7 +435,8 @@ def _state_form(found: dict[str, list[_Choice]], state: str) -> str:
     return "polar" if polar and not cart else "cartesian"
 
 
-def _select_auto(table: _Table) -> dict[str, _Choice]:
+def _select_auto(table: _Table, warn_depth: int = 0) -> dict[str, _Choice]:
+    """The columns of each role found from their names (``warn_depth``: frames between the loader and its caller)."""
     found = _candidates(table)
     chosen: dict[str, _Choice] = {}
     problems = []
@@ -365,47 +459,73 @@ def _select_auto(table: _Table) -> dict[str, _Choice]:
             problems.append(f"{role}: several candidates {[c.column.name for c in cands]}")
         elif role != "setting":
             problems.append(f"{role}: no column found")
-    for state in _PI_STATES:
-        roles = [f"{state}.{c}" for c in COMPONENTS]
-        if all(len(found[r]) == 1 for r in roles):
-            chosen.update({r: found[r][0] for r in roles})
-        elif any(len(found[r]) > 1 for r in roles):
-            problems.extend(f"{r}: several candidates {[c.column.name for c in found[r]]}"
-                            for r in roles if len(found[r]) > 1)
-        elif any(found[r] for r in roles):
-            warnings.warn(
-                f"{table.file}: ignoring the incomplete {state} columns "
-                f"{[found[r][0].column.name for r in roles if found[r]]}; "
-                f"name all three in {hints.option('columns', table.hint_style)} to use them",
-                UserWarning, stacklevel=4,
-            )
+    interval_errors = []
+    for state in _STATES:
+        picked, several, error = _auto_intervals(table, found, state, forms[state], warn_depth)
+        chosen.update(picked)
+        problems.extend(several)
+        interval_errors += [error] if error is not None else []
     if problems:
         raise DataError(_auto_detect_message(table, found, problems, forms), file=table.file)
+    if interval_errors:
+        raise DataError(interval_errors[0] + "\n    " + _columns_call(table, found, forms), file=table.file)
     return chosen
+
+
+def _auto_intervals(table: _Table, found: dict[str, list[_Choice]], state: str, form: str,
+                    warn_depth: int = 0) -> tuple[dict[str, _Choice], list[str], str | None]:
+    """The interval columns of one state found from their names: the choice, the roles with several
+    candidates, and what else is wrong with them (a message ending in a colon, for the columns= call).
+
+    Complete Cartesian half-widths are read as such (for a Cartesian state even beside polar ones, as
+    its state is read beside derived speeds and angles). Polar half-widths need a polar state and all
+    three of speed, angle and spin; anything else is refused, since which numbers to propagate, or
+    through what, would be a guess. A lone spin half-width, which is of neither form, is ignored with a
+    warning, as incomplete Cartesian half-widths are.
+    """
+    pi, name = f"{state}_pi", _NAMES[state]
+    several = [f"{pi}.{c}: several candidates {[ch.column.name for ch in found[f'{pi}.{c}']]}"
+               for c in (*COMPONENTS, "speed", "angle") if len(found[f"{pi}.{c}"]) > 1]
+    if several:
+        return {}, several, None
+
+    def names(comps: Sequence[str]) -> list[str]:
+        return [found[f"{pi}.{c}"][0].column.name for c in comps if found[f"{pi}.{c}"]]
+
+    cartesian = [r for r in COMPONENTS if found[f"{pi}.{r}"]]
+    polar = [r for r in ("speed", "angle") if found[f"{pi}.{r}"]]
+    if len(cartesian) == 3 and (form == "cartesian" or not polar):
+        return {f"{pi}.{c}": found[f"{pi}.{c}"][0] for c in COMPONENTS}, [], None
+    opt = hints.option("columns", table.hint_style)
+    if polar and form == "cartesian":
+        return {}, [], (f"the columns {names(polar)} are half-widths of the {name} speed or angle, but the {name} is "
+                    f"read from its Cartesian columns (xdot, ydot, omega); bouncelab propagates polar half-widths "
+                    f"only through a polar state and does not guess one: give the {name} as speed, angle and spin, "
+                    f"or Cartesian half-widths, in {opt} (leave {pi!r} out to load without intervals):")
+    if polar and {"xdot", "ydot"} & set(cartesian):
+        return {}, [], (f"the {name} has both Cartesian half-widths {names(('xdot', 'ydot'))} and polar ones "
+                    f"{names(polar)}; say which to read in {opt} ({pi!r} as a list of xdot, ydot, omega or a "
+                    "mapping of speed, angle, spin):")
+    if polar:
+        missing = [k for k, c in zip(("speed", "angle", "spin"), POLAR_ROLES, strict=True) if not found[f"{pi}.{c}"]]
+        if not missing:
+            return {f"{pi}.{c}": found[f"{pi}.{c}"][0] for c in POLAR_ROLES}, [], None
+        return {}, [], (f"the {name} has polar half-widths {names(POLAR_ROLES)} but none for its "
+                    f"{' and '.join(missing)}: all three (speed, angle, spin) are needed to propagate them to "
+                    f"xdot, ydot, omega; add the missing column, or name it (or leave {pi!r} out to load without "
+                    f"intervals) in {opt}:")
+    if cartesian:
+        which = "xdot, ydot, omega" + ("; or speed, angle, spin" if form == "polar" else "")
+        warnings.warn(
+            f"{table.file}: ignoring the incomplete {pi} columns {names(COMPONENTS)}; "
+            f"name all three ({which}) in {opt} to use them",
+            UserWarning, stacklevel=5 + warn_depth,
+        )
+    return {}, [], None
 
 
 def _auto_detect_message(table: _Table, found: dict[str, list[_Choice]], problems: list[str],
                          forms: dict[str, str]) -> str:
-    def pick(role: str) -> str:
-        cands = found[role]
-        if len(cands) == 1:
-            return cands[0].column.name
-        if cands:
-            return "<one of " + ", ".join(c.column.name for c in cands) + ">"
-        return f"<{role.replace('.', ' ')} column>"
-
-    parts: list[tuple[str, Any]] = []
-    for s in _STATES:
-        if forms[s] == "polar":  # a speed, angle and spin mapping
-            parts.append((s, {k: pick(f"{s}.{r}") for k, r in zip(("speed", "angle", "spin"), POLAR_ROLES,
-                                                                      strict=True)}))
-        else:
-            parts.append((s, [pick(f"{s}.{c}") for c in COMPONENTS]))
-    if found["setting"]:
-        parts.append(("setting", pick("setting")))
-    for s in _PI_STATES:
-        if any(found[f"{s}.{c}"] for c in COMPONENTS):
-            parts.append((s, [pick(f"{s}.{c}") for c in COMPONENTS]))
     hint = ""
     if any(forms[s] == "cartesian" and any(found[f"{s}.{c}"] for c in ("speed", "angle")) for s in _STATES):
         hint = ("\nFor a state given as speed, angle and spin, name them as "
@@ -414,8 +534,35 @@ def _auto_detect_message(table: _Table, found: dict[str, list[_Choice]], problem
         "cannot tell which columns hold the bounce data (" + "; ".join(problems) + ").\n"
         f"The file's columns are {[c.name for c in table.columns]}.\n"
         "Name them explicitly (replace each <...>):\n"
-        f"    {hints.columns_call(table.file, parts, table.hint_style)}" + hint
+        f"    {_columns_call(table, found, forms)}" + hint
     )
+
+
+def _columns_call(table: _Table, found: dict[str, list[_Choice]], forms: dict[str, str]) -> str:
+    """The columns= argument naming what was found, with ``<...>`` for what was not or is ambiguous."""
+    def pick(role: str, label: str | None = None) -> str:
+        cands = found[role]
+        if len(cands) == 1:
+            return cands[0].column.name
+        if cands:
+            return "<one of " + ", ".join(c.column.name for c in cands) + ">"
+        return f"<{label or role.replace('.', ' ')} column>"
+
+    def polar(state: str) -> dict[str, str]:  # a speed, angle and spin mapping
+        return {k: pick(f"{state}.{r}", f"{state} {k}")
+                for k, r in zip(("speed", "angle", "spin"), POLAR_ROLES, strict=True)}
+
+    parts: list[tuple[str, Any]] = []
+    for s in _STATES:
+        parts.append((s, polar(s) if forms[s] == "polar" else [pick(f"{s}.{c}") for c in COMPONENTS]))
+    if found["setting"]:
+        parts.append(("setting", pick("setting")))
+    for s, pi in zip(_STATES, _PI_STATES, strict=True):
+        if forms[s] == "polar" and any(found[f"{pi}.{c}"] for c in ("speed", "angle")):
+            parts.append((pi, polar(pi)))
+        elif any(found[f"{pi}.{c}"] for c in COMPONENTS):
+            parts.append((pi, [pick(f"{pi}.{c}") for c in COMPONENTS]))
+    return hints.columns_call(table.file, parts, table.hint_style)
 
 
 _ROLE_KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
@@ -444,6 +591,11 @@ def _check_units_arg(units: Mapping[str, str] | None, file: str, style: str = "p
     return out
 
 
+def _a(word: str) -> str:
+    """``word`` with its indefinite article: ``a velocity``, ``an angle``."""
+    return ("an " if word[:1].lower() in "aeiou" else "a ") + word
+
+
 def _column_unit(table: _Table, choice: _Choice, kind: str, given: dict[str, str]) -> tuple[str, str]:
     """Unit of a selected column and where it came from ("units=", "header", "assumed")."""
     col = choice.column
@@ -453,7 +605,7 @@ def _column_unit(table: _Table, choice: _Choice, kind: str, given: dict[str, str
         header = known.get(kind)
         if header is None and (known or not (choice.by_full_name and col.unit_in_header)):
             where = col.unit_where or ("header" if col.unit_in_header else "units row")
-            what = f"a {next(iter(known))} unit, not a {kind} unit" if known else "not a known unit"
+            what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
             try:
                 _canonical(_cf_spelling(col.unit_text), kind)
             except DataError as exc:

@@ -55,3 +55,10 @@ def columns_call(file: str, parts: list[tuple[str, Any]], style: str) -> str:
     if style == "cli":
         return "--columns '" + json.dumps(dict(parts)) + "'"
     return f"load_campaign({file!r}, columns={{{', '.join(f'{k!r}: {v!r}' for k, v in parts)}}})"
+
+
+def columns_entry(key: str, names: Any, style: str) -> str:
+    """One entry of ``columns=`` (or ``--columns`` JSON): ``columns={'landing': {'speed': ...}}``."""
+    if style == "cli":
+        return "--columns '" + json.dumps({key: names}) + "'"
+    return f"columns={{{key!r}: {names!r}}}"

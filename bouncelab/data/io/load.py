@@ -144,7 +144,10 @@ def load_campaign(
         A landing or lift-off given as speed, angle and spin is a mapping,
         ``{"speed": ..., "angle": ..., "spin": ...}`` (the landing angle
         positive below the horizontal, the lift-off angle above it; degrees
-        unless the header or ``units={"angle": "rad"}`` says otherwise).
+        unless the header or ``units={"angle": "rad"}`` says otherwise); its
+        intervals may be such a mapping too (half-widths of the speed, angle
+        and spin, propagated to first order to xdot, ydot, omega ones, see
+        :func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`).
         ``None`` detects them from :data:`~bouncelab.data.io.COLUMN_SYNONYMS`.
     units
         Units of the file's values, ``{"velocity": "m/s", "spin": "rpm"}``
@@ -194,7 +197,9 @@ def load_campaign(
         A campaign (see :func:`bouncelab.data.campaign.make_campaign`) in scaled
         units, with attrs ``campaign``, ``surface``, ``source`` (absolute path),
         ``data_kind`` (``"measured"`` unless a netCDF file says otherwise),
-        ``source_units`` and ``ball_radius_m``.
+        ``source_units`` and ``ball_radius_m``; with polar columns also
+        ``source_form`` (which states were polar) and, when intervals were
+        propagated from polar half-widths, ``interval_form``.
 
     Raises
     ------

@@ -19,9 +19,11 @@ import xarray as xr
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.io import hints
 from bouncelab.data.io.columns import (
+    _NAMES,
     _PI_STATES,
     _ROLE_KINDS,
     _STATES,
+    POLAR_ROLES,
     _column_unit,
     _describe_units,
     _normalize,
@@ -38,7 +40,14 @@ from bouncelab.data.plausibility import (
     implausibility,
     plausible_units,
 )
-from bouncelab.data.units import COMPONENTS, spin_to_scaled, state_from_polar, velocity_to_scaled
+from bouncelab.data.units import (
+    COMPONENTS,
+    polar_halfwidths_to_cartesian,
+    spin_to_scaled,
+    state_from_polar,
+    velocity_from_scaled,
+    velocity_to_scaled,
+)
 from bouncelab.data.validation import as_states
 from bouncelab.errors import DataError, DroppedRowsWarning
 
@@ -436,7 +445,7 @@ def _campaign_from_table(
     file = table.file
     if table.n_rows == 0:
         raise DataError("the file has a header but no data rows", file=file)
-    chosen = _select_explicit(table, columns) if columns is not None else _select_auto(table)
+    chosen = _select_explicit(table, columns) if columns is not None else _select_auto(table, warn_depth)
     cols = {role: ch.column for role, ch in chosen.items()}
 
     used: dict[str, str] = {}
@@ -497,6 +506,15 @@ def _campaign_from_table(
         attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in _STATES)
     for state in polar:
         _polar_state(table, state, cols, parsed, scaled, unit_of, ball_radius_m)
+    polar_pi = [s for s in _STATES if f"{s}_pi.speed" in cols]
+    if polar_pi:
+        # Derived, not measured, half-widths: say so, so that a reader of the campaign knows.
+        attrs["interval_form"] = ", ".join(
+            f"{s} " + ("polar (speed, angle and spin half-widths propagated to first order, speed and angle errors "
+                       "independent)" if s in polar_pi else "cartesian")
+            for s in _STATES if f"{s}_pi.omega" in cols)
+    for state in polar_pi:
+        _polar_intervals(table, state, cols, parsed, scaled, unit_of, ball_radius_m, plausible)
     _check_landing_sign(table, cols, scaled, unit_of)
 
     states: dict[str, np.ndarray] = {}
@@ -518,8 +536,11 @@ def _campaign_from_table(
             limit = np.array([plausible.max_speed / ball_radius_m] * 2 + [plausible.max_spin * 2 * math.pi / 60])
             if (arr > limit).any():
                 i, k = (int(v) for v in np.argwhere(arr > limit)[0])
-                unit = unit_of[roles[k]][0] if roles[k] in unit_of else None
                 what = f"{plausible.max_speed:g} m/s" if k < 2 else f"{plausible.max_spin:g} rpm"
+                if k < 2 and f"{state}.speed" in cols:  # propagated from a polar state's half-widths
+                    raise _propagated_too_wide(table, state, COMPONENTS[k], i, cols, scaled, unit_of,
+                                               ball_radius_m, what)
+                unit = unit_of[roles[k]][0] if roles[k] in unit_of else None
                 raise _err(table, f"prediction-interval half-width {_cell(cols[roles[k]], i, unit)} is wider than "
                            f"any plausible value ({what}): check the column's unit", cols[roles[k]].name, i)
 
@@ -559,8 +580,15 @@ def _polar_state(
     sp, an, om = (f"{state}.{c}" for c in ("speed", "angle", "omega"))
     speed, angle = parsed[sp], scaled[an]
     (angle_unit, angle_origin), speed_unit = unit_of[an], unit_of[sp][0]
-    name = "landing" if state == "landing" else "lift-off"
-    if angle_origin == "assumed" and len(angle) and np.nanmax(np.abs(angle)) <= _RADIAN_LIKE:
+    name = _NAMES[state]
+    # NaN (an array reader's missing value) and inf ("inf", 1e999, np.inf in a DataFrame), first in row order.
+    infinite = ~np.isfinite(np.column_stack([parsed[sp], parsed[an], parsed[om]]))
+    if infinite.any():
+        i, k = (int(v) for v in np.argwhere(infinite)[0])
+        role = (sp, an, om)[k]
+        raise _err(table, f"{name} {('speed', 'angle', 'spin')[k]} {_cell(cols[role], i, unit_of[role][0])} is not "
+                   "a finite number; every bounce needs a finite speed, angle and spin", cols[role].name, i)
+    if angle_origin == "assumed" and len(angle) and np.max(np.abs(angle)) <= _RADIAN_LIKE:
         declare = hints.unit_setting("angle", "rad", table.hint_style)
         raise DataError(
             f"the file gives no unit for the {name} angles and every one is within +-{_RADIAN_LIKE:.2f}: read as "
@@ -597,6 +625,79 @@ def _polar_state(
     for comp in ("xdot", "ydot"):
         unit_of[f"{state}.{comp}"] = unit_of[sp]
         cols[f"{state}.{comp}"] = cols[sp]
+
+
+# A 95 % half-width of an angle beyond this spans every direction a landing can come from: a unit or
+# column mistake, not an uncertainty (and far beyond where a first-order propagation means anything).
+_MAX_ANGLE_HALFWIDTH_DEG = 90.0
+
+
+def _polar_intervals(
+    table: _Table,
+    state: str,
+    cols: dict[str, _Column],
+    parsed: dict[str, np.ndarray],
+    scaled: dict[str, np.ndarray],
+    unit_of: dict[str, tuple[str, str]],
+    radius_m: float,
+    plausible: PlausibleRanges | None,
+) -> None:
+    """Propagate a polar state's speed, angle and spin half-widths to xdot, ydot, omega ones (in place).
+
+    To first order with independent speed and angle errors
+    (:func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`), at the state's measured speed and
+    angle (converted by :func:`_polar_state` first). The half-widths are checked as written before, since
+    the propagation would square a negative one into a positive one.
+    """
+    pi = f"{state}_pi"
+    roles = [f"{pi}.{c}" for c in POLAR_ROLES]
+    raw = np.column_stack([parsed[r] for r in roles])
+    bad = ~(np.isfinite(raw) & (raw >= 0))  # NaN compares false
+    if plausible is not None:
+        bad[:, 1] |= scaled[roles[1]] > _MAX_ANGLE_HALFWIDTH_DEG
+    if bad.any():
+        i, k = (int(v) for v in np.argwhere(bad)[0])
+        col = cols[roles[k]]
+        cell = _cell(col, i, unit_of[roles[k]][0])
+        if raw[i, k] < 0:
+            why = "is negative"
+        elif not np.isfinite(raw[i, k]):
+            why = "is not a finite number"
+        else:
+            why = (f"is wider than any plausible angle half-width ({_MAX_ANGLE_HALFWIDTH_DEG:g} deg spans every "
+                   "direction a landing can come from): check the column's unit")
+        raise _err(table, f"prediction-interval half-width {cell} {why}", col.name, i)
+    polar = np.column_stack([scaled[f"{state}.{c}"] for c in POLAR_ROLES])  # radii/s, degrees, rad/s
+    hw = polar_halfwidths_to_cartesian(polar, np.column_stack([scaled[r] for r in roles]), kind=state,
+                                       speed_unit="radius/s", spin_unit="rad/s", radius_m=radius_m)
+    for k, comp in enumerate(COMPONENTS):
+        scaled[f"{pi}.{comp}"] = hw[:, k]
+    for comp in ("xdot", "ydot"):  # so that a later message about them names a column of the file
+        cols[f"{pi}.{comp}"] = cols[f"{pi}.speed"]
+        unit_of[f"{pi}.{comp}"] = unit_of[f"{pi}.speed"]
+
+
+def _propagated_too_wide(table: _Table, pi: str, comp: str, i: int, cols: dict[str, _Column],
+                         scaled: dict[str, np.ndarray], unit_of: dict[str, tuple[str, str]], radius_m: float,
+                         limit: str) -> DataError:
+    """A propagated xdot or ydot half-width beyond the plausible, blamed on the column whose term dominates."""
+    state = pi.removesuffix("_pi")
+    v, a = scaled[f"{state}.speed"][i], np.deg2rad(scaled[f"{state}.angle"][i])
+    h_v, h_a = scaled[f"{pi}.speed"][i], np.deg2rad(scaled[f"{pi}.angle"][i])
+    # The two terms under the square root (units.polar_halfwidths_to_cartesian).
+    by_speed, by_angle = (abs(math.cos(a)) * h_v, v * abs(math.sin(a)) * h_a) if comp == "xdot" else (
+        abs(math.sin(a)) * h_v, v * abs(math.cos(a)) * h_a)
+    culprit = cols[f"{pi}.speed" if by_speed >= by_angle else f"{pi}.angle"]
+    unit = unit_of[f"{pi}.speed"][0]
+    value = velocity_from_scaled(scaled[f"{pi}.{comp}"][i], unit, radius_m=radius_m)
+
+    def cell(role: str) -> str:
+        return _cell(cols[role], i, unit_of[role][0])
+
+    return _err(table, f"the {_NAMES[state]} {comp} half-width propagated from the speed half-width "
+                f"{cell(f'{pi}.speed')} and the angle half-width {cell(f'{pi}.angle')} (at speed "
+                f"{cell(f'{state}.speed')}, angle {cell(f'{state}.angle')}) is {value:.4g} {unit}, wider than any "
+                f"plausible value ({limit}): check the unit of {culprit.name!r}", culprit.name, i)
 
 
 def _check_landing_sign(table: _Table, cols: dict[str, _Column], scaled: dict[str, np.ndarray],
