@@ -32,6 +32,9 @@ class DataError(BouncelabError, ValueError):
     file, column, row
         Where the problem is, when known (``row`` is 1-based: the first data
         row of a file or the first bounce of an array is row 1).
+    row_label
+        The row's label in the caller's pandas index, when the data came as a
+        DataFrame (``row`` is still its 1-based position).
     """
 
     def __init__(
@@ -41,17 +44,19 @@ class DataError(BouncelabError, ValueError):
         file: str | None = None,
         column: str | None = None,
         row: int | None = None,
+        row_label: object = None,
     ) -> None:
         self.file = None if file is None else str(file)
         self.column = column
         self.row = row
+        self.row_label = row_label
         where = []
         if self.file is not None:
             where.append(f"file {self.file!r}")
         if column is not None:
             where.append(f"column {column!r}")
         if row is not None:
-            where.append(f"row {row}")
+            where.append(f"row {row}" + ("" if row_label is None else f" (row label {row_label!r})"))
         self.message = message
         super().__init__(f"{', '.join(where)}: {message}" if where else message)
 

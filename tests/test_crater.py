@@ -147,7 +147,7 @@ def test_predict_varying_matches_one_law_per_row_and_refuses_bad_rows():
         assert law.regimes[codes[i]] == law.regime(p[i : i + 1])[0]
     bad = rows.copy()
     bad[3, 0] = 1.5
-    with pytest.raises(bl.ParameterError, match="'r0' of row 3"):
+    with pytest.raises(bl.ParameterError, match="'r0' of row 4"):
         bl.CraterContact.predict_varying(p, bad)
     with pytest.raises(bl.ParameterError, match="pass an instance"):  # its option lives on an instance
         bl.laws.predict_per_bounce(bl.CraterContact, p, rows)
@@ -284,7 +284,7 @@ def test_predict_varying_reads_mappings_by_name_and_uses_the_instance_option():
     ({k: v for k, v in BASE.items() if k != "lam"}, r"missing \['lam'\]"),
     ({**BASE, "r0": [0.5, 0.6]}, "'r0' needs one value or one per landing"),
     ({**BASE, "mu_k": "0.2"}, "'mu_k' must be numbers"),
-    ({**BASE, "v_s": float("nan")}, "'v_s' of row 0 must be finite"),
+    ({**BASE, "v_s": float("nan")}, "'v_s' of row 1 must be finite"),
     ([[0.5] * 10], r"shape \(5, 11\) in the order"),
 ])
 def test_predict_varying_refuses_bad_params_by_name(params, match):
@@ -309,3 +309,13 @@ def test_steep_walls_can_send_a_ball_into_the_ground_and_predict_flags_it():
     out, flags = law.predict(p, return_flags=True)
     assert out[0, 1] <= 0 < out[1, 1]
     assert list(flags.into_ground) == [True, False]
+
+
+def test_predict_varying_names_a_dataframe_row_by_its_label():
+    import pandas as pd
+
+    p = contact_landings(4, seed=21)
+    frame = pd.DataFrame([BASE] * 4, index=["spot-a", "spot-b", "spot-c", "spot-d"])
+    frame.loc["spot-c", "r0"] = 1.5
+    with pytest.raises(bl.ParameterError, match=r"'r0' of row 3 \(row label 'spot-c'\) is 1.5"):
+        bl.CraterContact.predict_varying(p, frame)

@@ -140,7 +140,7 @@ def test_predict_varying_refuses_bad_rows():
         bl.TurfContact.predict_varying(p, np.tile(row, (2, 1)))
     bad = np.tile(row, (3, 1))
     bad[1, 3] = -0.1
-    with pytest.raises(bl.ParameterError, match="'mu' of row 1"):
+    with pytest.raises(bl.ParameterError, match="'mu' of row 2"):
         bl.TurfContact.predict_varying(p, bad)
     with pytest.raises(bl.DataError):
         bl.TurfContact.predict_varying([[1.0, 5.0, 0.0]], row)

@@ -346,3 +346,27 @@ def test_labelled_input_gives_labelled_output():
     assert isinstance(codes, pd.Series) and list(codes.index) == list(df.index)
     one = law.predict(pd.Series(P0[0], index=["xdot", "ydot", "omega"], name="shot 1"))
     assert isinstance(one, pd.Series) and one.name == "shot 1" and list(one.index) == ["xdot", "ydot", "omega"]
+
+
+def test_dataframe_errors_name_its_own_row_label_and_column():
+    """A DataFrame's bad value is named by the frame's index label and column, not only by position."""
+    import pandas as pd
+
+    import bouncelab as bl
+
+    law = bl.Rigid.published("A")
+    df = pd.DataFrame(P0, columns=["xdot0", "ydot0", "omega0"], index=[10 * i + 7 for i in range(len(P0))])
+    df.iloc[1, 1] = 5.0  # a landing moving up
+    with pytest.raises(DataError, match=r"column 'landing.ydot0', row 2 \(row label 17\)") as err:
+        law.predict(df)
+    assert (err.value.row, err.value.row_label, err.value.column) == (2, 17, "landing.ydot0")
+    labels = [f"s{i}" for i in range(len(P0))]
+    shuffled = pd.DataFrame(P0[:, [2, 1, 0]], columns=["omega", "ydot", "xdot"], index=labels)
+    shuffled.iloc[2, 0] = np.nan  # omega of row 3
+    with pytest.raises(DataError, match=r"column 'landing.omega', row 3 \(row label 's2'\)"):
+        law.predict(shuffled)
+    with pytest.raises(DataError, match=r"row 3 \(row label 's2'\)"):
+        bl.make_campaign(shuffled, P0)
+    with pytest.raises(DataError) as err:  # plain arrays keep their position only
+        law.predict(np.where(np.isnan(shuffled.to_numpy()[:, [2, 1, 0]]), np.nan, P0))
+    assert err.value.row == 3 and err.value.row_label is None and "label" not in str(err.value)

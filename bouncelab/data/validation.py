@@ -99,7 +99,12 @@ def as_states(
         )
     lead = arr.shape[:-1]
     flat = np.ascontiguousarray(arr.reshape(-1, 3))
-    if not (defer_check and flat.shape[0] >= FAST_CHECK_MIN):
+    if labelled is not states:  # pandas: an error names the caller's own row label and column
+        try:
+            _check_values(flat, name, landing=landing, file=file)
+        except DataError as exc:
+            raise _in_pandas_terms(exc, labelled, name) from None
+    elif not (defer_check and flat.shape[0] >= FAST_CHECK_MIN):
         _check_values(flat, name, landing=landing, file=file)
 
     def wrap(result: np.ndarray) -> Any:
@@ -144,6 +149,24 @@ def _from_labelled(states: Any, name: str, file: str | None) -> Any:
             raise DataError(f"{name} Series index must be {list(COMPONENTS)}; got {labels}", file=file)
         return states.iloc[order].to_numpy()
     return states
+
+
+def _in_pandas_terms(exc: DataError, frame: Any, name: str) -> DataError:
+    """``exc`` (about the (n, 3) array read from ``frame``) restated with the frame's row label and column name."""
+    import pandas as pd
+
+    if not isinstance(frame, pd.DataFrame) or exc.row is None:
+        return exc
+    column = exc.column
+    if column is not None and column.startswith(f"{name}."):
+        labels = [str(c) for c in frame.columns]
+        order = _component_order(labels)
+        component = column[len(name) + 1:]
+        if order is not None and component in COMPONENTS:
+            column = f"{name}.{labels[order[COMPONENTS.index(component)]]}"
+    label = frame.index[exc.row - 1]
+    label = label.item() if isinstance(label, np.generic) else label  # 7, not np.int64(7)
+    return DataError(exc.message, file=exc.file, column=column, row=exc.row, row_label=label)
 
 
 def _component_order(labels: list[str]) -> list[int] | None:

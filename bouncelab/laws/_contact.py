@@ -182,16 +182,23 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
             raise ParameterError(f"{cls.__name__}: params must have shape ({n}, {len(specs)}) in the order "
                                  f"{names}; got {T.shape}")
     T = np.ascontiguousarray(T, dtype=np.float64)
+    frame = params if hasattr(params, "columns") and hasattr(params, "index") else landing
+
+    def row(i: int) -> str:  # 1-based, as DataError's rows; with the caller's index label for a DataFrame
+        label = frame.index[i] if hasattr(frame, "columns") and len(frame.index) == n else None
+        label = label.item() if isinstance(label, np.generic) else label
+        return f"row {i + 1}" + ("" if label is None else f" (row label {label!r})")
+
     for j, s in enumerate(specs):
         col = T[:, j]
         lo, hi = s.physical
         if not np.isfinite(col).all():
             i = int(np.flatnonzero(~np.isfinite(col))[0])
-            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} must be finite; got {col[i]}")
+            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of {row(i)} must be finite; got {col[i]}")
         bad = (col < lo) | (col > hi)
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of row {i} is {col[i]:g}, "
+            raise ParameterError(f"{cls.__name__}: parameter {s.name!r} of {row(i)} is {col[i]:g}, "
                                  f"outside its physical range [{lo}, {hi}]")
     out, c = run_kernel_rows(kernel, p, kernel_rows(law, T))
     return (out, c) if codes else out
