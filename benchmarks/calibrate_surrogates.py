@@ -17,12 +17,12 @@ Target (issue 10): every |s_k / p_k - 1| <= 25 %, the median <= 10 %, f < 3 %, o
 
 What is calibrated
 ------------------
-The turf: a bounce law (``--law``, any bouncelab law with scalar parameters; the default stand-in
-is TangentialRestitution, until a physical turf law is available) and the spot-to-spot scatter of
-its parameters. The search vector is, for every scalar parameter ``p`` of the law, its nominal value
-(within the law's search bounds) and the standard deviation ``sigma_p`` of ``ln p`` between spots
-(in [0, ``--max-sigma``]; a parameter whose physical range includes negative values scatters
-normally instead, with sd ``sigma_p`` times its search range). The launcher design and the camera keep their defaults.
+The turf: a bounce law (``--law``, any bouncelab law with scalar parameters; default CraterContact,
+the law of the shipped turf surrogates) and the spot-to-spot scatter of its parameters. The search
+vector is, for every scalar parameter ``p`` of the law, its nominal value (within the law's search
+bounds) and the standard deviation ``sigma_p`` of ``ln p`` between spots (in [0, ``--max-sigma``];
+a parameter whose physical range includes negative values scatters normally instead, with sd
+``sigma_p`` times its search range). The launcher design and the camera keep their defaults.
 
 Optimiser and compute
 ---------------------
@@ -246,6 +246,20 @@ def json_start(path: str, campaign: str, law: str, scatter: tuple[str, ...] | No
     return np.array([float(data[n]) if n in data else sigma for n in par.names])
 
 
+def shipped_start(campaign: str, law: str, scatter: tuple[str, ...] | None) -> np.ndarray:
+    """Start vector: the shipped point of ``TURF_CALIBRATION`` (a searched log-sd it lacks starts at 0)."""
+    from bouncelab.data.surrogate import TURF_CALIBRATION
+
+    shipped = TURF_CALIBRATION[campaign]
+    if shipped["law"] != law:
+        raise SystemExit(f"the shipped turf of campaign {campaign} is {shipped['law']}, not {law}: pass --law "
+                         f"{shipped['law']} or another --start")
+    par = Parametrisation(law, scatter=scatter)
+    sigmas = {f"sigma_{n}": v for n, v in shipped["log_sd"].items()}
+    return np.array([float(shipped["nominal"][n]) if n in shipped["nominal"] else float(sigmas.get(n, 0.0))
+                     for n in par.names])
+
+
 def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replicates: int, seed: int,
            max_sigma: float, final_seeds: int, scatter: tuple[str, ...] | None = None) -> dict:
     """Nelder-Mead (adaptive, restarted from a perturbed best point) within ``budget`` seconds, one process.
@@ -291,7 +305,7 @@ def refine(campaign: str, *, law: str, start: np.ndarray, budget: float, replica
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--campaign", nargs="+", default=["A", "B"], choices=["A", "B"])
-    ap.add_argument("--law", default="TangentialRestitution", help="turf law (a bouncelab law name)")
+    ap.add_argument("--law", default="CraterContact", help="turf law (a bouncelab law name)")
     ap.add_argument("--maxiter", type=int, default=3, help="differential-evolution generations")
     ap.add_argument("--popsize", type=int, default=4, help="candidates per generation per dimension")
     ap.add_argument("--replicates", type=int, default=2, help="campaigns simulated per candidate")
@@ -305,8 +319,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--method", default="de", choices=["de", "nelder-mead"],
                     help="differential evolution on dask, or a time-boxed Nelder-Mead in this process")
     ap.add_argument("--start", default="fit",
-                    help="Nelder-Mead start: 'fit' (the law fitted to the embedded campaign, log-sd 0.1) or a JSON "
-                         "file: a previous --output (its point for the campaign) or a mapping name -> value")
+                    help="Nelder-Mead start: 'fit' (the law fitted to the embedded campaign, log-sd 0.1), 'shipped' "
+                         "(TURF_CALIBRATION's point) or a JSON file: a previous --output (its point for the "
+                         "campaign) or a mapping name -> value")
     ap.add_argument("--budget", type=float, default=300.0, help="Nelder-Mead wall time per campaign (s)")
     ap.add_argument("--scatter", nargs="+", default=None, metavar="NAME",
                     help="parameters that vary from spot to spot (default: all); the others do not scatter")
@@ -315,8 +330,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     results = []
     for campaign in args.campaign:
         if args.method == "nelder-mead":
-            start = (fitted_start(campaign, args.law, scatter=scatter) if args.start == "fit"
-                     else json_start(args.start, campaign, args.law, scatter))
+            if args.start == "fit":
+                start = fitted_start(campaign, args.law, scatter=scatter)
+            elif args.start == "shipped":
+                start = shipped_start(campaign, args.law, scatter)
+            else:
+                start = json_start(args.start, campaign, args.law, scatter)
             res = refine(campaign, law=args.law, start=start,
                          budget=args.budget, replicates=args.replicates, seed=args.seed, max_sigma=args.max_sigma,
                          final_seeds=args.final_seeds, scatter=scatter)

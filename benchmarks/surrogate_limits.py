@@ -18,7 +18,12 @@ target; this script measures why, without any simulation or noise:
    the slip side to v_P > 0 and the roll side to v_P < 0 must pass through v_P = 0 in between;
    the jump is what lets the paper's law (and the paper's balls) avoid it.
 
-Run: ``python benchmarks/surrogate_limits.py`` (under a minute on 2 cores).
+The landings are those of the published surrogate (``--landings published``, the default) or the true
+landings of the shipped turf surrogate's simulation (``--landings turf``:
+``bouncelab.data.surrogate.generate_turf_surrogate(key)["true_landing"]``), to see how much the
+launcher's landings move the floor.
+
+Run: ``python benchmarks/surrogate_limits.py`` (about 3 min on 2 cores, most of it fitting CraterContact).
 """
 
 from __future__ import annotations
@@ -59,15 +64,21 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, dict[str, float]]
     parser.add_argument("--laws", nargs="+", default=list(DEFAULT_LAWS), help="laws to fit (names or module:Class)")
     parser.add_argument("--near", type=float, default=0.05, help="'near the plane' as a fraction of ||p0||")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--landings", choices=("published", "turf"), default="published",
+                        help="the published surrogate's landings, or the turf surrogate's true (simulated) ones")
     args = parser.parse_args(argv)
     out: dict[str, dict[str, dict[str, float]]] = {}
     for key in args.campaign or ["A", "B"]:
-        # The published surrogate's landings follow the paper's launcher design; only they are used.
-        p0 = bl.load_campaign(key, surrogate="published")["landing"].values
+        if args.landings == "turf":
+            from bouncelab.data.surrogate import generate_turf_surrogate
+
+            p0 = generate_turf_surrogate(key)["true_landing"].values
+        else:
+            p0 = bl.load_campaign(key, surrogate="published")["landing"].values
         published = bl.PiecewiseAffine.published(key)
         target = np.asarray(published.predict(p0))
         n_near, jump_near, jump_all = plane_jump(published, p0, args.near)
-        print(f"\ncampaign {key}: {len(p0)} landings; published piecewise law, noise-free")
+        print(f"\ncampaign {key}: {len(p0)} {args.landings} landings; published piecewise law, noise-free")
         print(f"  jump between its two maps: median {jump_all:.3f} ||p0|| over all landings, "
               f"{jump_near:.3f} ||p0|| over the {n_near} within {args.near:g} ||p0|| of its plane")
         print(f"  rolling lift-offs (|v_P| < {ROLLING_THRESHOLD:g} ||p0||): {rolling_fraction(p0, target):.1%}")

@@ -24,6 +24,7 @@ from bouncelab.simulation import (
     simulate_campaign,
 )
 from bouncelab.simulation import calibration as cal
+from bouncelab.simulation.launcher import GRID_TOLERANCE_SD
 
 
 def _turf(scatter: bool = True) -> Turf:
@@ -34,7 +35,7 @@ def _turf(scatter: bool = True) -> Turf:
 
 @pytest.fixture(scope="module")
 def campaign_b() -> xr.Dataset:
-    return simulate_campaign("B", _turf(), seed=3)  # seed 3: one slow landing is mis-measured and re-fired
+    return simulate_campaign("B", _turf(), seed=3)
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +59,31 @@ def test_design_counts_and_span(key, n, repeats):
         assert plan.dials[:, col].max() == pytest.approx(t1.loc[dial, "max"])
 
 
+@pytest.mark.parametrize("key", ["A", "B"])
+def test_dial_grid_stays_within_table1_up_to_the_launcher_scatter(key):
+    design = LauncherDesign.for_campaign(key)
+    grid = design.dial_grid()
+    p0 = bl.data.units.landing_from_speed_angle_spin(grid[:, 0], grid[:, 1], grid[:, 2])
+    sd = design.landing_scatter_sd(grid)
+    t1 = published.TABLE1.loc[key]
+    for col, name in enumerate(("xdot", "ydot")):
+        outside = np.maximum(t1.loc[name, "min"] - p0[:, col], p0[:, col] - t1.loc[name, "max"])
+        assert (outside <= GRID_TOLERANCE_SD * sd[:, col] + 1e-9).all()
+    if key == "B":
+        # The slowest speed reaches Table 1's |ydot0| >= 90 only as a vertical drop: no slow, shallow landings.
+        slow = np.isclose(grid[:, 0], t1.loc["speed", "min"])
+        assert slow.sum() == design.spin_levels and np.all(grid[slow, 1] == t1.loc["angle", "max"])
+
+
+def test_landing_scatter_sd_matches_the_drawn_repeats():
+    design = LauncherDesign.for_campaign("B", spin_scatter=0.0, spin_scatter_abs_rpm=0.0)
+    dials = np.array([[20.0, 30.0, 3000.0], [5.0, 80.0, 0.0]])
+    z = np.random.default_rng(0).standard_normal((200_000, 4))
+    for row, sd in zip(dials, design.landing_scatter_sd(dials), strict=True):
+        p0, _ = design.landings(np.tile(row, (len(z), 1)), z)
+        np.testing.assert_allclose(p0[:, :2].std(axis=0), sd, rtol=0.02)  # first order in 2 % and 0.6 deg
+
+
 def test_campaign_sizes_settings_and_intervals(campaign_b):
     ds = campaign_b
     assert ds.sizes["bounce"] == 693
@@ -67,7 +93,16 @@ def test_campaign_sizes_settings_and_intervals(campaign_b):
     assert np.isfinite(ds["landing_pi"]).all() and (ds["liftoff_pi"] > 0).all()
     # Failed measurements (here a landing measured moving up) are filmed again, never kept.
     assert (ds["landing"].sel(component="ydot") < 0).all() and (ds["liftoff"].sel(component="ydot") > 0).all()
+
+
+def test_failed_measurements_are_filmed_again_never_kept():
+    # A rigid turf always lifts the ball off, so every refire here is a failed measurement (a noisy camera).
+    turf = Turf(bl.Rigid(r=0.45, mu=0.5), {})
+    ds = simulate_campaign(LauncherDesign("B", ((20, 3),)), turf, Camera(pixel_noise=2.0), seed=0)
     assert (ds["refired"] > 0).sum() >= 1
+    assert (ds["landing"].sel(component="ydot") < 0).all() and (ds["liftoff"].sel(component="ydot") > 0).all()
+    with pytest.raises(bl.DataError, match=r"could not be measured after 20 refires.*dials \["):
+        simulate_campaign(LauncherDesign("B", ((20, 3),)), turf, Camera(pixel_noise=5.0), seed=0)
 
 
 def test_same_seed_same_campaign_other_seed_differs(campaign_a):

@@ -74,6 +74,20 @@ def test_surrogate_limits_measures_the_floor_the_jump_and_rolling_liftoffs():
     assert 0 <= out["Rigid"]["rolling_liftoff_fraction"] <= 1
 
 
+def test_surrogate_limits_on_the_turf_surrogates_landings():
+    import bouncelab as bl
+    from benchmarks import surrogate_limits as lim
+    from bouncelab.data.surrogate import generate_turf_surrogate
+
+    out = lim.main(["--campaign", "A", "--laws", "Rigid", "--landings", "turf"])["A"]
+    p0 = generate_turf_surrogate("A")["true_landing"].values
+    noise_free = np.asarray(bl.PiecewiseAffine.published("A").predict(p0))
+    assert out["PiecewiseAffine (published)"]["rolling_liftoff_fraction"] == pytest.approx(
+        lim.rolling_fraction(p0, noise_free))
+    published = lim.main(["--campaign", "A", "--laws", "Rigid"])["A"]
+    assert out["Rigid"]["delta_floor"] != published["Rigid"]["delta_floor"]  # other landings, another floor
+
+
 def test_plane_jump_is_zero_for_a_continuous_piecewise_law():
     import bouncelab as bl
     from benchmarks import surrogate_limits as lim
@@ -113,3 +127,16 @@ def test_json_start_reads_a_previous_output_or_a_mapping(tmp_path):
         drv.json_start(str(mapping), "A", law, scatter)
     with pytest.raises(SystemExit, match="no result for campaign"):
         drv.json_start(str(previous), "C", law, scatter)
+
+
+def test_shipped_start_is_the_shipped_turf():
+    from bouncelab.data.surrogate import TURF_CALIBRATION, turf_for_campaign
+
+    scatter = ("r0", "mu_k", "lam", "e_t", "beta0", "kappa")  # kappa does not scatter in the shipped turf
+    x = drv.shipped_start("B", "CraterContact", scatter)
+    turf = drv.Parametrisation("CraterContact", 0.8, scatter).turf(x)
+    assert turf.law.parameters == turf_for_campaign("B").law.parameters
+    assert dict(zip(drv.Parametrisation("CraterContact", 0.8, scatter).names, x, strict=True))["sigma_kappa"] == 0
+    assert x[-2] == TURF_CALIBRATION["B"]["log_sd"]["beta0"]
+    with pytest.raises(SystemExit, match="is CraterContact, not TangentialRestitution"):
+        drv.shipped_start("A", "TangentialRestitution", None)
