@@ -75,6 +75,19 @@ def test_dial_grid_stays_within_table1_up_to_the_launcher_scatter(key):
         assert slow.sum() == design.spin_levels and np.all(grid[slow, 1] == t1.loc["angle", "max"])
 
 
+def test_dial_grid_does_not_depend_on_the_designs_scatter_and_small_designs_are_refused():
+    paper = LauncherDesign.for_campaign("B")
+    still = LauncherDesign.for_campaign("B", speed_scatter=0.0, angle_scatter_deg=0.0)
+    np.testing.assert_array_equal(still.dial_grid(), paper.dial_grid())  # the 1.93 m/s vertical drop included
+    assert np.isclose(still.dial_grid()[:, 0].min(), published.TABLE1.loc["B"].loc["speed", "min"])
+    with pytest.raises(bl.ParameterError, match=r"has \d+ reachable settings \(dial combinations.*use more levels"):
+        LauncherDesign("B", ((20, 6),), speed_levels=2, angle_levels=2, spin_levels=2).plan(np.random.default_rng(0))
+    with pytest.raises(bl.ParameterError, match="lowest and highest level of every dial"):
+        LauncherDesign("B", ((2, 6),)).plan(np.random.default_rng(0))
+    with pytest.raises(bl.ParameterError, match=r"shape \(n, 3\)"):
+        paper.landing_scatter_sd([20.0, 30.0, 3000.0])
+
+
 def test_landing_scatter_sd_matches_the_drawn_repeats():
     design = LauncherDesign.for_campaign("B", spin_scatter=0.0, spin_scatter_abs_rpm=0.0)
     dials = np.array([[20.0, 30.0, 3000.0], [5.0, 80.0, 0.0]])

@@ -34,7 +34,8 @@ def test_evaluate_averages_the_replicates():
 @pytest.mark.slow
 def test_tiny_calibration_run_on_dask(tmp_path):
     out = tmp_path / "calib.json"
-    results = drv.main(["--campaign", "A", "--maxiter", "1", "--popsize", "1", "--replicates", "1",
+    results = drv.main(["--campaign", "A", "--law", "TangentialRestitution", "--maxiter", "1", "--popsize", "1",
+                        "--replicates", "1",
                         "--final-seeds", "1", "--scheduler", "synchronous", "--output", str(out)])
     (res,) = results
     # (maxiter + 1) generations of popsize x 6 candidates, rounded up to a power of 2 by the Sobol start

@@ -14,7 +14,9 @@ A :class:`LauncherDesign` reproduces that design:
    ranges (physical units: m/s, degrees, rpm), form a grid of dial
    combinations. Combinations whose scaled ``xdot0`` or ``ydot0`` fall outside
    Table 1's scaled ranges by more than :data:`GRID_TOLERANCE_SD` standard
-   deviations of the launcher's own repeat scatter at that setting are
+   deviations of the paper-like launcher scatter at that setting
+   (:data:`REFERENCE_SCATTER`, the defaults below, whatever the design's own
+   scatter, so that changing the scatter does not change the dials) are
    dropped: the paper never landed a ball there.
 2. **Settings.** The campaign's settings are drawn from the reachable grid
    without replacement, first making sure that the lowest and highest level of
@@ -64,6 +66,11 @@ DIAL_UNITS = ("m/s", "deg", "rpm")
 #: sd) below the table's 1.10. A tolerance in units of the scatter keeps that vertical drop and drops the
 #: slow, shallow landings the paper never had (1.93 m/s at 16.4 degrees lands with ``ydot0`` = -26).
 GRID_TOLERANCE_SD = 2.0
+
+#: The launcher scatter (relative speed sd, angle sd in degrees) in whose units :data:`GRID_TOLERANCE_SD`
+#: counts: the default design's, a stand-in for the scatter of the paper's launcher that Table 1's
+#: measured ranges include. A design with another scatter keeps the same dial grid.
+REFERENCE_SCATTER = {"speed_scatter": 0.02, "angle_scatter_deg": 0.6}
 
 
 @dataclass(frozen=True)
@@ -126,8 +133,8 @@ class LauncherDesign:
     speed_levels: int = 6
     angle_levels: int = 5
     spin_levels: int = 6
-    speed_scatter: float = 0.02
-    angle_scatter_deg: float = 0.6
+    speed_scatter: float = REFERENCE_SCATTER["speed_scatter"]
+    angle_scatter_deg: float = REFERENCE_SCATTER["angle_scatter_deg"]
     spin_scatter: float = 0.04
     spin_scatter_abs_rpm: float = 60.0
 
@@ -205,7 +212,7 @@ class LauncherDesign:
         ]
         grid = np.array(list(itertools.product(*levels)))
         p0 = landing_from_speed_angle_spin(grid[:, 0], grid[:, 1], grid[:, 2])
-        sd = self.landing_scatter_sd(grid)
+        sd = _scatter_sd(grid, **REFERENCE_SCATTER)
         ok = np.ones(len(grid), dtype=bool)
         for col, name in enumerate(("xdot", "ydot")):
             lo, hi = t1.loc[name, "min"], t1.loc[name, "max"]
@@ -216,19 +223,13 @@ class LauncherDesign:
     def landing_scatter_sd(self, dials: np.ndarray) -> np.ndarray:
         """(n, 2) standard deviations of ``xdot0`` and ``ydot0`` between repeats at ``dials`` (radii/s).
 
-        To first order in the speed and angle scatter of :meth:`landings`: with landing speed
-        ``v`` (radii/s) and angle ``alpha``, ``xdot0 = v cos(alpha)`` and ``ydot0 = -v sin(alpha)``, so
+        ``dials`` is (n, 3): speed (m/s), angle (degrees), spin (rpm). To first order in the speed and
+        angle scatter of :meth:`landings`: with landing speed ``v`` (radii/s) and angle ``alpha``,
+        ``xdot0 = v cos(alpha)`` and ``ydot0 = -v sin(alpha)``, so
         ``sd(xdot0)^2 = (sigma_s v cos(alpha))^2 + (v sin(alpha) sigma_alpha)^2`` and
         ``sd(ydot0)^2 = (sigma_s v sin(alpha))^2 + (v cos(alpha) sigma_alpha)^2`` (``sigma_alpha`` in radians).
         """
-        dials = np.asarray(dials, dtype=float)
-        p0 = landing_from_speed_angle_spin(dials[:, 0], dials[:, 1], dials[:, 2])
-        v = np.hypot(p0[:, 0], p0[:, 1])
-        alpha = np.radians(dials[:, 1])
-        s_a = np.radians(self.angle_scatter_deg)
-        sd_x = np.hypot(self.speed_scatter * v * np.cos(alpha), v * np.sin(alpha) * s_a)
-        sd_y = np.hypot(self.speed_scatter * v * np.sin(alpha), v * np.cos(alpha) * s_a)
-        return np.column_stack([sd_x, sd_y])
+        return _scatter_sd(dials, self.speed_scatter, self.angle_scatter_deg)
 
     def plan(self, rng: np.random.Generator) -> LaunchPlan:
         """Choose the settings (spanning every dial's range) and the lost bounces."""
@@ -236,8 +237,9 @@ class LauncherDesign:
         n_settings = self.n_settings
         if n_settings > len(grid):
             raise ParameterError(
-                f"campaign {self.campaign}'s dial grid has {len(grid)} reachable settings; the design asks "
-                f"for {n_settings}: use more levels"
+                f"campaign {self.campaign}'s dial grid has {len(grid)} reachable settings (dial combinations "
+                f"whose landing lies within Table 1's xdot0 and ydot0 ranges, up to {GRID_TOLERANCE_SD:g} sd of the "
+                f"paper-like launcher scatter); the design asks for {n_settings}: use more levels"
             )
         chosen: list[int] = []
         for col in range(3):
@@ -246,6 +248,11 @@ class LauncherDesign:
                     continue
                 candidates = np.flatnonzero((grid[:, col] == extreme) & ~np.isin(np.arange(len(grid)), chosen))
                 chosen.append(int(rng.choice(candidates)))
+        if n_settings < len(chosen):
+            raise ParameterError(
+                f"the design asks for {n_settings} settings; using the lowest and highest level of every dial "
+                f"(so that the settings span Table 1) takes {len(chosen)} here: ask for more settings"
+            )
         rest = np.setdiff1d(np.arange(len(grid)), chosen)
         chosen += rng.choice(rest, size=n_settings - len(chosen), replace=False).tolist()
         order = rng.permutation(n_settings)  # which setting gets which repeat count
@@ -279,3 +286,17 @@ class LauncherDesign:
         spin = dials[:, 2] * (1.0 + self.spin_scatter * z[:, 2]) + self.spin_scatter_abs_rpm * z[:, 3]
         fired = np.column_stack([speed, angle, spin])
         return landing_from_speed_angle_spin(speed, angle, spin), fired
+
+
+def _scatter_sd(dials: np.ndarray, speed_scatter: float, angle_scatter_deg: float) -> np.ndarray:
+    """(n, 2) first-order sd of ``xdot0``, ``ydot0`` at ``dials`` (see :meth:`LauncherDesign.landing_scatter_sd`)."""
+    dials = np.asarray(dials, dtype=float)
+    if dials.ndim != 2 or dials.shape[1] != 3:
+        raise ParameterError(f"dials must have shape (n, 3) (speed m/s, angle deg, spin rpm); got {dials.shape}")
+    p0 = landing_from_speed_angle_spin(dials[:, 0], dials[:, 1], dials[:, 2])
+    v = np.hypot(p0[:, 0], p0[:, 1])
+    alpha = np.radians(dials[:, 1])
+    s_a = np.radians(angle_scatter_deg)
+    sd_x = np.hypot(speed_scatter * v * np.cos(alpha), v * np.sin(alpha) * s_a)
+    sd_y = np.hypot(speed_scatter * v * np.sin(alpha), v * np.cos(alpha) * s_a)
+    return np.column_stack([sd_x, sd_y])
