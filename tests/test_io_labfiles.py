@@ -241,19 +241,44 @@ def test_polar_states_listed_as_xdot_ydot_omega_are_refused_for_their_names(tmp_
     assert exc.value.column == "angle_out" and exc.value.file == "<DataFrame>"
 
 
-def test_cartesian_columns_named_as_speed_and_angle_are_refused(tmp_path):
-    # Before: loaded silently, vx_in read as the landing speed and vy_in as its angle.
+def test_a_polar_mapping_is_trusted_whatever_synonym_its_names_are(tmp_path):
+    # Regression (c48881e): docs/data.md's own example, columns={"landing": {"speed": "v_in", ...}}, was refused
+    # for "the column name 'v_in (m/s)' says it holds the landing ydot" (v is a ydot stem); it loaded before.
+    # A mapping says what each column holds, so it is trusted; a list is still checked (next tests).
+    names = ["v_in (m/s)", "a_in (deg)", "w_in (rpm)", "v_out (m/s)", "a_out (deg)", "w_out (rpm)"]
+    path = write(tmp_path / "v.csv", dict(zip(names, POLAR.values(), strict=True)))
+    check(load_campaign(path, columns={"landing": {"speed": "v_in", "angle": "a_in", "spin": "w_in"},
+                                       "liftoff": {"speed": "v_out", "angle": "a_out", "spin": "w_out"}}))
+    names = ["v0", "theta0", "w0", "vF", "thetaF", "wF"]
+    path = write(tmp_path / "v0.csv", dict(zip(names, POLAR.values(), strict=True)))
+    check(load_campaign(path, units={"velocity": "m/s", "spin": "rpm"},
+                        columns={"landing": {"speed": "v0", "angle": "theta0", "spin": "w0"},
+                                 "liftoff": {"speed": "vF", "angle": "thetaF", "omega": "wF"}}))
+    # Even a strong Cartesian name: the caller said it is the speed (c48881e refused this one too).
     names = ["vx_in", "vy_in", "w_in", "speed_out", "angle_out", "spin_out"]
     path = write(tmp_path / "vx.csv", dict(zip(names, POLAR.values(), strict=True)))
-    columns = {"landing": {"speed": "vx_in", "angle": "vy_in", "spin": "w_in"},
-               "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}}
-    with pytest.raises(DataError) as exc:
-        load_campaign(path, units={"velocity": "m/s", "spin": "rpm"}, columns=columns)
-    assert exc.value.column == "vx_in"
-    assert exc.value.message == (
-        "the column names 'vx_in' and 'vy_in' say they hold the landing xdot and ydot, but columns=['landing'] reads "
-        "them as the speed and angle; a state given as xdot, ydot and omega is named by a list: columns={'landing': "
-        "['vx_in', 'vy_in', 'w_in']}; or rename the columns if they do hold what is asked")
+    check(load_campaign(path, units={"velocity": "m/s", "spin": "rpm"},
+                        columns={"landing": {"speed": "vx_in", "angle": "vy_in", "spin": "w_in"},
+                                 "liftoff": {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}}))
+    # And a Cartesian mapping of polar-sounding names: xdot, ydot, omega as said.
+    names = ["speed_in", "angle_in", "spin_in", "vxF", "vyF", "wF"]
+    cart = dict(zip(names, [*CART.values()], strict=True))
+    check(load_campaign(write(tmp_path / "c.csv", cart), units={"velocity": "m/s", "spin": "rpm"},
+                        columns={"landing": {"xdot": "speed_in", "ydot": "angle_in", "omega": "spin_in"},
+                                 "liftoff": ["vxF", "vyF", "wF"]}))
+
+
+def test_a_list_of_loose_synonyms_is_still_refused(tmp_path):
+    # A list is xdot, ydot, omega: v_in is a ydot name, but a_in is no name at all, so only a list naming a
+    # recognised speed or angle is refused (the silent mis-read c48881e closed).
+    names = ["speed_in", "a_in", "w_in", "speed_out", "a_out", "w_out"]
+    path = write(tmp_path / "l.csv", dict(zip(names, POLAR.values(), strict=True)))
+    with pytest.raises(DataError, match=r"the column name 'speed_in' says it holds the landing speed, but "
+                       r"columns=\['landing'\] reads it as the xdot") as exc:
+        load_campaign(path, units={"velocity": "m/s", "spin": "rpm"},
+                      columns={"landing": ["speed_in", "a_in", "w_in"],
+                               "liftoff": {"speed": "speed_out", "angle": "a_out", "spin": "w_out"}})
+    assert exc.value.column == "speed_in"
 
 
 def test_columns_the_loader_does_not_recognise_are_taken_as_given(tmp_path):
@@ -477,6 +502,36 @@ def test_dataframe_errors_name_column_and_row_label(tmp_path):
     assert "row label 'b1'" in str(exc.value)
     with pytest.raises(DataError, match="sheet= does not apply to a DataFrame"):
         load_campaign(df, sheet=0)
+
+
+def test_dataframe_errors_carry_the_row_label_as_an_attribute(tmp_path):
+    # Before: DataError.row_label stayed None for load_campaign(DataFrame), the label only at the end of the
+    # message ("... (row label 'shot-2')"); now as predict says it: "row 2 (row label 'shot-2'): ...".
+    df = pd.DataFrame(CART, index=[f"shot-{i}" for i in range(1, 7)])
+    df.loc["shot-2", "vy0 (m/s)"] = 3.404
+    with pytest.raises(DataError) as exc:
+        load_campaign(df)
+    assert exc.value.row == 2 and exc.value.row_label == "shot-2" and exc.value.column == "vy0 (m/s)"
+    assert str(exc.value) == ("file '<DataFrame>', column 'vy0 (m/s)', row 2 (row label 'shot-2'): landing ydot must "
+                              "be negative (y points up, a landing moves down); the file gives 3.404 m/s (a file whose "
+                              "y points down needs the column negated)")
+    # An integer label is the caller's int; after dropped rows, the label of the row as the frame has it.
+    df = pd.DataFrame(CART, index=np.arange(10, 16))
+    df.loc[11, "w0 (rpm)"] = np.nan
+    df.loc[13, "vy0 (m/s)"] = 3.0
+    with pytest.warns(DroppedRowsWarning), pytest.raises(DataError) as exc:
+        load_campaign(df, missing="drop")
+    assert exc.value.row == 4 and exc.value.row_label == 13 and type(exc.value.row_label) is int
+    # Found in a cell, before the numbers (missing value) and in a polar half-width.
+    df = pd.DataFrame({**POLAR, **POLAR_PI}, index=[f"b{i}" for i in range(6)])
+    df.loc["b4", "angle_in_pi (deg)"] = -1.0
+    with pytest.raises(DataError) as exc:
+        load_campaign(df)
+    assert exc.value.row == 5 and exc.value.row_label == "b4"
+    # A file has no row label.
+    with pytest.raises(DataError) as exc:
+        load_campaign(write(tmp_path / "up.csv", CART, cells={("vy0 (m/s)", 2): "3.404"}))
+    assert exc.value.row == 2 and exc.value.row_label is None and "(line 3)" in str(exc.value)
 
 
 def test_fit_accepts_a_dataframe(tmp_path):
@@ -791,14 +846,33 @@ def test_polar_half_widths_for_some_columns_only_are_refused(tmp_path, drop, mis
     assert "'liftoff_pi': {'speed': 'speed_out_pi (m/s)', 'angle': 'angle_out_pi (deg)'" in msg
 
 
-def test_polar_half_widths_of_a_cartesian_state_are_refused(tmp_path):
+def test_polar_half_widths_of_a_cartesian_state_are_ignored_with_a_warning(tmp_path):
+    # Regression (c48881e): a Cartesian file with a stray polar uncertainty column loaded before and was then
+    # refused ("half-widths of the landing speed or angle, but the landing is read from its Cartesian
+    # columns"). Nothing to propagate them through: they are left out, with a warning naming them.
+    stray = {**{k.split(" ")[0]: v for k, v in CART.items()}, "speed_in_unc": np.full(6, 0.3)}
+    names = list(stray)
+    stray = {k: stray[k] for k in [*names[:3], "speed_in_unc", *names[3:6]]}  # vx0, vy0, w0, speed_in_unc, ...
+    with pytest.warns(UserWarning, match=r"ignoring the landing_pi columns \['speed_in_unc'\]: the landing is read "
+                      r"from its Cartesian columns \(xdot, ydot, omega\), and half-widths of its speed or angle "
+                      r"\(speed_in_unc\) are propagated only through a polar state; loaded without landing "
+                      r"intervals") as rec:
+        ds = load_campaign(write(tmp_path / "stray.csv", stray), units={"velocity": "m/s", "spin": "rpm"})
+    assert rec[0].filename == __file__  # the caller's line
+    check(ds)
+    assert "landing_pi" not in ds and "interval_form" not in ds.attrs
+    with pytest.warns(UserWarning, match="ignoring the landing_pi columns") as rec:
+        check(load_campaign(pd.DataFrame(stray), units={"velocity": "m/s", "spin": "rpm"}))
+    assert rec[0].filename == __file__
+    # All three of them, with the spin's, are ignored the same way (naming them all).
     table = {**CART, **{k: POLAR_PI[k] for k in ("speed_in_pi (m/s)", "angle_in_pi (deg)", "spin_in_pi (rpm)")}}
     path = write(tmp_path / "cart.csv", table)
-    with pytest.raises(DataError) as exc:
-        load_campaign(path)
-    msg = str(exc.value)
-    assert "the columns ['speed_in_pi (m/s)', 'angle_in_pi (deg)'] are half-widths of the landing speed or angle, "\
-           "but the landing is read from its Cartesian columns" in msg and "does not guess" in msg
+    with pytest.warns(UserWarning, match=r"ignoring the landing_pi columns \['speed_in_pi \(m/s\)', 'angle_in_pi "
+                      r"\(deg\)', 'spin_in_pi \(rpm\)'\]"):
+        ds = load_campaign(path)
+    check(ds)
+    assert "landing_pi" not in ds
+    # Named explicitly, they are still refused: the caller asked for intervals that cannot be had.
     with pytest.raises(DataError, match=r"columns=\['landing_pi'\] gives polar half-widths .* but "
                        r"columns=\['landing'\] reads the landing from Cartesian columns"):
         load_campaign(path, columns={"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"],
@@ -835,16 +909,109 @@ def test_half_widths_named_in_the_wrong_form_are_refused(tmp_path):
            "angle, but columns=['landing_pi'] reads them as the xdot and ydot half-widths; speed, angle and spin " \
            "half-widths are named by a mapping (and propagated to xdot, ydot, omega): columns={'landing_pi': " \
            "{'speed': 'speed_in_pi', 'angle': 'angle_in_pi', 'spin': 'spin_in_pi'}}" in str(exc.value)
-    table = {**POLAR, "vx_out_pi": np.full(6, 0.2), "vy_out_pi": np.full(6, 0.3), "spin_out_pi": SPIN_OUT_PI}
-    with pytest.raises(DataError, match="half-widths of the lift-off xdot and ydot, but columns=\\['liftoff_pi'\\] "
-                       "reads them as the speed and angle half-widths; the xdot, ydot and omega half-widths are named "
-                       "by a list: columns=\\{'liftoff_pi': \\['vx_out_pi', 'vy_out_pi', 'spin_out_pi'\\]\\}") as exc:
-        load_campaign(write(tmp_path / "c.csv", table), columns={
-            **states, "liftoff_pi": {"speed": "vx_out_pi", "angle": "vy_out_pi", "spin": "spin_out_pi"}})
-    assert exc.value.column == "vx_out_pi"
+    # A mapping says what its columns hold: Cartesian-sounding names given as speed and angle half-widths are
+    # read as such (c48881e refused them; the caller said so explicitly).
+    table = {**POLAR, "vx_out_pi (m/s)": SPEED_OUT_PI, "vy_out_pi (deg)": ANGLE_OUT_PI,
+             "spin_out_pi (rpm)": SPIN_OUT_PI}
+    ds = load_campaign(write(tmp_path / "c.csv", table), columns={
+        **states, "liftoff_pi": {"speed": "vx_out_pi", "angle": "vy_out_pi", "spin": "spin_out_pi"}})
+    np.testing.assert_allclose(ds["liftoff_pi"].values, EXP_LIFTOFF_PI, rtol=1e-7)
     with pytest.raises(DataError, match=r"columns=\['landing_pi'\] must be a list of 3 column names \(xdot, ydot, "
                        r"omega\) or a mapping \{'speed': \.\.\., 'angle': \.\.\., 'spin': \.\.\.\}"):
         load_campaign(path, units=units, columns={**states, "landing_pi": {"speed": "speed_in_pi"}})
+
+
+def test_half_widths_named_as_states_and_states_as_half_widths_are_refused(tmp_path):
+    # Before: the landing read from the half-width columns loaded (the half-widths as a 0.3 m/s landing), and
+    # a state named as the half-widths was refused only when its column was also named as the state.
+    plain = {k.split(" ")[0]: v for k, v in {**POLAR, **POLAR_PI}.items()}
+    path = write(tmp_path / "plain.csv", plain)
+    units = {"velocity": "m/s", "spin": "rpm"}
+    liftoff = {"speed": "speed_out", "angle": "angle_out", "spin": "spin_out"}
+    with pytest.raises(DataError) as exc:
+        load_campaign(path, units=units, columns={
+            "landing": {"speed": "speed_in_pi", "angle": "angle_in_pi", "spin": "spin_in_pi"}, "liftoff": liftoff})
+    assert exc.value.column == "speed_in_pi" and exc.value.file == str(path)
+    msg = exc.value.message
+    assert msg.startswith("columns=['landing'] names columns of the wrong kind: 'speed_in_pi' says it holds a "
+                          "half-width of the landing speed (a prediction interval), not the landing speed; ")
+    assert "'spin_in_pi' says it holds a half-width of the landing spin (a prediction interval), not the landing " \
+           "spin" in msg
+    assert "name a state's own columns in columns=['landing'] and their half-widths in columns=['landing_pi']" in msg
+    # One column is enough, in a list or a mapping, of either form; and the other way round.
+    cart = {**{k.split(" ")[0]: v for k, v in CART.items()}, "vx0_err": np.full(6, 0.2), "vy0_err": np.full(6, 0.2),
+            "w0_err": SPIN_IN_PI}
+    cpath = write(tmp_path / "cart.csv", cart)
+    with pytest.raises(DataError, match=r"columns=\['landing'\] names a column of the wrong kind: 'w0_err' says "
+                       r"it holds a half-width of the landing spin \(a prediction interval\), not the landing omega"):
+        load_campaign(cpath, units=units,
+                      columns={"landing": ["vx0", "vy0", "w0_err"], "liftoff": ["vxF", "vyF", "wF"]})
+    with pytest.raises(DataError, match=r"columns=\['landing_pi'\] names a column of the wrong kind: 'w0' says it "
+                       r"holds the landing spin itself, not the landing omega half-width") as exc:
+        load_campaign(cpath, units=units, columns={"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"],
+                                                   "landing_pi": ["vx0_err", "vy0_err", "w0"]})
+    with pytest.raises(DataError, match=r"columns=\['liftoff_pi'\] names a column of the wrong kind: 'spin_out' "
+                       r"says it holds the lift-off spin itself, not the lift-off spin half-width") as exc:
+        load_campaign(path, units=units, columns={
+            "landing": {"speed": "speed_in", "angle": "angle_in", "spin": "spin_in"}, "liftoff": liftoff,
+            "liftoff_pi": {"speed": "speed_out_pi", "angle": "angle_out_pi", "spin": "spin_out"}})
+    assert exc.value.column == "spin_out"
+
+
+@pytest.mark.parametrize(("header", "unit"), [
+    ("speed_in_pi (%)", "%"), ("speed_in_pi [%]", "%"), ("speed_in_pi_%", "%"), ("speed_in_pi (percent)", "percent"),
+    ("speed_in_pi [pct]", "pct"), ("angle_in_pi (%)", "%"), ("spin_in_pi_%", "%"), ("spin_in_pi (rel)", "rel"),
+])
+def test_relative_half_widths_are_refused(tmp_path, header, unit):
+    # Before: '(%)', '[%]' and '_%' were dropped with the rest of the name's punctuation, and the half-width of
+    # 2 (per cent) read as 2 m/s (2 deg, 2 rpm), in the unit of its value.
+    polar_pi = {k: v for k, v in POLAR_PI.items() if not k.startswith(header.split("_")[0] + "_in_pi")}
+    table = {**POLAR, header: np.full(6, 2.0), **polar_pi}
+    path = write(tmp_path / "rel.csv", table)
+    with pytest.raises(DataError) as exc:
+        load_campaign(path)
+    assert exc.value.file == str(path) and exc.value.column == header and exc.value.row is None
+    what = header.split("_")[0]
+    assert exc.value.message.startswith(f"the header gives the landing {what} half-width in {unit!r}, a relative "
+                                        "unit: bouncelab reads half-widths only in an absolute unit")
+    assert "multiplying each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s)" in exc.value.message
+    # A DataFrame too.
+    with pytest.raises(DataError, match="a relative unit") as exc:
+        load_campaign(pd.DataFrame(table))
+    assert exc.value.column == header
+
+
+def test_relative_units_of_cartesian_columns_units_rows_and_units_are_refused(tmp_path):
+    cart = {k.split(" ")[0]: v for k, v in CART.items()}
+    table = {**cart, "vx0_pi (%)": np.full(6, 2.0), "vy0_pi": np.full(6, 0.1), "w0_pi": np.full(6, 50.0)}
+    path = write(tmp_path / "c.csv", table)
+    with pytest.raises(DataError, match=r"the header gives the landing xdot half-width in '%', a relative unit") as e:
+        load_campaign(path, units={"velocity": "m/s", "spin": "rpm"})
+    assert e.value.column == "vx0_pi (%)"
+    with pytest.raises(DataError, match=r"the header gives the landing xdot in '%', a relative unit: a measured "
+                       r"landing xdot needs an absolute unit"):
+        load_campaign(write(tmp_path / "s.csv", {("vx0 (%)" if k == "vx0" else k): v for k, v in cart.items()}),
+                      units={"velocity": "m/s", "spin": "rpm"})
+    # Named explicitly, a relative unit as the last word of the name is refused too.
+    named = {**cart, "dvx0_pct": np.full(6, 2.0), "dvy0": np.full(6, 0.1), "dw0": np.full(6, 50.0)}
+    with pytest.raises(DataError, match=r"the header gives the landing xdot half-width in 'pct', a relative unit"):
+        load_campaign(write(tmp_path / "n.csv", named), units={"velocity": "m/s", "spin": "rpm"},
+                      columns={"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"],
+                               "landing_pi": ["dvx0_pct", "dvy0", "dw0"]})
+    # A units row saying '%' under a half-width (it was "not a known unit", which did not say why).
+    lines = (tmp_path / "c.csv").read_text().splitlines()
+    header = lines[0].replace("vx0_pi (%)", "vx0_pi")
+    units_row = ",".join(["m/s", "m/s", "rpm", "m/s", "m/s", "rpm", "%", "m/s", "rpm"])
+    (tmp_path / "u.csv").write_text("\n".join([header, units_row, *lines[1:]]) + "\n")
+    with pytest.raises(DataError, match=r"the units row gives the landing xdot half-width in '%', a relative unit"):
+        load_campaign(tmp_path / "u.csv")
+    # units= cannot say per cent either.
+    with pytest.raises(DataError, match=r"units=\{'velocity': 'percent'\}: 'percent' is a relative unit"):
+        load_campaign(path, units={"velocity": "percent", "spin": "rpm"})
+    # 'rel' inside a name is not a unit: such a column is taken as named.
+    ok = {("v_rel_x" if k == "vx0" else k): v for k, v in cart.items()}
+    check(load_campaign(write(tmp_path / "ok.csv", ok), units={"velocity": "m/s", "spin": "rpm"},
+                        columns={"landing": ["v_rel_x", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"]}))
 
 
 def test_polar_interval_names_are_recognised():

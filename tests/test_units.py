@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import doctest
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -383,3 +384,26 @@ def test_polar_halfwidths_refuse_bad_input(polar, hw, kind, needle):
     with pytest.raises(DataError) as exc:
         units.polar_halfwidths_to_cartesian(polar, hw, kind=kind)
     assert needle in str(exc.value)
+
+
+def test_polar_halfwidths_refuse_shapes_overflow_and_booleans():
+    # Before: shapes that do not broadcast raised numpy's ValueError (the docstring promises DataError), an
+    # overflow came back as inf, and True was a half-width of 1.
+    polar = np.array([[25.0, 40.0, 3000.0], [18.0, 55.0, -1200.0]])
+    with pytest.raises(DataError, match=r"the half-widths' shape \(3, 3\) does not broadcast against the polar "
+                       r"values' shape \(2, 3\)"):
+        units.polar_halfwidths_to_cartesian(polar, np.ones((3, 3)))
+    assert units.polar_halfwidths_to_cartesian(polar, np.ones((1, 3))).shape == (2, 3)  # broadcasts: fine
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # and no NumPy RuntimeWarning on the way
+        with pytest.raises(DataError, match=r"the propagated half-width xdot overflows \(element \(0,\)\)"):
+            units.polar_halfwidths_to_cartesian([25.0, 40.0, 3000.0], [1e308, 1.0, 1.0])
+        with pytest.raises(DataError, match=r"the propagated half-width ydot overflows \(element \(1, 1\)\)"):
+            units.polar_halfwidths_to_cartesian([[25.0, 40.0, 3000.0], [1e300, 0.0, 0.0]], [0.5, 1e10, 1.0],
+                                              kind="liftoff")
+    for hw in (np.array([True, True, True]), [0.5, True, 100.0], [[0.5, 1.0, 100.0], [False, 1.0, 1.0]]):
+        with pytest.raises(DataError, match=r"half-widths \[speed, angle, spin\] must be numeric: real numbers; "
+                           r"got (a boolean|boolean values)"):
+            units.polar_halfwidths_to_cartesian([25.0, 40.0, 3000.0], hw)
+    with pytest.raises(DataError, match=r"polar values .* must be numeric"):
+        units.polar_halfwidths_to_cartesian(np.array([True, True, True]), [0.5, 1.0, 100.0])

@@ -338,8 +338,9 @@ def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", s
     ------
     DataError
         Anything :func:`state_from_polar` refuses in ``polar``; a half-width that is
-        negative, NaN or infinite (naming the element); non-numeric values, wrong
-        shapes, an unknown unit.
+        negative, NaN or infinite (naming the element); non-numeric or boolean values,
+        shapes that do not broadcast, an unknown unit; a result that overflows to
+        infinity (naming the element).
 
     Notes
     -----
@@ -357,10 +358,17 @@ def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", s
     >>> polar_halfwidths_to_cartesian([25.0, 40.0, 3000], [0.5, 1.0, 100]).round(2)
     array([22.24, 21.72, 10.47])
     """
+    _refuse_bools(polar, "polar values [speed, angle, spin]")
+    _refuse_bools(halfwidths, "half-widths [speed, angle, spin]")
     s = _state_array(polar)
     h = _numeric(halfwidths, "half-widths [speed, angle, spin]")
     if h.shape[-1:] != (3,):
         raise DataError(f"half-widths need 3 components (speed, angle, spin) in their last axis; got shape {h.shape}")
+    try:
+        np.broadcast_shapes(s.shape, h.shape)
+    except ValueError:
+        raise DataError(f"the half-widths' shape {h.shape} does not broadcast against the polar values' shape "
+                        f"{s.shape}; give one row of half-widths per row of values, or one for all") from None
     state_from_polar(s, kind=kind, speed_unit=speed_unit, spin_unit=spin_unit, radius_m=radius_m)  # validates
     # A negative half-width would be squared away below: refuse it (and NaN, inf) first.
     _require(np.isfinite(h) & (h >= 0), h, "prediction-interval half-widths must be finite and >= 0")
@@ -369,9 +377,30 @@ def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", s
     a, h_a = np.deg2rad(s[..., 1]), np.deg2rad(h[..., 1])  # d(v cos a)/da needs radians
     h_s = spin_to_scaled(h[..., 2], spin_unit)
     cos, sin = np.cos(a), np.sin(a)
-    with np.errstate(over="ignore"):  # an overflow is inf, which the callers refuse by name
-        out = np.broadcast_arrays(np.hypot(cos * h_v, v * sin * h_a), np.hypot(sin * h_v, v * cos * h_a), h_s)
-    return np.stack(out, axis=-1)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is inf: refused below, naming the element
+        out = np.stack(np.broadcast_arrays(np.hypot(cos * h_v, v * sin * h_a), np.hypot(sin * h_v, v * cos * h_a),
+                                           h_s), axis=-1)
+    if not np.isfinite(out).all():
+        first = tuple(int(i) for i in np.argwhere(~np.isfinite(out))[0])
+        raise DataError(f"the propagated half-width {('xdot', 'ydot', 'omega')[first[-1]]} overflows (element "
+                        f"{first}): the speeds or half-widths are too large to be measurements")
+    return out
+
+
+def _refuse_bools(value, what: str) -> None:
+    """DataError if ``value`` holds booleans (True is not a speed of 1): numpy would read them as 0 and 1."""
+    if isinstance(value, bool | np.bool_):
+        raise DataError(f"{what} must be numeric: real numbers; got a boolean")
+    if isinstance(value, list | tuple):
+        for v in value:
+            _refuse_bools(v, what)
+        return
+    try:
+        kind = np.asarray(value).dtype.kind
+    except Exception:
+        return
+    if kind == "b" or (kind == "O" and any(isinstance(v, bool | np.bool_) for v in np.asarray(value).flat)):
+        raise DataError(f"{what} must be numeric: real numbers; got boolean values")
 
 
 def _unit_pair(units) -> tuple[str, str] | None:

@@ -118,7 +118,11 @@ Such a state's intervals may be half-widths of its speed, angle and spin
 are propagated to first order, with independent speed and angle errors, to the
 xdot, ydot, omega half-widths the campaign holds
 (:func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`), and the attr
-``interval_form`` says so.
+``interval_form`` says so. Half-widths are read in absolute units only: a
+relative unit (``speed_in_pi (%)``, ``pct``, ``rel``) is refused. A mapping in
+``columns=`` is trusted to say what each column holds; a list (xdot, ydot,
+omega) naming recognised speed or angle columns is refused, and so is a
+half-width column named as a state's, or the reverse.
 
 Requested names are matched with the same tolerance (``"vx in"`` finds
 ``"VX_IN [m/s]"``); a name that matches two file columns is an error unless it

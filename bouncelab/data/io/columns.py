@@ -311,6 +311,7 @@ def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Ch
         raise DataError(f"{opt} has unknown keys {unknown}; allowed keys are {list(allowed)}",
                         file=table.file)
     chosen: dict[str, _Choice] = {}
+    mapped: set[str] = set()  # the keys named by a mapping: their components are as the caller says
     for state in (*_STATES, *_PI_STATES):
         names = columns.get(state)
         if names is None:
@@ -324,11 +325,13 @@ def _select_explicit(table: _Table, columns: Mapping[str, Any]) -> dict[str, _Ch
                 f"{opt}[{state!r}] must be a list of 3 column names (xdot, ydot, omega) or a mapping "
                 f"{{'speed': ..., 'angle': ..., 'spin': ...}}; got {names!r}", file=table.file,
             )
+        if isinstance(names, Mapping):
+            mapped.add(state)
         for comp, name in roles.items():
             chosen[f"{state}.{comp}"] = _find_requested(table, name, f"{state} {comp}")
     if columns.get("setting") is not None:
         chosen["setting"] = _find_requested(table, str(columns["setting"]), "setting")
-    _check_forms(table, chosen, opt)
+    _check_forms(table, chosen, opt, mapped)
     return chosen
 
 
@@ -338,17 +341,24 @@ def _synonym_role(col: _Column) -> str | None:
             or _polar_role_of(col.base_key))
 
 
-def _check_forms(table: _Table, chosen: dict[str, _Choice], opt: str) -> None:
-    """Refuse explicit columns whose form (Cartesian or polar) does not fit their names or their state.
+def _check_forms(table: _Table, chosen: dict[str, _Choice], opt: str, mapped: set[str] = frozenset()) -> None:
+    """Refuse explicit columns whose kind (state or interval) or form (Cartesian or polar) does not fit.
 
-    A column the synonym table recognises as a speed or an angle (``speed_in``, ``angle_in_pi``) named
-    in a list (read as xdot, ydot, omega), or one recognised as an xdot or ydot (``vx_in``) named as a
-    speed or angle, would be a silently wrong number (an angle of 40 degrees read as 40 m/s); names
-    the table does not recognise (``a``, ``v_b``) are taken as given. Polar half-widths are propagated
-    through the polar state they belong to, so they need one.
+    A column whose name has an interval marker (``speed_in_pi``, ``vx0_err``) named as a state's, or a
+    state's (``speed_in``, ``vx0``) named as a half-width, is refused for lists and mappings alike: the
+    marker is a strong signal. A column the synonym table recognises as a speed or an angle
+    (``speed_in``, ``angle_in_pi``) named in a list (read as xdot, ydot, omega) would be a silently
+    wrong number (an angle of 40 degrees read as 40 m/s); a mapping (``{'speed': 'v_in', ...}``,
+    ``{'xdot': ..., ...}``, keys in ``mapped``) says what each column holds, and is trusted even when a
+    loose synonym says the other form (``v_in`` is also a ydot name). Names the table does not
+    recognise (``a``, ``v_b``) are taken as given. Polar half-widths are propagated through the polar
+    state they belong to, so they need one.
     """
+    for key in (*_STATES, *_PI_STATES):
+        _check_kind(table, chosen, key, opt)
     for state in _STATES:
-        _check_form(table, chosen, state, opt)
+        if state not in mapped:
+            _check_form(table, chosen, state, opt)
     for state, pi in zip(_STATES, _PI_STATES, strict=True):
         if f"{pi}.speed" in chosen and f"{state}.speed" not in chosen:
             raise DataError(
@@ -357,7 +367,43 @@ def _check_forms(table: _Table, chosen: dict[str, _Choice], opt: str) -> None:
                 f"through the polar state they belong to; give the {_NAMES[state]} as {{'speed': ..., 'angle': "
                 f"..., 'spin': ...}} too, or {pi!r} as a list of the xdot, ydot, omega half-widths",
                 file=table.file)
-        _check_form(table, chosen, pi, opt)
+        if pi not in mapped:
+            _check_form(table, chosen, pi, opt)
+
+
+def _check_kind(table: _Table, chosen: dict[str, _Choice], key: str, opt: str) -> None:
+    """Refuse the columns of ``columns=[key]`` whose names say a state where a half-width is asked, or the reverse."""
+    interval = key in _PI_STATES
+    comps = [r.split(".", 1)[1] for r in chosen if r.split(".", 1)[0] == key]
+    wrong = []
+    for comp in comps:
+        role = _synonym_role(chosen[f"{key}.{comp}"].column)
+        if role is not None and "." in role and ("_pi." in role) != interval:
+            wrong.append((comp, role))
+    if not wrong:
+        return
+    one = len(wrong) == 1
+    cols = [chosen[f"{key}.{comp}"].column for comp, _ in wrong]
+
+    def said(role: str) -> str:  # what a column's name says it holds
+        state, comp = role.split(".")
+        what = f"{_NAMES[state.removesuffix('_pi')]} {'spin' if comp == 'omega' else comp}"
+        return f"a half-width of the {what} (a prediction interval)" if "_pi." in role else f"the {what} itself"
+
+    def asked(comp: str) -> str:
+        polar = f"{key}.speed" in chosen
+        what = f"{_NAMES[key.removesuffix('_pi')]} {'spin' if comp == 'omega' and polar else comp}"
+        return f"the {what} half-width" if interval else f"the {what}"
+
+    names = "; ".join(f"{c.name!r} says it holds {said(role)}, not {asked(comp)}"
+                      for c, (comp, role) in zip(cols, wrong, strict=True))
+    state = key.removesuffix("_pi")
+    fix = (f"name a state's own columns in {opt}[{state!r}] and their half-widths in {opt}[{state + '_pi'!r}]")
+    raise DataError(
+        f"{opt}[{key!r}] names {'a column' if one else 'columns'} of the wrong kind: {names}; read as asked, "
+        f"{'a half-width would be a measurement' if not interval else 'a measurement would be a half-width'}; "
+        f"{fix}, or rename the column{'' if one else 's'} if {'it does' if one else 'they do'} hold what is asked",
+        file=table.file, column=cols[0].name)
 
 
 def _check_form(table: _Table, chosen: dict[str, _Choice], key: str, opt: str) -> None:
@@ -478,10 +524,11 @@ def _auto_intervals(table: _Table, found: dict[str, list[_Choice]], state: str, 
     candidates, and what else is wrong with them (a message ending in a colon, for the columns= call).
 
     Complete Cartesian half-widths are read as such (for a Cartesian state even beside polar ones, as
-    its state is read beside derived speeds and angles). Polar half-widths need a polar state and all
-    three of speed, angle and spin; anything else is refused, since which numbers to propagate, or
-    through what, would be a guess. A lone spin half-width, which is of neither form, is ignored with a
-    warning, as incomplete Cartesian half-widths are.
+    its state is read beside derived speeds and angles). Polar half-widths of a Cartesian state (a stray
+    ``speed_in_unc``) have nothing to be propagated through: they are ignored with a warning naming them,
+    as incomplete Cartesian half-widths are, and so is a lone spin half-width (of neither form). Polar
+    half-widths of a polar state need all three of speed, angle and spin, and no Cartesian ones beside
+    them; anything else is refused, since which numbers to propagate would be a guess.
     """
     pi, name = f"{state}_pi", _NAMES[state]
     several = [f"{pi}.{c}: several candidates {[ch.column.name for ch in found[f'{pi}.{c}']]}"
@@ -498,10 +545,16 @@ def _auto_intervals(table: _Table, found: dict[str, list[_Choice]], state: str, 
         return {f"{pi}.{c}": found[f"{pi}.{c}"][0] for c in COMPONENTS}, [], None
     opt = hints.option("columns", table.hint_style)
     if polar and form == "cartesian":
-        return {}, [], (f"the columns {names(polar)} are half-widths of the {name} speed or angle, but the {name} is "
-                    f"read from its Cartesian columns (xdot, ydot, omega); bouncelab propagates polar half-widths "
-                    f"only through a polar state and does not guess one: give the {name} as speed, angle and spin, "
-                    f"or Cartesian half-widths, in {opt} (leave {pi!r} out to load without intervals):")
+        # Nothing to propagate them through: ignoring them loses the intervals, never gives a wrong number.
+        warnings.warn(
+            f"{table.file}: ignoring the {pi} columns {names((*polar, *cartesian))}: the {name} is read from its "
+            f"Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle ({', '.join(names(polar))}) "
+            f"are propagated only through a polar state; loaded without {name} intervals. To use them, name the "
+            f"{name} as speed, angle and spin and {pi!r} as a mapping, or its xdot, ydot, omega half-widths as a "
+            f"list, in {opt}",
+            UserWarning, stacklevel=5 + warn_depth,
+        )
+        return {}, [], None
     if polar and {"xdot", "ydot"} & set(cartesian):
         return {}, [], (f"the {name} has both Cartesian half-widths {names(('xdot', 'ydot'))} and polar ones "
                     f"{names(polar)}; say which to read in {opt} ({pi!r} as a list of xdot, ydot, omega or a "
@@ -565,6 +618,61 @@ def _columns_call(table: _Table, found: dict[str, list[_Choice]], forms: dict[st
     return hints.columns_call(table.file, parts, table.hint_style)
 
 
+# Relative units: a half-width (or value) as a fraction of its value, which bouncelab does not read.
+_RELATIVE_WORDS = frozenset({"percent", "percentage", "pct", "rel", "relative", "fraction", "frac"})
+
+
+def _relative_word(text: str | None) -> str | None:
+    """The relative unit (``%``, ``percent``, ``pct``, ``rel``...) ``text`` gives, or None."""
+    if text is None:
+        return None
+    if "%" in text or "‰" in text:
+        return "%"
+    words = [w for w in re.split(r"[^a-z]+", text.lower()) if w]
+    if "per" in words and "cent" in words:
+        return "per cent"
+    return next((w for w in words if w in _RELATIVE_WORDS), None)
+
+
+def _relative_unit(col: _Column) -> str | None:
+    """The relative unit a column's header, units row or unit attribute gives (``speed_in_pi (%)``,
+    ``speed_in_pi_pct``, ``spin_in_pi [rel]``), or None. A ``%`` anywhere in the name counts; a word
+    only as the unit (in brackets or the last word), so that ``v_rel_in`` is still a name."""
+    if "%" in col.name or "‰" in col.name:
+        return "%"
+    found = _relative_word(col.unit_text)
+    if found is None:
+        base, unit = _split_header(col.name)
+        found = _relative_word(unit) if unit is not None else None
+        last = [w for w in re.split(r"[\s_]+", base.strip()) if w][-1:] if base.strip() else []
+        found = found or _relative_word(last[0] if last and last[0].lower() in _RELATIVE_WORDS else None)
+    return found
+
+
+def check_absolute_units(table: _Table, cols: Mapping[str, _Column], style: str) -> None:
+    """Refuse a state or interval column whose unit is relative (per cent of its value): read as the value's
+    unit it would be a silently wrong number (2 % of 25 m/s as 2 m/s)."""
+    for role, col in cols.items():
+        if role == "setting":
+            continue
+        unit = _relative_unit(col)
+        if unit is None:
+            continue
+        state, comp = role.split(".")
+        what = f"{_NAMES[state.removesuffix('_pi')]} {'spin' if comp == 'omega' and f'{state}.speed' in cols else comp}"
+        where = col.unit_where or ("units row" if col.unit_text is not None and not col.unit_in_header else "header")
+        if state in _PI_STATES:
+            raise DataError(
+                f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads half-widths "
+                f"only in an absolute unit (that of the value or one of its kind), never relative ones; convert the "
+                f"column first, multiplying each half-width in per cent by its value / 100 (2 % of 25 m/s is "
+                f"0.5 m/s), and give it the value's unit", file=table.file, column=col.name)
+        raise DataError(
+            f"the {where} gives the {what} in {unit!r}, a relative unit: a measured {what} needs an absolute unit "
+            f"(m/s, rpm, deg...); convert the column, or name the column that holds the value",
+            file=table.file, column=col.name)
+
+
 _ROLE_KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
 
 
@@ -583,6 +691,11 @@ def _check_units_arg(units: Mapping[str, str] | None, file: str, style: str = "p
     for kind, unit in units.items():
         if unit is None:
             continue
+        if isinstance(unit, str) and _relative_word(unit) is not None:
+            said = hints.unit_setting(kind, unit, style) or f"units={{{kind!r}: {unit!r}}}"
+            raise DataError(f"{said}: {unit!r} is a relative unit; values and half-widths are read only in absolute "
+                            f"units (a half-width in per cent is converted first: multiply it by its value / 100)",
+                            file=file)
         try:
             out[kind] = _canonical(unit, kind)
         except DataError as exc:

@@ -299,7 +299,7 @@ def load_campaign(
     )
 
 
-#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3: ... (row label 'b7')``).
+#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
 DATAFRAME_NAME = "<DataFrame>"
 
 

@@ -31,6 +31,7 @@ from bouncelab.data.io.columns import (
     _select_explicit,
     _split_header,
     _unit_of,
+    check_absolute_units,
 )
 from bouncelab.data.plausibility import (
     CANDIDATE_UNITS,
@@ -86,6 +87,7 @@ class _Table:
     hint_style: str = "python"  # how messages name options: Python keywords or CLI flags (io/hints.py)
     kept: list[int] | None = None  # the file's data row (0-based) of each row, once rows are dropped
     delimiter: str | None = None  # of a text file (None: runs of blanks, or not a text file)
+    row_labels: list[Any] | None = None  # a DataFrame's index: errors carry the label (DataError.row_label)
 
     def data_row(self, index: int) -> int:
         """The file's 0-based data row of row ``index`` of the table."""
@@ -101,8 +103,12 @@ def _err(table: _Table, message: str, column: str | None = None, index: int | No
     """A DataError at data row ``index`` (0-based) of ``column``."""
     if index is None:
         return DataError(message, file=table.file, column=column)
-    return DataError(message + table.where(index, column or ""), file=table.file, column=column,
-                     row=table.data_row(index) + 1)
+    row = table.data_row(index)
+    if table.row_labels is not None:  # a DataFrame: "row 3 (row label 'shot-2')", as predict says it
+        label = table.row_labels[row]
+        label = label.item() if isinstance(label, np.generic) else label  # 7, not np.int64(7)
+        return DataError(message, file=table.file, column=column, row=row + 1, row_label=label)
+    return DataError(message + table.where(index, column or ""), file=table.file, column=column, row=row + 1)
 
 
 def _cell(col: _Column, index: int, unit: str | None = None) -> str:
@@ -256,7 +262,8 @@ def _drop_missing(table: _Table, cols: dict[str, _Column],
         vals = col.values[keep] if isinstance(col.values, np.ndarray) else [col.values[i] for i in keep]
         new[role] = _Column(col.name, vals, col.unit_text, col.unit_in_header, col.unit_where)
     kept = _Table(table.file, list({id(c): c for c in new.values()}.values()), len(keep), table.text_cells,
-                  table.locate, table.offset, table.decimal_comma, table.hint_style, keep, delimiter=table.delimiter)
+                  table.locate, table.offset, table.decimal_comma, table.hint_style, keep, delimiter=table.delimiter,
+                  row_labels=table.row_labels)
 
     def show(i: int) -> str:
         name, v = bad[i]
@@ -447,6 +454,7 @@ def _campaign_from_table(
         raise DataError("the file has a header but no data rows", file=file)
     chosen = _select_explicit(table, columns) if columns is not None else _select_auto(table, warn_depth)
     cols = {role: ch.column for role, ch in chosen.items()}
+    check_absolute_units(table, cols, table.hint_style)
 
     used: dict[str, str] = {}
     for role, col in cols.items():
@@ -668,8 +676,23 @@ def _polar_intervals(
                    "direction a landing can come from): check the column's unit")
         raise _err(table, f"prediction-interval half-width {cell} {why}", col.name, i)
     polar = np.column_stack([scaled[f"{state}.{c}"] for c in POLAR_ROLES])  # radii/s, degrees, rad/s
-    hw = polar_halfwidths_to_cartesian(polar, np.column_stack([scaled[r] for r in roles]), kind=state,
-                                       speed_unit="radius/s", spin_unit="rad/s", radius_m=radius_m)
+    halfwidths = np.column_stack([scaled[r] for r in roles])
+
+    def propagate(p: np.ndarray, h: np.ndarray) -> np.ndarray:
+        return polar_halfwidths_to_cartesian(p, h, kind=state, speed_unit="radius/s", spin_unit="rad/s",
+                                             radius_m=radius_m)
+
+    try:
+        hw = propagate(polar, halfwidths)
+    except DataError as exc:  # a number too large for floats once scaled: name the row (found again row by row)
+        for i in range(len(polar)):
+            try:
+                propagate(polar[i], halfwidths[i])
+            except DataError as row_exc:
+                cells = ", ".join(_cell(cols[r], i, unit_of[r][0]) for r in roles)
+                raise _err(table, f"the {_NAMES[state]} half-widths {cells} cannot be propagated: {row_exc.message}",
+                           cols[roles[0]].name, i) from None
+        raise exc from None  # pragma: no cover - a row that fails alone
     for k, comp in enumerate(COMPONENTS):
         scaled[f"{pi}.{comp}"] = hw[:, k]
     for comp in ("xdot", "ydot"):  # so that a later message about them names a column of the file
@@ -837,6 +860,7 @@ def _table_from_dataframe(df: Any, file: str) -> _Table:
         return f"row label {labels[i]!r}"
 
     table = _finish_table(file, names, rows, locate=locate, blank=_is_empty_cell, strict_width=False)
+    table.row_labels = labels[table.offset:]  # data rows only (a units row is not one)
     if table.offset == 0:  # no units row: numeric columns are read as arrays (fast, ints exact)
         for col in table.columns:
             series = df.iloc[:, names.index(col.name)]
