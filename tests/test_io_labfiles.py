@@ -1042,3 +1042,104 @@ def test_polar_interval_errors_on_the_command_line(tmp_path, capsys):
            '"<liftoff_pi spin column>"}' in err
     full = str(write(tmp_path / "full.csv", {**POLAR, **POLAR_PI}))
     assert main(["info", full]) == EXIT_OK
+
+
+# ---------------------------------------------------------------------------
+# What an interval column holds: a 95 % half-width, a standard deviation, or a name that does not say
+# ---------------------------------------------------------------------------
+
+Z95 = 1.959963984540054
+CART_PLAIN = {k.split(" ")[0]: v for k, v in CART.items()}  # vx0, ..., no units in the header
+CART_UNITS = {"velocity": "m/s", "spin": "rpm"}
+LANDING_HW = {"vx0": np.full(6, 0.2), "vy0": np.full(6, 0.3), "w0": SPIN_IN_PI}
+EXP_CART_PI = np.column_stack([np.full(6, 0.2 / R), np.full(6, 0.3 / R), SPIN_IN_PI * RPM])
+
+
+def with_marker(marker: str, *, before: bool = False) -> dict:
+    return {**CART_PLAIN, **{(f"{marker}_{k}" if before else f"{k}_{marker}"): v for k, v in LANDING_HW.items()}}
+
+
+@pytest.mark.parametrize("marker", ["err", "error", "unc", "uncertainty"])
+def test_an_uncertainty_that_could_be_either_kind_is_refused_until_intervals_says(tmp_path, marker):
+    path = write(tmp_path / "u.csv", with_marker(marker))
+    with pytest.raises(DataError, match=r"may hold one standard deviation or the half-width of a 95 % interval.*"
+                                        r"intervals='sd'.*intervals='pi95'") as exc:
+        load_campaign(path, units=CART_UNITS)
+    assert exc.value.column == f"vx0_{marker}" and exc.value.file == str(path)
+    as_hw = load_campaign(path, units=CART_UNITS, intervals="pi95")
+    as_sd = load_campaign(path, units=CART_UNITS, intervals="sd")
+    np.testing.assert_allclose(as_hw["landing_pi"].values, EXP_CART_PI, rtol=1e-12)
+    np.testing.assert_allclose(as_sd["landing_pi"].values, Z95 * EXP_CART_PI, rtol=1e-12)
+    assert as_hw.attrs["interval_source"] == "landing 95 % half-widths"
+    assert as_sd.attrs["interval_source"] == "landing standard deviations x 1.96"
+    check(as_sd)  # the states themselves are not scaled
+
+
+@pytest.mark.parametrize(("marker", "factor"), [("pi", 1.0), ("hw", 1.0), ("ci95", 1.0), ("sd", Z95),
+                                                ("std", Z95), ("stdev", Z95), ("sigma", Z95)])
+@pytest.mark.parametrize("before", [False, True])
+def test_names_that_say_what_they_hold_are_read_so(tmp_path, marker, factor, before):
+    ds = load_campaign(write(tmp_path / "n.csv", with_marker(marker, before=before)), units=CART_UNITS)
+    np.testing.assert_allclose(ds["landing_pi"].values, factor * EXP_CART_PI, rtol=1e-12)
+    assert "standard deviations" in ds.attrs["interval_source"] if factor != 1.0 else \
+        ds.attrs["interval_source"] == "landing 95 % half-widths"
+    # intervals= agreeing with the name changes nothing; contradicting it is an error naming the column
+    same, other = ("sd", "pi95") if factor != 1.0 else ("pi95", "sd")
+    again = load_campaign(write(tmp_path / "n.csv", with_marker(marker, before=before)), units=CART_UNITS,
+                          intervals=same)
+    np.testing.assert_array_equal(again["landing_pi"].values, ds["landing_pi"].values)
+    with pytest.raises(DataError, match=rf"intervals='{other}' says the interval columns hold .* but the name of "
+                                        rf"'.*' \('{marker}'\) says") as exc:
+        load_campaign(tmp_path / "n.csv", units=CART_UNITS, intervals=other)
+    assert exc.value.column in (f"vx0_{marker}", f"{marker}_vx0")
+
+
+def test_columns_named_in_columns_without_a_marker_follow_intervals(tmp_path):
+    table = {**CART_PLAIN, "a": LANDING_HW["vx0"], "b": LANDING_HW["vy0"], "c": LANDING_HW["w0"]}
+    path = write(tmp_path / "m.csv", table)
+    cols = {"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"], "landing_pi": ["a", "b", "c"]}
+    plain = load_campaign(path, units=CART_UNITS, columns=cols)
+    np.testing.assert_allclose(plain["landing_pi"].values, EXP_CART_PI, rtol=1e-12)
+    sd = load_campaign(path, units=CART_UNITS, columns=cols, intervals="sd")
+    np.testing.assert_allclose(sd["landing_pi"].values, Z95 * EXP_CART_PI, rtol=1e-12)
+    # an explicit mapping does not make an ambiguous name unambiguous
+    table = {**CART_PLAIN, **{f"{k}_err": v for k, v in LANDING_HW.items()}}
+    cols["landing_pi"] = ["vx0_err", "vy0_err", "w0_err"]
+    with pytest.raises(DataError, match="may hold one standard deviation"):
+        load_campaign(write(tmp_path / "e.csv", table), units=CART_UNITS, columns=cols)
+
+
+def test_polar_standard_deviations_give_1_96_times_the_propagated_half_widths(tmp_path):
+    sds = {k.replace("_pi", "_sd"): v for k, v in POLAR_PI.items()}
+    ds = load_campaign(write(tmp_path / "sd.csv", {**POLAR, **sds}))
+    check_pi(ds, landing=Z95 * EXP_LANDING_PI, liftoff=Z95 * EXP_LIFTOFF_PI)
+    assert ds.attrs["interval_source"] == "landing standard deviations x 1.96, liftoff standard deviations x 1.96"
+    assert ds.attrs["interval_form"] == f"landing {PROPAGATED}, liftoff {PROPAGATED}"
+
+
+def test_intervals_is_validated_and_applies_to_tables_only(tmp_path):
+    df = pd.DataFrame(with_marker("err"))
+    before = df.copy()
+    with pytest.raises(DataError, match=r"intervals= must be None or one of 'pi95', 'sd'.*got '95'"):
+        load_campaign(df, units=CART_UNITS, intervals="95")
+    with pytest.raises(DataError, match=r"column 'vx0_err'.*intervals="):
+        load_campaign(df, units=CART_UNITS)
+    pd.testing.assert_frame_equal(df, before)  # nothing changed by a refused load
+    ds = load_campaign(df, units=CART_UNITS, intervals="sd")
+    np.testing.assert_allclose(ds["landing_pi"].values, Z95 * EXP_CART_PI, rtol=1e-12)
+    with pytest.raises(DataError, match="intervals= does not apply to an embedded campaign"):
+        load_campaign("A", intervals="sd")
+    save_campaign(ds, tmp_path / "c.nc")
+    with pytest.raises(DataError, match="intervals= does not apply to a bouncelab campaign file"):
+        load_campaign(tmp_path / "c.nc", intervals="pi95")
+    np.testing.assert_array_equal(load_campaign(tmp_path / "c.nc")["landing_pi"].values, ds["landing_pi"].values)
+
+
+def test_intervals_on_the_command_line(tmp_path, capsys):
+    path = str(write(tmp_path / "u.csv", with_marker("unc")))
+    assert main(["info", path, "--velocity-unit", "m/s", "--spin-unit", "rpm"]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "--intervals sd" in err and "--intervals pi95" in err and "intervals=" not in err
+    assert main(["info", path, "--velocity-unit", "m/s", "--spin-unit", "rpm", "--intervals", "sd"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "read from: landing standard deviations x 1.96" in out and "source units: velocity m/s, spin rpm" in out

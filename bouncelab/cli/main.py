@@ -101,7 +101,8 @@ def _load(source: str, args: argparse.Namespace):
     surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
     # Loader options only when given, so an embedded campaign is loaded as before; hint_style="cli" makes
     # the loader's advice name these flags (--spin-unit rpm) instead of Python keywords.
-    options = {key: getattr(args, key) for key in ("sheet", "header_row") if getattr(args, key, None) is not None}
+    options = {key: getattr(args, key) for key in ("sheet", "header_row", "intervals")
+               if getattr(args, key, None) is not None}
     return load_campaign(source, columns=columns, units=units or None, missing=getattr(args, "missing", "raise"),
                          hint_style="cli", **options, **surrogate)
 
@@ -120,6 +121,10 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--missing", choices=("raise", "drop"), default="raise",
                    help="rows with an empty or NA cell: raise (default: an error naming the cell) or drop (leave "
                         "them out, with a warning listing them)")
+    p.add_argument("--intervals", choices=("pi95", "sd"),
+                   help="what the file's interval columns hold: pi95 (half-widths of 95 %% intervals) or sd (one "
+                        "standard deviation, multiplied by 1.96); default: the names say (vx0_pi, vx0_sd), and "
+                        "vx0_err or vx0_unc, which could be either, are refused until this says")
     p.add_argument("--velocity-unit", help="velocity unit of the file (m/s, ft/s, mph, km/h, radius/s)")
     p.add_argument("--spin-unit", help="spin unit of the file (rad/s, rpm, rev/s, deg/s)")
     p.add_argument("--angle-unit", choices=("deg", "rad"),
@@ -581,6 +586,12 @@ def describe(ds: Any) -> str:
         lines.append(f"  {var}: {ranges} (radii/s, rad/s)")
     pis = [v for v in ("landing_pi", "liftoff_pi") if v in ds.data_vars]
     lines.append(f"  prediction intervals: {', '.join(pis) if pis else 'none'}")
+    # how a lab file's intervals were read: they were converted on loading, so say from what
+    for attr, label in (("interval_source", "read from"), ("interval_form", "form")):
+        if ds.attrs.get(attr):
+            lines.append(f"    {label}: {ds.attrs[attr]}")
+    if ds.attrs.get("source_units"):
+        lines.append(f"  source units: {ds.attrs['source_units']}")
     return "\n".join(lines)
 
 

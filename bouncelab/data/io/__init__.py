@@ -79,9 +79,12 @@ so the landing ``xdot`` is found under ``xdot0``, ``x_dot_0``, ``vx0``,
 ``vxF``, ``vx_out``, ``vx1``, ``outbound_vx``..., the spins under ``omega0``,
 ``w0``, ``spin0``, ``spin_in``, ``omegaF``, ``wF``, ``spin_out``... The
 prediction-interval half-widths are the same names followed (or preceded) by
-``pi``, ``pi95``, ``hw``, ``halfwidth``, ``ci``, ``ci95``, ``err``, ``error``,
-``unc`` or ``uncertainty`` (``vx0_pi``, ``omegaF_err``); they are used only
-when all three of a state are present. The setting column is one of
+``pi``, ``pi95``, ``hw``, ``halfwidth``, ``ci`` or ``ci95`` (``vx0_pi``); by
+``sd``, ``std``, ``stdev``, ``stddev`` or ``sigma`` they are standard
+deviations, multiplied by 1.96 to 95 % half-widths (``omegaF_sd``); by
+``err``, ``error``, ``unc`` or ``uncertainty`` they could be either, and
+``load_campaign(..., intervals="pi95" or "sd")`` must say which. They are
+used only when all three of a state are present. The setting column is one of
 ``setting(s)``, ``setting_id``, ``setting_no``, ``setting_number``,
 ``launcher_setting(s)``, ``condition(s)``, ``condition_id``,
 ``test_condition(s)``, ``group``, ``group_id``, ``setup``, ``config``,

@@ -50,7 +50,13 @@ _PHASES: dict[str, tuple[str, ...]] = {
         "after", "final", "takeoff", "lo",
     ),
 }
-_PI_MARKERS = ("pi", "pi95", "hw", "halfwidth", "ci", "ci95", "err", "error", "unc", "uncertainty")
+# Interval markers, by what the name says the column holds: the half-width of a 95 % interval (what a
+# campaign stores), one standard deviation (multiplied by Z95 on loading), or an uncertainty that could be
+# either, which the loader will not guess (intervals= says which).
+_PI95_MARKERS = ("pi", "pi95", "hw", "halfwidth", "ci", "ci95")
+_SD_MARKERS = ("sd", "std", "stdev", "stddev", "sigma")
+_AMBIGUOUS_MARKERS = ("err", "error", "unc", "uncertainty")
+_PI_MARKERS = (*_PI95_MARKERS, *_SD_MARKERS, *_AMBIGUOUS_MARKERS)
 _SETTING_NAMES = (
     "setting", "settings", "settingid", "settingno", "settingnumber", "launchersetting",
     "launchersettings", "condition", "conditions", "conditionid", "testcondition",
@@ -140,12 +146,19 @@ def _role_of(key: str) -> str | None:
         return "setting"
     if key in _STATE_KEYS:
         return _STATE_KEYS[key]
+    found = _marked(key, _STATE_KEYS)
+    return None if found is None else found[0]
+
+
+def _marked(key: str, table: Mapping[str, str]) -> tuple[str, str] | None:
+    """(``<state>_pi.<component>``, marker) of a name that is a state name of ``table`` with an interval
+    marker before or after it (``vx0_pi``, ``sd_speed_in``), else None."""
     for m in _PI_MARKERS:
         for rest in (key[: -len(m)] if key.endswith(m) else None,
                      key[len(m):] if key.startswith(m) else None):
-            if rest and rest in _STATE_KEYS:
-                state, comp = _STATE_KEYS[rest].split(".")
-                return f"{state}_pi.{comp}"
+            if rest and rest in table:
+                state, comp = table[rest].split(".")
+                return f"{state}_pi.{comp}", m
     return None
 
 
@@ -157,13 +170,8 @@ def _polar_role_of(key: str) -> str | None:
     """
     if key in _POLAR_KEYS:
         return _POLAR_KEYS[key]
-    for m in _PI_MARKERS:
-        for rest in (key[: -len(m)] if key.endswith(m) else None,
-                     key[len(m):] if key.startswith(m) else None):
-            if rest and rest in _POLAR_KEYS:
-                state, comp = _POLAR_KEYS[rest].split(".")
-                return f"{state}_pi.{comp}"
-    return None
+    found = _marked(key, _POLAR_KEYS)
+    return None if found is None else found[0]
 
 
 def _normalize(name: str) -> str:
@@ -671,6 +679,62 @@ def check_absolute_units(table: _Table, cols: Mapping[str, _Column], style: str)
             f"the {where} gives the {what} in {unit!r}, a relative unit: a measured {what} needs an absolute unit "
             f"(m/s, rpm, deg...); convert the column, or name the column that holds the value",
             file=table.file, column=col.name)
+
+
+#: What ``intervals=`` may say a file's interval columns hold: ``"pi95"`` the half-widths of 95 %
+#: intervals (what a campaign stores), ``"sd"`` one standard deviation.
+INTERVAL_KINDS = ("pi95", "sd")
+#: The 97.5 % quantile of the standard normal: one standard deviation times Z95 is a 95 % half-width.
+Z95 = 1.959963984540054
+
+
+def _interval_marker(col: _Column) -> str | None:
+    """The interval marker in a column's name (``err`` of ``vx0_err [m/s]``), or None (``dVx in``)."""
+    for key in (col.full_key, col.base_key):
+        for synonyms in (_STATE_KEYS, _POLAR_KEYS):
+            found = _marked(key, synonyms)
+            if found is not None:
+                return found[1]
+    return None
+
+
+def interval_scales(table: _Table, cols: Mapping[str, _Column], intervals: str | None,
+                    style: str) -> dict[str, float]:
+    """The factor that turns each interval column of ``cols`` into 95 % half-widths: 1, or :data:`Z95` for
+    standard deviations.
+
+    ``intervals=None`` lets the names decide: a ``pi``/``hw``/``ci`` marker is a 95 % half-width, a
+    ``sd``/``std``/``sigma`` one a standard deviation, a name without a marker (named in ``columns=``) a
+    95 % half-width, and an ``err``/``unc`` marker, which could be either, a DataError (a standard
+    deviation read as a 95 % half-width would be a silently narrow interval). ``"pi95"``/``"sd"`` say
+    what every interval column holds; a name that says the other is a DataError.
+    """
+    scales: dict[str, float] = {}
+    unsure: list[str] = []
+    for role, col in cols.items():
+        if "_pi." not in role:
+            continue
+        marker = _interval_marker(col)
+        says = "pi95" if marker in _PI95_MARKERS else "sd" if marker in _SD_MARKERS else None
+        if intervals is not None and says is not None and says != intervals:
+            meaning = {"pi95": "a 95 % half-width", "sd": "one standard deviation"}
+            raise DataError(
+                f"{hints.setting('intervals', intervals, style)} says the interval columns hold {meaning[intervals]}, "
+                f"but the name of {col.name!r} ({marker!r}) says it holds {meaning[says]}; rename the column or "
+                f"drop {hints.option('intervals', style)}", file=table.file, column=col.name)
+        if intervals is None and marker in _AMBIGUOUS_MARKERS:
+            unsure.append(col.name)
+            continue
+        scales[role] = Z95 if (intervals or says) == "sd" else 1.0
+    if unsure:
+        raise DataError(
+            f"the interval column{'s' if len(unsure) > 1 else ''} {unsure} may hold one standard deviation or the "
+            f"half-width of a 95 % interval, and the name does not say which (a standard deviation read as a "
+            f"half-width would give intervals 1.96 times too narrow): pass {hints.setting('intervals', 'sd', style)} "
+            f"(standard deviations, multiplied by {Z95:.2f} to 95 % half-widths) or "
+            f"{hints.setting('intervals', 'pi95', style)} (95 % half-widths, as a campaign stores them)",
+            file=table.file, column=unsure[0])
+    return scales
 
 
 _ROLE_KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}

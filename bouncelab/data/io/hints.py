@@ -21,6 +21,7 @@ HINT_STYLES = ("python", "cli")
 _FLAGS = {
     "columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
     "units": "--velocity-unit/--spin-unit",
+    "intervals": "--intervals",
 }
 _UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 

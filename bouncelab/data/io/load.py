@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.data.io import hints
-from bouncelab.data.io.columns import _check_units_arg
+from bouncelab.data.io.columns import INTERVAL_KINDS, _check_units_arg
 from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
 from bouncelab.data.io.matlab import _read_mat
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
@@ -124,6 +124,7 @@ def load_campaign(
     surrogate: str = "published",
     header_row: int | None = None,
     missing: str = "raise",
+    intervals: str | None = None,
     hint_style: str = "python",
 ) -> xr.Dataset:
     """Load a bounce campaign from a file, a pandas DataFrame, or one of the embedded campaigns.
@@ -186,6 +187,19 @@ def load_campaign(
         ``"drop"``: such rows are left out, with a
         :class:`~bouncelab.errors.DroppedRowsWarning` that lists them, and
         their data rows (1-based) are stored in attrs ``dropped_rows``.
+    intervals
+        What the file's interval columns hold (a campaign stores the
+        half-widths of 95 % prediction intervals): ``"pi95"`` such
+        half-widths, ``"sd"`` one standard deviation (multiplied by
+        :data:`~bouncelab.data.io.columns.Z95`, 1.96, on loading). ``None``
+        (default) lets the names say: ``pi``, ``pi95``, ``hw``, ``halfwidth``,
+        ``ci``, ``ci95`` (and names without a marker given in ``columns=``)
+        are 95 % half-widths; ``sd``, ``std``, ``stdev``, ``stddev``,
+        ``sigma`` standard deviations; ``err``, ``error``, ``unc``,
+        ``uncertainty`` could be either, so a file with such columns needs
+        ``intervals=`` (a DataError says so). A name that contradicts
+        ``intervals=`` is a DataError. Files and DataFrames only. What was
+        read is stored in attrs ``interval_source``.
     hint_style
         How messages name the options to change: ``"python"`` (keywords such
         as ``units={'spin': 'rpm'}``, default) or ``"cli"`` (the ``bouncelab``
@@ -199,7 +213,8 @@ def load_campaign(
         ``data_kind`` (``"measured"`` unless a netCDF file says otherwise),
         ``source_units`` and ``ball_radius_m``; with polar columns also
         ``source_form`` (which states were polar) and, when intervals were
-        propagated from polar half-widths, ``interval_form``.
+        propagated from polar half-widths, ``interval_form``; with intervals,
+        ``interval_source`` (95 % half-widths or standard deviations x 1.96).
 
     Raises
     ------
@@ -227,14 +242,19 @@ def load_campaign(
     if missing not in MISSING_POLICIES:
         raise DataError(f"{hints.option('missing', style)} must be one of {', '.join(map(repr, MISSING_POLICIES))}; "
                         f"got {missing!r}")
+    if intervals is not None and intervals not in INTERVAL_KINDS:
+        raise DataError(f"{hints.option('intervals', style)} must be None or one of "
+                        f"{', '.join(map(repr, INTERVAL_KINDS))} (95 % half-widths or one standard deviation); "
+                        f"got {intervals!r}")
     if _is_dataframe(source):
         return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
                                sheet=sheet, ball_radius_m=radius, plausible=plausible,
-                               header_row=header_row, missing=missing, style=style)
+                               header_row=header_row, missing=missing, intervals=intervals, style=style)
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
-        if header_row is not None:
-            raise DataError(f"{hints.option('header_row', style)} does not apply to an embedded campaign")
+        for option, value in (("header_row", header_row), ("intervals", intervals)):
+            if value is not None:
+                raise DataError(f"{hints.option(option, style)} does not apply to an embedded campaign")
         res = _embedded_file(name) if surrogate == "published" else _embedded_file(name, surrogate)
         with resources.as_file(res) as path:
             file = f"embedded campaign {name} ({path.name})"
@@ -279,6 +299,9 @@ def load_campaign(
     if suffix in _NETCDF_SUFFIXES:
         ds = _open_netcdf(path, file)
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
+            if intervals is not None:
+                raise DataError(f"{hints.option('intervals', style)} does not apply to a bouncelab campaign file: "
+                                f"its landing_pi and liftoff_pi are 95 % half-widths", file=file)
             return _campaign_from_netcdf(
                 ds, file=file, source=absolute, columns=columns, units=units,
                 campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
@@ -295,7 +318,7 @@ def load_campaign(
         table, columns=columns, units=_check_units_arg(units, file, style),
         campaign=path.stem if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=radius, plausible=plausible, missing=missing,
+        source=absolute, ball_radius_m=radius, plausible=plausible, missing=missing, intervals=intervals,
     )
 
 
@@ -305,7 +328,7 @@ DATAFRAME_NAME = "<DataFrame>"
 
 def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str | None, surface: str | None,
                     sheet: Any, ball_radius_m: float, plausible: PlausibleRanges, header_row: Any, missing: str,
-                    style: str) -> xr.Dataset:
+                    intervals: str | None, style: str) -> xr.Dataset:
     """A DataFrame read as a table: its column names are the header, its rows the data."""
     file = DATAFRAME_NAME
     for name, value in (("sheet", sheet), ("header_row", header_row)):
@@ -317,5 +340,6 @@ def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str
         table, columns=columns, units=_check_units_arg(units, file, style),
         campaign="DataFrame" if campaign is None else str(campaign),
         surface="" if surface is None else str(surface),
-        source="pandas.DataFrame", ball_radius_m=ball_radius_m, plausible=plausible, missing=missing, warn_depth=1,
+        source="pandas.DataFrame", ball_radius_m=ball_radius_m, plausible=plausible, missing=missing,
+        intervals=intervals, warn_depth=1,
     )

@@ -32,6 +32,7 @@ from bouncelab.data.io.columns import (
     _split_header,
     _unit_of,
     check_absolute_units,
+    interval_scales,
 )
 from bouncelab.data.plausibility import (
     CANDIDATE_UNITS,
@@ -447,6 +448,7 @@ def _campaign_from_table(
     ball_radius_m: float,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
     missing: str = "raise",
+    intervals: str | None = None,
     warn_depth: int = 0,
 ) -> xr.Dataset:
     file = table.file
@@ -455,6 +457,7 @@ def _campaign_from_table(
     chosen = _select_explicit(table, columns) if columns is not None else _select_auto(table, warn_depth)
     cols = {role: ch.column for role, ch in chosen.items()}
     check_absolute_units(table, cols, table.hint_style)
+    interval_scale = interval_scales(table, cols, intervals, table.hint_style)
 
     used: dict[str, str] = {}
     for role, col in cols.items():
@@ -508,7 +511,14 @@ def _campaign_from_table(
             scaled[role] = np.rad2deg(parsed[role]) if unit == "rad" else parsed[role]  # degrees
         else:
             scaled[role] = spin_to_scaled(parsed[role], unit)
+        if interval_scale.get(role, 1.0) != 1.0:  # standard deviations -> 95 % half-widths
+            scaled[role] = scaled[role] * interval_scale[role]
     attrs = {"source_units": _describe_units(unit_of, cols)}
+    if interval_scale:  # what the file's interval columns held, since a campaign keeps only 95 % half-widths
+        attrs["interval_source"] = ", ".join(
+            f"{s} " + " and ".join(sorted({"standard deviations x 1.96" if f != 1.0 else "95 % half-widths"
+                                           for r, f in interval_scale.items() if r.startswith(f"{s}_pi.")}))
+            for s in _STATES if any(r.startswith(f"{s}_pi.") for r in interval_scale))
     polar = [s for s in _STATES if f"{s}.speed" in cols]
     if polar:
         attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in _STATES)
