@@ -162,7 +162,7 @@ def main() -> None:
     print(f"CraterContact.predict:   {m / dt / 1e3:.0f} thousand bounces/s ({m:,} bounces, default 48 steps)")
 
     # ---- 3. fit time
-    ds = bl.load_campaign("B")
+    ds = bl.load_campaign("B", surrogate="published")
     res, dt = timed(lambda: bl.fit(bl.TurfContact, ds, seed=0))
     print(f"\nTurfContact global fit to campaign B ({ds.sizes['bounce']} bounces): {dt:.1f} s, "
           f"delta = {res.delta:.4f}, {res.n_evaluations} evaluations")

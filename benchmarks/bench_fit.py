@@ -31,7 +31,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--seeds", type=int, default=11, help="bouncelab fits per law")
     ap.add_argument("--peer-seeds", type=int, default=2, help="differential-evolution runs per law")
     args = ap.parse_args(argv)
-    ds = bl.load_campaign(args.campaign)
+    ds = bl.load_campaign(args.campaign, surrogate="published")
     p0 = np.ascontiguousarray(ds.landing.values)
     pf = np.ascontiguousarray(ds.liftoff.values)
     rows = []

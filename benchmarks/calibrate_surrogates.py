@@ -220,7 +220,7 @@ def calibrate(campaign: str, *, law: str, maxiter: int, popsize: int, replicates
 
 def fitted_start(campaign: str, law: str, sigma: float = 0.1, scatter: tuple[str, ...] | None = None) -> np.ndarray:
     """Start vector: the law fitted to the embedded campaign, every searched log-sd ``sigma``."""
-    fitted = bl.fit(law_class(law), bl.load_campaign(campaign))
+    fitted = bl.fit(law_class(law), bl.load_campaign(campaign, surrogate="published"))
     params = fitted.law.parameters if hasattr(fitted, "law") else fitted.parameters
     par = Parametrisation(law, scatter=scatter)
     nominal = [float(np.asarray(params[s.name])) for s in par.specs]

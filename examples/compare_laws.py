@@ -8,8 +8,9 @@ What it shows
     * the results laid out as the paper's Tables 3 and 2, in markdown, with the paper's
       published values in brackets.
 
-Campaign B is the embedded *synthetic surrogate* of the paper's natural-turf campaign,
-so agreement with the paper's numbers is expected only roughly (see docs/data.md).
+Campaign B is the embedded *synthetic surrogate* of the paper's natural-turf campaign (by
+default simulated from turf physics through camera frames, docs/simulation.md), so agreement
+with the paper's numbers is expected only roughly.
 
 Run it from the repository root (about 5 s; it writes nothing)::
 

@@ -2,7 +2,7 @@
 
 What it shows
     * loading an embedded campaign (campaign A, artificial turf; a *synthetic surrogate*
-      of the paper's data, see docs/data.md);
+      of the paper's data, simulated from turf physics, see docs/simulation.md);
     * fitting each of bouncelab's laws with :func:`bouncelab.fit` (the default global
       search minimising the paper's error delta) and reading the :class:`~bouncelab.FitResult`
       report, including its notes on parameters that ended on a bound;

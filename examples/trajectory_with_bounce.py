@@ -15,7 +15,7 @@ What it shows
       or ``--max-bounces`` is reached.
 
 By default the law is Penner's fixed-angle law fitted to campaign B (the embedded synthetic
-surrogate of the paper's natural-turf campaign). ``--published`` uses the paper's published
+surrogate of the paper's natural-turf campaign, simulated from turf physics). ``--published`` uses the paper's published
 values instead, and ``--law`` picks another law. Try ``--law PiecewiseAffine --published``:
 its offset ``b`` gives every lift-off an upward velocity of at least about 0.5 m/s, so the
 ball never settles -- the paper's own caution about that law.

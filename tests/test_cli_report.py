@@ -306,7 +306,7 @@ def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypat
         return _fake_campaign(name, ds, *args, **kw)
 
     monkeypatch.setattr(rp, "_campaign", record)
-    data = bl.save_campaign(bl.load_campaign("B"), tmp_path / "mine.nc")
+    data = bl.save_campaign(bl.load_campaign("B", surrogate="published"), tmp_path / "mine.nc")
     code, _, _ = run(capsys, "reproduce", "--campaign", "A", "--data", data, "--surrogate", "turf",
                      "--out", tmp_path / "r", "--no-figures", "--quiet")
     assert code == EXIT_OK

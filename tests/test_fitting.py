@@ -302,7 +302,7 @@ def test_svm_plane_readings(campaign_a):
 def test_plane_search_recovers_the_surrogates_true_plane():
     """The surrogates are made from the published laws, so their true plane is known."""
     for campaign in ("A", "B"):
-        ds = bl.load_campaign(campaign)
+        ds = bl.load_campaign(campaign, surrogate="published")
         fitted = bl.fit(bl.PiecewiseAffine, ds).model
         truth = bl.PiecewiseAffine.published(campaign)
         p0 = ds.landing.values

@@ -376,15 +376,17 @@ def test_save_failure_keeps_existing_file(tmp_path, monkeypatch):
 
 def test_embedded_names_use_package_file(tmp_path, monkeypatch):
     path = save_campaign(make_full_campaign(SETTING), tmp_path / "campaign_A.nc")
-    monkeypatch.setattr(io_load, "_embedded_file", lambda name: path if name == "A" else None)
+    monkeypatch.setattr(io_load, "_embedded_file", lambda name, surrogate: path if name == "A" else None)
     ds = load_campaign(" a ")
     xr.testing.assert_identical(ds, make_full_campaign(SETTING))
 
 
 def test_embedded_missing_file_message(monkeypatch, tmp_path):
     monkeypatch.setattr(io_load.resources, "files", lambda pkg: tmp_path)
-    with pytest.raises(FileNotFoundError, match=r"campaign_B\.nc"):
+    with pytest.raises(FileNotFoundError, match=r"campaign_B_turf\.nc"):
         load_campaign("B")
+    with pytest.raises(FileNotFoundError, match=r"campaign_B\.nc"):
+        load_campaign("B", surrogate="published")
 
 
 def test_unknown_source_name_and_missing_file(tmp_path, monkeypatch):

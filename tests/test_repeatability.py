@@ -219,9 +219,17 @@ def test_summary_rejects_other_input():
         repeatability_summary(rep.assign_coords(state=["in", "out"]))
 
 
+_TURF_B_NARROW = pytest.mark.xfail(strict=True, reason=(
+    "a known shortfall of the turf surrogate B (docs/simulation.md, 'do not capture'): its spot-to-spot scatter "
+    "widens the lift-off intervals of only 43 % of the settings, against the paper's majority"))
+
+
+@pytest.mark.parametrize("surrogate", ["published", "turf"])
 @pytest.mark.parametrize(("name", "n_settings", "n_bounces"), [("A", 55, 330), ("B", 82, 693)])
-def test_embedded_campaigns(name, n_settings, n_bounces):
-    ds = bl.load_campaign(name)
+def test_embedded_campaigns(name, n_settings, n_bounces, surrogate, request):
+    if (name, surrogate) == ("B", "turf"):
+        request.applymarker(_TURF_B_NARROW)
+    ds = bl.load_campaign(name, surrogate=surrogate)
     rep = repeatability(ds)
     assert dict(rep.sizes) == {"setting": n_settings, "state": 2, "component": 3}
     assert int(rep["n"].sum()) == n_bounces
@@ -235,7 +243,7 @@ def test_embedded_campaigns(name, n_settings, n_bounces):
 
 
 def test_embedded_campaign_inferred_settings():
-    ds = bl.load_campaign("A").drop_vars("setting")
+    ds = bl.load_campaign("A", surrogate="published").drop_vars("setting")
     with pytest.warns(UserWarning, match="55 launcher settings"):
         rep = repeatability(ds)
     assert rep.sizes["setting"] == 55  # infer_settings recovers A's settings exactly (ARI 1.00)

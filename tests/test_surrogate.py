@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 
@@ -243,18 +244,23 @@ def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
     turf = json.loads(ds.attrs["simulation_json"])["turf"]
     assert turf["law"]["law"] == law
     # a different campaign from the published surrogate
-    pub = bouncelab.load_campaign(campaign)
+    pub = bouncelab.load_campaign(campaign, surrogate="published")
     assert pub.attrs["surrogate"] == "published"
     assert not np.allclose(pub["liftoff"].values, ds["liftoff"].values)
 
 
-def test_load_campaign_default_is_published_and_unknown_surrogate_is_refused():
+def test_load_campaign_default_is_turf_and_unknown_surrogate_is_refused():
+    from bouncelab.data.surrogate import DEFAULT_SURROGATE
     from bouncelab.errors import DataError
 
-    pub = bouncelab.load_campaign("B")
-    assert pub.attrs["surrogate"] == "published"
-    assert "surrogate 'published'" in pub.attrs["warning"]  # what `bouncelab reproduce` prints
-    assert "surrogate 'turf'" in bouncelab.load_campaign("B", surrogate="turf").attrs["warning"]
+    assert DEFAULT_SURROGATE == "turf"  # the one the calibration measures closer to the paper (docs/simulation.md)
+    default = bouncelab.load_campaign("B")
+    turf = bouncelab.load_campaign("B", surrogate="turf")
+    xr.testing.assert_identical(default, turf)
+    assert default.attrs["surrogate"] == "turf"
+    assert bouncelab.load_campaign(" b ", surrogate=None).attrs["surrogate"] == "turf"
+    assert "surrogate 'turf'" in default.attrs["warning"]  # what `bouncelab reproduce` prints
+    assert "surrogate 'published'" in bouncelab.load_campaign("B", surrogate="published").attrs["warning"]
     with pytest.raises(DataError, match=r"'published', 'turf'.*'paper'"):
         bouncelab.load_campaign("A", surrogate="paper")
 
@@ -262,19 +268,27 @@ def test_load_campaign_default_is_published_and_unknown_surrogate_is_refused():
 def test_surrogate_for_a_file_is_refused_not_ignored(tmp_path):
     from bouncelab.errors import DataError
 
-    path = bouncelab.save_campaign(bouncelab.load_campaign("A"), tmp_path / "a.nc")
-    with pytest.raises(DataError, match=r"a\.nc.*surrogate='turf' applies only to the embedded campaigns"):
-        bouncelab.load_campaign(path, surrogate="turf")
-    assert bouncelab.load_campaign(path, surrogate="published").sizes["bounce"] == 330  # the default is no choice
+    ds = bouncelab.load_campaign("A")
+    path = bouncelab.save_campaign(ds, tmp_path / "a.nc")
+    for surrogate in ("turf", "published"):  # any surrogate named for a file or a DataFrame is a mistake
+        with pytest.raises(DataError, match=rf"a\.nc.*surrogate='{surrogate}' applies only to the embedded campaigns"):
+            bouncelab.load_campaign(path, surrogate=surrogate)
+        frame = pd.DataFrame(ds["landing"].values, columns=["vx0", "vy0", "w0"])
+        with pytest.raises(DataError, match=rf"surrogate='{surrogate}' applies only to the embedded campaigns.*"
+                                            "not to a DataFrame"):
+            bouncelab.load_campaign(frame, surrogate=surrogate)
+    assert bouncelab.load_campaign(path).sizes["bounce"] == 330
 
 
 def test_cli_surrogate_option_chooses_the_embedded_campaign(capsys):
     from bouncelab.cli.main import main
     from bouncelab.data.surrogate import TURF_CALIBRATION
 
-    assert main(["info", "A", "--surrogate", "turf"]) == 0
-    turf = capsys.readouterr()
     assert main(["info", "A"]) == 0
+    turf = capsys.readouterr()
+    assert main(["info", "A", "--surrogate", "turf"]) == 0
+    assert capsys.readouterr().out == turf.out  # turf is the default
+    assert main(["info", "A", "--surrogate", "published"]) == 0
     pub = capsys.readouterr()
     law = TURF_CALIBRATION["A"]["law"]
     assert "surrogate 'turf'" in turf.out + turf.err and law in turf.out + turf.err

@@ -131,9 +131,10 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                    help="unit of the angles of a file giving speed, angle and spin (default deg, unless the header "
                         "says)")
     p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
-                   help="which synthetic surrogate the embedded campaigns A and B are: published (default: made "
-                        "from the paper's published laws) or turf (simulated from turf physics, the calibrated law of "
-                        "bouncelab.data.surrogate.TURF_CALIBRATION, through camera frames); see docs/simulation.md")
+                   help="which synthetic surrogate the embedded campaigns A and B are: turf (default: simulated from "
+                        "turf physics, the calibrated law of bouncelab.data.surrogate.TURF_CALIBRATION, through "
+                        "camera frames) or published (made from the paper's published laws, so comparing the "
+                        "paper's laws on it is circular); see docs/simulation.md")
 
 
 def _add_import_option(p: argparse.ArgumentParser) -> None:

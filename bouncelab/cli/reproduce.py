@@ -233,7 +233,7 @@ def reproduce(
     labels: dict[str, str] | None = None,
     figure_units: Any = None,
     laws: Sequence[Any] = (),
-    surrogate: str = "published",
+    surrogate: str | None = None,
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
 
@@ -265,7 +265,8 @@ def reproduce(
         Further laws (classes, instances or registered names, e.g. your own) fitted, compared and
         cross-validated beside the paper's laws and the tangential-restitution law.
     surrogate
-        Which synthetic surrogate the embedded campaigns are (``"published"`` or ``"turf"``, see
+        Which synthetic surrogate the embedded campaigns are (``"turf"`` or ``"published"``; None,
+        the default, is :data:`bouncelab.data.surrogate.DEFAULT_SURROGATE`, see
         :func:`bouncelab.load_campaign`); the report's notes name it. Ignored when ``load`` is given.
 
     Returns
@@ -306,7 +307,7 @@ def reproduce(
         pyplot()  # fail early, before any work, if matplotlib is missing
         units = resolve_units(figure_units)  # and on bad units
     if load is None:
-        if surrogate not in EMBEDDED_SURROGATES:  # before any work
+        if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:  # before any work
             raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
 
         def load(src: str) -> xr.Dataset:

@@ -7,7 +7,7 @@ from bouncelab.analysis.repeats import repeatability
 from bouncelab.laws.plane_fitting import fit_svm
 from bouncelab.plots import plot_landing_space, plot_repeatability, plot_tangential, save_figure
 
-a, b = bl.load_campaign("A"), bl.load_campaign("B")
+a, b = bl.load_campaign("A", surrogate="published"), bl.load_campaign("B", surrogate="published")
 save_figure(plot_tangential(a), "tangential_A.png", dpi=70)
 save_figure(plot_repeatability(repeatability(b), units="lab"), "repeatability_B.png", dpi=75)  # m/s, rpm
 plane = bl.fit(bl.PiecewiseAffine, b).model                  # the delta-optimal plane

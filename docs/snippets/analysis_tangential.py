@@ -1,7 +1,7 @@
 import bouncelab as bl
 from bouncelab.analysis import tangential_crosstab, tangential_summary, tangential_velocities
 
-ds = bl.load_campaign("B")
+ds = bl.load_campaign("B", surrogate="published")
 tv = tangential_velocities(ds)
 print(tv[["vp_landing", "vp_liftoff", "slip_roll", "vp_reversal"]].isel(bounce=slice(0, 4)).to_pandas().round(1))
 s = tangential_summary(ds)

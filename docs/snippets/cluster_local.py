@@ -7,7 +7,7 @@ from distributed import Client, LocalCluster
 import bouncelab as bl
 
 if __name__ == "__main__":  # worker processes import this file: start the cluster only in the main process
-    ds = bl.load_campaign("B")
+    ds = bl.load_campaign("B", surrogate="published")
     # Here a LocalCluster of two worker processes; on a real cluster, Client("tcp://scheduler:8786") instead.
     with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster, Client(cluster) as client:
         print("workers:", len(client.scheduler_info()["workers"]))

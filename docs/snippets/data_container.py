@@ -1,6 +1,6 @@
 import bouncelab as bl
 
-ds = bl.load_campaign("B")
+ds = bl.load_campaign("B", surrogate="published")
 print(ds)
 print(ds.landing.sel(component="omega").values[:5].round(1))   # rad/s
 print(ds.unit.values)

@@ -3,7 +3,7 @@ import numpy as np
 import bouncelab as bl
 from bouncelab.data.io import save_campaign
 
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 path = save_campaign(ds, "campaign_A_copy.nc")
 again = bl.load_campaign(path)
 print(path, again.sizes["bounce"], again.attrs["data_kind"])

@@ -4,7 +4,7 @@ import bouncelab as bl
 
 # A stand-in for a file of measured bounces in physical units (here made from surrogate A,
 # so the numbers are NOT measurements): one row per bounce, m/s and rpm, a setting column.
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 physical = {s: bl.units.from_scaled(ds[s].values, velocity="m/s", spin="rpm") for s in ("landing", "liftoff")}
 rows = ["Setting,Vx in,Vy in,Spin in,Vx out,Vy out,Spin out"]
 for k in range(ds.sizes["bounce"]):

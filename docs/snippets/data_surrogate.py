@@ -6,7 +6,7 @@ from bouncelab.laws.plane_fitting import mismatched_fraction
 
 print(SurrogateSpec.for_campaign("A"))
 for campaign in "AB":
-    ds = bl.load_campaign(campaign)
+    ds = bl.load_campaign(campaign, surrogate="published")
     law = bl.PiecewiseAffine.published(campaign)           # the law that generated it
     t = bl.score(law, ds)                                  # by measured slip/roll class
     paper = bl.published.TABLE2.loc[campaign]

@@ -5,7 +5,7 @@ from bouncelab.data import units
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 
 # Campaign A's bounces as a lab sheet would hold them: m/s and rpm.
-a = bl.load_campaign("A")
+a = bl.load_campaign("A", surrogate="published")
 landing = units.from_scaled(a.landing.values, velocity="m/s", spin="rpm")
 liftoff = units.from_scaled(a.liftoff.values, velocity="m/s", spin="rpm")
 np.set_printoptions(suppress=True)

@@ -2,7 +2,7 @@
 python - <<'PY'
 import bouncelab as bl
 from bouncelab.data import units
-b = bl.load_campaign("B")
+b = bl.load_campaign("B", surrogate="published")
 p0 = units.from_scaled(b.landing.values, velocity="m/s", spin="rpm")
 pf = units.from_scaled(b.liftoff.values, velocity="m/s", spin="rpm")
 keep = (abs(p0[:, 2]) < 4800) & (abs(pf[:, 2]) < 4800)

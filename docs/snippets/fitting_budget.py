@@ -6,7 +6,7 @@ print("bounces          " + "".join(f"{n:>7}" for n in sizes))
 for d in (2, 3):
     print(f"{d} free parameters" + "".join(f"{default_maxeval(d, n):>7}" for n in sizes))
 
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 train, test = bl.split_by_setting(ds, seed=0)              # 275 of the 330 bounces
 for data in (ds, train, ds.isel(bounce=slice(0, 60))):
     res = bl.fit(bl.Rigid, data)

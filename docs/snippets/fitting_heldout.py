@@ -3,7 +3,7 @@ from sklearn.metrics import adjusted_rand_score
 
 import bouncelab as bl
 
-ds = bl.load_campaign("B")
+ds = bl.load_campaign("B", surrogate="published")
 
 # The paper's split: one random bounce of each launcher setting is held out.
 train, test = bl.split_by_setting(ds, seed=0)

@@ -3,7 +3,7 @@ import numpy as np
 import bouncelab as bl
 
 for campaign in "AB":
-    ds = bl.load_campaign(campaign)
+    ds = bl.load_campaign(campaign, surrogate="published")
     p0 = ds.landing.values
     fitted = bl.fit(bl.Rigid, ds).model
     r = fitted.r

@@ -1,6 +1,6 @@
 import bouncelab as bl
 
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 
 # The objective: delta (default), one Delta q, or a weighted sum.
 print(bl.fit(bl.Rigid, ds, objective="omega").model)

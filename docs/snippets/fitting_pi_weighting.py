@@ -4,7 +4,7 @@ import bouncelab as bl
 
 rows = []
 for campaign in ("A", "B"):
-    ds = bl.load_campaign(campaign)
+    ds = bl.load_campaign(campaign, surrogate="published")
     for law in (bl.Rigid, bl.PennerFixed, bl.PennerVarying):
         for objective in ("delta", "delta_pi"):
             res = bl.fit(law, ds, objective=objective)

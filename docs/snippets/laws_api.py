@@ -18,7 +18,7 @@ except bl.ParameterError as exc:
     print("ParameterError:", exc)
 
 # predict takes (..., 3) array-likes or a labelled DataArray and returns the same kind.
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 pred = law.predict(ds.landing)
 print(type(pred).__name__, pred.dims, pred.sizes["bounce"])
 print(law.regime(ds.landing).to_series().value_counts())

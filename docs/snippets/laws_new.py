@@ -46,8 +46,9 @@ class SpeedRestitution(BounceModel):
 if __name__ == "__main__":
     law = SpeedRestitution(r0=0.6, v_c=2000.0, mu=0.3)
     print(law.predict([[1000.0, -800.0, 300.0]]).round(2), law.regime([[1000.0, -800.0, 300.0]]))
-    res = bl.fit(SpeedRestitution, bl.load_campaign("B"))   # the generic global search works for any law
+    ds = bl.load_campaign("B", surrogate="published")
+    res = bl.fit(SpeedRestitution, ds)                       # the generic global search works for any law
     print(res)
-    print(bl.compare(bl.load_campaign("B"), ["Rigid", SpeedRestitution]).table.round(4).to_string())
+    print(bl.compare(ds, ["Rigid", SpeedRestitution]).table.round(4).to_string())
     print(res.model.to_json())                               # named by module:class
     print(bl.BounceModel.from_dict(res.model.to_dict()) == res.model)

@@ -51,7 +51,7 @@ class AffineMap(CompiledLaw):
 
 
 if __name__ == "__main__":
-    ds = bl.load_campaign("B")
+    ds = bl.load_campaign("B", surrogate="published")
     res = bl.fit(AffineMap, ds)                              # its own method, "lstsq"
     print(res)
     print(res.params)                                        # values with standard errors

@@ -12,7 +12,7 @@ LAWS = [bl.Rigid, bl.PennerFixed, bl.PiecewiseAffine, bl.TangentialRestitution, 
         bl.CraterContact]
 
 for campaign in "AB":
-    ds = bl.load_campaign(campaign)
+    ds = bl.load_campaign(campaign, surrogate="published")
     fits = {}
     print(f"campaign {campaign} ({ds.sizes['bounce']} bounces, {ds.attrs.get('data_kind', '')})")
     for law in LAWS:

@@ -5,7 +5,7 @@ from sklearn.model_selection import GridSearchCV, GroupKFold, cross_val_score
 
 import bouncelab as bl
 
-ds = bl.load_campaign("A")
+ds = bl.load_campaign("A", surrogate="published")
 X, Y, groups = ds.landing.values, ds.liftoff.values, ds.setting.values  # landings, lift-offs, launcher settings
 
 # A law as a 3-output regressor: fit(X, Y), predict(X), score = -delta (greater is better).

@@ -21,6 +21,7 @@ from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _o
 from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
 from bouncelab.data.io.text import _read_text
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
+from bouncelab.data.surrogate import DEFAULT_SURROGATE, SURROGATES
 from bouncelab.data.units import BALL_RADIUS_M, ball_radius
 from bouncelab.errors import DataError, ParameterError
 
@@ -33,7 +34,7 @@ SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".
 #: Names of the campaigns shipped with the package (``load_campaign("A")``).
 EMBEDDED_CAMPAIGNS = ("A", "B")
 #: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.surrogate.SURROGATES).
-EMBEDDED_SURROGATES = ("published", "turf")
+EMBEDDED_SURROGATES = SURROGATES
 
 
 #: Largest data file :func:`load_campaign` reads, in bytes (1 GiB: some ten million bounces as CSV).
@@ -80,7 +81,7 @@ def _read_bytes(path: Path, file: str) -> bytes:
     return data
 
 
-def _embedded_file(name: str, surrogate: str = "published"):
+def _embedded_file(name: str, surrogate: str):
     fname = f"campaign_{name}.nc" if surrogate == "published" else f"campaign_{name}_{surrogate}.nc"
     try:
         path = resources.files("bouncelab.data").joinpath("files", fname)
@@ -121,7 +122,7 @@ def load_campaign(
     sheet: str | int | None = None,
     ball_radius_m: float = BALL_RADIUS_M,
     plausible: PlausibleRanges = PLAUSIBLE_RANGES,
-    surrogate: str = "published",
+    surrogate: str | None = None,
     header_row: int | None = None,
     missing: str = "raise",
     intervals: str | None = None,
@@ -169,13 +170,16 @@ def load_campaign(
         as a unit mistake. Widen them on purpose with
         ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
     surrogate
-        Which embedded campaign ``"A"``/``"B"`` loads (ignored for files):
-        ``"published"`` (default) the synthetic surrogate made from the paper's
-        published piecewise-affine laws (:func:`bouncelab.generate_surrogate`),
+        Which embedded campaign ``"A"``/``"B"`` loads (embedded campaigns only):
         ``"turf"`` the campaign simulated from a calibrated physical turf law
         (:data:`bouncelab.data.surrogate.TURF_CALIBRATION`) and measured through
-        camera frames (:func:`bouncelab.simulate_campaign`; ``docs/simulation.md``).
-        The name is stored in attrs ``surrogate``.
+        camera frames (:func:`bouncelab.simulate_campaign`; ``docs/simulation.md``),
+        ``"published"`` the synthetic surrogate made from the paper's published
+        piecewise-affine laws (:func:`bouncelab.generate_surrogate`; comparisons of
+        the paper's laws on it are circular). ``None`` (default):
+        :data:`bouncelab.data.surrogate.DEFAULT_SURROGATE`, ``"turf"``, the one the
+        calibration measures closer to the paper. The name is stored in attrs
+        ``surrogate``.
     header_row
         The 1-based line of a text file (or row of a spreadsheet) that holds
         the header, counting every line; the lines above it are ignored.
@@ -231,7 +235,7 @@ def load_campaign(
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     >>> ds = load_campaign("B")  # doctest: +SKIP
     """
-    if surrogate not in EMBEDDED_SURROGATES:
+    if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     style = hints.check_style(hint_style)
     where = DATAFRAME_NAME if _is_dataframe(source) else str(source)
@@ -247,6 +251,9 @@ def load_campaign(
                         f"{', '.join(map(repr, INTERVAL_KINDS))} (95 % half-widths or one standard deviation); "
                         f"got {intervals!r}")
     if _is_dataframe(source):
+        if surrogate is not None:
+            raise DataError(f"surrogate={surrogate!r} applies only to the embedded campaigns "
+                            f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a DataFrame", file=where)
         return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
                                sheet=sheet, ball_radius_m=radius, plausible=plausible,
                                header_row=header_row, missing=missing, intervals=intervals, style=style)
@@ -255,7 +262,8 @@ def load_campaign(
         for option, value in (("header_row", header_row), ("intervals", intervals)):
             if value is not None:
                 raise DataError(f"{hints.option(option, style)} does not apply to an embedded campaign")
-        res = _embedded_file(name) if surrogate == "published" else _embedded_file(name, surrogate)
+        surrogate = DEFAULT_SURROGATE if surrogate is None else surrogate
+        res = _embedded_file(name, surrogate)
         with resources.as_file(res) as path:
             file = f"embedded campaign {name} ({path.name})"
             ds = _open_netcdf(Path(path), file)
@@ -270,7 +278,7 @@ def load_campaign(
                     out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
             return out
 
-    if surrogate != "published":  # a file is what it is: no surrogate to choose
+    if surrogate is not None:  # a file is what it is: no surrogate to choose
         raise DataError(f"surrogate={surrogate!r} applies only to the embedded campaigns "
                         f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a file", file=os.fspath(source))
     file = os.fspath(source)
