@@ -149,7 +149,7 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     assert "(7.27 %)" in (rep / "tables" / "A_table2.md").read_text()
     for law in ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine"):
         bl.load_law(rep / "laws" / f"A_{law}.json")
-    assert "SIMULATED CAMPAIGN, NOT MEASURED BOUNCES (surrogate &#x27;turf&#x27;)" in index  # the default surrogate says so
+    assert "SIMULATED CAMPAIGN, NOT MEASURED BOUNCES (surrogate &#x27;turf&#x27;)" in index  # the default surrogate
     assert "[ 1/11] loading A" in err and "done" in err
     assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
     assert "Values in brackets are the paper's published ones" in index

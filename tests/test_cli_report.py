@@ -331,3 +331,26 @@ def test_reproduce_on_a_campaign_too_small_for_the_svm_still_writes_the_report(t
     assert "no SVM plane" in notes and "at least 8 bounces" in notes
     table2 = (tmp_path / "rep" / "tables" / "s_table2.md").read_text()
     assert "delta-optimal plane" in table2 and "SVM plane: overall" not in table2
+
+
+def test_reproduce_intervals_applies_to_the_data_files_not_to_the_embedded_campaigns(monkeypatch, capsys, tmp_path):
+    # Review (stop 19): --campaign A --data FILE --intervals sd failed with "does not apply to an embedded campaign".
+    seen = {}
+
+    def record(name, ds, *args, **kw):
+        seen[name] = ds
+        return _fake_campaign(name, ds, *args, **kw)
+
+    monkeypatch.setattr(rp, "_campaign", record)
+    ds = bl.load_campaign("B", surrogate="published")
+    frame = pd.DataFrame(np.hstack([ds["landing"].values, ds["liftoff"].values, np.ones((ds.sizes["bounce"], 3))]),
+                         columns=["vx0", "vy0", "w0", "vxF", "vyF", "wF", "vx0_unc", "vy0_unc", "w0_unc"])
+    frame.to_csv(tmp_path / "mine.csv", index=False)
+    argv = ["reproduce", "--campaign", "A", "--data", tmp_path / "mine.csv", "--velocity-unit", "radius/s",
+            "--spin-unit", "rad/s", "--out", tmp_path / "r", "--no-figures", "--quiet"]
+    code, _, err = run(capsys, *argv)
+    assert code == EXIT_DATA and "--intervals sd" in err  # the file's names do not say: the flag must
+    code, _, _ = run(capsys, *argv, "--intervals", "sd")
+    assert code == EXIT_OK
+    assert seen["A"].attrs["surrogate"] == "turf" and "interval_source" not in seen["A"].attrs
+    np.testing.assert_allclose(seen["mine"]["landing_pi"].values, 1.959963984540054, rtol=1e-12)

@@ -1143,3 +1143,41 @@ def test_intervals_on_the_command_line(tmp_path, capsys):
     assert main(["info", path, "--velocity-unit", "m/s", "--spin-unit", "rpm", "--intervals", "sd"]) == EXIT_OK
     out = capsys.readouterr().out
     assert "read from: landing standard deviations x 1.96" in out and "source units: velocity m/s, spin rpm" in out
+
+
+def test_columns_named_in_columns_say_what_they_hold_by_their_last_or_first_word(tmp_path):
+    # Review (stop 19): "a_sd" named in columns= was read as a 95 % half-width, 1.96 times too narrow.
+    table = {**CART_PLAIN, "a_sd": LANDING_HW["vx0"], "b_sd": LANDING_HW["vy0"], "sigma c": LANDING_HW["w0"],
+             "a_err": LANDING_HW["vx0"], "b_err": LANDING_HW["vy0"], "c_err": LANDING_HW["w0"]}
+    path = write(tmp_path / "w.csv", table)
+    cols = {"landing": ["vx0", "vy0", "w0"], "liftoff": ["vxF", "vyF", "wF"]}
+    ds = load_campaign(path, units=CART_UNITS, columns={**cols, "landing_pi": ["a_sd", "b_sd", "sigma c"]})
+    np.testing.assert_allclose(ds["landing_pi"].values, Z95 * EXP_CART_PI, rtol=1e-12)
+    with pytest.raises(DataError, match=r"column 'a_err'.*may hold one standard deviation"):
+        load_campaign(path, units=CART_UNITS, columns={**cols, "landing_pi": ["a_err", "b_err", "c_err"]})
+
+
+def test_a_standard_deviation_too_wide_is_quoted_with_what_was_checked(tmp_path):
+    sds = {**CART_PLAIN, **{f"{k}_sd": v for k, v in LANDING_HW.items()}}
+    sds["w0_sd"] = np.full(6, 15000.0)  # rpm: x 1.96 is beyond the plausible 20000 rpm
+    with pytest.raises(DataError, match=r"standard deviation 15000\.0 rpm \(x 1\.96: 29399\.5 rpm as a 95 % "
+                                        r"half-width\) is wider than any plausible value \(20000 rpm\)") as exc:
+        load_campaign(write(tmp_path / "s.csv", sds), units=CART_UNITS)
+    assert exc.value.column == "w0_sd" and exc.value.row == 1
+    polar = {**POLAR, **{k.replace("_pi", "_sd"): v for k, v in POLAR_PI.items()}}
+    polar["angle_in_sd (deg)"] = np.full(6, 50.0)
+    with pytest.raises(DataError, match=r"standard deviation 50\.0 deg \(x 1\.96: 97\.9982 deg as a 95 % half-width\) "
+                                        r"is wider than any plausible angle half-width"):
+        load_campaign(write(tmp_path / "p.csv", polar))
+
+
+def test_surrogate_and_intervals_on_the_command_line_of_reproduce(tmp_path, capsys):
+    path = str(write(tmp_path / "u.csv", with_marker("unc")))
+    units = ["--velocity-unit", "m/s", "--spin-unit", "rpm"]
+    # a surrogate with only data files is a usage error, not silently ignored; its message speaks flags
+    assert main(["reproduce", "--data", path, *units, "--surrogate", "turf", "--no-figures", "--quiet",
+                 "--out", str(tmp_path / "r")]) == 2
+    assert "--surrogate turf names which embedded campaigns" in capsys.readouterr().err
+    assert main(["info", path, *units, "--surrogate", "turf"]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "--surrogate turf applies only to the embedded campaigns" in err and "surrogate=" not in err

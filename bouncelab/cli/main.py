@@ -328,11 +328,19 @@ def _reproduce(args: argparse.Namespace) -> int:
     if args.label is not None and len(args.label) != len(args.data):
         raise UsageError(f"give one --label per --data file: {len(args.data)} file(s), {len(args.label)} label(s)")
 
+    if getattr(args, "surrogate", None) and not campaigns:
+        raise UsageError(f"--surrogate {args.surrogate} names which embedded campaigns A and B are, but this run has "
+                         "only --data files, which are loaded as they are; drop --surrogate or add --campaign A/B")
+
+    # In a run with data files the file options (--columns, units, --sheet, --header-row, --intervals) are theirs,
+    # not the embedded campaigns'; without data files they reach the loader, which refuses them for a campaign.
+    file_options = ("columns", "velocity_unit", "spin_unit", "angle_unit", "sheet", "header_row", "intervals")
+    embedded_args = argparse.Namespace(**{**vars(args), **({k: None for k in file_options} if args.data else
+                                                             {"sheet": None, "header_row": None})})
+
     def load(src: str):
         # --surrogate names which embedded campaigns A and B are; data files are loaded as they are
-        # (and the file options --sheet, --header-row do not apply to the embedded campaigns)
-        ds = _load(src, argparse.Namespace(**{**vars(args), "sheet": None, "header_row": None}) if src in campaigns
-                   else argparse.Namespace(**{**vars(args), "surrogate": None}))
+        ds = _load(src, embedded_args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
     report = reproduce(

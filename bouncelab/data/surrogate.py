@@ -1,10 +1,12 @@
-"""Synthetic surrogate campaigns, made from the paper's published laws.
+"""Synthetic surrogate campaigns: made from the paper's published laws, or simulated from turf physics.
 
 The paper's measured bounces are not bundled with bouncelab, so the embedded
-default campaigns ``"A"`` and ``"B"`` are **synthetic surrogates**: plausible
-data with the paper's design, generated here from its published
-piecewise-affine laws. They let every analysis run on a fresh machine; they are
-*not* measurements, and every surrogate Dataset says so in its attrs
+campaigns ``"A"`` and ``"B"`` are **synthetic surrogates**. The default ones
+(``surrogate="turf"``, :data:`DEFAULT_SURROGATE`) are simulated by
+:func:`generate_turf_surrogate` with the calibrated turf of :data:`TURF_CALIBRATION`
+(docs/simulation.md). The ``"published"`` ones are plausible data with the paper's
+design, generated here from its published piecewise-affine laws (below). They let every
+analysis run on a fresh machine; they are *not* measurements, and every surrogate Dataset says so in its attrs
 (``data_kind = "synthetic surrogate"``). Load real files with
 :func:`bouncelab.load_campaign` instead whenever you have them.
 

@@ -695,6 +695,11 @@ def _interval_marker(col: _Column) -> str | None:
             found = _marked(key, synonyms)
             if found is not None:
                 return found[1]
+    # A name given in columns= need not be a state's (``a_sd``, ``sigma vx``): its last or first word still says.
+    words = [w for w in re.split(r"[^a-z0-9]+", _split_header(col.name)[0].lower()) if w]
+    for word in (words[-1:] + words[:1]):
+        if word in _PI_MARKERS:
+            return word
     return None
 
 

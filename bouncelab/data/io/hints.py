@@ -21,7 +21,7 @@ HINT_STYLES = ("python", "cli")
 _FLAGS = {
     "columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
     "units": "--velocity-unit/--spin-unit",
-    "intervals": "--intervals",
+    "intervals": "--intervals", "surrogate": "--surrogate",
 }
 _UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 

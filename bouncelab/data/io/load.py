@@ -235,9 +235,9 @@ def load_campaign(
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     >>> ds = load_campaign("B")  # doctest: +SKIP
     """
+    style = hints.check_style(hint_style)
     if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
-    style = hints.check_style(hint_style)
     where = DATAFRAME_NAME if _is_dataframe(source) else str(source)
     radius = ball_radius(ball_radius_m, file=where)
     if not isinstance(plausible, PlausibleRanges):
@@ -252,7 +252,7 @@ def load_campaign(
                         f"got {intervals!r}")
     if _is_dataframe(source):
         if surrogate is not None:
-            raise DataError(f"surrogate={surrogate!r} applies only to the embedded campaigns "
+            raise DataError(f"{hints.setting('surrogate', surrogate, style)} applies only to the embedded campaigns "
                             f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a DataFrame", file=where)
         return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
                                sheet=sheet, ball_radius_m=radius, plausible=plausible,
@@ -279,7 +279,7 @@ def load_campaign(
             return out
 
     if surrogate is not None:  # a file is what it is: no surrogate to choose
-        raise DataError(f"surrogate={surrogate!r} applies only to the embedded campaigns "
+        raise DataError(f"{hints.setting('surrogate', surrogate, style)} applies only to the embedded campaigns "
                         f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a file", file=os.fspath(source))
     file = os.fspath(source)
     path = Path(file).expanduser()

@@ -119,6 +119,17 @@ def _cell(col: _Column, index: int, unit: str | None = None) -> str:
     return text if unit is None else f"{text} {unit}"
 
 
+def _interval_cell(col: _Column, index: int, unit: str | None, scale: float, value: float) -> str:
+    """An interval cell for messages: ``prediction-interval half-width 0.5 m/s``, or for a standard deviation
+    (``value`` as parsed, times ``scale``) ``standard deviation 15000 rpm (x 1.96: 29399.5 rpm as a 95 %
+    half-width)``, so that the message quotes the number that was checked."""
+    cell = _cell(col, index, unit)
+    if scale == 1.0:
+        return f"prediction-interval half-width {cell}"
+    return (f"standard deviation {cell} (x {scale:.2f}: {value * scale:.6g}{'' if unit is None else ' ' + unit} "
+            "as a 95 % half-width)")
+
+
 def _finish_table(
     file: str,
     names: list[str],
@@ -532,7 +543,7 @@ def _campaign_from_table(
                        "independent)" if s in polar_pi else "cartesian")
             for s in _STATES if f"{s}_pi.omega" in cols)
     for state in polar_pi:
-        _polar_intervals(table, state, cols, parsed, scaled, unit_of, ball_radius_m, plausible)
+        _polar_intervals(table, state, cols, parsed, scaled, unit_of, ball_radius_m, plausible, interval_scale)
     _check_landing_sign(table, cols, scaled, unit_of)
 
     states: dict[str, np.ndarray] = {}
@@ -559,8 +570,9 @@ def _campaign_from_table(
                     raise _propagated_too_wide(table, state, COMPONENTS[k], i, cols, scaled, unit_of,
                                                ball_radius_m, what)
                 unit = unit_of[roles[k]][0] if roles[k] in unit_of else None
-                raise _err(table, f"prediction-interval half-width {_cell(cols[roles[k]], i, unit)} is wider than "
-                           f"any plausible value ({what}): check the column's unit", cols[roles[k]].name, i)
+                cell = _interval_cell(cols[roles[k]], i, unit, interval_scale.get(roles[k], 1.0), parsed[roles[k]][i])
+                raise _err(table, f"{cell} is wider than any plausible value ({what}): check the column's unit",
+                           cols[roles[k]].name, i)
 
     _check_plausible(table, cols, parsed, scaled, unit_of, ball_radius_m, plausible)
 
@@ -659,6 +671,7 @@ def _polar_intervals(
     unit_of: dict[str, tuple[str, str]],
     radius_m: float,
     plausible: PlausibleRanges | None,
+    scales: Mapping[str, float],
 ) -> None:
     """Propagate a polar state's speed, angle and spin half-widths to xdot, ydot, omega ones (in place).
 
@@ -676,7 +689,7 @@ def _polar_intervals(
     if bad.any():
         i, k = (int(v) for v in np.argwhere(bad)[0])
         col = cols[roles[k]]
-        cell = _cell(col, i, unit_of[roles[k]][0])
+        cell = _interval_cell(col, i, unit_of[roles[k]][0], scales.get(roles[k], 1.0), raw[i, k])
         if raw[i, k] < 0:
             why = "is negative"
         elif not np.isfinite(raw[i, k]):
@@ -684,7 +697,7 @@ def _polar_intervals(
         else:
             why = (f"is wider than any plausible angle half-width ({_MAX_ANGLE_HALFWIDTH_DEG:g} deg spans every "
                    "direction a landing can come from): check the column's unit")
-        raise _err(table, f"prediction-interval half-width {cell} {why}", col.name, i)
+        raise _err(table, f"{cell} {why}", col.name, i)
     polar = np.column_stack([scaled[f"{state}.{c}"] for c in POLAR_ROLES])  # radii/s, degrees, rad/s
     halfwidths = np.column_stack([scaled[r] for r in roles])
 
