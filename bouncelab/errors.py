@@ -20,6 +20,18 @@ __all__ = [
 ]
 
 
+def row_text(row: int, label: object = None) -> str:
+    """How messages name a 1-based row: ``row 3``, or with the caller's pandas index label
+    ``row 3 (row label 'shot-2')`` (a NumPy scalar label printed as the plain number, 7 not np.int64(7))."""
+    return f"row {row}" + ("" if label is None else f" (row label {plain_label(label)!r})")
+
+
+def plain_label(label: object) -> object:
+    """A pandas index label as Python has it: a NumPy scalar becomes its Python number or string."""
+    item = getattr(label, "item", None)
+    return item() if item is not None and type(label).__module__ == "numpy" else label
+
+
 class BouncelabError(Exception):
     """Base class of every error bouncelab raises on purpose."""
 
@@ -49,14 +61,14 @@ class DataError(BouncelabError, ValueError):
         self.file = None if file is None else str(file)
         self.column = column
         self.row = row
-        self.row_label = row_label
+        self.row_label = None if row_label is None else plain_label(row_label)
         where = []
         if self.file is not None:
             where.append(f"file {self.file!r}")
         if column is not None:
             where.append(f"column {column!r}")
         if row is not None:
-            where.append(f"row {row}" + ("" if row_label is None else f" (row label {row_label!r})"))
+            where.append(row_text(row, self.row_label))
         self.message = message
         super().__init__(f"{', '.join(where)}: {message}" if where else message)
 

@@ -313,6 +313,10 @@ def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypat
     assert seen == {"A": "turf", "mine": "published"}  # the option names the embedded ones; a file is itself
     rp.reproduce(["B"], out=tmp_path / "r2", figures=False, progress=False, surrogate="turf")
     assert seen["B"] == "turf"
+    rp.reproduce(["A"], out=tmp_path / "r4", figures=False, progress=False)  # the default is the turf surrogate
+    assert seen["A"] == "turf"
+    rp.reproduce(["A"], out=tmp_path / "r5", figures=False, progress=False, surrogate="published")
+    assert seen["A"] == "published"
     with pytest.raises(bl.DataError, match="surrogate must be one of"):
         rp.reproduce(["B"], out=tmp_path / "r3", figures=False, progress=False, surrogate="paper")
     assert not (tmp_path / "r3").exists()

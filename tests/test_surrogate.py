@@ -315,3 +315,14 @@ def test_shipped_turf_files_equal_a_fresh_simulation(campaign, tmp_path):
     for var in fresh.variables:
         np.testing.assert_array_equal(shipped[var].values, fresh[var].values, err_msg=var)
     assert shipped.attrs == fresh.attrs
+
+
+def test_embedded_file_names_and_paths_agree_with_the_loader():
+    from bouncelab.data.surrogate import SURROGATES, embedded_file_name, embedded_path
+
+    assert embedded_file_name("B", "published") == "campaign_B.nc"
+    assert embedded_file_name("B") == embedded_file_name("B", "turf") == "campaign_B_turf.nc"
+    for surrogate in SURROGATES:
+        for key in "AB":
+            path = embedded_path(key, surrogate)
+            assert path.is_file() and path.name == embedded_file_name(key, surrogate)

@@ -370,3 +370,14 @@ def test_dataframe_errors_name_its_own_row_label_and_column():
     with pytest.raises(DataError) as err:  # plain arrays keep their position only
         law.predict(np.where(np.isnan(shuffled.to_numpy()[:, [2, 1, 0]]), np.nan, P0))
     assert err.value.row == 3 and err.value.row_label is None and "label" not in str(err.value)
+
+
+def test_error_rows_name_a_numpy_index_label_as_a_plain_value():
+    from bouncelab.errors import DataError, plain_label, row_text
+
+    assert row_text(3) == "row 3" and row_text(3, np.int64(7)) == "row 3 (row label 7)"
+    assert row_text(2, np.str_("shot-2")) == "row 2 (row label 'shot-2')"
+    assert type(plain_label(np.float64(1.5))) is float and plain_label("b") == "b"
+    exc = DataError("bad", file="f.csv", column="vy0", row=3, row_label=np.int64(7))
+    assert exc.row_label == 7 and type(exc.row_label) is int
+    assert str(exc) == "file 'f.csv', column 'vy0', row 3 (row label 7): bad"

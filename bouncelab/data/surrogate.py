@@ -74,6 +74,8 @@ __all__ = [
     "SURROGATES",
     "TURF_CALIBRATION",
     "SurrogateSpec",
+    "embedded_file_name",
+    "embedded_path",
     "generate_surrogate",
     "generate_turf_surrogate",
     "turf_for_campaign",
@@ -292,12 +294,17 @@ def generate_turf_surrogate(campaign: str, *, seed: int | None = None) -> xr.Dat
     return ds
 
 
+def embedded_file_name(campaign: str, surrogate: str = DEFAULT_SURROGATE) -> str:
+    """Name of the embedded file of ``campaign`` and ``surrogate`` in ``bouncelab/data/files``
+    (``campaign_B.nc`` for the published surrogate, which came first; ``campaign_B_turf.nc``)."""
+    return f"campaign_{campaign}.nc" if surrogate == "published" else f"campaign_{campaign}_{surrogate}.nc"
+
+
 def embedded_path(campaign: str, surrogate: str = DEFAULT_SURROGATE):
     """Path of the embedded file of ``campaign`` and ``surrogate`` inside the package."""
     from pathlib import Path
 
-    suffix = "" if surrogate == "published" else f"_{surrogate}"
-    return Path(__file__).parent / "files" / f"campaign_{campaign}{suffix}.nc"
+    return Path(__file__).parent / "files" / embedded_file_name(campaign, surrogate)
 
 
 def write_embedded(directory=None, surrogates=("turf",)) -> list:

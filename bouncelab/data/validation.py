@@ -164,9 +164,7 @@ def _in_pandas_terms(exc: DataError, frame: Any, name: str) -> DataError:
         component = column[len(name) + 1:]
         if order is not None and component in COMPONENTS:
             column = f"{name}.{labels[order[COMPONENTS.index(component)]]}"
-    label = frame.index[exc.row - 1]
-    label = label.item() if isinstance(label, np.generic) else label  # 7, not np.int64(7)
-    return DataError(exc.message, file=exc.file, column=column, row=exc.row, row_label=label)
+    return DataError(exc.message, file=exc.file, column=column, row=exc.row, row_label=frame.index[exc.row - 1])
 
 
 def _component_order(labels: list[str]) -> list[int] | None:

@@ -15,7 +15,7 @@ import numpy as np
 
 from bouncelab._parallel import run_rows
 from bouncelab.data.validation import as_states
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.errors import DataError, ParameterError, row_text
 
 __all__ = ["check_speeds", "kernel_rows", "predict_per_bounce", "restitution_line", "run_kernel_rows",
            "vertical_restitution"]
@@ -185,9 +185,7 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
     frame = params if hasattr(params, "columns") and hasattr(params, "index") else landing
 
     def row(i: int) -> str:  # 1-based, as DataError's rows; with the caller's index label for a DataFrame
-        label = frame.index[i] if hasattr(frame, "columns") and len(frame.index) == n else None
-        label = label.item() if isinstance(label, np.generic) else label
-        return f"row {i + 1}" + ("" if label is None else f" (row label {label!r})")
+        return row_text(i + 1, frame.index[i] if hasattr(frame, "columns") and len(frame.index) == n else None)
 
     for j, s in enumerate(specs):
         col = T[:, j]

@@ -21,7 +21,7 @@ from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _o
 from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
 from bouncelab.data.io.text import _read_text
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.surrogate import DEFAULT_SURROGATE, SURROGATES
+from bouncelab.data.surrogate import DEFAULT_SURROGATE, SURROGATES, embedded_file_name
 from bouncelab.data.units import BALL_RADIUS_M, ball_radius
 from bouncelab.errors import DataError, ParameterError
 
@@ -82,7 +82,7 @@ def _read_bytes(path: Path, file: str) -> bytes:
 
 
 def _embedded_file(name: str, surrogate: str):
-    fname = f"campaign_{name}.nc" if surrogate == "published" else f"campaign_{name}_{surrogate}.nc"
+    fname = embedded_file_name(name, surrogate)
     try:
         path = resources.files("bouncelab.data").joinpath("files", fname)
     except (ModuleNotFoundError, TypeError):

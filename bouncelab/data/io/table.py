@@ -106,9 +106,7 @@ def _err(table: _Table, message: str, column: str | None = None, index: int | No
         return DataError(message, file=table.file, column=column)
     row = table.data_row(index)
     if table.row_labels is not None:  # a DataFrame: "row 3 (row label 'shot-2')", as predict says it
-        label = table.row_labels[row]
-        label = label.item() if isinstance(label, np.generic) else label  # 7, not np.int64(7)
-        return DataError(message, file=table.file, column=column, row=row + 1, row_label=label)
+        return DataError(message, file=table.file, column=column, row=row + 1, row_label=table.row_labels[row])
     return DataError(message + table.where(index, column or ""), file=table.file, column=column, row=row + 1)
 
 
@@ -525,11 +523,12 @@ def _campaign_from_table(
         if interval_scale.get(role, 1.0) != 1.0:  # standard deviations -> 95 % half-widths
             scaled[role] = scaled[role] * interval_scale[role]
     attrs = {"source_units": _describe_units(unit_of, cols)}
-    if interval_scale:  # what the file's interval columns held, since a campaign keeps only 95 % half-widths
-        attrs["interval_source"] = ", ".join(
-            f"{s} " + " and ".join(sorted({"standard deviations x 1.96" if f != 1.0 else "95 % half-widths"
-                                           for r, f in interval_scale.items() if r.startswith(f"{s}_pi.")}))
-            for s in _STATES if any(r.startswith(f"{s}_pi.") for r in interval_scale))
+    read: dict[str, set[str]] = {}  # what the file's interval columns held: a campaign keeps only 95 % half-widths
+    for role, factor in interval_scale.items():
+        read.setdefault(role.split("_pi.")[0], set()).add("95 % half-widths" if factor == 1.0 else
+                                                          "standard deviations x 1.96")
+    if read:
+        attrs["interval_source"] = ", ".join(f"{s} " + " and ".join(sorted(read[s])) for s in _STATES if s in read)
     polar = [s for s in _STATES if f"{s}.speed" in cols]
     if polar:
         attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in _STATES)
