@@ -33,7 +33,15 @@ import warnings
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["cache_directory", "jit"]
+__all__ = ["ROW_FLAGS", "cache_directory", "jit"]
+
+#: The floating-point freedoms of bouncelab's compiled loops: only those that cannot change a finite result
+#: (no NaN or infinity reaches a kernel: inputs are checked first). Left out on purpose, so that a bounce
+#: gives the same bits whatever its place in a batch and on any x86-64 CPU (tested):
+#: "contract" (fused multiply-adds exist on some CPUs and not others, and a vectorised loop body and its
+#: scalar tail fused differently: the last bit depended on a row's position), "arcp" (reciprocals),
+#: "reassoc" (sums in another order: vector width decides the order) and "afn" (approximate functions).
+ROW_FLAGS = {"nnan", "ninf", "nsz"}
 
 _warned: set[str] = set()
 
@@ -105,12 +113,17 @@ def _cache_classes():
     class RobustCache(caching.FunctionCache):
         _impl_class = Impl
 
+        #: The compile options (fastmath flags, inline...), part of every key: numba's own key leaves them
+        #: out, so code compiled with other floating-point flags was loaded after the flags changed.
+        options_key: str = ""
+
         def _index_key(self, sig, codegen):
             if self._py_func.__closure__ is None:
-                return super()._index_key(sig, codegen)
+                return (*super()._index_key(sig, codegen), self.options_key)
             cvars = tuple(describe(c.cell_contents, set()) for c in self._py_func.__closure__)
             digest = hashlib.sha256(repr(cvars).encode()).hexdigest()
-            return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(), digest))
+            return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(), digest),
+                    self.options_key)
 
         def load_overload(self, sig, target_context):
             try:
@@ -188,6 +201,7 @@ def jit(func: Callable | None = None, *, cache: bool = True, **options: Any):
         return disp
     try:
         disp._cache = _cache_classes()(disp.py_func)
+        disp._cache.options_key = repr(sorted((k, sorted(v) if isinstance(v, set) else v) for k, v in options.items()))
     except RuntimeError as exc:  # no writable cache location at all
         _warn_once("nocache", f"bouncelab: numba cannot cache compiled code here ({exc}); compiling in each process")
     except Exception as exc:  # numba internals changed: fall back to numba's own caching

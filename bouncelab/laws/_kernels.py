@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from bouncelab._jit import jit
+from bouncelab._jit import ROW_FLAGS, jit
 
 # Regime codes of the rigid family (lab frame: "forward" is +x).
 SLIP_FORWARD = 0
@@ -180,7 +180,7 @@ def penner_tilt_factors(P, varying, scale):
     return out
 
 
-@jit(nogil=True, fastmath=True)
+@jit(nogil=True, fastmath=ROW_FLAGS)
 def penner_error_sums(P0, PF, inv_norm, factor, r, mu, angle, start, stop):
     """The four error sums of a Penner law with each landing's tilt factor precomputed.
 
@@ -223,7 +223,6 @@ def piecewise_kernel(x, y, w, t):
 # Prediction loops of Penner's laws. The generic loops of CompiledLaw call the kernel per bounce with
 # the parameter vector; here the tilt's sine and cosine can be computed once per call when the tilt is
 # fixed (no fade), which doubles PennerFixed's throughput. Same scalar functions, same results.
-_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp"}
 
 
 @jit(inline="always")
@@ -249,7 +248,7 @@ def valid_bits(x, y, w, limit_bits):
             & (y < 0) & ((y & _ABS) != 0))
 
 
-@jit(nogil=True, fastmath=_ROW_FLAGS)
+@jit(nogil=True, fastmath=ROW_FLAGS)
 def penner_predict_rows(P, r, mu, angle, varying, scale, out, bits, limit_bits, start, stop):
     """Lift-off of rows [start, stop) into ``out``; ``angle`` is beta in radians (fixed) or k_p (varying).
 
@@ -282,7 +281,7 @@ def penner_predict_rows(P, r, mu, angle, varying, scale, out, bits, limit_bits, 
     return ok
 
 
-@jit(nogil=True, fastmath=_ROW_FLAGS)
+@jit(nogil=True, fastmath=ROW_FLAGS)
 def penner_regime_rows(P, r, mu, angle, varying, scale, codes, bits, limit_bits, start, stop):
     """Regime codes of rows [start, stop) into ``codes`` (as :func:`penner_predict_rows`)."""
     ok = True

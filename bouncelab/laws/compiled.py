@@ -20,9 +20,11 @@ loops release the GIL and run serially over fixed chunks of
 :data:`CHUNK` bounces; from :data:`PARALLEL_MIN` bounces the chunks are shared
 by a small thread pool. Hence:
 
-* results are bit-identical whatever the batch size and the number of threads
-  (every bounce goes through the same compiled code; the error sums add the
-  chunks' partial sums in a fixed order);
+* results are bit-identical whatever the batch size, a bounce's position in it and
+  the number of threads, and on any x86-64 CPU (every bounce goes through the same
+  compiled code, which allows no floating-point freedom that could change a finite
+  result, :data:`bouncelab._jit.ROW_FLAGS`; the error sums add the bounces in row
+  order and the chunks' partial sums in a fixed order);
 * prediction is safe under ``fork``, ``spawn`` and threads: no OpenMP or TBB
   runtime is involved, and a forked child starts a fresh pool;
 * the number of threads is the number of CPUs this process may use, or
@@ -66,19 +68,13 @@ from bouncelab.laws.base import BounceModel
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
-# Per-row floating-point freedoms: none that could treat a bounce differently in the vectorised body
-# and in the scalar tail of a loop, so a bounce's result does not depend on where it falls in a call
-# (tested). Left out: "reassoc" (the two versions could be reassociated differently) and "afn" (a
-# vector maths library could approximate functions differently from the scalar ones).
-_ROW_FLAGS = {"nnan", "ninf", "nsz", "contract", "arcp"}
-
 
 # ------------------------------------------------------------------------------ loops per kernel
 class _Loops:
     """The compiled array loops built around one kernel."""
 
     def __init__(self, kernel: Any) -> None:
-        from bouncelab._jit import jit
+        from bouncelab._jit import ROW_FLAGS, jit
         from bouncelab.laws._kernels import valid_bits as _valid_bits
 
         # The row loops also report whether every landing in their rows is valid (finite, within
@@ -86,7 +82,7 @@ class _Loops:
         # instead of reading the array once more (see bouncelab.data.validation, defer_check). The
         # check reads the values' bits as integers (``bits`` is a view of P), which fast-math
         # assumptions about NaN and infinity cannot touch.
-        @jit(nogil=True, fastmath=_ROW_FLAGS)
+        @jit(nogil=True, fastmath=ROW_FLAGS)
         def predict_rows(P, theta, out, bits, limit_bits, start, stop):
             ok = True
             for i in range(start, stop):
@@ -97,7 +93,7 @@ class _Loops:
                 out[i, 2] = c
             return ok
 
-        @jit(nogil=True, fastmath=_ROW_FLAGS)
+        @jit(nogil=True, fastmath=ROW_FLAGS)
         def regime_rows(P, theta, codes, bits, limit_bits, start, stop):
             ok = True
             for i in range(start, stop):
@@ -105,7 +101,9 @@ class _Loops:
                 codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], theta)[3]
             return ok
 
-        @jit(nogil=True, fastmath=True)
+        # A plain sum in row order: with no "reassoc" the compiler keeps that order, so the sums (and so
+        # every fit) are the same bits on any CPU, whatever its vector width.
+        @jit(nogil=True, fastmath=ROW_FLAGS)
         def error_sums(P0, PF, inv_norm, theta, start, stop):
             sd = 0.0
             sx = 0.0
