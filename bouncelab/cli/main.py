@@ -376,7 +376,7 @@ def _import_modules(modules: list[str], law: str | None = None) -> None:
     for module in modules:
         said = f"--import {module}" if law is None else f"law {law!r}"
         how = "" if law is None else f" (a module:Class law imports its module, as --import {module} would)"
-        if not re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", module):
+        if not re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", module) or module.endswith(".py"):
             raise ParameterError(f"{said}: {module!r} is not a module name; write it as in an import statement "
                                  "(mylaws or lab.laws, without .py or a folder)")
         try:
@@ -463,18 +463,19 @@ def _predict_law(args: argparse.Namespace):
         else:
             raise  # the law is known: the error is about something else (its parameters)
     module, _, cls = name.partition(":")
-    if module == "__main__":
-        raise ParameterError(f"{args.law}: the law {name!r} was defined in a script run as the main program, so the "
-                             f"file cannot say which module defines {cls}: put the class in a module (e.g. mylaws.py) "
-                             f"and give --import with that module") from None
+    if module == "__main__":  # saved from a script: the file cannot say which module to import
+        tried = f" (--import {', '.join(args.imports)} defines no law {cls!r})" if args.imports else ""
+        raise ParameterError(f"{args.law}: the law file names {name!r}, a law defined in a script run as the main "
+                             f"program{tried}: give --import with the module that defines {cls} (the script's file "
+                             "name without .py)") from None
     if module in sys.modules:
         defined = _laws_of_module(module)
         listed = f"it defines {', '.join(defined)}" if defined else "it defines none"
         raise ParameterError(f"{args.law}: the law file names {name!r}, but module {module!r} (imported) defines no "
                              f"bounce law {cls!r}; {listed}") from None
     raise ParameterError(f"{args.law}: the law file names {name!r}, a law of your own, and a law file never imports "
-                         f"code: add --import {module} (found in the current folder or the installed packages)"
-                         ) from None
+                         f"code: add --import {module} (looked for in the current folder and the installed "
+                         "packages)") from None
 
 
 def _method_options(items: list[str]) -> dict[str, Any]:
@@ -606,6 +607,14 @@ def _predict(args: argparse.Namespace) -> int:
         chunks.append(units.landing_from_speed_angle_spin(
             sas[:, 0], sas[:, 1], sas[:, 2], speed_unit=v, spin_unit=s, radius_m=radius))
     if table is not None:
+        if table.form == "polar":  # the angle guard of --speed-angle-spin, for the file's angles too
+            from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error
+
+            degrees = table.values[:, 1] if table.units["angle"] == "deg" else np.rad2deg(table.values[:, 1])
+            low = landing_angle_error(degrees, PLAUSIBLE_RANGES)
+            if low is not None:
+                raise DataError(low[1], file=STDIN_NAME if args.input == "-" else args.input,
+                                column=table.columns[1], row=low[0] + 1)
         chunks.append(table.states)
     if not chunks:
         raise DataError("give landings with --landing XDOT YDOT OMEGA, --speed-angle-spin or --input FILE")

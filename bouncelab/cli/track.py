@@ -177,8 +177,8 @@ def _check_outputs(out: str, figures: str | None) -> None:
         fig = Path(figures).expanduser()
         if fig.exists() and not fig.is_dir():
             raise OutputError(f"--figures {figures!r} is a file, not a folder")
-        if fig.is_dir():
-            _check_writable(fig, f"--figures {figures!r}")
+        existing = next(f for f in (fig, *fig.absolute().parents) if f.exists())  # created if missing
+        _check_writable(existing, f"--figures {figures!r}")
 
 
 def _check_writable(folder: Path, said: str) -> None:
@@ -217,16 +217,18 @@ def _compile_pattern(pattern: str) -> re.Pattern[str]:
     return regex
 
 
-def _check_pattern_time(regex: re.Pattern[str], clips: list[str], seconds: float = PATTERN_SECONDS,
+def _check_pattern_time(regex: re.Pattern[str], clips: list[str], seconds: float | None = None,
                         in_process: bool | None = None) -> None:
     """Refuse (UsageError) a --pattern that takes longer than ``seconds`` on one of the clips' file names.
 
     Python's regular expressions backtrack: ``(a+)+$`` on a name of 40 a's would run for days. Each name is
     matched with a timer (SIGALRM interrupts the match, on the main thread of a POSIX system); elsewhere the
     names are matched in a child process that is stopped after ``seconds`` a name (plus its start-up).
+    ``seconds`` defaults to PATTERN_SECONDS.
     """
     from bouncelab.cli.main import UsageError
 
+    seconds = PATTERN_SECONDS if seconds is None else seconds
     names = [Path(c).name for c in clips]
     if in_process is None:
         in_process = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
@@ -260,6 +262,8 @@ def _search_with_timer(regex: re.Pattern[str], name: str, seconds: float, index:
             signal.setitimer(signal.ITIMER_REAL, max(old_delay - (time.monotonic() - start), 1e-3), old_interval)
 
 
+#: Seconds a child Python is given to start, before it searches the names (the fallback of _search_in_child).
+CHILD_START_SECONDS = 10.0
 # Searches the names (NUL-separated on stdin) and prints the index of each as it is done.
 _CHILD = ("import re, sys\nr = re.compile(sys.argv[1], int(sys.argv[2]))\n"
           "for k, name in enumerate(sys.stdin.read().split('\\0')):\n"
@@ -267,12 +271,12 @@ _CHILD = ("import re, sys\nr = re.compile(sys.argv[1], int(sys.argv[2]))\n"
 
 
 def _search_in_child(regex: re.Pattern[str], names: list[str], seconds: float) -> None:
-    """Search the names in a child Python, stopped after ``seconds`` a name (and 10 s to start); _Slow(index of
+    """Search the names in a child Python, stopped after ``seconds`` a name (and CHILD_START_SECONDS); _Slow(index of
     the name it was on) when stopped. A child that cannot run leaves the names unchecked."""
     try:
         subprocess.run([sys.executable, "-I", "-c", _CHILD, regex.pattern, str(int(regex.flags))],
                        input="\0".join(names), capture_output=True, text=True, check=True,
-                       timeout=10.0 + seconds * len(names))
+                       timeout=CHILD_START_SECONDS + seconds * len(names))
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
         raise _Slow(min(len(out.split()), len(names) - 1)) from None
