@@ -53,7 +53,10 @@ def test_predict_physical_units_and_file(capsys, tmp_path):
     law_path = tmp_path / "law.json"
     bl.PennerFixed.published("B").to_json(law_path)
     inp = tmp_path / "landings.csv"
-    inp.write_text("vx,vy,spin\n20,-15,3000\n# a comment\n30;-10;-500\n")
+    # A header is read as a table (one separator); a file without header takes any separator a line.
+    inp.write_text("vx,vy,spin\n20,-15,3000\n# a comment\n30,-10,-500\n")
+    rows_file = tmp_path / "rows.txt"
+    rows_file.write_text("20 -15 3000\n# a comment\n30;-10,-500\n")
     code, out, _ = run(capsys, "predict", str(law_path), "--input", str(inp), "--velocity-unit", "m/s",
                        "--spin-unit", "rpm")
     assert code == EXIT_OK
@@ -62,6 +65,9 @@ def test_predict_physical_units_and_file(capsys, tmp_path):
     want = units.from_scaled(bl.PennerFixed.published("B").predict(scaled), velocity="m/s", spin="rpm")
     np.testing.assert_allclose(rows[:, 3:], want, rtol=1e-5)
     np.testing.assert_allclose(rows[:, :3], [[20, -15, 3000], [30, -10, -500]], rtol=1e-5)
+    code, out_rows, _ = run(capsys, "predict", str(law_path), "--input", str(rows_file), "--velocity-unit", "m/s",
+                            "--spin-unit", "rpm")
+    assert code == EXIT_OK and out_rows == out
 
 
 def test_predict_speed_angle_spin(capsys):

@@ -199,18 +199,25 @@ def build_parser() -> argparse.ArgumentParser:
     _add_data_options(fit)
 
     pred = sub.add_parser("predict", help="lift-off states from landing states",
-                          description="Give landings as numbers (--landing) or a file of rows (--input), in the "
-                                      "units you name; lift-offs are printed in the same units.")
+                          description="Give landings as numbers (--landing, --speed-angle-spin) or a file of rows "
+                                      "(--input), in the units you name; lift-offs are printed in the same units "
+                                      "(as speed, angle and spin for a file that gives them so).")
     pred.add_argument("law", help="a law JSON file (from 'fit --save') or a law name with --published A|B")
     pred.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
                       help="use the paper's published values of the named law for campaign A or B")
     pred.add_argument("--landing", nargs=3, type=_finite, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
                       help="one landing state; repeat for more")
     pred.add_argument("--speed-angle-spin", nargs=3, type=_finite, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
-                      help="one landing as speed, angle of incidence below the horizontal (deg) and backspin")
-    pred.add_argument("--input", metavar="FILE", help="CSV/whitespace file with three columns xdot0 ydot0 omega0")
-    pred.add_argument("--velocity-unit", default="radius/s", help="unit of velocities (default radius/s)")
-    pred.add_argument("--spin-unit", default="rad/s", help="unit of spin (default rad/s)")
+                      help="one landing as speed, angle of incidence below the horizontal (deg unless --angle-unit "
+                           "rad) and backspin")
+    pred.add_argument("--input", metavar="FILE",
+                      help="a text file of landings ('-': standard input): columns named xdot0, ydot0, omega0 or "
+                           "speed, angle, spin, in any order, units in the header or a units row under it "
+                           "(m/s,deg,rpm); without a header, three numbers a line: xdot0 ydot0 omega0")
+    pred.add_argument("--velocity-unit", help="unit of velocities (default: an --input file's header, else radius/s)")
+    pred.add_argument("--spin-unit", help="unit of spin (default: an --input file's header, else rad/s)")
+    pred.add_argument("--angle-unit", choices=("deg", "rad"),
+                      help="unit of angles of incidence (default: an --input file's header, else deg)")
     pred.add_argument("--radius-mm", type=_positive, default=21.35, help="ball radius in mm (default 21.35)")
     _add_import_option(pred)
 
@@ -352,26 +359,57 @@ def _reproduce(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _import_modules(modules: list[str]) -> None:
-    """Import the modules a command line names (--import, or the module of a module:Class law), searching the
-    current folder first as ``python -m`` does, so that a user's laws register themselves."""
+def _import_modules(modules: list[str], law: str | None = None) -> None:
+    """Import the modules a command line names (--import, or the module of a module:Class ``law``), searching
+    the current folder first as ``python -m`` does, so that a user's laws register themselves.
+
+    A module that is not there is told from one that is there but fails to import (its own import of a
+    missing package, a syntax error): both are ParameterErrors naming the flag (or the law), the module and
+    the folder searched."""
     import importlib
+    import importlib.util
 
     from bouncelab.errors import ParameterError
 
     if modules and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())
     for module in modules:
+        said = f"--import {module}" if law is None else f"law {law!r}"
+        how = "" if law is None else f" (a module:Class law imports its module, as --import {module} would)"
+        if not re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", module) or module.endswith(".py"):
+            raise ParameterError(f"{said}: {module!r} is not a module name; write it as in an import statement "
+                                 "(mylaws or lab.laws, without .py or a folder)")
+        try:
+            found = importlib.util.find_spec(module) is not None
+        except ModuleNotFoundError:  # its package is missing
+            found = False
+        except Exception:
+            found = True
+        if not found:
+            raise ParameterError(f"{said}: cannot import {module}: there is no module {module!r} in the current "
+                                 f"folder ({os.getcwd()}) or the installed packages{how}; run bouncelab from the "
+                                 f"folder that holds {module.split('.')[0]}.py, or check the name")
         try:
             importlib.import_module(module)
-        except ImportError as exc:
-            raise ParameterError(f"cannot import {module!r} (looked in the current folder and the installed "
-                                 f"packages): {exc}") from None
+        except Exception as exc:
+            raise ParameterError(f"{said}: the module {module!r} was found, but importing it failed: "
+                                 f"{type(exc).__name__}: {exc}") from None
+
+
+def _laws_of_module(module: str) -> list[str]:
+    """The bounce laws a module defines (module:Class names), from the registry."""
+    from bouncelab.laws import registered_laws
+    from bouncelab.laws.base import law_name
+
+    return sorted({law_name(c) for c in registered_laws().values() if c.__module__ == module})
 
 
 def _law_class(name: str):
     """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
-    the module the user names (a law JSON file, by contrast, never imports code: use --import)."""
+    the module the user names (a law JSON file, by contrast, never imports code: use --import).
+
+    A missing module (ParameterError naming --import and the current folder) is told from a module without
+    that class (naming the laws the module does define)."""
     from bouncelab.errors import ParameterError
     from bouncelab.laws import law_class
 
@@ -380,8 +418,64 @@ def _law_class(name: str):
     except ParameterError:
         if ":" not in name:
             raise
-    _import_modules([name.split(":", 1)[0]])
-    return law_class(name, case_sensitive=False)
+    module, _, cls = name.partition(":")
+    _import_modules([module], law=name)
+    try:
+        return law_class(name, case_sensitive=False)
+    except ParameterError:
+        defined = _laws_of_module(module)
+        listed = (f"it defines {', '.join(defined)}" if defined else
+                  "it defines none (a bounce law is a class derived from bouncelab.BounceModel)")
+        raise ParameterError(f"law {name!r}: module {module!r} was imported, but it defines no bounce law "
+                             f"{cls!r}; {listed}") from None
+
+
+def _saved_law_name(path: str) -> str | None:
+    """The law name a law JSON file holds ("law"), or None if it cannot be read as one."""
+    try:
+        name = json.loads(Path(path).read_text()).get("law")
+    except (OSError, ValueError, AttributeError, RecursionError):
+        return None
+    return name if isinstance(name, str) else None
+
+
+def _predict_law(args: argparse.Namespace):
+    """The law of ``predict``: published values of a named law, or a law JSON file. A file naming a user's
+    law whose module is not imported says to add --import (a law file never imports code)."""
+    from bouncelab.errors import ParameterError
+    from bouncelab.laws import law_class, load_law
+
+    if args.published:
+        return _law_class(args.law).published(args.published)
+    if not (Path(args.law).suffix == ".json" or Path(args.law).exists()):
+        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
+                         f"(e.g. bouncelab predict {args.law} --published A --landing 1000 -800 200)")
+    try:
+        return load_law(args.law)
+    except ParameterError:
+        name = _saved_law_name(args.law)
+        if name is None or ":" not in name:
+            raise
+        try:
+            law_class(name)
+        except ParameterError:
+            pass
+        else:
+            raise  # the law is known: the error is about something else (its parameters)
+    module, _, cls = name.partition(":")
+    if module == "__main__":  # saved from a script: the file cannot say which module to import
+        tried = f" (--import {', '.join(args.imports)} defines no law {cls!r})" if args.imports else ""
+        raise ParameterError(f"{args.law}: the law file names {name!r}, a law defined in a script run as the main "
+                             f"program{tried}: give --import with the module that defines {cls} (the script's file "
+                             "name without .py)") from None
+    if module in sys.modules:
+        defined = _laws_of_module(module)
+        listed = f"it defines {', '.join(defined)}" if defined else "it defines none"
+        raise ParameterError(f"{args.law}: the law file names {name!r}, but module {module!r} (imported) defines no "
+                             f"bounce law {cls!r}; {listed}") from None
+    raise ParameterError(f"{args.law}: the law file names {name!r}, a law of your own, and a law file never imports "
+                         f"code: add --import {module} (looked for in the current folder and the installed "
+                         "packages)") from None
 
 
 def _method_options(items: list[str]) -> dict[str, Any]:
@@ -445,97 +539,107 @@ def _fit(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _number(text: str) -> float | None:
-    try:
-        return float(text)
-    except ValueError:
-        return None
+#: What ``--input -`` reads: standard input, named so in messages.
+STDIN_NAME = "<stdin>"
 
 
-def _read_rows(path: str) -> np.ndarray:
-    """Landing rows of an --input file: three numbers a line (comma, semicolon or whitespace separated),
-    ``#`` comments, and at most one header line (the first, with no number in it). Any other line that
-    is not three numbers is an error naming it: no line is skipped silently."""
-    from bouncelab.data.io.load import _check_regular_file, _read_bytes
-    from bouncelab.data.io.text import _is_data_row
-    from bouncelab.errors import DataError
+def _read_input(args: argparse.Namespace, radius: float):
+    """The landings of ``--input`` (a file, or ``-`` for standard input), read by column name
+    (bouncelab.data.io.landings.read_landings) in the units the header or the flags give."""
+    from bouncelab.data.io.landings import read_landings
+    from bouncelab.data.io.load import MAX_FILE_BYTES
 
-    p = Path(path)
-    if not p.exists():
-        raise FileNotFoundError(f"no such file: {path}")
-    _check_regular_file(p, path)  # a FIFO would hang, /dev/zero never end: the loader's own checks
-    try:
-        lines = _read_bytes(p, path).decode("utf-8-sig").splitlines()
-    except UnicodeDecodeError:
-        raise DataError("not a text file of landing rows", file=path) from None
-    rows = []
-    seen_content = False
-    for lineno, line in enumerate(lines, start=1):
-        if line.lstrip().startswith(("#", "%")):
-            cells = line.replace(",", " ").replace(";", " ").split()
-            if _is_data_row(cells, 3):  # "#N/A,-260,300": a row with a missing value, not a comment
-                raise DataError(f"line {lineno} starts with {line.lstrip()[0]!r} like a comment but holds a "
-                                f"landing row: {line.strip()!r}; give three numbers, or delete the line",
-                                file=path)
-            continue
-        text = line.split("#", 1)[0].strip()
-        if not text:
-            continue
-        parts = text.replace(",", " ").replace(";", " ").split()
-        values = [_number(v) for v in parts]
-        first, seen_content = not seen_content, True
-        if first and all(v is None for v in values):
-            continue  # the header line, e.g. "xdot0 ydot0 omega0"
-        if len(parts) != 3:
-            raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
-                            file=path)
-        bad = [v for v, x in zip(parts, values, strict=True) if x is None or not math.isfinite(x)]
-        if bad:
-            raise DataError(f"line {lineno} is not three finite numbers: {text!r} ({bad[0]!r})",
-                            file=path)
-        rows.append(values)
-    if not rows:
-        raise DataError("no landing rows found", file=path)
-    return np.array(rows, dtype=float)
+    units = {kind: getattr(args, f"{kind}_unit") for kind in ("velocity", "spin", "angle")
+             if getattr(args, f"{kind}_unit") is not None}
+    if args.input == "-":
+        data = sys.stdin.buffer.read(MAX_FILE_BYTES + 1)
+        if len(data) > MAX_FILE_BYTES:
+            from bouncelab.errors import DataError
+
+            raise DataError(f"standard input holds more than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads",
+                            file=STDIN_NAME)
+        return read_landings(STDIN_NAME, data=data, units=units, radius_m=radius, hint_style="cli")
+    return read_landings(args.input, units=units, radius_m=radius, hint_style="cli")
+
+
+def _output_units(args: argparse.Namespace, table) -> dict[str, str]:
+    """The units landings typed on the command line are read in and every result is printed in: the flags',
+    else those an --input file's header gives, else the scaled ones (radii/s, rad/s) and degrees. Typed
+    landings beside a file whose header gives another unit are refused: one unit per kind for all."""
+    from bouncelab.data.io.landings import DEFAULT_UNITS
+
+    out = {}
+    typed = [flag for flag, given in (("--landing", args.landing), ("--speed-angle-spin", args.speed_angle_spin))
+             if given]
+    for kind in ("velocity", "spin", "angle"):
+        flag = getattr(args, f"{kind}_unit")
+        header = table.units.get(kind) if table is not None and table.unit_origins.get(kind) == "header" else None
+        if flag is not None:
+            out[kind] = flag
+        elif header is not None:
+            if typed and header != DEFAULT_UNITS[kind] and (kind != "angle" or args.speed_angle_spin):
+                raise UsageError(f"the header of --input {args.input} gives the {kind} in {header}, but "
+                                 f"{' and '.join(typed)} has no --{kind}-unit (so {DEFAULT_UNITS[kind]}); give "
+                                 f"--{kind}-unit {header} to read and print them all in {header}")
+            out[kind] = header
+        else:
+            out[kind] = DEFAULT_UNITS[kind]
+    return out
 
 
 def _predict(args: argparse.Namespace) -> int:
     from bouncelab.data import units
     from bouncelab.errors import DataError
-    from bouncelab.laws import load_law
 
-    if args.published:
-        law = _law_class(args.law).published(args.published)
-    elif Path(args.law).suffix == ".json" or Path(args.law).exists():
-        law = load_law(args.law)
-    else:
-        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
-                         f"(e.g. bouncelab predict {args.law} --published A --landing 1000 -800 200)")
+    law = _predict_law(args)
     radius = args.radius_mm / 1000.0
+    table = _read_input(args, radius) if args.input else None
+    out_units = _output_units(args, table)
+    v, s, a = out_units["velocity"], out_units["spin"], out_units["angle"]
     chunks = []
     if args.landing:
-        chunks.append(units.to_scaled(np.array(args.landing), velocity=args.velocity_unit, spin=args.spin_unit,
-                                      radius_m=radius))
+        chunks.append(units.to_scaled(np.array(args.landing), velocity=v, spin=s, radius_m=radius))
+    sas = None
     if args.speed_angle_spin:
         sas = np.array(args.speed_angle_spin)
+        if a == "rad":
+            sas[:, 1] = np.rad2deg(sas[:, 1])
         chunks.append(units.landing_from_speed_angle_spin(
-            sas[:, 0], sas[:, 1], sas[:, 2], speed_unit=args.velocity_unit, spin_unit=args.spin_unit, radius_m=radius))
-    if args.input:
-        chunks.append(units.to_scaled(_read_rows(args.input), velocity=args.velocity_unit, spin=args.spin_unit,
-                                      radius_m=radius))
+            sas[:, 0], sas[:, 1], sas[:, 2], speed_unit=v, spin_unit=s, radius_m=radius))
+    if table is not None:
+        if table.form == "polar":  # the angle guard of --speed-angle-spin, for the file's angles too
+            from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error
+
+            degrees = table.values[:, 1] if table.units["angle"] == "deg" else np.rad2deg(table.values[:, 1])
+            low = landing_angle_error(degrees, PLAUSIBLE_RANGES)
+            if low is not None:
+                raise DataError(low[1], file=STDIN_NAME if args.input == "-" else args.input,
+                                column=table.columns[1], row=low[0] + 1)
+        chunks.append(table.states)
     if not chunks:
         raise DataError("give landings with --landing XDOT YDOT OMEGA, --speed-angle-spin or --input FILE")
     landing = np.vstack(chunks)
-    _check_landings(landing, args, radius)
-    liftoff = units.from_scaled(law.predict(landing), velocity=args.velocity_unit, spin=args.spin_unit,
-                                radius_m=radius)
-    landing_out = units.from_scaled(landing, velocity=args.velocity_unit, spin=args.spin_unit, radius_m=radius)
+    # the unit guard, told the units the numbers were given in (and the typed angles in degrees)
+    _check_landings(landing, argparse.Namespace(**{**vars(args), "velocity_unit": v, "spin_unit": s,
+                                                   "speed_angle_spin": None if sas is None else sas.tolist()}), radius)
+    liftoff = law.predict(landing)
     regimes = law.regime(landing)
-    v, s = args.velocity_unit, args.spin_unit
     print(f"# law: {law!r}")
-    print(f"# xdot0[{v}] ydot0[{v}] omega0[{s}] -> xdotF[{v}] ydotF[{v}] omegaF[{s}] regime")
-    for p0, pf, reg in zip(landing_out, liftoff, regimes, strict=True):
-        print(" ".join(f"{x:.6g}" for x in (*p0, *pf)) + f" {reg}")
+    if table is not None and table.form == "polar" and not args.landing:
+        # Landings given as speed, angle and spin: lift-offs too, in the same units.
+        p0 = units.polar_from_state(landing, kind="landing", speed_unit=v, spin_unit=s, radius_m=radius)
+        pf = units.polar_from_state(liftoff, kind="liftoff", speed_unit=v, spin_unit=s, radius_m=radius)
+        if a == "rad":
+            p0[:, 1], pf[:, 1] = np.deg2rad(p0[:, 1]), np.deg2rad(pf[:, 1])
+        print(f"# angle0 below the horizontal, angleF above it (beyond {90 if a == 'deg' else 'pi/2'}: the ball "
+              "goes back)")
+        print(f"# speed0[{v}] angle0[{a}] spin0[{s}] -> speedF[{v}] angleF[{a}] spinF[{s}] regime")
+    else:
+        p0 = units.from_scaled(landing, velocity=v, spin=s, radius_m=radius)
+        pf = units.from_scaled(liftoff, velocity=v, spin=s, radius_m=radius)
+        print(f"# xdot0[{v}] ydot0[{v}] omega0[{s}] -> xdotF[{v}] ydotF[{v}] omegaF[{s}] regime")
+    for x0, xf, reg in zip(p0, pf, regimes, strict=True):
+        print(" ".join(f"{x:.6g}" for x in (*x0, *xf)) + f" {reg}")
     return EXIT_OK
 
 

@@ -15,6 +15,7 @@ import xarray as xr
 
 from bouncelab.analysis.measurement import estimate_spin, measure_bounce
 from bouncelab.data.campaign import make_campaign
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 from bouncelab.tracking.frames import read_frames, stored_fps
@@ -108,6 +109,9 @@ class ClipSettings:
     setting: str | None = None
     ball_radius_m: float = BALL_RADIUS_M
     pixels_per_metre: float | None = None
+    #: Where ``fps`` came from: ``"manifest"``, ``"file name"`` (the pattern), ``"default"`` (the ``fps``
+    #: argument of :func:`clip_settings`) or ``None`` (no frame rate given).
+    fps_from: str | None = None
 
 
 @dataclass(frozen=True)
@@ -150,7 +154,7 @@ def clip_settings(
     ball_radius_m: float = BALL_RADIUS_M,
     pixels_per_metre: float | None = None,
     manifest: str | Path | None = None,
-    pattern: str | None = None,
+    pattern: str | re.Pattern[str] | None = None,
 ) -> dict[str, ClipSettings]:
     """Settings of each clip, from the defaults given, a manifest file and a file-name pattern.
 
@@ -168,7 +172,7 @@ def clip_settings(
         A regular expression matched against each file name (without
         directory), with named groups among ``setting``, ``fps``,
         ``ball_radius_mm``, ``pixels_per_metre``; e.g.
-        ``r"(?P<setting>s\\d+)_r\\d+_(?P<fps>\\d+)fps"``. Overrides the manifest.
+        ``r"(?P<setting>s\\d+)_r\\d+_(?P<fps>\\d+)fps"`` (or the compiled pattern). Overrides the manifest.
 
     Raises
     ------
@@ -189,22 +193,28 @@ def clip_settings(
     for clip in clips:
         p = Path(clip)
         values: dict[str, Any] = {}
+        origin: dict[str, str] = {}  # where each value came from, for the messages
         for key in (str(p), p.name, p.stem):
             if key in rows:
                 values.update(rows[key])
+                origin.update(dict.fromkeys(rows[key], f"manifest {manifest}"))
                 break
         if regex is not None:
             mt = regex.search(p.name)
             if mt is not None:
-                values.update({k: v for k, v in mt.groupdict().items() if v is not None})
-        where = f"manifest {manifest}" if manifest else "file name"
+                found = {k: v for k, v in mt.groupdict().items() if v is not None}
+                values.update(found)
+                origin.update(dict.fromkeys(found, "file name"))
+        fps_value, fps_origin = values.get("fps", fps), origin.get("fps", "argument")
         out[str(clip)] = ClipSettings(
-            fps=_number(values.get("fps", fps), "fps", str(clip), where),
+            fps=_number(fps_value, "fps", str(clip), fps_origin),
             setting=None if values.get("setting") is None else str(values["setting"]),
-            ball_radius_m=(_number(values["ball_radius_mm"], "ball_radius_mm", str(clip), where) / 1000.0
-                           if values.get("ball_radius_mm") is not None else ball_radius_m),
+            ball_radius_m=(_number(values["ball_radius_mm"], "ball_radius_mm", str(clip), origin["ball_radius_mm"])
+                           / 1000.0 if values.get("ball_radius_mm") is not None else ball_radius_m),
             pixels_per_metre=_number(values.get("pixels_per_metre", pixels_per_metre), "pixels_per_metre",
-                                     str(clip), where),
+                                     str(clip), origin.get("pixels_per_metre", "argument")),
+            fps_from=None if fps_value is None else "default" if fps_origin == "argument" else
+            "file name" if fps_origin == "file name" else "manifest",
         )
     return out
 
@@ -222,6 +232,7 @@ def measure_clips(
     keep_tracks: bool = True,
     figure_dir: str | Path | None = None,
     workers: int | None = None,
+    plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
 ) -> TrackedCampaign:
     """Track and measure many clips (one bounce each) into a campaign Dataset.
 
@@ -257,6 +268,10 @@ def measure_clips(
     workers
         Track this many clips at once in separate processes (``None`` or 1:
         one after the other in this process). Results do not depend on it.
+    plausible
+        The unit guard of the campaign built
+        (:func:`~bouncelab.data.campaign.make_campaign`); ``None`` leaves the check to the
+        caller (the command line checks the states itself, to blame the frame rate).
 
     Returns
     -------
@@ -306,6 +321,7 @@ def measure_clips(
             ball_radius_m=radii.pop(),
             source=f"bouncelab track: {len(rows)} clip(s) measured from video",
             data_kind=data_kind,
+            plausible=plausible,
         )
         result.campaign = ds.assign_coords(clip=("bounce", names))
     return result
@@ -398,12 +414,15 @@ def _read_manifest(path: Path) -> dict[str, dict[str, Any]]:
 
 
 def _number(value, name: str, clip: str, where: str) -> float | None:
+    """``value`` as a positive number; ``where`` it came from (``manifest FILE``, ``file name`` or ``argument``,
+    the clip_settings keyword) names it in the DataError."""
     if value is None:
         return None
+    said = f"the {name} argument" if where == "argument" else f"{name} from the {where}"
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise DataError(f"{name} from the {where} is not a number: {value!r}", file=clip) from None
+        raise DataError(f"{said} is not a number: {value!r}", file=clip) from None
     if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{name} from the {where} must be positive; got {value!r}", file=clip)
+        raise DataError(f"{said} must be a positive finite number; got {value!r}", file=clip)
     return v
