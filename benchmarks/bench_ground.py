@@ -123,6 +123,14 @@ def main() -> None:
     ref = python_run(v[:m], w[:m], surface)
     t_py = (time.perf_counter() - t) * args.n / m
     err = np.abs(ref - result.rest_position[:m]).max() / np.abs(result.rest_position[:m]).max()
+    n2 = np.array([0.0, 0.02, 1.0]) / math.hypot(0.02, 1.0)  # a 2 % slope: curved skids and rolls (RK4)
+    v2 = v - np.outer(np.maximum(v @ n2, 0.0), n2) * 2.0  # every landing into the sloped ground
+    times = []
+    for _ in range(args.repeats):
+        t = time.perf_counter()
+        run(v2, w, surface, normal=n2, units=SI)
+        times.append(time.perf_counter() - t)
+    t_slope = float(np.median(times))
     sub = min(10_000, args.n)
     t = time.perf_counter()
     ds = result.sample(20.0) if sub == args.n else run(v[:sub], w[:sub], surface, units=SI, rate=20.0).path
@@ -131,8 +139,9 @@ def main() -> None:
           f"median of {args.repeats}; bounces per shot {totals['bounces'].mean():.2f} (max {totals['bounces'].max()})")
     print(f"{'':<44}{'seconds':>10}{'shots/s':>12}")
     print(f"{'bouncelab.ground.run':<44}{t_run:>10.2f}{args.n / t_run:>12,.0f}")
+    print(f"{'bouncelab.ground.run on a 2 % slope':<44}{t_slope:>10.2f}{args.n / t_slope:>12,.0f}")
     print(f"{'Python per-bounce loop (scaled from ' + format(m, ',') + ')':<44}{t_py:>10.1f}{args.n / t_py:>12,.0f}")
-    print(f"ratio (Python loop / run): {t_py / t_run:.0f}x; the two agree to {err:.1e} of the longest run")
+    print(f"ratio (Python loop / run, flat): {t_py / t_run:.0f}x; the two agree to {err:.1e} of the longest run")
     print(f"(totals: {t_totals:.2f} s; path of {sub:,} shots at 20 samples/s, {ds.sizes['time']} samples: "
           f"{t_path:.2f} s)")
 

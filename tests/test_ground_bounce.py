@@ -247,3 +247,12 @@ def test_bouncelab_exposes_the_ground_package_lazily():
             "g = bl.ground; assert g.bounce is bl.ground.bounce; print('ok')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "ok", out.stderr
+
+
+def test_the_laws_warnings_point_at_the_callers_line():
+    law = bl.PennerFixed.published("B")
+    rpm = 2 * np.pi / 60
+    v = 5.0 * np.array([np.cos(np.radians(80)), 0.0, -np.sin(np.radians(80))]) / 0.02135
+    with pytest.warns(bl.errors.NonphysicalLiftoffWarning, match="into the ground") as rec:
+        bounce(law, v, [0.0, -10000.0 * rpm, 0.0])
+    assert rec[0].filename == __file__

@@ -138,8 +138,10 @@ def test_scaled_and_physical_units_give_the_same_run():
 
 
 # ------------------------------------------------------------------------------ an independent integration
-def reference_on_slope(v0: np.ndarray, w0: np.ndarray, n: np.ndarray, mu_s: float, mu_r: float) -> np.ndarray:
-    """Skid then roll on a plane with scipy's solve_ivp (scaled units): rest position of the lowest point."""
+def reference_on_slope(v0: np.ndarray, w0: np.ndarray, n: np.ndarray, mu_s: float, mu_r: float,
+                       times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Skid then roll on a plane with scipy's solve_ivp (scaled units): the rest position of the lowest point
+    and the positions at ``times`` (s)."""
     from scipy.integrate import solve_ivp
 
     g = G / R
@@ -155,41 +157,46 @@ def reference_on_slope(v0: np.ndarray, w0: np.ndarray, n: np.ndarray, mu_s: floa
         return np.concatenate([y[3:6], gt + f, -2.5 * np.cross(n, f)])
 
     def slip_stops(_t, y):
-        return np.linalg.norm(slip(y)) - 1e-7 * np.linalg.norm(slip(y0))
+        return np.linalg.norm(slip(y)) - 1e-11 * np.linalg.norm(slip(y0))
     slip_stops.terminal = True
 
     y0 = np.concatenate([np.zeros(3), v0, w0])
-    a = solve_ivp(skid, (0, 1e3), y0, rtol=1e-12, atol=1e-12, events=slip_stops)
-    y = a.y[:, -1]
+    a = solve_ivp(skid, (0, 1e3), y0, rtol=1e-12, atol=1e-12, events=slip_stops, dense_output=True)
+    ts = a.t[-1]
 
     def roll(_t, y):
         v = y[3:6]
         return np.concatenate([v, 5 / 7 * gt - mu_r * gn * v / np.linalg.norm(v)])
 
     def stops(_t, y):
-        return np.linalg.norm(y[3:6]) - 1e-7 * np.linalg.norm(v0)
+        return np.linalg.norm(y[3:6]) - 1e-11 * np.linalg.norm(v0)
     stops.terminal = True
 
-    b = solve_ivp(roll, (0, 1e4), y[:6], rtol=1e-12, atol=1e-12, events=stops)
-    return b.y[:3, -1]
+    b = solve_ivp(roll, (ts, 1e4), a.y[:6, -1], rtol=1e-12, atol=1e-12, events=stops, dense_output=True)
+    at = np.array([a.sol(t)[:3] if t < ts else b.sol(min(t, b.t[-1]))[:3] for t in times])
+    return b.y[:3, -1], at
 
 
 @pytest.mark.parametrize(("theta", "heading", "spin"), [(2.0, 90.0, (0.0, 0.0, 0.0)),
                                                         (3.0, 40.0, (80.0, -300.0, 20.0)),
                                                         (1.0, 170.0, (-150.0, 60.0, 0.0))])
 def test_skid_and_roll_across_a_slope_agree_with_solve_ivp(theta, heading, spin):
-    """A curving run (velocity across the fall line: the RK4 glide) against scipy to 1e-6 of its length."""
+    """A curving run (velocity across the fall line: the closed-form curved glide) against scipy, to 1e-9 of its
+    length, at rest and along the path."""
     surface = preset("green-fast")
     n, _down = slope(theta, 15.0)
     h = math.radians(heading)
     v = np.array([math.cos(h), math.sin(h), 0.0])
     v = 2.5 / R * (v - (v @ n) * n) / np.linalg.norm(v - (v @ n) * n)  # 2.5 m/s along the plane
     w = np.array(spin)
-    r = run(v, w, surface, normal=n)
-    expected = reference_on_slope(v, w, n, surface.sliding_friction, surface.rolling_resistance)
-    err = np.linalg.norm(r.rest_position[0] - expected)
-    assert err <= 1e-6 * np.linalg.norm(expected), (err, expected)
-    assert abs(r.rest_position[0] @ n) <= 1e-9 * np.linalg.norm(expected)  # it stays on the plane
+    r = run(v, w, surface, normal=n, rate=10.0)
+    ds = r.path
+    expected, along = reference_on_slope(v, w, n, surface.sliding_friction, surface.rolling_resistance,
+                                         ds["time"].values)
+    length = np.linalg.norm(expected)
+    assert np.linalg.norm(r.rest_position[0] - expected) <= 1e-9 * length, (r.rest_position[0], expected)
+    assert np.abs(ds["position"].values[0] - along).max() <= 1e-9 * length
+    assert abs(r.rest_position[0] @ n) <= 1e-9 * length  # it stays on the plane
 
 
 # ------------------------------------------------------------------------------ the path
@@ -282,6 +289,8 @@ def test_bad_runs_are_refused_with_typed_errors_naming_the_row():
     with pytest.raises(DataError, match="comes to rest only on slopes under") as err:
         run([3.0, 0.0, 0.0], [0.0, 0.0, 0.0], s, normal=[[0, 0, 1], n], units=SI)
     assert err.value.row == 2
+    with pytest.raises(DataError, match="velocity has no rows"):
+        run(np.empty((0, 3)), np.empty((0, 3)), s)
     with pytest.raises(DataError, match="does not point up"):
         run([3.0, 0.0, 0.0], [0.0, 0.0, 0.0], s, normal=(0, 0, -1))
     with pytest.raises(ParameterError, match="surface must be"):

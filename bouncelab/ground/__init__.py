@@ -15,7 +15,7 @@ unless ``units=`` says otherwise. See ``docs/simulators.md``, "The ground phase"
 """
 
 from bouncelab.ground.bounce3d import bounce
-from bouncelab.ground.run import (
+from bouncelab.ground.runout import (
     DEFAULT_MAX_BOUNCES,
     DEFAULT_MIN_APEX_M,
     EVENTS,

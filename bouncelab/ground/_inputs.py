@@ -102,7 +102,7 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
     Raises
     ------
     DataError
-        Not real numbers, not of shape (3,) or (n, 3), or NaN/infinite (naming row and column).
+        Not real numbers, not of shape (3,) or (n, 3), no rows, or NaN/infinite (naming row and column).
     """
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise DataError(f"{name} has masked (missing) values; remove or fill them first")
@@ -116,6 +116,8 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
         raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}")
     lead = arr.shape[:-1]
     arr = arr.reshape(-1, 3)
+    if len(arr) == 0:
+        raise DataError(f"{name} has no rows: give at least one (3,) vector")
     bad = ~np.isfinite(arr)
     if bad.any():
         row, col = np.argwhere(bad)[0]

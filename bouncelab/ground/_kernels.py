@@ -4,8 +4,10 @@ Every loop here treats its rows independently, in scaled units (radii, radii/s, 
 seconds), with the floating-point flags :data:`bouncelab._jit.ROW_FLAGS` only (no
 contraction into fused multiply-adds, no reassociation, no approximate functions): a
 shot gives the same bits whatever the batch it is in, its position there and the number
-of threads. The only functions called are ``+ - * /`` and ``math.sqrt`` (all correctly
-rounded in IEEE arithmetic).
+of threads. Besides ``+ - * /`` and ``math.sqrt`` (correctly rounded), the loops call
+libm's ``pow`` (curved skids and rolls on slopes) and ``atan2`` (lift-off angles), scalar
+calls in loops with branches that the compiler does not vectorise, as the contact laws'
+``exp``, ``sin`` and ``cos``.
 
 Layouts
 -------
@@ -21,13 +23,7 @@ import numpy as np
 
 from bouncelab._jit import ROW_FLAGS, jit
 
-#: Relative step of the glide integrator: each RK4 step lasts ``GLIDE_STEP * |q| / (k + |a|)`` (see ``_glide``).
-GLIDE_STEP = 1.0 / 32.0
-#: The glide ends with a straight stop once ``|q|`` is below this fraction of its start.
-GLIDE_TAIL = 1.0e-7
-#: Most RK4 steps of a glide (reached only when ``|a|`` is within 1e-4 of ``k``; then a straight stop).
-GLIDE_MAX_STEPS = 2_000_000
-#: Two vectors count as parallel (the glide is straight, in closed form) when ``|q x a| <= PARALLEL |q| |a|``.
+#: A glide is straight when ``|q x a| <= PARALLEL |q| |a|`` or ``|a| <= PARALLEL k`` (see :func:`glide`).
 PARALLEL = 1.0e-12
 #: RK4 steps per vacuum flight time of a flight with air (see ``_air_flight``).
 AIR_STEPS = 64
@@ -36,7 +32,7 @@ AIR_MAX_STEPS = 1_000_000
 #: Halvings of the last step to find where a flight with air meets the ground.
 AIR_BISECT = 60
 
-# Phase codes of the path (bouncelab.ground.run.PHASES).
+# Phase codes of the path (bouncelab.ground.runout.PHASES).
 FLIGHT, SKID, ROLL, REST = 0, 1, 2, 3
 
 
@@ -275,53 +271,69 @@ def advance_rows(VF, WF, N, T, P, g, hmin, last, air, leave, T1, P1, V1, start, 
 
 # ------------------------------------------------------------------------------ on the ground
 @jit(inline="always")
-def _glide_rhs(ax, ay, az, k, qx, qy, qz):
-    """dq/dt = a - k q / |q| (q != 0)."""
-    s = math.sqrt(qx * qx + qy * qy + qz * qz)
-    return ax - k * qx / s, ay - k * qy / s, az - k * qz / s
-
-
-@jit(inline="always")
-def _glide_step(ax, ay, az, k, qx, qy, qz, h):
-    """One RK4 step of dq/dt = a - k q_hat, dQ/dt = q: returns q and the increment of Q."""
-    k1x, k1y, k1z = _glide_rhs(ax, ay, az, k, qx, qy, qz)
-    q2x, q2y, q2z = qx + 0.5 * h * k1x, qy + 0.5 * h * k1y, qz + 0.5 * h * k1z
-    k2x, k2y, k2z = _glide_rhs(ax, ay, az, k, q2x, q2y, q2z)
-    q3x, q3y, q3z = qx + 0.5 * h * k2x, qy + 0.5 * h * k2y, qz + 0.5 * h * k2z
-    k3x, k3y, k3z = _glide_rhs(ax, ay, az, k, q3x, q3y, q3z)
-    q4x, q4y, q4z = qx + h * k3x, qy + h * k3y, qz + h * k3z
-    k4x, k4y, k4z = _glide_rhs(ax, ay, az, k, q4x, q4y, q4z)
-    c = h / 6.0
-    dqx = c * (qx + 2.0 * q2x + 2.0 * q3x + q4x)
-    dqy = c * (qy + 2.0 * q2y + 2.0 * q3y + q4y)
-    dqz = c * (qz + 2.0 * q2z + 2.0 * q3z + q4z)
-    return (qx + c * (k1x + 2.0 * k2x + 2.0 * k3x + k4x), qy + c * (k1y + 2.0 * k2y + 2.0 * k3y + k4y),
-            qz + c * (k1z + 2.0 * k2z + 2.0 * k3z + k4z), dqx, dqy, dqz)
-
-
-@jit(inline="always")
 def _put(out, row, a, b, c, d, e, f):
     out[row, 0], out[row, 1], out[row, 2] = a, b, c
     out[row, 3], out[row, 4], out[row, 5] = d, e, f
 
 
 @jit(inline="always")
+def _curve_at(x, x0, qm1, s, aa):
+    """Time, the two integrals and the speed factor ``S r`` of the curved glide at ``x = tan(psi / 2)``."""
+    r = math.pow(x / x0, qm1)
+    r2 = r * r
+    xx = x * x
+    x02 = x0 * x0
+    t = s / aa * ((1.0 - r) / qm1 + (x02 - r * xx) / (qm1 + 2.0))
+    ie = s * s / aa * ((1.0 - r2) / (2.0 * qm1) - (x02 * x02 - r2 * xx * xx) / (2.0 * qm1 + 4.0))
+    ip = 2.0 * s * s / aa * ((x0 - r2 * x) / (2.0 * qm1 + 1.0) + (x02 * x0 - r2 * xx * x) / (2.0 * qm1 + 3.0))
+    return t, ie, ip, s * r
+
+
+@jit(inline="always")
+def _curve_x(ts, x0, qm1, s, aa):
+    """The x in (0, x0] where the curved glide's time is ``ts`` (safeguarded Newton; t falls as x grows)."""
+    lo = 0.0
+    hi = x0
+    x = 0.5 * x0
+    for _ in range(200):
+        t, _ie, _ip, sr = _curve_at(x, x0, qm1, s, aa)
+        f = t - ts
+        if f > 0.0:
+            lo = x
+        else:
+            hi = x
+        if f == 0.0 or hi - lo <= 1e-15 * x0:
+            break
+        xn = x + f * aa * x / (sr * (1.0 + x * x))  # Newton: dt/dx = -S r (1 + x^2) / (A x)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        x = xn
+    return x
+
+
+@jit(inline="always")
 def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
-    """Integrate dq/dt = a - k q/|q| from q0 until q stops (|a| < k), and Q = integral of q dt.
+    r"""Solve dq/dt = a - k q/|q| from q0 until q stops (|a| < k), and Q = integral of q dt, in closed form.
 
     Both ground phases are this equation: the contact point's slip while skidding
     (a = tangential gravity, k = 7/2 mu_s g_n) and the velocity while rolling
-    (a = 5/7 of tangential gravity, k = the rolling deceleration). Returns
-    ``(T, Q)``: the stop time and the integral at the stop.
+    (a = 5/7 of tangential gravity, k = the rolling deceleration).
 
-    * q0 parallel to a (|q0 x a| <= PARALLEL |q0| |a|, flat ground a = 0 included): a
-      straight stop in closed form, deceleration ``k - a . q_hat``.
-    * Otherwise classical RK4 with steps ``GLIDE_STEP |q| / (k + |a|)`` (short steps where
-      the direction turns fast, near the stop), until |q| < GLIDE_TAIL |q0|, then a straight
-      stop.
+    * q0 parallel to a (``|q0 x a| <= PARALLEL |q0| |a|``), or ``|a| <= PARALLEL k`` (flat
+      ground): a straight stop, deceleration ``d = k - a . q_hat``, ``T = |q0| / d``,
+      ``Q = q0 T / 2``.
+    * Otherwise the path curves towards a. With ``q = s (cos psi e + sin psi e_perp)``
+      (``e = a / |a|``, ``e_perp`` along q0's part across a) the speed and angle obey
+      ``s' = A cos psi - k`` and ``s psi' = -A sin psi`` (A = |a|), so with ``x = tan(psi/2)``,
+      ``Qk = k / A > 1`` and ``S = s0 / (1 + x0^2)``:
+      ``s = S r (1 + x^2)``, ``r = (x / x0)^(Qk - 1)``; ``x`` falls from x0 to 0 at the stop;
+      ``t(x) = S/A [(1 - r)/(Qk - 1) + (x0^2 - r x^2)/(Qk + 1)]`` and
+      ``Q(x) = S^2/A [(1 - r^2)/(2Qk - 2) - (x0^4 - r^2 x^4)/(2Qk + 2)] e
+      + 2 S^2/A [(x0 - r^2 x)/(2Qk - 1) + (x0^3 - r^2 x^3)/(2Qk + 1)] e_perp``.
+      The stop (x = 0) needs only arithmetic; a sample at a given time solves t(x) for x.
 
     With ``tsample`` (times from the start, ascending) the states ``(q, Q)`` at those times
-    are written to ``out[k0 + j]`` (6 columns, zero velocity and the final Q after the stop).
+    are written to ``out[k0 + j]`` (6 columns; zero velocity and the final Q after the stop).
     Returns ``(T, Qx, Qy, Qz, samples written)``.
     """
     nsample = tsample.shape[0]
@@ -336,7 +348,7 @@ def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
     cx = qy * az - qz * ay
     cy = qz * ax - qx * az
     cz = qx * ay - qy * ax
-    if math.sqrt(cx * cx + cy * cy + cz * cz) <= PARALLEL * q0 * aa:
+    if aa <= PARALLEL * k or math.sqrt(cx * cx + cy * cy + cz * cz) <= PARALLEL * q0 * aa:
         d = k - (ax * qx + ay * qy + az * qz) / q0
         tt = q0 / d
         while j < nsample and tsample[j] < tt:
@@ -350,40 +362,33 @@ def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
             _put(out, k0 + j, 0.0, 0.0, 0.0, qx * h, qy * h, qz * h)
             j += 1
         return tt, qx * h, qy * h, qz * h, j
-    t = 0.0
-    sx, sy, sz = 0.0, 0.0, 0.0
-    q = q0
-    rate = GLIDE_STEP / (k + aa)
-    steps = 0
-    while q > GLIDE_TAIL * q0 and steps < GLIDE_MAX_STEPS:
-        h = rate * q
-        while j < nsample and tsample[j] < t + h:
-            px, py, pz, dx, dy, dz = _glide_step(ax, ay, az, k, qx, qy, qz, tsample[j] - t)
-            _put(out, k0 + j, px, py, pz, sx + dx, sy + dy, sz + dz)
-            j += 1
-        qx, qy, qz, dx, dy, dz = _glide_step(ax, ay, az, k, qx, qy, qz, h)
-        sx += dx
-        sy += dy
-        sz += dz
-        t += h
-        q = math.sqrt(qx * qx + qy * qy + qz * qz)
-        steps += 1
-    d = k - (ax * qx + ay * qy + az * qz) / q  # the last bit: a straight stop
-    tt = q / d
-    while j < nsample and tsample[j] < t + tt:
-        s = tsample[j] - t
-        f = 1.0 - s / tt
-        g = s - 0.5 * s * s / tt
-        _put(out, k0 + j, qx * f, qy * f, qz * f, sx + qx * g, sy + qy * g, sz + qz * g)
+    ex, ey, ez = ax / aa, ay / aa, az / aa
+    qe = qx * ex + qy * ey + qz * ez
+    px, py, pz = qx - qe * ex, qy - qe * ey, qz - qe * ez
+    pp = math.sqrt(px * px + py * py + pz * pz)
+    px, py, pz = px / pp, py / pp, pz / pp
+    x0 = pp / (q0 + qe) if qe >= 0.0 else (q0 - qe) / pp  # tan(psi0 / 2), without cancellation
+    qm1 = (k - aa) / aa
+    s = q0 / (1.0 + x0 * x0)
+    x02 = x0 * x0
+    tt = s / aa * (1.0 / qm1 + x02 / (qm1 + 2.0))
+    fe = s * s / aa * (1.0 / (2.0 * qm1) - x02 * x02 / (2.0 * qm1 + 4.0))
+    fp = 2.0 * s * s / aa * (x0 / (2.0 * qm1 + 1.0) + x02 * x0 / (2.0 * qm1 + 3.0))
+    while j < nsample and tsample[j] < tt:
+        if tsample[j] <= 0.0:
+            _put(out, k0 + j, qx, qy, qz, 0.0, 0.0, 0.0)
+        else:
+            x = _curve_x(tsample[j], x0, qm1, s, aa)
+            _t, ie, ip, sr = _curve_at(x, x0, qm1, s, aa)
+            ce = sr * (1.0 - x * x)
+            cp = sr * 2.0 * x
+            _put(out, k0 + j, ce * ex + cp * px, ce * ey + cp * py, ce * ez + cp * pz,
+                 ie * ex + ip * px, ie * ey + ip * py, ie * ez + ip * pz)
         j += 1
-    h = 0.5 * tt
-    sx += qx * h
-    sy += qy * h
-    sz += qz * h
     while j < nsample:
-        _put(out, k0 + j, 0.0, 0.0, 0.0, sx, sy, sz)
+        _put(out, k0 + j, 0.0, 0.0, 0.0, fe * ex + fp * px, fe * ey + fp * py, fe * ez + fp * pz)
         j += 1
-    return t + tt, sx, sy, sz, j
+    return tt, fe * ex + fp * px, fe * ey + fp * py, fe * ez + fp * pz, j
 
 
 @jit(inline="always")

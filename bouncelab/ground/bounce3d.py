@@ -93,6 +93,7 @@ slope's frame; Rigid (r <= 1) and CompliantImpact gain no energy.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -238,7 +239,11 @@ def bounce(law: BounceModel | Surface, velocity: Any, spin: Any, normal: Any = (
                         f"{u.velocity_unit}): a bounce needs a landing; the normal points out of the ground",
                         column="velocity", row=row + 1)
     p2, frames = to_plane(v, w, nrm)
-    out = law.predict(p2, plausible=None, return_flags=return_flags)
+    with warnings.catch_warnings(record=True) as caught:  # the law's warnings, re-issued at the caller's line
+        warnings.simplefilter("always")
+        out = law.predict(p2, plausible=None, return_flags=return_flags)
+    for c in caught:
+        warnings.warn(c.message, c.category, stacklevel=2)
     if return_flags:
         out, flags = out
     vf, wf = from_plane(out, frames, nrm, np.full(n, keep))

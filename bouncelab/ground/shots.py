@@ -69,7 +69,7 @@ def reference_table(surfaces: tuple[str, ...] = PRESET_NAMES) -> pd.DataFrame:
     """Outcomes of every shot on every surface (one row each), in m, m/s, rpm and s."""
     import pandas as pd
 
-    from bouncelab.ground.run import run
+    from bouncelab.ground.runout import run
 
     v, w = landings()
     frames = []
@@ -107,7 +107,7 @@ def plot_paths(path: str | Path, surfaces: tuple[str, ...] = PRESET_NAMES, rate:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from bouncelab.ground.run import run
+    from bouncelab.ground.runout import run
 
     v, w = landings()
     fig, axes = plt.subplots(len(surfaces), 1, figsize=(8.0, 1.9 * len(surfaces)), sharex=True)

@@ -1,6 +1,6 @@
 r"""Surfaces: a bounce law, sliding friction and a green speed, named and serialisable.
 
-A :class:`Surface` holds what :func:`bouncelab.ground.run` needs to take a ball from its
+A :class:`Surface` holds what :func:`bouncelab.ground.runout.run` needs to take a ball from its
 landing to rest:
 
 * ``law``: the bounce law (any :class:`~bouncelab.BounceModel`: fitted, published or
@@ -13,7 +13,7 @@ landing to rest:
   :math:`S = v_0^2 / 2a`, so :math:`a = v_0^2 / 2S` on flat ground. On a slope the
   deceleration is proportional to the normal load (a rolling-resistance coefficient
   :math:`\mu_r = a / g`, deceleration :math:`\mu_r g \cos\theta`), see
-  :func:`bouncelab.ground.run`;
+  :func:`bouncelab.ground.runout.run`;
 * ``pivot_retention``: the fraction of the spin about the ground normal that a bounce keeps
   (pivot friction; 1 keeps it all).
 

@@ -42,10 +42,12 @@ The spin about the normal does not act on the path; each bounce multiplies it by
 surface's ``pivot_retention`` and it is carried unchanged on the ground. Rolling resistance
 is not applied while skidding (sliding friction dominates it).
 
-Both ground phases solve :math:`\dot q = a - k\hat q`: straight (in closed form) when
-:math:`q_0 \parallel a` — flat ground, or along the fall line — and otherwise classical RK4
-with steps of 1/32 of :math:`|q|/(k + |a|)` and a straight final stop (agreeing with
-``scipy.integrate.solve_ivp`` to 1e-6 relative, tested).
+Both ground phases solve :math:`\dot q = a - k\hat q` (:math:`|a| < k`) in closed form:
+a straight stop when :math:`q_0 \parallel a` (flat ground, or along the fall line), and
+otherwise a curve bending towards :math:`a` whose speed, time and displacement are
+powers of :math:`\tan(\psi/2)`, :math:`\psi` the angle between :math:`q` and :math:`a`
+(derived in :func:`bouncelab.ground._kernels.glide`; it agrees with
+``scipy.integrate.solve_ivp`` to 1e-9 of the run, tested).
 
 Every step of a shot is its own row in compiled loops with IEEE arithmetic in a fixed order
 (:data:`bouncelab._jit.ROW_FLAGS`) and the law's compiled prediction, so a shot gives the same
