@@ -255,6 +255,14 @@ def test_air_without_drag_or_lift_is_the_vacuum_flight_and_drag_shortens_the_run
     assert (still.totals["bounces"] == vac.totals["bounces"]).all()
     drag = run(v, w, surface, units=SI, air=Air(lift_slope=0.0))
     assert (drag.totals["bounce_carry"] < vac.totals["bounce_carry"]).all()
+    # lift alone (a frictionless bounce keeps the spin): backspin holds the ball up longer, topspin pulls it down
+    slick = surface.replace(law=bl.Rigid(r=0.5, mu=0.0))
+    for sign in (1.0, -1.0):
+        spin = [0.0, -sign * 500.0, 0.0]  # backspin for travel in +x, then topspin
+        lifted = run([15.0, 0.0, -10.0], spin, slick, units=SI, air=Air(drag_coefficient=0.0)).path
+        plain = run([15.0, 0.0, -10.0], spin, slick, units=SI).path
+        longer = lifted["event_time"].values[0, 1] > plain["event_time"].values[0, 1]
+        assert longer == (sign > 0)
     ds = drag.sample(100.0)
     assert (ds["position"].sel(axis="z").values >= -1e-9).all()
 

@@ -227,10 +227,10 @@ def load_surface(path: str | Path) -> Surface:
 
 
 # ------------------------------------------------------------------------------ presets
-_GREEN_SOURCE = ("green speed: general guidance on Stimpmeter readings (slow about 7-8 ft, medium 8.5-10 ft, "
-                 "fast 10.5-12 ft; the USGA's 1978 survey table lists slower greens), not measured by bouncelab; "
-                 "bounce law: the paper's published PennerVarying law of campaign B (a natural-grass teeing area) - "
-                 "an assumption, the paper measured no green; sliding friction: an assumption (0.4)")
+_GREEN_SOURCE = ("Green speed: general guidance on Stimpmeter readings (about 7 ft is called very slow, 9 ft moderate, "
+                 "11 ft and more fast; sources in docs/simulators.md), not measured by bouncelab. Bounce law: the "
+                 "paper's published PennerVarying law of campaign B (a natural-grass teeing area), an assumption: the "
+                 "paper measured no green. Sliding friction 0.4: an assumption.")
 
 #: name -> (law class name, campaign, stimp in metres, description)
 _PRESETS: dict[str, tuple[str, str, float, str]] = {
