@@ -147,7 +147,7 @@ def _air_accel(vx, vy, vz, wx, wy, wz, g, kd, kq, cl_slope, cl_max):
     return ax, ay, az
 
 
-@jit(inline="always")
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
 def _air_step(px, py, pz, vx, vy, vz, wx, wy, wz, h, g, kd, kq, cl_slope, cl_max):
     """One classical RK4 step of (position, velocity) in air."""
     a1x, a1y, a1z = _air_accel(vx, vy, vz, wx, wy, wz, g, kd, kq, cl_slope, cl_max)
@@ -167,7 +167,7 @@ def _air_step(px, py, pz, vx, vy, vz, wx, wy, wz, h, g, kd, kq, cl_slope, cl_max
     return npx, npy, npz, nvx, nvy, nvz
 
 
-@jit(inline="always")
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
 def _air_flight(px, py, pz, vx, vy, vz, wx, wy, wz, nx, ny, nz, g, kd, kq, cl_slope, cl_max, tsample, out, k0):
     """Flight with air from a lift-off on the plane until the ball is back on it.
 
@@ -289,7 +289,7 @@ def _curve_at(x, x0, qm1, s, aa):
     return t, ie, ip, s * r
 
 
-@jit(inline="always")
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
 def _curve_x(ts, x0, qm1, s, aa):
     """The x in (0, x0] where the curved glide's time is ``ts`` (safeguarded Newton; t falls as x grows)."""
     lo = 0.0
@@ -311,7 +311,7 @@ def _curve_x(ts, x0, qm1, s, aa):
     return x
 
 
-@jit(inline="always")
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
 def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
     r"""Solve dq/dt = a - k q/|q| from q0 until q stops (|a| < k), and Q = integral of q dt, in closed form.
 
