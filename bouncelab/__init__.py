@@ -101,7 +101,7 @@ __all__ = [
 
 
 # Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
-_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "laws", "plots", "simulation")
+_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "ground", "laws", "plots", "simulation")
 
 
 def __getattr__(name: str) -> Any:

@@ -1,0 +1,45 @@
+"""The ground phase for simulators: 3-D bounce, landing to rest on real surfaces, reference shots.
+
+==========================  ===============================================================
+:func:`bounce`              lift-off velocity and spin of 3-D landings from any 2-D law, on any plane
+:func:`run`                 landings to rest: bounces, flights, skid and roll, vectorised and compiled
+:class:`Surface`            a named, serialisable surface: law, sliding friction, green speed
+:func:`preset`              the preset surfaces (the paper's two turfs; slow, medium, fast greens)
+:class:`Air`                optional drag and lift in flight
+:mod:`~.shots`              the reference-shot suite (``python -m bouncelab.ground.shots``)
+==========================  ===============================================================
+
+Conventions: right-handed axes, z up on flat ground, spin the angular-velocity vector (so
+backspin for travel in +x has a negative y component); scaled units (radii, radii/s, rad/s)
+unless ``units=`` says otherwise. See ``docs/simulators.md``, "The ground phase".
+"""
+
+from bouncelab.ground.bounce3d import bounce
+from bouncelab.ground.runout import (
+    DEFAULT_MAX_BOUNCES,
+    DEFAULT_MIN_APEX_M,
+    EVENTS,
+    PHASES,
+    Air,
+    BounceLimitWarning,
+    RunResult,
+    run,
+)
+from bouncelab.ground.surface import PRESET_NAMES, STIMP_SPEED_M_S, Surface, load_surface, preset
+
+__all__ = [
+    "DEFAULT_MAX_BOUNCES",
+    "DEFAULT_MIN_APEX_M",
+    "EVENTS",
+    "PHASES",
+    "PRESET_NAMES",
+    "STIMP_SPEED_M_S",
+    "Air",
+    "BounceLimitWarning",
+    "RunResult",
+    "Surface",
+    "bounce",
+    "load_surface",
+    "preset",
+    "run",
+]

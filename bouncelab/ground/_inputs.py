@@ -1,0 +1,174 @@
+"""Input checks and unit conversions at the edges of the ground phase (scaled units inside)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from bouncelab.data.units import (
+    BALL_RADIUS_M,
+    SPEED_UNITS,
+    SPIN_UNITS,
+    ball_radius,
+    canonical_unit,
+    spin_from_scaled,
+    spin_to_scaled,
+    velocity_from_scaled,
+    velocity_to_scaled,
+)
+from bouncelab.errors import DataError, ParameterError
+
+__all__ = ["Units", "as_vectors", "unit_normals"]
+
+_AXES = ("x", "y", "z")
+
+
+class Units:
+    """The caller's units: None (scaled: radii, radii/s, rad/s) or ``{"velocity": ..., "spin": ...}``.
+
+    Lengths are in ball radii with velocities in radii/s, in metres with any other velocity unit.
+    """
+
+    def __init__(self, units: Any, radius_m: Any = None) -> None:
+        self.radius_m = BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)
+        if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
+            self.velocity = self.spin = None
+            return
+        if not isinstance(units, Mapping):
+            raise DataError(f"units must be None (scaled), 'scaled' or a mapping such as {{'velocity': 'm/s', "
+                            f"'spin': 'rpm'}}; got {units!r}")
+        unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
+        missing = [k for k in ("velocity", "spin") if k not in units]
+        if unknown or missing:
+            raise DataError(f"units needs exactly the keys 'velocity' and 'spin' (e.g. {{'velocity': 'm/s', "
+                            f"'spin': 'rpm'}}); missing {missing}, unknown {unknown}")
+        velocity = canonical_unit(units["velocity"], "velocity")
+        spin = canonical_unit(units["spin"], "spin")
+        self.velocity = None if velocity == "radius/s" else velocity
+        self.spin = None if spin == "rad/s" else spin
+
+    @property
+    def scaled(self) -> bool:
+        """True when lengths are in ball radii (velocities in radii/s); metres otherwise."""
+        return self.velocity is None
+
+    @property
+    def length(self) -> str:
+        return "radius" if self.scaled else "m"
+
+    def velocity_in(self, v: np.ndarray) -> np.ndarray:
+        return v if self.velocity is None else velocity_to_scaled(v, self.velocity, radius_m=self.radius_m)
+
+    def velocity_out(self, v: np.ndarray) -> np.ndarray:
+        return v if self.velocity is None else velocity_from_scaled(v, self.velocity, radius_m=self.radius_m)
+
+    def spin_in(self, w: np.ndarray) -> np.ndarray:
+        return w if self.spin is None else spin_to_scaled(w, self.spin)
+
+    def spin_out(self, w: np.ndarray) -> np.ndarray:
+        return w if self.spin is None else spin_from_scaled(w, self.spin)
+
+    def length_out(self, x: np.ndarray) -> np.ndarray:
+        """Ball radii to the caller's lengths (metres with physical units)."""
+        return x if self.scaled else x * self.radius_m
+
+    def in_place_out(self, pos: np.ndarray, vel: np.ndarray, spin: np.ndarray) -> None:
+        """Scaled lengths, velocities and spins to the caller's units, overwriting the arrays (large paths).
+
+        The same arithmetic as :func:`velocity_from_scaled` (times ``R / factor``) and
+        :func:`spin_from_scaled` (divided by the factor), so the same bits.
+        """
+        if not self.scaled:
+            pos *= self.radius_m
+            vel *= self.radius_m / SPEED_UNITS[self.velocity]
+        if self.spin is not None:
+            spin /= SPIN_UNITS[self.spin]
+
+    @property
+    def velocity_unit(self) -> str:
+        return self.velocity or "radius/s"
+
+    @property
+    def spin_unit(self) -> str:
+        return self.spin or "rad/s"
+
+
+def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
+    """``value`` as a new finite float (n, 3) array and its leading shape (``()`` for one vector).
+
+    Raises
+    ------
+    DataError
+        Not real numbers, not of shape (3,) or (n, 3), no rows, or NaN/infinite (naming row and column).
+    """
+    if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
+        raise DataError(f"{name} has masked (missing) values; remove or fill them first")
+    try:
+        arr = np.array(np.ma.getdata(value), dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}") from None
+    if np.iscomplexobj(np.asarray(np.ma.getdata(value))):
+        raise DataError(f"{name} must be real numbers; got complex values")
+    if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
+        raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}")
+    lead = arr.shape[:-1]
+    arr = arr.reshape(-1, 3)
+    if len(arr) == 0:
+        raise DataError(f"{name} has no rows: give at least one (3,) vector")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        raise DataError(f"{name} is not finite at row {row + 1}, component {_AXES[col]}: {arr[row, col]!r}",
+                        column=f"{name}_{_AXES[col]}", row=int(row) + 1)
+    return arr, lead
+
+
+def unit_normals(normal: Any, *, upward: bool) -> tuple[np.ndarray, tuple[int, ...]]:
+    """Ground normals as unit (n, 3) vectors (any non-zero length is normalised).
+
+    With ``upward`` the normal must have a positive z component (gravity pushes the ball into
+    that ground); a DataError names the row otherwise.
+    """
+    n, lead = as_vectors(normal, "normal")
+    length = np.sqrt((n * n).sum(axis=1))
+    if (length == 0).any():
+        row = int(np.flatnonzero(length == 0)[0])
+        raise DataError(f"normal row {row + 1} is the zero vector; give the ground's normal, e.g. (0, 0, 1)",
+                        column="normal", row=row + 1)
+    n = n / length[:, None]
+    if upward and (n[:, 2] <= 0).any():
+        row = int(np.flatnonzero(n[:, 2] <= 0)[0])
+        raise DataError(f"normal row {row + 1} = {normal_text(n[row])} does not point up (z <= 0): gravity "
+                        f"(0, 0, -g) would not press the ball onto that ground; z is up", column="normal",
+                        row=row + 1)
+    return n, lead
+
+
+def normal_text(n: np.ndarray) -> str:
+    return "(" + ", ".join(f"{x:.6g}" for x in n) + ")"
+
+
+def broadcast_rows(name_arrays: list[tuple[str, np.ndarray]]) -> int:
+    """The common number of rows of (n, 3) arrays where single rows broadcast; DataError otherwise."""
+    sizes = {len(a) for _, a in name_arrays if len(a) != 1}
+    if len(sizes) > 1:
+        text = ", ".join(f"{name} {len(a)}" for name, a in name_arrays)
+        raise DataError(f"the rows do not match: {text} (one row is repeated for every shot)")
+    return sizes.pop() if sizes else 1
+
+
+def positive(value: Any, name: str, *, allow_zero: bool = False, error: type = ParameterError) -> float:
+    """A finite number > 0 (or >= 0), or a typed error naming it."""
+    x = math.nan
+    if not isinstance(value, bool | str | bytes):
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            pass
+    if not (math.isfinite(x) and (x >= 0 if allow_zero else x > 0)):
+        want = "a finite number >= 0" if allow_zero else "a finite number > 0"
+        raise error(f"{name} must be {want}; got {value!r}")
+    return x

@@ -1,0 +1,258 @@
+"""The 3-D bounce (bouncelab.ground.bounce): the lift of a 2-D law through the contact frame (issue 25, item 1)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import bouncelab as bl
+from bouncelab.errors import DataError, NotFittedError, ParameterError
+from bouncelab.ground import Surface, bounce
+from tests.test_bits import CLOSED_FORM, INTEGRATED, random_law
+
+ALL = CLOSED_FORM + INTEGRATED
+MIRROR_SYMMETRIC = [n for n in ALL if n != "PiecewiseAffine"]  # (xdot, omega) -> (-xdot, -omega) gives the mirror
+
+
+def lift(law, v, w, n=(0.0, 0.0, 1.0), **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # published/random laws may warn of non-physical lift-offs
+        return bounce(law, v, w, n, **kw)
+
+
+def landings3d(m: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """3-D landings on flat ground over the paper's ranges: any heading, sidespin and spin about z."""
+    speed = rng.uniform(100.0, 2000.0, m)
+    angle = rng.uniform(0.15, 1.5, m)
+    heading = rng.uniform(0.0, 2 * np.pi, m)
+    v = np.column_stack([speed * np.cos(angle) * np.cos(heading), speed * np.cos(angle) * np.sin(heading),
+                         -speed * np.sin(angle)])
+    w = rng.uniform(-800.0, 1500.0, (m, 3))
+    return v, w
+
+
+def rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rodrigues' rotation matrix about a unit axis."""
+    a = axis / np.linalg.norm(axis)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+def z_to(n: np.ndarray) -> np.ndarray:
+    """A rotation taking z to the unit vector n."""
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, n)
+    return rotation(axis, np.arccos(np.clip(n @ z, -1, 1))) if np.linalg.norm(axis) > 0 else np.eye(3)
+
+
+def close(a: np.ndarray, b: np.ndarray, scale: np.ndarray, rtol: float = 1e-12) -> None:
+    """|a - b| <= rtol * scale row by row (scale: the size of the landing state)."""
+    err = np.abs(a - b).max(axis=-1)
+    assert (err <= rtol * scale).all(), (err / scale).max()
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_an_in_plane_landing_is_the_2d_law_bit_for_bit(name):
+    """(xdot, 0, zdot) with spin (0, -omega, 0) is the 2-D landing (xdot, zdot, omega): the same bits out."""
+    rng = np.random.default_rng(sum(map(ord, name)))
+    law = random_law(name, rng)
+    m = 40 if name in CLOSED_FORM else 12
+    p = np.column_stack([rng.uniform(1.0, 2500.0, m), rng.uniform(-1900.0, -60.0, m),
+                         rng.uniform(-600.0, 1800.0, m)])
+    if name in MIRROR_SYMMETRIC:  # balls moving in -x too
+        p[: m // 2, 0] *= -1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        expected = law.predict(p, plausible=None)
+    zeros = np.zeros(m)
+    v, w = lift(law, np.column_stack([p[:, 0], zeros, p[:, 1]]), np.column_stack([zeros, -p[:, 2], zeros]))
+    np.testing.assert_array_equal(v, np.column_stack([expected[:, 0], zeros, expected[:, 1]]))
+    np.testing.assert_array_equal(w, np.column_stack([zeros, -expected[:, 2], zeros]))
+
+
+def rigid_3d(v: np.ndarray, w: np.ndarray, n: np.ndarray, r: float, mu: float) -> tuple[np.ndarray, np.ndarray]:
+    """A direct 3-D rigid bounce, vector by vector (no contact frame): restitution r, Coulomb friction mu.
+
+    Normal impulse (1 + r)|v.n|; the tangential impulse that stops the slip u_t = v_t + n x w is
+    -u_t / 3.5 (dv = J, dw = -5/2 n x J); capped at mu times the normal impulse along -u_t.
+    """
+    vf, wf = np.empty_like(v), np.empty_like(w)
+    for i in range(len(v)):
+        vn = v[i] @ n[i]
+        jn = -(1 + r) * vn
+        u = v[i] - vn * n[i] + np.cross(n[i], w[i])
+        j = -u / 3.5
+        cap = mu * jn
+        if np.linalg.norm(j) > cap:
+            j = -cap * u / np.linalg.norm(u)
+        vf[i] = v[i] + jn * n[i] + j
+        wf[i] = w[i] - 2.5 * np.cross(n[i], j)
+    return vf, wf
+
+
+def test_rigid_is_the_exact_3d_impulse():
+    """The lifted Rigid law equals a direct 3-D impulse computation, on flat ground and on slopes."""
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        law = bl.Rigid(r=rng.uniform(0, 1), mu=rng.uniform(0, 1.5))
+        v, w = landings3d(50, rng)
+        tilt = rng.normal(size=(50, 3)) * [0.3, 0.3, 0.0] + [0, 0, 1]
+        n = tilt / np.linalg.norm(tilt, axis=1)[:, None]
+        v = v - 2 * np.maximum(np.einsum("ij,ij->i", v, n), 0)[:, None] * n  # every landing into its ground
+        vf, wf = lift(law, v, w, n)
+        ev, ew = rigid_3d(v, w, n, law.r, law.mu)
+        scale = np.linalg.norm(np.hstack([v, w]), axis=1)
+        close(vf, ev, scale)
+        close(wf, ew, scale)
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_rotating_a_landing_about_the_normal_rotates_its_liftoff(name):
+    rng = np.random.default_rng(10 + sum(map(ord, name)))
+    law = random_law(name, rng)
+    m = 30 if name in CLOSED_FORM else 8
+    v, w = landings3d(m, rng)
+    for n in (np.array([0.0, 0.0, 1.0]), np.array([0.2, -0.1, 0.97]) / np.linalg.norm([0.2, -0.1, 0.97])):
+        q = z_to(n)
+        v1, w1 = v @ q.T, w @ q.T
+        vf, wf = lift(law, v1, w1, n)
+        rot = rotation(n, rng.uniform(0, 2 * np.pi))
+        vr, wr = lift(law, v1 @ rot.T, w1 @ rot.T, n)
+        scale = np.linalg.norm(np.hstack([v, w]), axis=1)
+        close(vr, vf @ rot.T, scale, 1e-11)
+        close(wr, wf @ rot.T, scale, 1e-11)
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_a_sloped_landing_is_the_flat_one_in_the_slopes_frame(name):
+    rng = np.random.default_rng(20 + sum(map(ord, name)))
+    law = random_law(name, rng)
+    m = 30 if name in CLOSED_FORM else 8
+    v, w = landings3d(m, rng)
+    vf, wf = lift(law, v, w)
+    for n in ([0.0, 0.2, 1.0], [0.3, 0.0, 1.0], [-0.1, 0.1, 1.0]):
+        n = np.array(n) / np.linalg.norm(n)
+        q = z_to(n)
+        vs, ws = lift(law, v @ q.T, w @ q.T, n)
+        scale = np.linalg.norm(np.hstack([v, w]), axis=1)
+        close(vs, vf @ q.T, scale, 1e-11)
+        close(ws, wf @ q.T, scale, 1e-11)
+
+
+@pytest.mark.parametrize("name", ["Rigid", "CompliantImpact", "TangentialRestitution"])
+def test_energy_conserving_laws_gain_no_energy_in_3d(name):
+    """|v|^2 + 2/5 |omega|^2 never grows (Rigid and CompliantImpact with r <= 1; Walton's law with e_t <= 1)."""
+    rng = np.random.default_rng(30 + sum(map(ord, name)))
+    for _ in range(10 if name != "CompliantImpact" else 3):
+        law = random_law(name, rng)
+        v, w = landings3d(40, rng)
+        n = np.array([0.1, 0.05, 1.0]) / np.linalg.norm([0.1, 0.05, 1.0])
+        v = v - 2 * np.maximum(v @ n, 0)[:, None] * n
+        for keep in (1.0, 0.5):
+            vf, wf = lift(law, v, w, n, pivot_retention=keep)
+            e0 = (v * v).sum(1) + 0.4 * (w * w).sum(1)
+            e1 = (vf * vf).sum(1) + 0.4 * (wf * wf).sum(1)
+            assert (e1 <= e0 * (1 + 1e-12)).all(), (law, (e1 / e0).max())
+
+
+def test_the_spin_about_the_normal_is_kept_or_decays_by_the_pivot_retention():
+    rng = np.random.default_rng(4)
+    v, w = landings3d(30, rng)
+    law = bl.Rigid(r=0.5, mu=0.6)
+    for keep in (1.0, 0.25, 0.0):
+        _, wf = lift(law, v, w, pivot_retention=keep)
+        np.testing.assert_allclose(wf[:, 2], keep * w[:, 2], rtol=1e-12, atol=1e-12 * np.abs(w).max())
+    surface = Surface(name="s", law=law, sliding_friction=0.4, stimp_m=3.0, pivot_retention=0.3)
+    np.testing.assert_array_equal(lift(surface, v, w)[1], lift(law, v, w, pivot_retention=0.3)[1])
+
+
+def test_spin_about_the_slip_and_velocity_across_it_are_kept_by_the_exact_laws():
+    """For Rigid and CompliantImpact the impulse is along the slip: v . b and omega . t do not change."""
+    rng = np.random.default_rng(5)
+    v, w = landings3d(30, rng)
+    n = np.array([0.0, 0.0, 1.0])
+    for law in (bl.Rigid(r=0.5, mu=0.3), bl.CompliantImpact(r=0.6, mu=0.4, kappa=1.5)):
+        vf, wf = lift(law, v, w)
+        u = v - np.outer(v @ n, n) + np.cross(n, w)
+        t = u / np.linalg.norm(u, axis=1)[:, None]
+        b = np.cross(n, t)
+        scale = np.linalg.norm(np.hstack([v, w]), axis=1)
+        close(np.einsum("ij,ij->i", vf, b)[:, None], np.einsum("ij,ij->i", v, b)[:, None], scale)
+        close(np.einsum("ij,ij->i", wf, t)[:, None], np.einsum("ij,ij->i", w, t)[:, None], scale)
+
+
+def test_a_vertical_landing_without_slip_uses_a_fixed_tangent():
+    """No slip and no tangential velocity: the frame's t is the x axis (on flat ground), so Penner tilts along it."""
+    law = bl.PennerFixed.published("B")
+    v, w = lift(law, [0.0, 0.0, -1000.0], [0.0, 0.0, 50.0])
+    expected = law.predict([[0.0, -1000.0, 0.0]])[0]
+    np.testing.assert_array_equal(v, [expected[0], 0.0, expected[1]])
+    np.testing.assert_array_equal(w, [0.0, -expected[2], 50.0])
+
+
+def test_physical_units_convert_at_the_edges():
+    law = bl.PennerVarying.published("A")
+    si = {"velocity": "m/s", "spin": "rpm"}
+    v = np.array([[20.0, 3.0, -15.0], [10.0, -2.0, -20.0]])
+    w = np.array([[100.0, -3000.0, 500.0], [0.0, 2000.0, 0.0]])
+    vf, wf = lift(law, v, w, units=si)
+    r = 0.02135
+    vs, ws = lift(law, v / r, w * (2 * np.pi / 60))
+    np.testing.assert_allclose(vf, vs * r, rtol=1e-13)
+    np.testing.assert_allclose(wf, ws / (2 * np.pi / 60), rtol=1e-13)
+    vr, _ = lift(law, v, w, units=si, radius_m=0.03)
+    np.testing.assert_allclose(vr, lift(law, v / 0.03, w * (2 * np.pi / 60))[0] * 0.03, rtol=1e-13)
+
+
+def test_shapes_single_vectors_and_broadcast_rows():
+    law = bl.Rigid(r=0.5, mu=0.4)
+    v, w = lift(law, [1000.0, 0.0, -800.0], [0.0, -300.0, 0.0])
+    assert v.shape == w.shape == (3,)
+    v, w = lift(law, [[1000.0, 0.0, -800.0]] * 4, [0.0, -300.0, 0.0])
+    assert v.shape == w.shape == (4, 3)
+    vf, _, flags = bounce(law, [[1000.0, 0.0, -800.0]], [0.0, -300.0, 0.0], return_flags=True)
+    assert flags.counts()["into_ground"] == 0 and vf.shape == (1, 3)
+
+
+def test_bad_input_is_refused_with_a_typed_error_naming_it():
+    law = bl.Rigid(r=0.5, mu=0.4)
+    with pytest.raises(DataError, match="row 2 does not move into the ground") as err:
+        bounce(law, [[1000.0, 0.0, -800.0], [1000.0, 0.0, 5.0]], [0.0, 0.0, 0.0])
+    assert err.value.row == 2
+    with pytest.raises(DataError, match="zero vector"):
+        bounce(law, [1000.0, 0.0, -800.0], [0.0, 0.0, 0.0], normal=(0, 0, 0))
+    with pytest.raises(DataError, match="not finite at row 1, component y"):
+        bounce(law, [1000.0, np.nan, -800.0], [0.0, 0.0, 0.0])
+    with pytest.raises(DataError, match=r"shape \(3,\) or \(n, 3\)"):
+        bounce(law, [1000.0, -800.0], [0.0, 0.0, 0.0])
+    with pytest.raises(DataError, match="rows do not match"):
+        bounce(law, [[1000.0, 0.0, -800.0]] * 3, [[0.0, 0.0, 0.0]] * 2)
+    with pytest.raises(DataError, match="unknown velocity unit"):
+        bounce(law, [10.0, 0.0, -8.0], [0.0, 0.0, 0.0], units={"velocity": "furlong/s", "spin": "rpm"})
+    with pytest.raises(ParameterError, match="must be a bouncelab bounce law"):
+        bounce("Rigid", [10.0, 0.0, -8.0], [0.0, 0.0, 0.0])
+    with pytest.raises(NotFittedError, match="no value"):
+        bounce(bl.Rigid(r=0.5), [10.0, 0.0, -8.0], [0.0, 0.0, 0.0])
+    with pytest.raises(ParameterError, match="pivot_retention"):
+        bounce(law, [10.0, 0.0, -8.0], [0.0, 0.0, 0.0], pivot_retention=1.5)
+
+
+def test_bouncelab_exposes_the_ground_package_lazily():
+    import subprocess
+    import sys
+
+    code = ("import sys, bouncelab as bl; assert 'bouncelab.ground' not in sys.modules; "
+            "g = bl.ground; assert g.bounce is bl.ground.bounce; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "ok", out.stderr
+
+
+def test_the_laws_warnings_point_at_the_callers_line():
+    law = bl.PennerFixed.published("B")
+    rpm = 2 * np.pi / 60
+    v = 5.0 * np.array([np.cos(np.radians(80)), 0.0, -np.sin(np.radians(80))]) / 0.02135
+    with pytest.warns(bl.errors.NonphysicalLiftoffWarning, match="into the ground") as rec:
+        bounce(law, v, [0.0, -10000.0 * rpm, 0.0])
+    assert rec[0].filename == __file__
