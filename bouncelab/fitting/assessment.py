@@ -206,8 +206,8 @@ class Assessment:
         groups = f"{o['n_groups']} launcher settings" if self.split == "setting" else "no launcher settings"
         lines = [f"[[Assessment]] {self.law} on {n} bounces ({groups}), {self.n_free} free parameter(s)",
                  f"    held out: {o['k']} folds by {self.split}; bootstrap: {o['n_bootstrap']} resamples by "
-                 f"{self.split}; {o['starts']} global starts; profiles of {o['profile_points']} points; "
-                 f"level {o['level']:g}"]
+                 f"{self.split}; {o['starts']} global starts; profiles of {o['profile_points']} points over the box "
+                 f"+ {o['local_points']} on each side of the estimate; level {o['level']:g}"]
         lines.append("[[Errors]] (fractions; the paper prints them as %)")
         table = self.scores.copy()
         table["n"] = table["n"].astype(int)
