@@ -257,3 +257,17 @@ def test_assess_on_client_equals_serial(rigid_data) -> None:
         pd.testing.assert_frame_equal(getattr(remote, name), getattr(serial, name), check_exact=True)
     other = assess(bl.Rigid, rigid_data, **{**kwargs, "seed": 5})
     assert not other.starts.equals(serial.starts)  # the seed matters: the comparison above could fail
+
+
+def test_prediction_interval_weighted_objective() -> None:
+    """objective='delta_pi' weighs bounces by their intervals everywhere: full fit, folds, bootstrap, profiles."""
+    data = bl.load_campaign("A", surrogate="published").isel(bounce=slice(0, 90))
+    result = assess(bl.Rigid, data, k=3, n_bootstrap=2, starts=1, profile_points=4, local_points=1,
+                    objective="delta_pi", maxeval=100)
+    assert result.options["objective"].startswith("delta") and "pi" in result.fit.objective
+    est = result.profiles[result.profiles["estimate"]]
+    assert (est["change"] == 0).all()
+    # the profile's change is the pi-weighted objective's: a refit with r held gives the same objective value
+    row = result.profiles[(result.profiles["parameter"] == "r") & ~result.profiles["estimate"]].iloc[1]
+    refit = bl.fit(bl.Rigid, data, fixed={"r": row["value"]}, method="global", objective="delta_pi", maxeval=100)
+    assert row["change"] == pytest.approx(refit.objective_value - result.fit.objective_value, rel=1e-9, abs=1e-12)

@@ -17,7 +17,7 @@ def campaign(n_settings, repeats=5):
     n = len(true_landing)
     r = 1 / (1 + np.exp(-(0.25 * rng.standard_normal(n))))          # logit(0.5) = 0
     mu = 0.4 * np.exp(0.3 * rng.standard_normal(n))
-    liftoff = np.array([bl.Rigid(r=a, mu=b).predict(p[None])[0] for a, b, p in zip(r, mu, true_landing)])
+    liftoff = np.array([bl.Rigid(r=a, mu=b).predict(p[None])[0] for a, b, p in zip(r, mu, true_landing, strict=True)])
     return bl.make_campaign(true_landing + sd_land * rng.standard_normal((n, 3)),
                             liftoff + sd_lift * rng.standard_normal((n, 3)),
                             setting=np.repeat(np.arange(n_settings), repeats),
