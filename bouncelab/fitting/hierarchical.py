@@ -158,10 +158,11 @@ class _Transform:
         z = np.asarray(z, dtype=float)
         if self.kind == "logit":
             return self.a + (self.b - self.a) * (0.5 * (1.0 + np.tanh(0.5 * z)))  # a stable logistic
-        if self.kind == "log":
-            return self.a + np.exp(z)
-        if self.kind == "neglog":
-            return self.b - np.exp(z)
+        with np.errstate(over="ignore"):  # a sampler's wild proposal: inf, whose likelihood is then zero
+            if self.kind == "log":
+                return self.a + np.exp(z)
+            if self.kind == "neglog":
+                return self.b - np.exp(z)
         return z
 
     def inside(self, theta: float) -> bool:
