@@ -62,6 +62,11 @@ _LAZY = {
     "infer_settings": "bouncelab.data.settings",
     "bootstrap": "bouncelab.fitting",
     "sweep": "bouncelab.fitting",
+    "assess": "bouncelab.fitting.assessment",
+    "Assessment": "bouncelab.fitting.assessment",
+    "calibrate": "bouncelab.fitting.hierarchical",
+    "Posterior": "bouncelab.fitting.hierarchical",
+    "load_posterior": "bouncelab.fitting.hierarchical",
     "BounceRegressor": "bouncelab.estimators",
 }
 
