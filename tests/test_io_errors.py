@@ -46,7 +46,7 @@ def _csv(path: Path, spin_unit: str | None, *, in_header: bool = False, rows=ROW
 
 
 def test_a_folder_is_a_data_error_naming_it(tmp_path):
-    with pytest.raises(DataError, match="folder, not a data file") as e:  # was IsADirectoryError
+    with pytest.raises(DataError, match="directory, not a data file") as e:  # was IsADirectoryError
         load_campaign(tmp_path)
     assert e.value.file == str(tmp_path)
 

@@ -290,7 +290,7 @@ def load_campaign(
             hint = f" (the embedded campaigns are {' and '.join(map(repr, EMBEDDED_CAMPAIGNS))})"
         raise FileNotFoundError(f"no such file: {file!r}{hint}")
     if path.is_dir():
-        raise DataError("it is a folder, not a data file; give the path of a file in it "
+        raise DataError("it is a directory, not a data file; give the path of a file in it "
                         f"({', '.join(SUPPORTED_SUFFIXES)})", file=file)
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
