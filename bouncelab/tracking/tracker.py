@@ -64,10 +64,12 @@ def track_clip(
 ) -> xr.Dataset:
     """Track the ball through a clip.
 
-    The clip is read frame by frame in three passes (the background's sampled
-    frames, the ball in each frame, the rotation between frames), so the memory
-    taken does not grow with its length; a clip within half the memory budget is
-    read once and kept (:func:`~bouncelab.tracking.frames.open_clip`).
+    The clip is read frame by frame (the background's sampled frames, then the
+    ball in each frame; the rotation between frames is measured on the ball's
+    surroundings kept in that pass), so the memory taken does not grow with its
+    length; a clip within half the memory budget is read once and kept
+    (:func:`~bouncelab.tracking.frames.open_clip`). The track is the same
+    whichever way the frames are read.
 
     Parameters
     ----------
