@@ -312,7 +312,10 @@ def check_fps(fps, label: str, source: str = "argument") -> float:
         raise FrameRateError(f"{what} is not a number of frames per second: {given!r}", fps=given,
                              source=source, file=label) from None
     lo, hi = FPS_RANGE
-    if not (np.isfinite(fps) and fps > 0):
+    if not np.isfinite(fps):
+        raise FrameRateError(f"{what} must be a finite number of frames per second; got {given!r}", fps=given,
+                             source=source, file=label)
+    if not fps > 0:
         raise FrameRateError(f"{what} must be a positive number of frames per second; got {given!r}", fps=given,
                              source=source, file=label)
     if not lo <= fps <= hi:
