@@ -2,7 +2,8 @@
 
 Every problem with user input is reported with one of these, never with a
 silently wrong number. ``DataError`` is for data (arrays, files, campaigns);
-``ParameterError`` for the parameters and bounds of a bounce law.
+``ParameterError`` for the parameters and bounds of a bounce law; ``OutputError``
+for a file or folder that cannot be written.
 """
 
 from __future__ import annotations
