@@ -2,7 +2,8 @@
 
 Every problem with user input is reported with one of these, never with a
 silently wrong number. ``DataError`` is for data (arrays, files, campaigns);
-``ParameterError`` for the parameters and bounds of a bounce law.
+``ParameterError`` for the parameters and bounds of a bounce law; ``OutputError``
+for a file or folder that cannot be written.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ __all__ = [
     "LargeResultWarning",
     "NonphysicalLiftoffWarning",
     "NotFittedError",
+    "OutputError",
     "ParameterError",
 ]
 
@@ -87,6 +89,29 @@ class FitError(BouncelabError, ValueError):
 
 class LawDefinitionError(BouncelabError, TypeError):
     """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""
+
+
+class OutputError(BouncelabError, OSError, ValueError):
+    """A file or folder bouncelab was asked to write cannot be written (a read-only or missing folder, a
+    folder where a file should be, a full disk); nothing is left half-written.
+
+    An ``OSError`` (what writing a file raises) and, as the command line's output error always was, a
+    ``ValueError``. The ``bouncelab`` command exits with status 2 for it.
+
+    Attributes
+    ----------
+    path
+        The file or folder that could not be written, when known.
+    errno
+        The operating system's error number (``errno.EACCES``...), when one caused it.
+    """
+
+    def __init__(self, message: str, *, path: str | None = None, errno: int | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.path = None if path is None else str(path)
+        if errno is not None:
+            self.errno = errno  # str(self) stays the message: OSError formats only errno with strerror
 
 
 class BouncelabWarning(UserWarning):

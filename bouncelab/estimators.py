@@ -30,12 +30,24 @@ from typing import Any
 
 import numpy as np
 from sklearn.base import BaseEstimator, MultiOutputMixin, RegressorMixin
+from sklearn.exceptions import NotFittedError as _SklearnNotFittedError
 from sklearn.utils.validation import check_is_fitted
 
 from bouncelab.errors import DataError, FitError, ParameterError
+from bouncelab.errors import NotFittedError as _BouncelabNotFittedError
 from bouncelab.laws.base import BounceModel
 
-__all__ = ["BounceRegressor"]
+__all__ = ["BounceRegressor", "EstimatorNotFittedError"]
+
+
+class EstimatorNotFittedError(_BouncelabNotFittedError, _SklearnNotFittedError):
+    """``predict`` or ``score`` of a :class:`BounceRegressor` before ``fit``.
+
+    Both scikit-learn's :class:`sklearn.exceptions.NotFittedError` (what
+    scikit-learn code and its estimator checks catch) and bouncelab's
+    :class:`bouncelab.errors.NotFittedError` (a law without values); both are
+    ``ValueError``s.
+    """
 
 
 class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
@@ -111,7 +123,11 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
         Raises
         ------
         DataError
-            Bad arrays (shape, NaN, a landing with ``ydot0 >= 0``, different numbers of rows), bad weights.
+            Bad arrays, naming ``X`` (landings) or ``y`` (lift-offs) and, for a value, its row (1-based) and
+            column: not 2-D, not 3 columns, fewer than 2 bounces, complex, sparse or non-numeric values,
+            NaN or infinite values, a landing with ``ydot0 >= 0``, different numbers of rows; bad weights.
+            A ``DataError`` is a ``ValueError``, as scikit-learn expects; the messages keep
+            scikit-learn's wording where its checks look for it ("1 sample(s)", "Complex data not supported").
         FitError, ParameterError
             As :func:`bouncelab.fit` (too few bounces, a bad objective, bounds or method).
         """
@@ -130,35 +146,69 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
         return self
 
     def predict(self, X: Any) -> np.ndarray:
-        """Lift-offs (n, 3) of landings ``X`` predicted by the fitted law."""
-        check_is_fitted(self, "law_")
+        """Lift-offs (n, 3) of landings ``X`` predicted by the fitted law.
+
+        Raises
+        ------
+        EstimatorNotFittedError
+            Before ``fit``: an instance of scikit-learn's ``sklearn.exceptions.NotFittedError`` (as
+            scikit-learn's tools expect) and of :class:`bouncelab.errors.NotFittedError`.
+        DataError
+            Bad landings, as in :meth:`fit` (naming the row and column of a bad value).
+        """
+        self._check_fitted()
         return np.asarray(self.law_.predict(_states(X, "landing")))
 
     def score(self, X: Any, y: Any, sample_weight: Any = None) -> float:
         """``-delta`` of the fitted law on landings ``X`` and lift-offs ``y`` (greater is better).
 
-        ``sample_weight`` weighs each bounce's term of delta (a weighted mean).
+        ``sample_weight`` weighs each bounce's term of delta (a weighted mean). Before ``fit``, an
+        :class:`EstimatorNotFittedError` (scikit-learn's ``NotFittedError``, as :meth:`predict`).
         """
         from bouncelab.fitting.objective import sample_weights
         from bouncelab.metrics import error_terms
 
-        check_is_fitted(self, "law_")
+        self._check_fitted()
         p0, pf = _pair(X, y)
         weights = sample_weights(sample_weight, len(p0))  # as in fit: one finite weight >= 0 per bounce
         terms = error_terms(p0, pf, self.law_.predict(p0))[:, 0]
         return -float(np.average(terms, weights=weights))
 
 
+    def _check_fitted(self) -> None:
+        try:
+            check_is_fitted(self, "law_")
+        except _SklearnNotFittedError as exc:
+            raise EstimatorNotFittedError(str(exc)) from None
+
+
 def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
-    """Validated (n, 3) states: scikit-learn's shared checks (sparse, complex, NaN, empty), then bouncelab's."""
+    """Validated (n, 3) states: scikit-learn's shared checks (sparse, complex, empty), then bouncelab's (NaN,
+    magnitude, sign), every failure a DataError naming X or y (and the row and column of a bad value)."""
     from sklearn.utils.validation import check_array
 
     from bouncelab.data.validation import _from_labelled, as_states
 
-    arr = check_array(_from_labelled(x, name, None), dtype=np.float64, ensure_min_samples=min_samples,
-                      input_name="X" if name == "landing" else "y")
+    arg = "X" if name == "landing" else "y"
+    what = f"{name} ({arg})"
+    columns = "[xdot0, ydot0, omega0]" if arg == "X" else "[xdotF, ydotF, omegaF]"
+    try:
+        # NaN and infinity are left to as_states, which names the row and the column
+        arr = check_array(_from_labelled(x, name, None), dtype=np.float64, ensure_min_samples=min_samples,
+                          ensure_all_finite=False, input_name=arg)
+    except (ValueError, TypeError) as exc:
+        if isinstance(exc, DataError):
+            raise
+        text = str(exc).split("\n")[0].strip()
+        dim = np.ndim(x) if not hasattr(x, "toarray") else 2
+        if text.startswith("Expected 2D array") or text.startswith("Found array with dim"):
+            text = (f"must be a 2-D array (n, 3), one bounce {columns} per row; got a {dim}-D array of shape "
+                    f"{np.shape(x)}" + (f" (one bounce is [{columns}])" if np.shape(x) == (3,) else ""))
+        elif text.startswith("Complex data not supported"):
+            text = f"Complex data not supported: {arg} holds real numbers {columns}"
+        raise DataError(f"{what}: {text}") from None
     if arr.shape[1] != 3:
-        raise DataError(f"{name} needs 3 columns [xdot, ydot, omega] (3 features); got {arr.shape[1]} feature(s), "
+        raise DataError(f"{what} needs 3 columns {columns} (3 features); got {arr.shape[1]} feature(s), "
                         f"n_features = {arr.shape[1]}, shape {arr.shape}")
     return as_states(arr, name, landing=name == "landing")[0]
 

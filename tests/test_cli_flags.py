@@ -278,15 +278,16 @@ def test_track_refuses_a_bad_fps_naming_it(tmp_path, capsys, value):
 
 
 def test_clip_settings_says_where_a_bad_fps_came_from(tmp_path):
-    from bouncelab.tracking import clip_settings
+    from bouncelab.tracking import FrameRateError, clip_settings
 
-    with pytest.raises(DataError, match="the fps argument") as e:
+    with pytest.raises(FrameRateError) as e:
         clip_settings(["s1_r1.avi"], fps=float("inf"))
-    assert "file name" not in str(e.value)
-    with pytest.raises(DataError, match="fps from the file name"):
+    assert e.value.source == "argument" and "file name" not in str(e.value)
+    with pytest.raises(FrameRateError) as e:
         clip_settings(["s1_r1_0fps.avi"], fps=5000, pattern=r"_(?P<fps>\d+)fps")
+    assert e.value.source == "file name"
     got = clip_settings(["s1_r1_300fps.avi", "s2.avi"], fps=5000, pattern=r"_(?P<fps>\d+)fps")
-    assert [(s.fps, s.fps_from) for s in got.values()] == [(300.0, "file name"), (5000.0, "default")]
+    assert [(s.fps, s.fps_source) for s in got.values()] == [(300.0, "file name"), (5000.0, "argument")]
 
 
 @pytest.fixture(scope="module")

@@ -202,8 +202,9 @@ def test_excel_needs_openpyxl(tmp_path, monkeypatch):
     path = tmp_path / "book.xlsx"
     pd.DataFrame(COLS).to_excel(path, index=False)
     monkeypatch.setattr(io_excel, "_module_available", lambda name: False)
-    with pytest.raises(ImportError, match=r"pip install bouncelab\[excel\]"):
+    with pytest.raises(DataError, match=r"openpyxl: pip install 'bouncelab\[excel\]'") as e:
         load_campaign(path)
+    assert e.value.file == str(path)
 
 
 def test_mat_vectors(tmp_path):
@@ -350,8 +351,11 @@ def test_save_refuses_unstorable_attr_and_bad_suffix(tmp_path):
 
 
 def test_save_missing_directory(tmp_path):
-    with pytest.raises(FileNotFoundError, match="does not exist"):
+    from bouncelab.errors import OutputError
+
+    with pytest.raises(OutputError, match="does not exist") as e:
         save_campaign(make_full_campaign(SETTING), tmp_path / "no" / "dir" / "x.nc")
+    assert isinstance(e.value, OSError) and e.value.path == str(tmp_path / "no" / "dir" / "x.nc")
     assert list(tmp_path.iterdir()) == []
 
 

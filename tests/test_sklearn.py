@@ -16,7 +16,7 @@ from bouncelab.errors import DataError
 # scikit-learn's generic checks fit on random data of 1 to 10 columns whose second column is mostly positive.
 # A bounce law takes exactly three columns [xdot0, ydot0, omega0] with ydot0 < 0 (a landing moves down), so
 # these checks cannot apply; the properties they check are tested below on bounces instead.
-_WIDTH = "fits random data with 2, 4, 5 or 10 columns; a landing has exactly 3 (xdot0, ydot0, omega0)"
+_WIDTH = "fits random data with 2 to 30 columns; a landing has exactly 3 (xdot0, ydot0, omega0)"
 _UPWARD = "fits random 3-column data with ydot0 >= 0, i.e. balls moving up; a landing moves down"
 NOT_APPLICABLE = {
     "check_estimators_overwrite_params": _WIDTH, "check_estimators_fit_returns_self": _WIDTH,
@@ -26,7 +26,7 @@ NOT_APPLICABLE = {
     "check_regressors_no_decision_function": _WIDTH, "check_regressors_int": _WIDTH,
     "check_fit_idempotent": _WIDTH, "check_fit_check_is_fitted": _WIDTH, "check_n_features_in": _WIDTH,
     "check_fit_score_takes_y": _UPWARD, "check_dont_overwrite_parameters": _UPWARD,
-    "check_positive_only_tag_during_fit": _UPWARD, "check_pipeline_consistency": _UPWARD,
+    "check_positive_only_tag_during_fit": _WIDTH, "check_pipeline_consistency": _UPWARD,
     "check_estimators_nan_inf": _UPWARD, "check_estimators_pickle": _UPWARD,
     "check_f_contiguous_array_estimator": _UPWARD, "check_methods_sample_order_invariance": _UPWARD,
     "check_methods_subset_invariance": _UPWARD, "check_dict_unchanged": _UPWARD, "check_fit2d_predict1d": _UPWARD,
@@ -38,9 +38,36 @@ NOT_APPLICABLE = {
 }
 
 
+_CAUSE = {_WIDTH: "needs 3 columns", _UPWARD: "ydot must be negative",
+          NOT_APPLICABLE["check_sample_weights_pandas_series"]: "DataFrame columns must be named"}
+
+
 @parametrize_with_checks([bl.BounceRegressor("Rigid")], expected_failed_checks=lambda est: NOT_APPLICABLE)
 def test_sklearn_estimator_checks(estimator, check) -> None:
     check(estimator)
+
+
+def test_the_expected_failures_fail_for_their_stated_reason() -> None:
+    """Each check marked as not applicable fails on the data its reason names, nothing else."""
+    import warnings
+
+    from sklearn.utils.estimator_checks import check_estimator
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        results = check_estimator(bl.BounceRegressor("Rigid"), on_fail=None, expected_failed_checks=NOT_APPLICABLE)
+    seen = set()
+    for r in results:
+        if r["status"] != "xfail":
+            continue
+        seen.add(r["check_name"])
+        exc, texts = r["exception"], []
+        while exc is not None:  # the check's own assertion, and the DataError it reports
+            texts.append(str(exc))
+            exc = exc.__cause__ or exc.__context__
+        assert isinstance(r["exception"], ValueError | AssertionError), r
+        assert any(_CAUSE[NOT_APPLICABLE[r["check_name"]]] in t for t in texts), (r["check_name"], texts)
+    assert seen == set(NOT_APPLICABLE)  # every listed check still fails (none passes unnoticed)
 
 
 @pytest.fixture(scope="module")
@@ -178,3 +205,41 @@ def test_the_law_parameter_is_read_as_fit_reads_it(bounces) -> None:
     for bad in ("Nope", 3):  # a bad estimator parameter stays a ParameterError
         with pytest.raises(bl.errors.ParameterError, match=r"Nope|law name"):
             bl.BounceRegressor(bad).fit(X, Y)
+
+
+def test_bad_arrays_are_data_errors_naming_x_or_y_and_the_row(bounces) -> None:
+    """Issue 22: scikit-learn's ValueErrors came through for these; bl.fit names the row with a DataError."""
+    X, Y, _ = bounces
+    nan, inf = X.copy(), X.copy()
+    nan[4, 2], inf[6, 0] = np.nan, np.inf
+    fitted = bl.BounceRegressor("Rigid").fit(X, Y)
+    cases = [
+        (lambda: bl.BounceRegressor().fit(nan, Y), r"column 'landing\.omega', row 5: .*NaN", (5, "landing.omega")),
+        (lambda: bl.BounceRegressor().fit(X, np.where(np.arange(3) == 1, Y, np.inf)), "inf", (1, "liftoff.xdot")),
+        (lambda: fitted.predict(inf), r"column 'landing\.xdot', row 7: .*infinite", (7, "landing.xdot")),
+        (lambda: bl.BounceRegressor().fit(X, Y[:, 0]), r"liftoff \(y\): must be a 2-D array .* 1-D", None),
+        (lambda: bl.BounceRegressor().fit(X[:1], Y[:1]), r"landing \(X\): Found array with 1 sample\(s\)", None),
+        (lambda: bl.BounceRegressor().fit(X + 0j, Y), r"landing \(X\): Complex data not supported", None),
+        (lambda: bl.BounceRegressor().fit(X[None], Y), r"landing \(X\): must be a 2-D array .* 3-D", None),
+        (lambda: fitted.predict(X[0]), r"1-D array of shape \(3,\) \(one bounce is", None),
+        (lambda: fitted.predict(X[None]), r"3-D array of shape \(1, 330, 3\)", None),
+        (lambda: fitted.predict(X + 0j), "Complex data not supported", None),
+        (lambda: fitted.predict(X[:0]), "0 sample", None),
+    ]
+    for call, match, where in cases:
+        with pytest.raises(DataError, match=match) as e:
+            call()
+        assert isinstance(e.value, ValueError)  # scikit-learn's convention holds
+        if where is not None:
+            assert (e.value.row, e.value.column) == where
+
+
+def test_predict_before_fit_is_scikit_learns_not_fitted_error() -> None:
+    from sklearn.exceptions import NotFittedError as SklearnNotFittedError
+
+    X = bl.load_campaign("A").landing.values
+    for call in (lambda est: est.predict(X), lambda est: est.score(X, X)):
+        with pytest.raises(SklearnNotFittedError, match="not fitted yet") as e:
+            call(bl.BounceRegressor("Rigid"))
+        assert isinstance(e.value, bl.errors.NotFittedError)  # and bouncelab's, a ValueError
+        assert isinstance(e.value, bl.errors.BouncelabError)

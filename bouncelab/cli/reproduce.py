@@ -45,16 +45,12 @@ import xarray as xr
 from bouncelab.atomic import atomic_write_text
 from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.errors import BouncelabError, DataError, FitError
+from bouncelab.errors import DataError, FitError, OutputError
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "reproduce"]
 
 #: The file in a report folder that lists every file bouncelab wrote there (relative paths).
 MANIFEST = ".bouncelab-report.json"
-
-
-class OutputError(BouncelabError, ValueError):
-    """The output folder cannot be used or written (not a previous report, read-only, disk full...)."""
 
 
 def check_output_file(path: str, flag: str, example: str, suffix: str | None = None) -> None:

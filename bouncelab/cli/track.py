@@ -286,11 +286,11 @@ def _search_in_child(regex: re.Pattern[str], names: list[str], seconds: float) -
 
 def _fps_source(setting) -> str:
     """A clip's frame rate and where it came from, in the command line's words (``--fps 30``)."""
-    if setting is None or setting.fps_from is None or setting.fps is None:
+    if setting is None or setting.fps is None:
         return "the frame rate stored in the .npz clip"
-    if setting.fps_from == "default":
+    if setting.fps_source == "argument":
         return f"--fps {setting.fps:g}"
-    where = "its file name (--pattern)" if setting.fps_from == "file name" else "the manifest (--manifest)"
+    where = "its file name (--pattern)" if setting.fps_source == "file name" else "the manifest (--manifest)"
     return f"{setting.fps:g} frames/s from {where}"
 
 
@@ -330,7 +330,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``bouncelab track``; returns the exit code."""
     from bouncelab.cli.reproduce import OutputError
     from bouncelab.data.io import save_campaign
-    from bouncelab.tracking import clip_settings, measure_clips
+    from bouncelab.tracking import FrameRateError, clip_settings, measure_clips
 
     _check_outputs(args.out, args.figures)
     regex = _compile_pattern(args.pattern) if args.pattern is not None else None
@@ -346,8 +346,14 @@ def run(args: argparse.Namespace) -> int:
     if regex is not None:
         _check_pattern_time(regex, clips)
     ppm = None if args.pixels_per_mm is None else args.pixels_per_mm * 1000.0
-    settings = clip_settings(clips, fps=args.fps, ball_radius_m=args.ball_radius_mm / 1000.0,
-                             pixels_per_metre=ppm, manifest=args.manifest, pattern=regex)
+    try:
+        settings = clip_settings(clips, fps=args.fps, ball_radius_m=args.ball_radius_mm / 1000.0,
+                                 pixels_per_metre=ppm, manifest=args.manifest, pattern=regex)
+    except FrameRateError as exc:  # the library says where the rate came from; the command line names its flag
+        where = {"argument": "--fps", "manifest": "the manifest (--manifest)",
+                 "file name": "its file name (--pattern)"}.get(exc.source, "the clip file")
+        raise DataError(f"frame rate {exc.fps!r} from {where} is not a camera's recording rate; {_FPS_HINT}",
+                        file=exc.file) from None
     _check_frame_rates(settings)
     bar = _Bar(len(clips), not args.quiet)
     res = measure_clips(clips, settings=settings, method=args.method, campaign=args.campaign, surface=args.surface,

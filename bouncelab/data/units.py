@@ -18,6 +18,7 @@ conversion takes ``radius_m`` to use another ball.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 
 import numpy as np
@@ -92,13 +93,41 @@ _ALIASES: dict[str, str] = {
     "1/s": "radius/s", "s-1": "radius/s", "s^-1": "radius/s", "/s": "radius/s",
     "rad/s": "rad/s", "rads-1": "rad/s", "rad/sec": "rad/s", "rads^-1": "rad/s",
     "rpm": "rpm", "rev/min": "rpm", "r/min": "rpm", "rotpermin": "rpm", "revpermin": "rpm",
+    # per minute without a unit of angle (CF/UDUNITS "min-1", ISO 80000-3's rotational frequency): revolutions
+    "1/min": "rpm", "/min": "rpm", "min-1": "rpm", "min^-1": "rpm",
     "rev/s": "rev/s", "rps": "rev/s", "hz": "rev/s",
     "deg/s": "deg/s", "°/s": "deg/s",
 }
 
+# CF / UDUNITS spellings ("m s-1", "radian/s", "revolutions per minute", "min-1") rewritten to the aliases
+# above, in order: every way of naming a unit (units=, a header, a units row, a netCDF attribute, a flag)
+# goes through canonical_unit, so all accept the same names.
+_CF_WORDS = (
+    (r"⁻¹", "-1"), (r"\s*\*\*\s*-1", "-1"),
+    (r"\b(meters?|metres?)\b", "m"), (r"\b(foot|feet)\b", "ft"), (r"\bkilometers?|kilometres?\b", "km"),
+    (r"\b(miles?)\b", "mi"), (r"\b(hours?|hr)\b", "h"), (r"\b(seconds?|sec)\b", "s"),
+    (r"\b(minutes?)\b", "min"), (r"\b(radians?)\b", "rad"), (r"\b(degrees?)\b", "deg"),
+    (r"\b(revolutions?|rotations?|revs?)\b", "rev"), (r"\s+per\s+", "/"),
+    (r"\s*\.?\s*(s|h|min)\s*\^?\s*-1\b", r"/\1"),
+)
+
+
+def _cf_spelling(text: str) -> str:
+    """``text`` with CF / UDUNITS words and exponents rewritten (``"rev min-1"`` -> ``"rev/min"``)."""
+    out = str(text).strip().lower()
+    for pattern, repl in _CF_WORDS:
+        out = re.sub(pattern, repl, out)
+    return out.replace(" ", "")
+
 
 def canonical_unit(unit: str, kind: str) -> str:
     """Return the canonical spelling of ``unit`` for ``kind`` ("velocity" or "spin").
+
+    Accepts the spellings of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`, their
+    common aliases, and CF / UDUNITS forms: ``"m s-1"``, ``"metres per
+    second"``, ``"rad s-1"``, ``"revolutions per minute"``, ``"min-1"``,
+    ``"min^-1"``, ``"1/min"`` (a unit per minute without an angle is
+    revolutions per minute, rpm).
 
     Raises
     ------
@@ -107,6 +136,8 @@ def canonical_unit(unit: str, kind: str) -> str:
     """
     key = str(unit).strip().lower().replace(" ", "")
     canon = _ALIASES.get(key)
+    if canon is None:
+        canon = _ALIASES.get(_cf_spelling(unit))
     table = SPEED_UNITS if kind == "velocity" else SPIN_UNITS
     if canon is None or canon not in table:
         known = ", ".join(table)

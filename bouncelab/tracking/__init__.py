@@ -2,7 +2,8 @@
 
 The pipeline:
 
-1. :func:`read_frames`: a video file, a folder of images or an array;
+1. :func:`open_clip`: a video file, a folder of images, a ``.npy``/``.npz`` file or an
+   array, read frame by frame within a memory budget (:func:`read_frames` reads it whole);
 2. :func:`track_clip`: the ball found in each frame (Hough circle, refined to a
    sub-pixel centre and radius), its lowest visible point, and its rotation
    between consecutive frames from matched features (:func:`frame_rotation`),
@@ -25,16 +26,19 @@ from bouncelab.tracking.campaign import (
     measure_clips,
 )
 from bouncelab.tracking.detect import Background, Circle, estimate_background, find_ball
-from bouncelab.tracking.frames import read_frames
+from bouncelab.tracking.frames import Clip, open_clip, read_frames
 from bouncelab.tracking.render import RenderedClip, render_clip
 from bouncelab.tracking.rotation import Rotation, frame_rotation
-from bouncelab.tracking.tracker import track_clip
+from bouncelab.tracking.tracker import FPS_RANGE, FrameRateError, track_clip
 
 __all__ = [
+    "FPS_RANGE",
     "Background",
     "Circle",
+    "Clip",
     "ClipFailure",
     "ClipSettings",
+    "FrameRateError",
     "RenderedClip",
     "Rotation",
     "TrackedCampaign",
@@ -44,6 +48,7 @@ __all__ = [
     "frame_rotation",
     "measure_clip",
     "measure_clips",
+    "open_clip",
     "read_frames",
     "render_clip",
     "track_clip",

@@ -16,16 +16,16 @@ import xarray as xr
 from bouncelab.analysis.measurement import estimate_spin, measure_bounce
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.units import BALL_RADIUS_M
+from bouncelab.data.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.errors import DataError
-from bouncelab.tracking.frames import read_frames, stored_fps
-from bouncelab.tracking.tracker import check_fps, track_clip
+from bouncelab.tracking.frames import open_clip, stored_fps
+from bouncelab.tracking.tracker import FPS_SOURCES, check_fps, track_clip
 
 __all__ = ["ClipFailure", "ClipSettings", "TrackedCampaign", "clip_settings", "measure_clip", "measure_clips"]
 
 
 def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: str = "prediction",
-                 guard: int = 1, min_frames: int = 5) -> xr.Dataset:
+                 guard: int = 1, min_frames: int = 5, energy_check: bool = True) -> xr.Dataset:
     """Landing and lift-off states of one tracked clip, with the paper's intervals.
 
     Touch-down and lift-off come from the lowest visible point and the states
@@ -36,10 +36,21 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     (:func:`~bouncelab.analysis.measurement.estimate_spin`) rather than
     stopping the measurement.
 
+    A bounce cannot gain kinetic energy: a clip whose lift-off has more
+    kinetic energy (translation and spin, ``xdot^2 + ydot^2 + k omega^2`` with
+    ``k`` = :data:`~bouncelab.data.units.INERTIA_FACTOR`) than its landing by
+    more than the measurement intervals allow (the lift-off's energy at the
+    near ends of its intervals above the landing's at the far ends) is refused:
+    such a clip is played backwards (reversed frames, a folder's frame numbers
+    counting down) or its frames are out of order.
+
     Parameters
     ----------
     track
         From :func:`~bouncelab.tracking.track_clip`.
+    energy_check
+        Refuse a bounce that gains kinetic energy beyond its intervals
+        (default); ``False`` keeps it (a moving surface can add energy).
 
     Returns
     -------
@@ -53,7 +64,8 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     ------
     DataError
         Naming the clip and the frame: too few frames before or after the
-        bounce, no detectable contact, or too few spin samples on a side.
+        bounce, no detectable contact, too few spin samples on a side, or a
+        lift-off with more kinetic energy than the landing (see above).
     """
     clip = str(track.attrs.get("clip", "clip"))
     found = np.asarray(track["found"].values, dtype=bool)
@@ -87,6 +99,8 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
         is_spin = m["component"] == "omega"
         m[key] = m[key].where(~is_spin, est.value)
         m[f"{key}_pi"] = m[f"{key}_pi"].where(~is_spin, est.half_width)
+    if energy_check:
+        _check_energy(m, clip)
     m.attrs.update(
         clip=clip,
         first_frame=int(start),
@@ -101,25 +115,49 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     return m
 
 
+def _energy_range(state: np.ndarray, half: np.ndarray) -> tuple[float, float, float]:
+    """Kinetic energy ``xdot^2 + ydot^2 + k omega^2`` of a state, and its least and greatest values over the
+    intervals (each component moved by its half-width towards or away from zero)."""
+    weight = np.array([1.0, 1.0, INERTIA_FACTOR])
+    a, h = np.abs(state), np.abs(half)
+    return (float(weight @ a**2), float(weight @ np.maximum(a - h, 0.0) ** 2), float(weight @ (a + h) ** 2))
+
+
+def _check_energy(m: xr.Dataset, clip: str) -> None:
+    """DataError if the lift-off has more kinetic energy than the landing beyond the intervals."""
+    e0, _, e0_high = _energy_range(m["landing"].values, m["landing_pi"].values)
+    e1, e1_low, _ = _energy_range(m["liftoff"].values, m["liftoff_pi"].values)
+    if e1_low > e0_high:
+        raise DataError(
+            f"the lift-off has {e1 / e0:.2f} times the landing's kinetic energy (translation and spin), beyond "
+            f"the measurement intervals ({e1_low / e0_high:.2f} times at their ends): a bounce cannot gain "
+            "energy. Is the clip played backwards (reversed frames, or image file numbers counting down)?",
+            file=clip)
+
+
 @dataclass(frozen=True)
 class ClipSettings:
-    """Settings of one clip: frame rate, launcher setting, scale."""
+    """Settings of one clip: frame rate, launcher setting, scale.
+
+    ``fps_source`` says where the frame rate came from (one of
+    :data:`~bouncelab.tracking.tracker.FPS_SOURCES`), for the errors.
+    """
 
     fps: float | None = None
     setting: str | None = None
     ball_radius_m: float = BALL_RADIUS_M
     pixels_per_metre: float | None = None
-    #: Where ``fps`` came from: ``"manifest"``, ``"file name"`` (the pattern), ``"default"`` (the ``fps``
-    #: argument of :func:`clip_settings`) or ``None`` (no frame rate given).
-    fps_from: str | None = None
+    fps_source: str = "argument"
 
 
 @dataclass(frozen=True)
 class ClipFailure:
-    """A clip that could not be measured, and why."""
+    """A clip that could not be measured, why, and the error (a DataError, e.g. a
+    :class:`~bouncelab.tracking.tracker.FrameRateError` with the frame rate's source)."""
 
     clip: str
     reason: str
+    error: DataError | None = None
 
 
 @dataclass
@@ -176,6 +214,10 @@ def clip_settings(
 
     Raises
     ------
+    FrameRateError
+        A frame rate that is not a number or outside
+        :data:`~bouncelab.tracking.tracker.FPS_RANGE`, with its source
+        (``"argument"``, ``"manifest"`` or ``"file name"``).
     DataError
         An unreadable manifest, a missing ``clip`` column, a value that is not a
         number, or a bad pattern.
@@ -193,11 +235,12 @@ def clip_settings(
     for clip in clips:
         p = Path(clip)
         values: dict[str, Any] = {}
-        origin: dict[str, str] = {}  # where each value came from, for the messages
+        origin: dict[str, str] = {}  # where each value came from: the arguments unless named here
         for key in (str(p), p.name, p.stem):
             if key in rows:
-                values.update(rows[key])
-                origin.update(dict.fromkeys(rows[key], f"manifest {manifest}"))
+                given = {k: v for k, v in rows[key].items() if v is not None}  # an empty cell keeps the default
+                values.update(given)
+                origin.update(dict.fromkeys(given, f"manifest {manifest}"))
                 break
         if regex is not None:
             mt = regex.search(p.name)
@@ -205,16 +248,18 @@ def clip_settings(
                 found = {k: v for k, v in mt.groupdict().items() if v is not None}
                 values.update(found)
                 origin.update(dict.fromkeys(found, "file name"))
-        fps_value, fps_origin = values.get("fps", fps), origin.get("fps", "argument")
-        out[str(clip)] = ClipSettings(
-            fps=_number(fps_value, "fps", str(clip), fps_origin),
+        name = str(clip)
+        fps_source = {"file name": "file name", None: "argument"}.get(origin.get("fps"), "manifest")
+        clip_fps = values.get("fps", fps)
+        radius_mm = values.get("ball_radius_mm")
+        out[name] = ClipSettings(
+            fps=None if clip_fps is None else check_fps(clip_fps, name, fps_source),
             setting=None if values.get("setting") is None else str(values["setting"]),
-            ball_radius_m=(_number(values["ball_radius_mm"], "ball_radius_mm", str(clip), origin["ball_radius_mm"])
-                           / 1000.0 if values.get("ball_radius_mm") is not None else ball_radius_m),
-            pixels_per_metre=_number(values.get("pixels_per_metre", pixels_per_metre), "pixels_per_metre",
-                                     str(clip), origin.get("pixels_per_metre", "argument")),
-            fps_from=None if fps_value is None else "default" if fps_origin == "argument" else
-            "file name" if fps_origin == "file name" else "manifest",
+            ball_radius_m=(ball_radius_m if radius_mm is None else
+                           _number(radius_mm, "ball_radius_mm", name, origin["ball_radius_mm"]) / 1000.0),
+            pixels_per_metre=_number(values.get("pixels_per_metre", pixels_per_metre), "pixels_per_metre", name,
+                                     origin.get("pixels_per_metre", "arguments")),
+            fps_source=fps_source,
         )
     return out
 
@@ -233,6 +278,8 @@ def measure_clips(
     figure_dir: str | Path | None = None,
     workers: int | None = None,
     plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
+    memory_budget: float | None = None,
+    energy_check: bool = True,
 ) -> TrackedCampaign:
     """Track and measure many clips (one bounce each) into a campaign Dataset.
 
@@ -272,6 +319,12 @@ def measure_clips(
         The unit guard of the campaign built
         (:func:`~bouncelab.data.campaign.make_campaign`); ``None`` leaves the check to the
         caller (the command line checks the states itself, to blame the frame rate).
+    memory_budget
+        Bytes the frames of one clip may take in each process (default
+        :data:`bouncelab.tracking.frames.MEMORY_BUDGET`, read now).
+    energy_check
+        As in :func:`measure_clip`: a clip whose bounce gains kinetic energy
+        beyond its intervals fails (default).
 
     Returns
     -------
@@ -286,7 +339,10 @@ def measure_clips(
     rows = []
     radii = set()
     names = [f"clip{k}" if isinstance(clip, np.ndarray) else str(clip) for k, clip in enumerate(items)]
-    jobs = [(clip, name, settings.get(name, ClipSettings(fps=fps)), method, figure_dir)
+    from bouncelab.tracking.frames import _budget
+
+    budget = _budget(memory_budget)  # resolved here: spawned workers do not see a changed MEMORY_BUDGET
+    jobs = [(clip, name, settings.get(name, ClipSettings(fps=fps)), method, figure_dir, budget, energy_check)
             for clip, name in zip(items, names, strict=True)]
     if workers is not None and workers > 1 and len(jobs) > 1:
         import multiprocessing
@@ -327,20 +383,22 @@ def measure_clips(
     return result
 
 
-def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, str | None, Path | None]:
-    """Track, measure and draw one clip: (track, measurement, failure reason, figure path)."""
-    clip, name, s, method, figure_dir = job
+def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, DataError | None, Path | None]:
+    """Track, measure and draw one clip: (track, measurement, failure, figure path)."""
+    clip, name, s, method, figure_dir, budget, energy_check = job
     frames = track = m = None
-    reason = None
+    failure = None
     try:
-        fps = s.fps if s.fps is not None else stored_fps(clip)  # a rendered .npz clip knows its frame rate
-        check_fps(fps, name)  # before reading a long clip for nothing
-        frames = read_frames(clip, name=name)
+        fps, source = s.fps, s.fps_source if s.fps_source in FPS_SOURCES else "argument"
+        if fps is None and (stored := stored_fps(clip)) is not None:
+            fps, source = stored, "clip file"  # a rendered .npz clip knows its frame rate
+        fps = check_fps(fps, name, source)  # before reading a long clip for nothing
+        frames = open_clip(clip, name=name, memory_budget=budget)
         track = track_clip(frames, fps=fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
                            name=name)
-        m = measure_clip(track, method=method)
+        m = measure_clip(track, method=method, energy_check=energy_check)
     except DataError as exc:
-        reason = str(exc)
+        failure = exc
     figure = None
     if figure_dir is not None and track is not None:
         import matplotlib.pyplot as plt
@@ -349,18 +407,18 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, str | None
 
         figure = Path(figure_dir) / f"{Path(name).stem}.png"
         plt.close(diagnostic_figure(frames, track, m, figure))
-    return track, m, reason, figure
+    return track, m, failure, figure
 
 
 def _collect(result: TrackedCampaign, rows: list, radii: set, job, out, keep_tracks: bool) -> None:
-    _, name, s, _, _ = job
-    track, m, reason, figure = out
+    name, s = job[1], job[2]
+    track, m, failure, figure = out
     if keep_tracks and track is not None:
         result.tracks[name] = track
     if figure is not None:
         result.figures[name] = figure
-    if reason is not None:
-        result.failures.append(ClipFailure(clip=name, reason=reason))
+    if failure is not None:
+        result.failures.append(ClipFailure(clip=name, reason=str(failure), error=failure))
         return
     result.measurements[name] = m
     rows.append((name, s, m))

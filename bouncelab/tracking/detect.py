@@ -20,7 +20,7 @@ import numpy as np
 
 from bouncelab.tracking._cv import cv2
 
-__all__ = ["Background", "Circle", "estimate_background", "find_ball"]
+__all__ = ["Background", "Circle", "background_indices", "estimate_background", "find_ball"]
 
 _N_RAYS = 72
 _RAY_STEP = 0.25  # px
@@ -68,7 +68,14 @@ class Circle:
     n_edge: int
 
 
-def estimate_background(frames: np.ndarray, *, n_samples: int = 31) -> Background:
+def background_indices(n: int, n_samples: int = 31) -> np.ndarray:
+    """The frames of an ``n``-frame clip that :func:`estimate_background` samples: ``n_samples`` spread evenly."""
+    if n <= 0:
+        return np.zeros(0, dtype=int)
+    return np.unique(np.linspace(0, n - 1, min(n_samples, n)).round().astype(int))
+
+
+def estimate_background(frames, *, n_samples: int = 31) -> Background:
     """Background of ``n_samples`` frames spread over the clip, the surface line and the ball's contrast.
 
     The ball moves, so at each pixel some of the sampled frames show the static
@@ -78,15 +85,19 @@ def estimate_background(frames: np.ndarray, *, n_samples: int = 31) -> Backgroun
     The surface line is the top of the bright band at the bottom of the
     background, found to a fraction of a row from the partly covered rows, if
     there is one.
+
+    ``frames`` is a (t, h, w) uint8 array or a :class:`~bouncelab.tracking.frames.Clip`
+    (only the sampled frames are read).
     """
-    n = frames.shape[0]
-    idx = np.unique(np.linspace(0, n - 1, min(n_samples, n)).round().astype(int))
+    idx = background_indices(len(frames), n_samples)
+    # Only the sampled frames, in one (len(idx), h, w) stack (a Clip reads just those).
+    frames, idx = frames[idx], np.arange(len(idx))
     # A low quantile, not the median: a ball that falls and rises almost vertically covers the pixels
     # near its contact point in most frames. The quantile sits below the noise-free level by a
     # constant, measured (on a sample of pixels) as the typical gap between the median and the quantile.
     q = max(int(0.15 * (len(idx) - 1)), 0)
     low = _kth_smallest(frames, idx, q).astype(np.float32)
-    few = frames[idx].reshape(len(idx), -1)[:, :: max(frames[0].size // 4096, 1)].astype(np.float32)
+    few = frames.reshape(len(idx), -1)[:, :: max(frames[0].size // 4096, 1)].astype(np.float32)
     few.sort(axis=0)
     gap = float(np.median(few[len(idx) // 2] - few[q]))
     bg = (low + gap).astype(np.float32)

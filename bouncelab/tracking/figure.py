@@ -21,7 +21,8 @@ def diagnostic_figure(frames: np.ndarray, track: xr.Dataset, measurement: xr.Dat
     Parameters
     ----------
     frames
-        (t, h, w) frames of the clip.
+        (t, h, w) frames of the clip, or its :class:`~bouncelab.tracking.frames.Clip`
+        (only the frame shown is read).
     track
         From :func:`~bouncelab.tracking.track_clip`.
     measurement

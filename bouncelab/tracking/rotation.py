@@ -30,7 +30,7 @@ import numpy as np
 
 from bouncelab.tracking._cv import cv2
 
-__all__ = ["Rotation", "frame_rotation"]
+__all__ = ["Rotation", "frame_rotation", "rotation_window"]
 
 _WIN = 5  # px, side of the Lucas-Kanade matching window
 
@@ -93,12 +93,31 @@ def frame_rotation(
     Rotation
     """
     h, w = prev.shape
+    c0, r0, c1, r1 = rotation_window(centre_prev, centre_cur, radius, (h, w))
+    return _window_rotation(prev[r0:r1, c0:c1], cur[r0:r1, c0:c1], (c0, r0), centre_prev, centre_cur, radius,
+                            guess=guess, surface_row=surface_row, max_features=max_features,
+                            min_inliers=min_inliers, refine=refine)
+
+
+def rotation_window(centre_prev, centre_cur, radius: float, shape: tuple[int, int]) -> tuple[int, int, int, int]:
+    """The pixels :func:`frame_rotation` reads of two (h, w) = ``shape`` frames: columns ``c0:c1`` and
+    rows ``r0:r1``, returned as ``(c0, r0, c1, r1)`` (the ball in both frames, with a margin)."""
+    h, w = shape
     m = int(np.ceil(radius + 6 + np.hypot(centre_cur[0] - centre_prev[0], centre_cur[1] - centre_prev[1])))
     cx, cy = 0.5 * (centre_prev[0] + centre_cur[0]), 0.5 * (centre_prev[1] + centre_cur[1])
     c0, r0 = max(int(cx) - m, 0), max(int(cy) - m, 0)
     c1, r1 = min(int(cx) + m + 1, w), min(int(cy) + m + 1, h)
-    a = np.ascontiguousarray(prev[r0:r1, c0:c1])
-    b = np.ascontiguousarray(cur[r0:r1, c0:c1])
+    return c0, r0, c1, r1
+
+
+def _window_rotation(prev_window: np.ndarray, cur_window: np.ndarray, origin: tuple[int, int], centre_prev,
+                     centre_cur, radius: float, *, guess: float, surface_row: float | None, max_features: int,
+                     min_inliers: int, refine: bool) -> Rotation:
+    """:func:`frame_rotation` on the window :func:`rotation_window` gives of each frame, whose first column
+    and row in the frame are ``origin``: the same result from those pixels alone."""
+    c0, r0 = origin
+    a = np.ascontiguousarray(prev_window)
+    b = np.ascontiguousarray(cur_window)
     pc = np.array([centre_prev[0] - c0, centre_prev[1] - r0], dtype=np.float32)
     qc = np.array([centre_cur[0] - c0, centre_cur[1] - r0], dtype=np.float32)
     mask = np.zeros(a.shape, dtype=np.uint8)

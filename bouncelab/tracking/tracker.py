@@ -13,13 +13,43 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.analysis.measurement import FRAME_RATE_RANGE
 from bouncelab.data.units import BALL_RADIUS_M
 from bouncelab.errors import DataError
 from bouncelab.tracking.detect import estimate_background, find_ball
-from bouncelab.tracking.frames import read_frames
-from bouncelab.tracking.rotation import frame_rotation
+from bouncelab.tracking.frames import Clip, open_clip
+from bouncelab.tracking.rotation import _window_rotation, rotation_window
 
-__all__ = ["track_clip"]
+__all__ = ["FPS_RANGE", "FPS_SOURCES", "FrameRateError", "check_fps", "track_clip"]
+
+#: Frame rates a clip may have, frames/s: from 1 (slower is not video) to 10^7 (the fastest framing cameras
+#: record some 10^7 frames/s; a golf ball then moves a few micrometres a frame). Beyond them the frame rate is
+#: a mistake (a unit, a typo, a damaged file), and the velocities would be as wrong. The measurement's own
+#: range (:data:`bouncelab.analysis.measurement.FRAME_RATE_RANGE`).
+FPS_RANGE = FRAME_RATE_RANGE
+
+#: Where a clip's frame rate can come from (:attr:`FrameRateError.source`): the ``fps`` given to the function
+#: (``--fps`` on the command line), the manifest's ``fps`` column, the file name (through the pattern's ``fps``
+#: group) or the clip file itself (the ``fps`` entry of a rendered ``.npz``).
+FPS_SOURCES = ("argument", "manifest", "file name", "clip file")
+
+
+class FrameRateError(DataError):
+    """A clip's frame rate is missing, not a number, or outside :data:`FPS_RANGE`.
+
+    Attributes
+    ----------
+    fps
+        The value as given (``None`` if missing).
+    source
+        Where it came from, one of :data:`FPS_SOURCES` (``"argument"``: the
+        ``fps`` passed in, ``--fps`` on the command line).
+    """
+
+    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None) -> None:
+        super().__init__(message, file=file)
+        self.fps = fps
+        self.source = source
 
 
 def track_clip(
@@ -30,17 +60,26 @@ def track_clip(
     pixels_per_metre: float | None = None,
     radius_range: tuple[float, float] | None = None,
     name: str | None = None,
+    memory_budget: float | None = None,
 ) -> xr.Dataset:
     """Track the ball through a clip.
+
+    The clip is read frame by frame (the background's sampled frames, then the
+    ball in each frame; the rotation between frames is measured on the ball's
+    surroundings kept in that pass), so the memory taken does not grow with its
+    length; a clip within half the memory budget is read once and kept
+    (:func:`~bouncelab.tracking.frames.open_clip`). The track is the same
+    whichever way the frames are read.
 
     Parameters
     ----------
     source
-        A video file, a folder of images, a ``.npz`` with ``frames``, or an
-        array (t, h, w) or (t, h, w, 3) (:func:`~bouncelab.tracking.read_frames`).
+        A video file, a folder of images, a ``.npy`` file, a ``.npz`` with
+        ``frames``, an array (t, h, w) or (t, h, w, 3), or a
+        :class:`~bouncelab.tracking.frames.Clip`.
     fps
-        Frame rate, frames/s (required: video containers often store a
-        playback rate, not the camera's).
+        Frame rate, frames/s, within :data:`FPS_RANGE` (required: video
+        containers often store a playback rate, not the camera's).
     ball_radius_m
         Ball radius, m (default 21.35 mm); with ``pixels_per_metre`` it sets
         the scale.
@@ -53,6 +92,9 @@ def track_clip(
         half the frame height).
     name
         Name of the clip in errors and attrs (default: the path).
+    memory_budget
+        Bytes the clip's frames may take (default
+        :data:`bouncelab.tracking.frames.MEMORY_BUDGET`, 1 GiB).
 
     Returns
     -------
@@ -69,16 +111,26 @@ def track_clip(
 
     Raises
     ------
+    FrameRateError
+        A missing frame rate, or one outside :data:`FPS_RANGE` (a
+        :class:`~bouncelab.errors.DataError` with the value and its source).
     DataError
-        Unreadable source, missing or bad frame rate, or a ball found in no frame.
+        Unreadable, truncated or damaged source, frames that would take more
+        than the memory budget (saying how much), or a ball found in no frame.
     """
-    label = name or (str(source) if not isinstance(source, np.ndarray) else "array")
+    if name is not None:
+        label = name
+    elif isinstance(source, Clip):
+        label = source.name
+    else:
+        label = "array" if isinstance(source, np.ndarray) else str(source)
     fps = check_fps(fps, label)
     if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
         raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label)
     if pixels_per_metre is not None and not (np.isfinite(pixels_per_metre) and pixels_per_metre > 0):
         raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label)
-    frames = read_frames(source, name=label)
+    frames = open_clip(source, name=label, memory_budget=memory_budget)
+    frames.check_working_memory()
     n, h, _w = frames.shape
     if radius_range is None:
         radius_range = (4.0, h / 2.0)
@@ -92,16 +144,25 @@ def track_clip(
     rad = np.full(n, np.nan)
     low = np.full(n, np.nan)
     near = None
-    for k in range(n):
+    # A clip not held in memory is not read again for the rotation: each frame's ball is kept with a margin.
+    crops = None if frames.in_memory else _Crops(frames.shape, frames.memory_budget // 4)
+    prev = None
+    for k, frame in frames.frames():
         predicted = None
         if k >= 2 and np.isfinite(col[k - 1]) and np.isfinite(col[k - 2]):
             predicted = (2 * col[k - 1] - col[k - 2], 2 * row[k - 1] - row[k - 2], rad[k - 1])
-        c = find_ball(frames[k], bg, radius_range=radius_range, near=near, predicted=predicted)
+        c = find_ball(frame, bg, radius_range=radius_range, near=near, predicted=predicted)
         if c is None:
             near = None
-            continue
-        col[k], row[k], rad[k], low[k] = c.col, c.row, c.radius, c.lowest_row
-        near = (c.col, c.row, c.radius)
+        else:
+            col[k], row[k], rad[k], low[k] = c.col, c.row, c.radius, c.lowest_row
+            near = (c.col, c.row, c.radius)
+        if crops is not None and prev is not None:
+            crops.keep(k - 1, prev, col, row, rad)  # now that the motion to frame k is known
+        prev = frame
+    if crops is not None and prev is not None:
+        crops.keep(n - 1, prev, col, row, rad)
+    del prev
     found = np.isfinite(col)
     if not found.any():
         raise DataError(f"the ball was not found in any of the {n} frames (is it bright on a dark background, "
@@ -120,11 +181,10 @@ def track_clip(
     inl = np.zeros(n, dtype=int)
     dt = 1.0 / fps
     guess = 0.0
-    for k in range(1, n):
-        if not (found[k] and found[k - 1]):
-            continue
-        rot = frame_rotation(frames[k - 1], frames[k], (col[k - 1], row[k - 1]), (col[k], row[k]), r_scale,
-                             guess=guess, surface_row=bg.surface_row)
+    pairs = (np.flatnonzero(found[1:] & found[:-1]) + 1).tolist()  # frames whose rotation from the last is measured
+    for k, a, b, origin in _rotation_windows(frames, crops, pairs, col, row, r_scale):
+        rot = _window_rotation(a, b, origin, (col[k - 1], row[k - 1]), (col[k], row[k]), r_scale, guess=guess,
+                               surface_row=bg.surface_row, max_features=40, min_inliers=4, refine=True)
         inl[k] = rot.n_inliers
         if np.isfinite(rot.angle):
             spin[k] = rot.angle / dt
@@ -159,15 +219,107 @@ def track_clip(
     )
 
 
-def check_fps(fps, label: str) -> float:
-    """The frame rate as a positive float, or a DataError naming the clip."""
+class _Crops:
+    """The ball and its surroundings in each frame of a clip that is read frame by frame, so that the
+    rotation between frames needs no second reading of the clip. Stops keeping (and the rotation reads the
+    clip again) beyond ``limit`` bytes."""
+
+    def __init__(self, shape: tuple[int, int, int], limit: int) -> None:
+        self.h, self.w = shape[1:]
+        self.limit, self.nbytes, self.full = limit, 0, False
+        self.windows: dict[int, tuple[int, int, np.ndarray]] = {}
+
+    def keep(self, j: int, frame: np.ndarray, col, row, rad) -> None:
+        if self.full or not np.isfinite(col[j]):
+            return
+        # Room for the rotation window of either pair (j - 1, j), (j, j + 1): the ball's radius (the scale, a
+        # median of the radii, is not known yet: 1.25 times this frame's) plus 6 px plus 1.5 times the motion.
+        moves = [np.hypot(col[i] - col[j], row[i] - row[j]) for i in (j - 1, j + 1)
+                 if 0 <= i < col.size and np.isfinite(col[i])]
+        m = int(np.ceil(1.25 * rad[j] + 12 + 1.5 * max(moves, default=0.0)))
+        c0, r0 = max(int(col[j]) - m, 0), max(int(row[j]) - m, 0)
+        c1, r1 = min(int(col[j]) + m + 1, self.w), min(int(row[j]) + m + 1, self.h)
+        if self.nbytes + (c1 - c0) * (r1 - r0) > self.limit:
+            self.full, self.windows = True, {}
+            return
+        self.windows[j] = (c0, r0, np.array(frame[r0:r1, c0:c1]))
+        self.nbytes += (c1 - c0) * (r1 - r0)
+
+    def view(self, j: int, window: tuple[int, int, int, int]) -> np.ndarray | None:
+        """Pixels ``window`` = (c0, r0, c1, r1) of frame ``j``, or None if not kept."""
+        kept = self.windows.get(j)
+        if kept is None:
+            return None
+        x0, y0, arr = kept
+        c0, r0, c1, r1 = window
+        if c0 < x0 or r0 < y0 or c1 > x0 + arr.shape[1] or r1 > y0 + arr.shape[0]:
+            return None
+        return arr[r0 - y0 : r1 - y0, c0 - x0 : c1 - x0]
+
+
+def _rotation_windows(frames, crops: _Crops | None, pairs: list[int], col, row, r_scale: float):
+    """For each frame k of ``pairs`` in order: (k, window of frame k - 1, window of frame k, window origin),
+    from the kept crops where they hold it, else from a reading of the frames concerned."""
+    shape = frames.shape[1:]
+    windows = {k: rotation_window((col[k - 1], row[k - 1]), (col[k], row[k]), r_scale, shape) for k in pairs}
+    views: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    if crops is not None:
+        for k in pairs:
+            a, b = crops.view(k - 1, windows[k]), crops.view(k, windows[k])
+            if a is not None and b is not None:
+                views[k] = (a, b)
+    missing = [k for k in pairs if k not in views]
+    if missing and crops is not None:  # a window the crops do not hold: read those frames (once, together)
+        got: dict[tuple[int, int], np.ndarray] = {}
+        for j, frame in frames.frames(sorted({i for k in missing for i in (k - 1, k)})):
+            for k in (j, j + 1):
+                if k in windows and k not in views:
+                    c0, r0, c1, r1 = windows[k]
+                    got[(k, j)] = np.array(frame[r0:r1, c0:c1])
+        for k in missing:
+            views[k] = (got[(k, k - 1)], got[(k, k)])
+        missing = []
+    if missing:  # the clip is in memory: its frames, in one pass
+        last = None
+        for j, frame in frames.frames(sorted({i for k in missing for i in (k - 1, k)})):
+            if j in windows and last is not None and last[0] == j - 1:
+                c0, r0, c1, r1 = windows[j]
+                yield j, last[1][r0:r1, c0:c1], frame[r0:r1, c0:c1], (c0, r0)
+            last = (j, frame)
+        return
+    for k in pairs:
+        c0, r0, _, _ = windows[k]
+        yield k, views[k][0], views[k][1], (c0, r0)
+
+
+_SOURCE_TEXT = {"argument": "fps", "manifest": "the manifest's fps", "file name": "the fps in the file name",
+                "clip file": "the fps stored in the clip file"}
+
+
+def check_fps(fps, label: str, source: str = "argument") -> float:
+    """The frame rate as a float within :data:`FPS_RANGE`, or a :class:`FrameRateError` naming the clip, the
+    value and where it came from (``source``, one of :data:`FPS_SOURCES`)."""
+    if source not in FPS_SOURCES:
+        raise ValueError(f"source must be one of {FPS_SOURCES}; got {source!r}")
+    what = _SOURCE_TEXT[source]
     if fps is None:
-        raise DataError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
-                        "manifest)", file=label)
+        raise FrameRateError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
+                             "manifest)", fps=None, source=source, file=label)
+    given = fps
     try:
         fps = float(fps)
-    except (TypeError, ValueError):
-        raise DataError(f"fps must be a number of frames per second; got {fps!r}", file=label) from None
-    if not (np.isfinite(fps) and fps > 0):
-        raise DataError(f"fps must be a positive number of frames per second; got {fps!r}", file=label)
+    except (TypeError, ValueError, OverflowError):
+        raise FrameRateError(f"{what} is not a number of frames per second: {given!r}", fps=given,
+                             source=source, file=label) from None
+    lo, hi = FPS_RANGE
+    if not np.isfinite(fps):
+        raise FrameRateError(f"{what} must be a finite number of frames per second; got {given!r}", fps=given,
+                             source=source, file=label)
+    if not fps > 0:
+        raise FrameRateError(f"{what} must be a positive number of frames per second; got {given!r}", fps=given,
+                             source=source, file=label)
+    if not lo <= fps <= hi:
+        raise FrameRateError(f"{what} {fps:g} frames/s is not a camera's frame rate (bouncelab takes "
+                             f"{lo:g} to {hi:g} frames/s, bouncelab.tracking.FPS_RANGE): a unit or typing mistake?",
+                             fps=given, source=source, file=label)
     return fps

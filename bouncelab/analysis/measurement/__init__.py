@@ -57,7 +57,7 @@ would be correlated like the velocities' and the CI conservative.
 # The API page lists the members in this order (mkdocs: members_order source): the results, the
 # three steps, the whole measurement and its coverage check.
 # isort: off
-from bouncelab.analysis.measurement.input_checks import JITTER_RTOL
+from bouncelab.analysis.measurement.input_checks import FRAME_RATE_RANGE, JITTER_RTOL
 from bouncelab.analysis.measurement.results import VelocityEstimate, SpinEstimate, ContactDetection
 from bouncelab.analysis.measurement.velocity import estimate_velocity
 from bouncelab.analysis.measurement.velocity import IntervalKind as IntervalKind
@@ -69,6 +69,7 @@ from bouncelab.analysis.measurement.coverage import interval_coverage
 # isort: on
 
 __all__ = [
+    "FRAME_RATE_RANGE",
     "JITTER_RTOL",
     "ContactDetection",
     "SpinEstimate",

@@ -12,6 +12,12 @@ from bouncelab.errors import DataError
 #: accepted as timing jitter (timestamps rounded to 1 us at 7000 fps deviate by 0.35 %).
 JITTER_RTOL = 0.01
 
+#: Frame rates a tracked bounce may have, frames/s: from 1 (slower is not video) to 10^7 (the fastest framing
+#: cameras; a golf ball then moves micrometres a frame). Frame times whose interval is outside
+#: 1/10^7 s to 1 s are a unit or typing mistake (times in microseconds, a frame rate of 1e300), and beyond
+#: them the estimators' arithmetic would overflow or divide by zero.
+FRAME_RATE_RANGE = (1.0, 1.0e7)
+
 
 def _as_1d(value, name: str) -> np.ndarray:
     try:
@@ -40,6 +46,12 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL) -> float
         k = int(np.argmax(steps <= 0))
         raise DataError(f"frame times must increase; t[{k + 1}] <= t[{k}]", column="t")
     dt = float(t[-1] - t[0]) / (t.size - 1)
+    lo, hi = FRAME_RATE_RANGE
+    if not 1.0 / hi <= dt <= 1.0 / lo:
+        raise DataError(
+            f"the frame interval is {dt:.6g} s ({1.0 / dt if dt > 0 else float('inf'):.6g} frames/s): frame times "
+            f"must be in seconds, from a camera of {lo:g} to {hi:g} frames/s "
+            "(bouncelab.analysis.measurement.FRAME_RATE_RANGE)", column="t")
     dev = np.abs(steps - dt) / dt
     if dev.max() > jitter_rtol:
         k = int(np.argmax(dev))

@@ -116,7 +116,9 @@ def estimate_velocity(
     ------
     DataError
         Mismatched lengths, fewer than 4 frames, NaN or infinite values,
-        non-increasing or unequally spaced times, bad options.
+        non-increasing or unequally spaced times, a frame interval outside
+        :data:`~bouncelab.analysis.measurement.FRAME_RATE_RANGE` (times not in
+        seconds), values whose fit overflows, bad options.
 
     Examples
     --------
@@ -141,6 +143,30 @@ def estimate_velocity(
     if not np.isfinite(t_e):
         raise DataError(f"t_eval must be finite; got {t_eval!r}")
 
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # inf and NaN are refused below
+            value, slope, var, n, dof = _fit(tt, xx, dt, t_e, interval, method)
+    except (OverflowError, ZeroDivisionError, np.linalg.LinAlgError):
+        value = slope = var = float("nan")
+        dof = tt.size - (2 if method == "differences" else 3)
+    if not (np.isfinite(value) and np.isfinite(slope) and np.isfinite(var)):
+        # values so large (or times so far from t_eval) that the arithmetic overflows: no estimate, not inf/NaN
+        raise DataError(f"the velocity at t_eval = {t_e:g} s cannot be computed in floating point (positions up "
+                        f"to {float(np.abs(xx).max()):.3g}, times {tt[0]:.6g} to {tt[-1]:.6g} s)", column="pos")
+    q = float(stats.t.ppf(0.5 + level / 2.0, dof))
+    return VelocityEstimate(
+        value=float(value),
+        half_width=q * float(np.sqrt(max(var, 0.0))),
+        slope=float(slope),
+        n=int(n),
+        level=level,
+        interval=interval,
+        method=method,
+    )
+
+
+def _fit(tt: np.ndarray, xx: np.ndarray, dt: float, t_e: float, interval: str, method: str):
+    """(value, slope, variance, n, degrees of freedom) of the velocity fit (see :func:`estimate_velocity`)."""
     if method == "differences":
         d = np.diff(xx) / dt
         tau = tt[1:]
@@ -168,13 +194,4 @@ def estimate_velocity(
         value = float(coef[1]) / dt
         slope = 2.0 * float(coef[2]) / dt**2
         var = cov[1, 1] / dt**2 + (2.0 * s2 / dt**2 if interval == "prediction" else 0.0)
-    q = float(stats.t.ppf(0.5 + level / 2.0, dof))
-    return VelocityEstimate(
-        value=float(value),
-        half_width=q * float(np.sqrt(max(var, 0.0))),
-        slope=float(slope),
-        n=int(n),
-        level=level,
-        interval=interval,
-        method=method,
-    )
+    return value, slope, var, n, dof

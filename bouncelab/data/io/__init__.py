@@ -26,8 +26,8 @@ A :class:`pandas.DataFrame`
     contain spaces, except a bracketed unit (``vx0 [m/s]`` is fine).
 ``.xlsx`` (``.xls``)
     First sheet, or ``sheet=`` (name or 0-based index); the first non-empty row
-    is the header. Needs ``openpyxl`` (``pip install bouncelab[excel]``); ``.xls``
-    needs ``xlrd``.
+    is the header. Needs ``openpyxl`` (``.xls``: ``xlrd``), both installed by
+    ``pip install 'bouncelab[excel]'``; without it, a DataError says so.
 ``.mat`` (MATLAB v5/v7, not v7.3)
     Each numeric vector of length n is a column named after the variable; an
     (n, k) matrix ``M`` gives columns ``M_1`` ... ``M_k`` (rows are bounces); a

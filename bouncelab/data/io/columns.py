@@ -185,33 +185,14 @@ _UNIT_KINDS = ("velocity", "spin")
 _PER_SECOND = {"1/s", "s-1", "s^-1", "/s"}
 
 
-# CF / UDUNITS spellings ("m s-1", "radian/s", "revolutions per minute") of the units bouncelab knows.
-_CF_WORDS = (
-    (r"\b(meters?|metres?)\b", "m"), (r"\b(foot|feet)\b", "ft"), (r"\bkilometers?|kilometres?\b", "km"),
-    (r"\b(miles?)\b", "mi"), (r"\b(hours?|hr)\b", "h"), (r"\b(seconds?|sec)\b", "s"),
-    (r"\b(minutes?)\b", "min"), (r"\b(radians?)\b", "rad"), (r"\b(degrees?)\b", "deg"),
-    (r"\b(revolutions?|rotations?|revs?)\b", "rev"), (r"\s+per\s+", "/"),
-    (r"\s*\.?\s*(s|h|min)\s*\^?\s*-1\b", r"/\1"), (r"\s*\*\*\s*-1", "-1"),
-)
-
-
-def _cf_spelling(text: str) -> str:
-    out = str(text).strip().lower()
-    for pattern, repl in _CF_WORDS:
-        out = re.sub(pattern, repl, out)
-    return out.replace(" ", "")
-
-
 def _unit_of(text: str) -> dict[str, str]:
     """Canonical unit of ``text`` per kind it is valid for (empty if not a unit)."""
     found = {}
     for kind in _UNIT_KINDS:
-        for spelling in (text, _cf_spelling(text)):
-            try:
-                found[kind] = canonical_unit(spelling, kind)
-                break
-            except DataError:
-                pass
+        try:
+            found[kind] = canonical_unit(text, kind)  # also the CF / UDUNITS spellings ("rev min-1")
+        except DataError:
+            pass
     if "spin" not in found and str(text).strip().lower().replace(" ", "") in _PER_SECOND:
         found["spin"] = "rad/s"  # 1/s, s^-1 on a spin column: rad/s
     angle = _ANGLE_UNITS.get(str(text).strip().lower().replace(" ", ""))
@@ -789,7 +770,7 @@ def _column_unit(table: _Table, choice: _Choice, kind: str, given: dict[str, str
             where = col.unit_where or ("header" if col.unit_in_header else "units row")
             what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
             try:
-                _canonical(_cf_spelling(col.unit_text), kind)
+                _canonical(col.unit_text, kind)
             except DataError as exc:
                 raise DataError(f"the {where} gives the unit {col.unit_text!r}, {what}; {exc.message}",
                                 file=table.file, column=col.name) from None

@@ -43,15 +43,13 @@ def _hidden_sheets(xf) -> set[str]:
 def _read_excel(path: Path, file: str, sheet: str | int | None, *, header_row: int | None = None,
                 style: str = "python") -> _Table:
     suffix = path.suffix.lower()
+    # A missing reader is a DataError naming the file and what to install (the 'excel' extra has both).
     if suffix == ".xlsx" and not _module_available("openpyxl"):
-        raise ImportError(
-            f"reading the Excel file {file!r} needs openpyxl: pip install bouncelab[excel]"
-        )
+        raise DataError("reading an Excel workbook (.xlsx) needs the package openpyxl: "
+                        "pip install 'bouncelab[excel]' (or pip install openpyxl)", file=file)
     if suffix == ".xls" and not _module_available("xlrd"):
-        raise ImportError(
-            f"reading the old-style Excel file {file!r} needs xlrd: pip install xlrd "
-            "(or save it as .xlsx and pip install bouncelab[excel])"
-        )
+        raise DataError("reading an old-style Excel workbook (.xls) needs the package xlrd: "
+                        "pip install 'bouncelab[excel]' (or pip install xlrd), or save it as .xlsx", file=file)
     import pandas as pd
 
     try:

@@ -224,11 +224,12 @@ def load_campaign(
     ------
     FileNotFoundError
         The file, or the embedded campaign's data file, does not exist.
-    ImportError
-        An Excel file and ``openpyxl`` (``xlrd`` for ``.xls``) is not installed.
     DataError
         Any problem with the contents; the message names the file, the column
         (as spelled in the file) and the data row (first row under the header = 1).
+        Also a folder given as the file, and an Excel file whose reader is not
+        installed (``openpyxl`` for ``.xlsx``, ``xlrd`` for ``.xls``: both come
+        with ``pip install 'bouncelab[excel]'``).
 
     Examples
     --------
@@ -289,7 +290,8 @@ def load_campaign(
             hint = f" (the embedded campaigns are {' and '.join(map(repr, EMBEDDED_CAMPAIGNS))})"
         raise FileNotFoundError(f"no such file: {file!r}{hint}")
     if path.is_dir():
-        raise IsADirectoryError(f"{file!r} is a directory, not a data file")
+        raise DataError("it is a directory, not a data file; give the path of a file in it "
+                        f"({', '.join(SUPPORTED_SUFFIXES)})", file=file)
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
         raise DataError(

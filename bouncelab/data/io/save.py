@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import os
 from pathlib import Path
 from typing import Any
@@ -13,7 +14,7 @@ from bouncelab.atomic import atomic_path
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
 from bouncelab.data.io.table import _module_available
-from bouncelab.errors import DataError
+from bouncelab.errors import DataError, OutputError
 
 
 def _netcdf_engine() -> str:
@@ -70,8 +71,11 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     DataError
         ``ds`` is not a valid campaign, an attr cannot be stored, or the
         suffix is not a netCDF one; no file is created.
-    FileNotFoundError
-        The destination directory does not exist.
+    OutputError
+        The file cannot be written (its folder does not exist or is read-only,
+        ``path`` is a folder, the disk is full...): a
+        :class:`~bouncelab.errors.OutputError` (an ``OSError``) naming the path
+        (``err.path``); no file is created and an existing one is unchanged.
     """
     path = Path(path).expanduser()
     file = os.fspath(path)
@@ -82,14 +86,22 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
         )
     parent = path.parent
     if not parent.is_dir():
-        raise FileNotFoundError(f"cannot save {file!r}: the directory {os.fspath(parent)!r} does not exist")
+        raise OutputError(f"cannot save {file!r}: the folder {os.fspath(parent)!r} does not exist", path=file,
+                          errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
     checked = _storable_settings(checked, engine or _netcdf_engine())
     # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.atomic).
-    with atomic_path(path) as tmp:
-        checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
+    try:
+        with atomic_path(path) as tmp:
+            checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
+    except OutputError:
+        raise
+    except OSError as exc:  # read-only folder, a folder in the way, disk full: say which path
+        reason = exc.strerror or str(exc)
+        raise OutputError(f"cannot save {file!r}: {reason}; nothing was written", path=file,
+                          errno=exc.errno) from exc
     return path
 
 

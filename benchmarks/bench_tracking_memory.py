@@ -1,0 +1,69 @@
+"""Peak memory of tracking a long full-HD clip (issue 22, item 7): 600 frames of 1920 x 1080 in an MJPG AVI.
+
+Renders one bounce (ball 80 px across, 20,000 fps, 297 frames a side) with
+:func:`bouncelab.tracking.render_clip`, writes it as an MJPG AVI with OpenCV's
+``VideoWriter`` (grey, quality 95), and tracks it in a fresh process, reporting
+the process's peak resident memory (``resource.getrusage``) and the time.
+Measure the whole command from outside with GNU time as well::
+
+    python benchmarks/bench_tracking_memory.py make /tmp/hd/clip.avi      # about a minute
+    /usr/bin/time -v bouncelab track /tmp/hd/clip.avi --fps 20000 --out /tmp/hd/clip.nc --quiet
+    python benchmarks/bench_tracking_memory.py track /tmp/hd/clip.avi     # peak RSS and time of track_clip
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+from pathlib import Path
+
+LANDING = (1063.0, -810.0, 219.0)
+LIFTOFF = (696.7, 440.6, -696.7)  # Rigid.published("A") of LANDING
+
+
+def make(path: Path, n_side: int = 297) -> None:
+    """Render the clip and write it as a grey MJPG AVI, frame by frame."""
+    import cv2
+
+    from bouncelab.tracking import render_clip
+
+    t0 = time.perf_counter()
+    clip = render_clip(LANDING, LIFTOFF, fps=20000.0, size=(1080, 1920), radius_px=40.0, n_before=n_side,
+                       n_after=n_side, contact_frames=6.0, seed=1)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    w = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 25, (1920, 1080), False)
+    w.set(cv2.VIDEOWRITER_PROP_QUALITY, 95)
+    for frame in clip.frames:
+        w.write(frame)
+    w.release()
+    print(f"{path}: {clip.frames.shape[0]} frames of 1920 x 1080, {path.stat().st_size / 1e6:.1f} MB, "
+          f"rendered and written in {time.perf_counter() - t0:.0f} s")
+
+
+def track(path: Path) -> None:
+    """Track and measure the clip; print the peak resident memory of this process and the time."""
+    from bouncelab.tracking import measure_clip, track_clip
+
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    t0 = time.perf_counter()
+    tr = track_clip(path, fps=20000.0)
+    m = measure_clip(tr)
+    el = time.perf_counter() - t0
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    print(f"{tr.sizes['frame']} frames tracked in {el:.1f} s ({tr.sizes['frame'] / el:.0f} frames/s); "
+          f"peak RSS {peak / 1024:.0f} MiB (after imports {before / 1024:.0f} MiB)")
+    print("landing", m.landing.values.round(1), "true", LANDING)
+    print("liftoff", m.liftoff.values.round(1), "true", LIFTOFF)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("what", choices=["make", "track"])
+    ap.add_argument("path", type=Path)
+    args = ap.parse_args()
+    make(args.path) if args.what == "make" else track(args.path)
+
+
+if __name__ == "__main__":
+    main()
