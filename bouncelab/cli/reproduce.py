@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import numbers
 import os
 import re
 import shutil
@@ -480,8 +481,9 @@ def reproduce(
 
     chosen = _resolve_laws(law_set, laws)  # unknown names fail here, before any work
     resamples = BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap
-    if isinstance(resamples, bool) or not isinstance(resamples, int) or resamples < 0:
+    if isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0:
         raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}")
+    resamples = int(resamples)
     sources = [*campaigns, *data]
     if not sources:
         raise DataError("nothing to reproduce: give campaigns (A, B) or data files")
