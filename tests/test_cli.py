@@ -158,7 +158,8 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     assert "SIMULATED CAMPAIGN, NOT MEASURED BOUNCES (surrogate &#x27;turf&#x27;)" in index  # the default surrogate
     assert "[ 1/11] loading A" in err and "done" in err
     assert "ci_high" in (rep / "tables" / "A_bootstrap.md").read_text()
-    assert "Values in brackets are the paper's published ones" in index
+    assert "Values in brackets are the paper's published results on its measured bounces" in index
+    assert "a reference, not a validation" in index  # the turf surrogate is synthetic
     repeat = (rep / "tables" / "A_repeatability_summary.md").read_text()
     assert "| all | mixed | – | – |" in repeat and "nan" not in repeat
     # Every file is listed in the manifest that lets a later run replace this report, and nothing else is left.

@@ -331,10 +331,13 @@ def test_reproduce_on_a_campaign_too_small_for_the_svm_still_writes_the_report(t
     keep = np.r_[np.flatnonzero(cls == "roll")[:60], np.flatnonzero(cls == "slip")[:5]]
     small = bl.save_campaign(ds.isel(bounce=np.sort(keep)).assign_attrs(data_kind="measured"), tmp_path / "s.nc")
     report = rp.reproduce(data=[small], out=tmp_path / "rep", figures=False, progress=False)
-    notes = " ".join(report.sections["s"]["notes"])
-    assert "no SVM plane" in notes and "at least 8 bounces" in notes
+    # The SVM's step is skipped, with its reason, in the report and in Report.skipped; the rest is written.
+    assert not report.complete
+    svm = [why for campaign, what, why in report.skipped if (campaign, what) == ("s", "Table 2: paper's SVM plane")]
+    assert len(svm) == 1 and "at least 8 bounces" in svm[0]
     table2 = (tmp_path / "rep" / "tables" / "s_table2.md").read_text()
     assert "delta-optimal plane" in table2 and "SVM plane: overall" not in table2
+    assert "paper's SVM plane: skipped" in table2 and "at least 8 bounces" in table2
 
 
 def test_reproduce_intervals_applies_to_the_data_files_not_to_the_embedded_campaigns(monkeypatch, capsys, tmp_path):

@@ -630,7 +630,7 @@ def test_reproduce_with_embedded_campaign_and_file_options(tmp_path, capsys, mon
     def fake_reproduce(*, campaigns, data, out, load, **_):  # only the loading, not the analysis
         for src in [*campaigns, *data]:
             loaded[src] = load(src)
-        return type("Report", (), {"index": Path(out) / "index.html"})()
+        return type("Report", (), {"index": Path(out) / "index.html", "complete": True, "skipped": []})()
 
     monkeypatch.setattr(rep, "reproduce", fake_reproduce)
     path = write(tmp_path / "lab.csv", POLAR, pre="Lab notes\n1,2\n")

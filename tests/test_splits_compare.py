@@ -104,7 +104,9 @@ def test_compare_tables(campaign_b):
         assert cmp.table.loc[name, "train_delta"] == res.delta
     assert cmp.table.loc["PennerFixed", "beta_deg"] == cmp.results["PennerFixed"].model.beta_deg
     paper = cmp.published()
-    assert paper.loc["Rigid", "delta"] == 0.350 and paper.loc["PiecewiseAffine", "delta"] == 0.0784
+    # Table 3's delta is on the bounces the paper fitted, as ours; Table 2's 7.84 % is a test-set figure,
+    # shown only beside held-out errors (compare(..., split="setting")).
+    assert paper.loc["Rigid", "delta"] == 0.350 and np.isnan(paper.loc["PiecewiseAffine", "delta"])
     md = cmp.to_markdown()
     assert "| delta |" in md and "(35 %)" in md and campaign_b.attrs["warning"] in md
     assert cmp.notes == [campaign_b.attrs["warning"] + " Agreement with the paper's numbers for its measured "

@@ -9,7 +9,9 @@ Commands
 ``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
 
 Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
-that cannot be done as asked; 1 anything unexpected (a bug: please report it).
+that cannot be done as asked; 5 (``reproduce``) the report is written but partial: some
+steps could not run on the data and were skipped, each with its reason in the report and
+the run summary; 1 anything unexpected (a bug: please report it).
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-EXIT_OK, EXIT_UNEXPECTED, EXIT_USAGE, EXIT_DATA, EXIT_FIT = 0, 1, 2, 3, 4
+EXIT_OK, EXIT_UNEXPECTED, EXIT_USAGE, EXIT_DATA, EXIT_FIT, EXIT_PARTIAL = 0, 1, 2, 3, 4, 5
 
 # A negative number on the command line, exponent and inf/nan included: argparse (before Python 3.13)
 # only knows "-8" and "-8.5", so "--landing 1000 -8e2 200" read "-8e2" as an unknown option.
@@ -149,14 +151,20 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="bouncelab",
         description="Golf-ball bounce laws: fit, compare and use them (Biber et al.'s analysis, reproducible).",
-        epilog="Exit codes: 0 ok, 2 bad command line, 3 bad data file, 4 fit or law error, 1 unexpected.",
+        epilog="Exit codes: 0 ok, 2 bad command line, 3 bad data file, 4 fit or law error, 5 reproduce wrote a "
+               "partial report (steps skipped, reasons in the report), 1 unexpected.",
     )
     parser.add_argument("--version", action="version", version=f"bouncelab {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     rep = sub.add_parser("reproduce", help="run the paper's whole analysis and write a report",
-                         description="Fit the paper's four laws, write tables (markdown, CSV), laws (JSON), "
-                                     "figures (PNG) and index.html.")
+                         description="Fit the paper's four laws (and the beyond-the-paper ones), write tables "
+                                     "(markdown, CSV), laws (JSON), figures (PNG) and index.html. A step that "
+                                     "cannot run on the data (too few bounces for a law, one slip/roll class, "
+                                     "no repeated launcher setting...) is skipped, with its reason in the report "
+                                     "and the summary at the end; the rest is written.",
+                         epilog="Exit codes: 0 complete report, 5 report written but partial (steps skipped), "
+                                "2 bad command line or output folder, 3 bad data file, 4 bad law, 1 unexpected.")
     rep.add_argument("--campaign", nargs="+", default=None, metavar="A|B",
                      help="embedded campaigns to analyse (default: A B unless --data is given)")
     rep.add_argument("--data", nargs="+", default=[], metavar="FILE", help="bounce-data files to analyse")
@@ -173,9 +181,16 @@ def build_parser() -> argparse.ArgumentParser:
                           "lab (m/s, rpm), imperial (mph, rpm), or VELOCITY,SPIN such as ft/s,rev/s; "
                           "tables stay in scaled units")
     rep.add_argument("--quiet", action="store_true", help="no progress display")
+    rep.add_argument("--laws", dest="law_set", nargs="+", default=None, metavar="LAW",
+                     help="the laws to fit, compare and cross-validate, instead of the default (the paper's Rigid, "
+                          "PennerVarying, PennerFixed, PiecewiseAffine and, beyond it, TangentialRestitution, "
+                          "CompliantImpact, TurfContact): built-in names in any case or a user law's module:Class "
+                          "(see --import); e.g. --laws Rigid PennerFixed")
     rep.add_argument("--law", dest="laws", action="append", default=[], metavar="LAW",
-                     help="a further law to fit and compare beside the paper's (repeatable): a built-in name or "
-                          "a user law's module:Class (see --import)")
+                     help="a further law to fit and compare beside those of --laws or the default (repeatable): a "
+                          "built-in name or a user law's module:Class (see --import)")
+    rep.add_argument("--bootstrap", type=_resamples, default=None, metavar="N",
+                     help="resamples of the parameter bootstrap (default 100; 0 leaves it out)")
     _add_import_option(rep)
     _add_data_options(rep)
 
@@ -310,6 +325,17 @@ def _oneline(exc: BaseException) -> str:
 # The loader's advice in Python (units={'spin': 'rpm'}), as the command line's flags.
 
 
+def _resamples(text: str) -> int:
+    """A whole number >= 0 (argparse type of --bootstrap)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more: {text!r}")
+    return value
+
+
 def _figure_units(text: str | None):
     """--figure-units: a preset name or VELOCITY,SPIN; checked now (exit 2), before any work."""
     if text is None:
@@ -350,13 +376,20 @@ def _reproduce(args: argparse.Namespace) -> int:
         ds = _load(src, embedded_args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
+    law_set = None if args.law_set is None else [_law_class(name) for name in args.law_set]
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
-        laws=[_law_class(name) for name in args.laws],
+        laws=[_law_class(name) for name in args.laws], law_set=law_set, bootstrap=args.bootstrap,
     )
     print(f"report written to {Path(args.out) / report.index.name}")
-    return EXIT_OK
+    if report.complete:
+        return EXIT_OK
+    print(f"partial report: {len(report.skipped)} step(s) could not run on the data and were skipped "
+          f"(exit code {EXIT_PARTIAL}):")
+    for campaign, what, why in report.skipped:
+        print(f"  {campaign}: {what}: {why}")
+    return EXIT_PARTIAL
 
 
 def _import_modules(modules: list[str], law: str | None = None) -> None:

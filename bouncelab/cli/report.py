@@ -15,8 +15,12 @@ if TYPE_CHECKING:
 __all__ = ["frame_markdown", "index_html", "md_to_html", "table2_markdown"]
 
 
-def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan") -> str:
-    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent; NaN as ``missing``."""
+def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan", mark: str | None = None) -> str:
+    """A DataFrame as a markdown table; numbers to 4 significant digits, or as per cent; NaN as ``missing``.
+
+    ``mark``: the row of that name (the law that generated synthetic data) gets the generator's mark (†).
+    """
+    from bouncelab.fitting.comparison import GENERATOR_MARK
 
     def cell(v: Any) -> str:
         if not isinstance(v, float | np.floating):
@@ -28,17 +32,29 @@ def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan"
     cols = [str(c) for c in df.columns]
     lines = ["| " + " | ".join([str(df.index.name or ""), *cols]) + " |", "|" + "---|" * (len(cols) + 1)]
     for idx, row in df.iterrows():
-        lines.append("| " + " | ".join([str(idx), *map(cell, row)]) + " |")
+        label = f"{idx} {GENERATOR_MARK}" if mark is not None and str(idx) == mark else str(idx)
+        lines.append("| " + " | ".join([label, *map(cell, row)]) + " |")
     return "\n".join(lines) + "\n"
 
 
 def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
+    """Table 2: the piecewise-affine laws of ``pw`` (label -> FitResult on the paper's split), errors on the
+    held-out bounces. The paper's Table 2 (its SVM plane on its test set) stands in brackets beside the SVM's
+    held-out figures only, the comparable ones; on synthetic data it is labelled as a reference, and the
+    footnote says when PiecewiseAffine generated the data."""
     from bouncelab.data import published
+    from bouncelab.fitting.comparison import GENERATOR_MARK, generating_law, generator_note
 
     camp = str(ds.attrs.get("campaign", "")).upper()
     paper = published.TABLE2.loc[camp] if camp in published.CAMPAIGNS else None
-    brackets = "; the paper's Table 2 (SVM plane) in brackets" if paper is not None else ""
-    lines = [f"### Piecewise-affine law, campaign {name}: errors on the held-out bounces "
+    synthetic = ds.attrs.get("data_kind") == "synthetic surrogate"
+    brackets = ""
+    if paper is not None and any("SVM" in label for label in pw):
+        brackets = ("; in brackets beside the SVM plane's figures the paper's Table 2 (its SVM plane on its measured "
+                    "test bounces): a reference, not a validation, as these bounces are synthetic" if synthetic
+                    else "; the paper's Table 2 (SVM plane, its test set) in brackets")
+    mark = f" {GENERATOR_MARK}" if generating_law(ds) == "PiecewiseAffine" else ""
+    lines = [f"### Piecewise-affine law{mark}, campaign {name}: errors on the held-out bounces "
              f"(one per launcher setting){brackets}\n"]
     head = ["quantity"]
     for label in pw:
@@ -67,9 +83,12 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
                 cells.append(cell)
         lines.append("| " + " | ".join(cells) + " |")
     for label, res in pw.items():
-        law_line = "; ".join(res.model._summary_lines()[:2])
+        law_line = "; ".join(line for line in res.model._summary_lines() if line.startswith("plane"))
         lines.append(f"\n- {label}: {law_line} (fitted on {res.n_train} bounces, "
                      f"delta on them {100 * res.delta:.3g} %)")
+    footnote = generator_note(generating_law(ds), ["PiecewiseAffine"])
+    if footnote is not None:
+        lines.append(f"\n> {footnote}")
     return "\n".join(lines) + "\n"
 
 
@@ -125,9 +144,17 @@ def _paper_values(report: Report) -> str:
     if not with_paper:
         return ("None of these campaigns is one of the paper's, so no published values are shown beside "
                 "the results.")
-    names = ", ".join(with_paper)
-    return (f"Values in brackets are the paper's published ones, shown for the campaigns that are (surrogates of) "
-            f"the paper's campaigns A and B: {names}.")
+    synthetic = [n for n in with_paper if report.sections[n].get("synthetic")]
+    measured = [n for n in with_paper if n not in synthetic]
+    text = ("Values in brackets are the paper's published results on its measured bounces, each beside a figure "
+            "of the same kind only (Table 3's beside errors on the fitted bounces, Table 2's, a test set, beside "
+            "errors on held-out bounces).")
+    if measured:
+        text += f" They are shown for the campaigns labelled as the paper's campaigns A and B: {', '.join(measured)}."
+    if synthetic:
+        text += (f" For {', '.join(synthetic)}, synthetic surrogates of the paper's campaigns, they are a reference, "
+                 "not a validation: agreement or disagreement with them says nothing about real turf.")
+    return text
 
 
 def _figure_units(report: Report) -> str:
@@ -150,10 +177,22 @@ def index_html(report: Report) -> str:
              f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
              "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
              + "</nav>"]
+    skipped = getattr(report, "skipped", [])
+    if skipped:
+        items = "".join(f"<li>campaign {html.escape(c)}, {html.escape(w)}: {html.escape(r)}</li>"
+                        for c, w, r in skipped)
+        parts.append(f"<div class='warning' id='skipped'><p><b>A partial report:</b> {len(skipped)} step(s) could "
+                     f"not run on these data and were skipped; everything else is below.</p><ul>{items}</ul></div>")
     for name, sec in report.sections.items():
         parts.append(f"<h2 id='{html.escape(name)}'>Campaign {html.escape(name)}</h2>")
         for note in sec["notes"]:
             parts.append(f"<p class='warning'>{html.escape(note)}</p>")
+        if sec.get("generator"):
+            gen = html.escape(sec["generator"])
+            parts.append(f"<p class='warning'>{gen} generated these data: " + (
+                "in every table of laws it is marked †, and its fit is not a test of it.</p>"
+                if sec["generator"] in sec.get("law_names", ()) else
+                "it is not among the laws fitted here; a fit of it would be no test of it.</p>"))
         for _title, md in sec["tables"].items():
             parts.append(md_to_html(md))
         if sec["laws"]:
@@ -164,6 +203,8 @@ def index_html(report: Report) -> str:
             rel = html.escape(path.relative_to(report.out).as_posix())
             cap = html.escape(caption)
             parts.append(f"<h3>{cap}</h3><a href='{rel}'><img src='{rel}' alt='{cap}'></a>")
+        for caption, (_label, why) in sec.get("figures_skipped", {}).items():
+            parts.append(f"<h3>{html.escape(caption)}</h3><p class='warning'>Not drawn: {html.escape(why)}</p>")
     rels = [html.escape(p.relative_to(report.out).as_posix()) for p in report.files]
     items = "".join(f"<li><a href='{r}'>{r}</a></li>" for r in rels)
     parts.append(f"<h2>Files</h2><ul>{items}</ul></body></html>")

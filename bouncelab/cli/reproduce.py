@@ -14,9 +14,16 @@ For every campaign (the embedded surrogates "A" and "B", or data files):
 * the fitted laws as JSON, every table as markdown and CSV, the figures as PNG;
 * one ``index.html`` showing it all.
 
-The report is complete or not there at all: it is built in a hidden folder beside ``out`` and
-swapped in only when every file is written, so a failed run (a bad file, a full disk, an
-interrupt) leaves the previous report as it was. File names never come from the data: a
+A step that cannot run on the data (too few bounces for a law, one slip/roll class for the
+SVM, no launcher setting with repeats, a fit that would leave the law's bounds, a figure that
+cannot be drawn) is skipped with its reason, in the report and in :attr:`Report.skipped`; the
+rest is written (the command line then exits with 5). Only the typed errors of
+:data:`bouncelab.fitting.comparison.SKIPPABLE` become skips; anything else is a bug and stops the run.
+
+The report is built in a hidden folder beside ``out`` and swapped in only when every file is
+written, so a failed run (a bad file, a full disk, an interrupt, SIGTERM) leaves the previous
+report as it was; a hidden folder that a killed run left is removed by the next run
+(:func:`remove_stale_staging`). File names never come from the data: a
 campaign is named by the command line (``A``, ``B``, a ``--label``, or the file's stem), cleaned
 to letters, digits, ``_`` and ``-``. ``out`` must be new, empty, or a previous report whose
 files are all bouncelab's (listed in its ``.bouncelab-report.json``); any other folder is
@@ -25,15 +32,19 @@ refused before any work, so files a user keeps there are never deleted.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import numbers
 import os
 import re
 import shutil
+import signal
 import stat
 import sys
 import tempfile
+import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -47,7 +58,8 @@ from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
 from bouncelab.data.campaign import synthetic_warning
 from bouncelab.errors import DataError, FitError, OutputError
 
-__all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "reproduce"]
+__all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "default_laws",
+           "remove_stale_staging", "reproduce"]
 
 #: The file in a report folder that lists every file bouncelab wrote there (relative paths).
 MANIFEST = ".bouncelab-report.json"
@@ -70,7 +82,14 @@ BOOTSTRAP_RESAMPLES = 100
 
 @dataclass
 class Report:
-    """What :func:`reproduce` wrote."""
+    """What :func:`reproduce` wrote.
+
+    ``skipped`` lists the steps that could not run on the data, as ``(campaign, step, reason)``
+    (too few bounces for a law, one slip/roll class only, no repeated launcher setting, a figure
+    that cannot be drawn...); the rest of the report is written all the same. ``complete`` is
+    True when nothing was skipped. Steps left out on purpose (``figures=False``, ``bootstrap=0``,
+    laws not asked for) are not skips.
+    """
 
     out: Path
     index: Path
@@ -79,6 +98,12 @@ class Report:
     elapsed: float = 0.0
     #: Units of the figures (``{"velocity": ..., "spin": ...}``); None for the scaled units.
     figure_units: dict[str, str] | None = None
+    skipped: list[tuple[str, str, str]] = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        """Whether every step ran (nothing in :attr:`skipped`)."""
+        return not self.skipped
 
 
 class _Progress:
@@ -96,6 +121,7 @@ class _Progress:
 class _Step:
     def __init__(self, progress: _Progress, message: str) -> None:
         self.p, self.message = progress, message
+        self.status = "done"
 
     def __enter__(self) -> _Step:
         self.t = time.perf_counter()
@@ -105,8 +131,128 @@ class _Step:
 
     def __exit__(self, exc_type, *exc: Any) -> None:
         if self.p.enabled:
-            status = "done" if exc_type is None else "FAILED"
+            if exc_type is None:
+                status = self.status
+            elif issubclass(exc_type, KeyboardInterrupt | _Terminated):
+                status = "interrupted"
+            else:
+                status = "FAILED"
             print(f" {status} ({time.perf_counter() - self.t:.1f} s)", file=sys.stderr, flush=True)
+
+
+class _Terminated(BaseException):
+    """SIGTERM arrived during a run (raised by the handler :func:`_sigterm_raises` installs)."""
+
+
+@contextlib.contextmanager
+def _sigterm_raises() -> Iterator[None]:
+    """During the block, SIGTERM (what ``timeout``, batch schedulers and systemd send) raises
+    :class:`_Terminated`, so the cleanup that runs for Ctrl-C (an exception) runs for it too; after the
+    cleanup the signal is delivered again under the previous handler (by default the process ends
+    of it, as it would have without bouncelab). Only in the main thread of a POSIX process, and only
+    when SIGTERM is not ignored; the previous handler is restored on the way out."""
+    if (os.name != "posix" or threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) in (signal.SIG_IGN, None)):
+        yield
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM does not cut the cleanup short
+        raise _Terminated
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    except _Terminated:
+        signal.signal(signal.SIGTERM, previous)
+        os.kill(os.getpid(), signal.SIGTERM)  # the cleanup is done: now what SIGTERM would have done
+        raise
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+#: Names of the folders a run makes beside ``--out`` (``tempfile.mkdtemp``: the prefix and 8 characters).
+_STAGING = re.compile(r"\.(?P<name>.+)\.(?:new|old)-[a-z0-9_]{8}")
+#: What a report (and a staging folder) holds at its top level; anything else means it is not ours.
+_REPORT_ENTRIES = frozenset({"index.html", MANIFEST, "tables", "laws", "figures"})
+
+
+def _lock(folder: Path) -> int | None:
+    """An exclusive lock on ``folder`` (held by the returned descriptor until it is closed, or the process
+    ends): a later run sees the folder is in use. None where folders cannot be locked."""
+    try:
+        import fcntl
+
+        fd = os.open(folder, os.O_RDONLY)
+    except (ImportError, OSError):
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _unlock(fd: int | None) -> None:
+    if fd is not None:
+        with contextlib.suppress(OSError):
+            os.close(fd)
+
+
+def _only_report_files(folder: Path) -> bool:
+    """Whether ``folder`` holds nothing but what a report run writes (its top-level entries, and in them
+    files, the atomic writes' temporary files included): a folder holding anything else is not removed."""
+    try:
+        for entry in folder.iterdir():
+            if entry.is_symlink() or entry.name not in _REPORT_ENTRIES:
+                temporary = entry.name.startswith((".index.html.", f".{MANIFEST}.")) and entry.name.endswith(".tmp")
+                if not temporary:  # (the atomic writes' temporary files are ours too)
+                    return False
+            if entry.is_dir() and not entry.is_symlink():
+                if any(p.is_symlink() or p.is_dir() for p in entry.iterdir()):
+                    return False
+    except OSError:
+        return False
+    return True
+
+
+def remove_stale_staging(out: Path, before: float) -> list[Path]:
+    """Remove the staging (``.NAME.new-XXXXXXXX``) and old-report (``.NAME.old-XXXXXXXX``) folders that an
+    earlier run of ``reproduce`` into ``out`` left beside it when it was killed (SIGKILL, a power cut...).
+
+    Only folders matching bouncelab's own pattern for this ``out``, owned by this user, last changed before
+    ``before`` (the start of this run), not locked by a running ``reproduce`` (each run holds a lock on its
+    folders) and holding nothing but report files are removed; anything else is left alone. Returns the
+    folders removed.
+    """
+    removed: list[Path] = []
+    try:
+        candidates = list(out.parent.iterdir())
+    except OSError:
+        return removed
+    for folder in candidates:
+        m = _STAGING.fullmatch(folder.name)
+        if m is None or m["name"] != out.name:
+            continue
+        try:
+            st = folder.lstat()
+        except OSError:
+            continue
+        if (not stat.S_ISDIR(st.st_mode) or st.st_uid != os.geteuid() or st.st_mtime >= before
+                or not _only_report_files(folder)):
+            continue
+        fd = _lock(folder)
+        if fd is None:  # in use by a running report (or not lockable here): leave it
+            continue
+        try:
+            shutil.rmtree(folder)
+            removed.append(folder)
+        except OSError:
+            pass
+        finally:
+            _unlock(fd)
+    return removed
 
 
 def _write_table(df: pd.DataFrame, md: str, stem: Path, files: list[Path]) -> None:
@@ -190,15 +336,19 @@ def _swap_in(staging: Path, out: Path) -> None:
     if not out.exists():
         os.rename(staging, out)
         return
-    old = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.old-"))
-    os.rmdir(old)
-    os.rename(out, old)
+    lock = _lock(out)  # the lock follows the folder: while it is '.NAME.old-...', no other run removes it
     try:
-        os.rename(staging, out)
-    except BaseException:
-        os.rename(old, out)
-        raise
-    shutil.rmtree(old, ignore_errors=True)
+        old = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.old-"))
+        os.rmdir(old)
+        os.rename(out, old)
+        try:
+            os.rename(staging, out)
+        except BaseException:
+            os.rename(old, out)
+            raise
+        shutil.rmtree(old, ignore_errors=True)
+    finally:
+        _unlock(lock)
 
 
 def _umask() -> int:
@@ -211,10 +361,35 @@ def _umask() -> int:
 BEYOND_PAPER_LAWS = ("TangentialRestitution", "CompliantImpact", "TurfContact")
 #: Laws left out of the report's cross-validation because each fit takes seconds (they integrate every bounce).
 NOT_CROSS_VALIDATED = frozenset({"TurfContact", "CraterContact"})
+#: The laws whose parameters the report bootstraps (the paper's rigid family).
+BOOTSTRAPPED = ("Rigid", "PennerVarying", "PennerFixed")
+
+
+def default_laws() -> tuple[str, ...]:
+    """The laws of a report unless chosen: the paper's four and :data:`BEYOND_PAPER_LAWS`."""
+    from bouncelab.fitting.comparison import PAPER_LAWS
+
+    return (*PAPER_LAWS, *BEYOND_PAPER_LAWS)
 
 
 def _steps_per_campaign(figures: bool) -> int:
     return 9 + (1 if figures else 0)  # load, 8 analysis steps, figures
+
+
+def _resolve_laws(law_set: Sequence[Any] | None, laws: Sequence[Any]) -> list[Any]:
+    """The report's laws as instances, each once (the first of two with the same name is kept); unknown
+    names fail here, before any work."""
+    from bouncelab.fitting.comparison import law_instance
+    from bouncelab.laws import law_name
+
+    chosen = list(default_laws() if law_set is None else law_set) + list(laws)
+    if not chosen:
+        raise FitError("no laws to fit: give at least one law (e.g. --laws Rigid PennerFixed)")
+    out: dict[str, Any] = {}
+    for law in chosen:
+        model = law_instance(law)
+        out.setdefault(law_name(model), model)
+    return list(out.values())
 
 
 def reproduce(
@@ -230,8 +405,17 @@ def reproduce(
     figure_units: Any = None,
     laws: Sequence[Any] = (),
     surrogate: str | None = None,
+    law_set: Sequence[Any] | None = None,
+    bootstrap: int | None = None,
 ) -> Report:
     """Run the paper's analysis for each campaign and write the report folder.
+
+    A step that cannot run on the data (too few bounces for a law, one slip/roll class only for
+    the SVM, no launcher setting with repeats, a figure that cannot be drawn) is skipped: its
+    reason is written in the report (index.html and the markdown of its section) and listed in
+    :attr:`Report.skipped`, and the rest of the report is written (:attr:`Report.complete` is then
+    False). Only the errors that mean "not on these data" (FitError, DataError, ParameterError)
+    become skips; anything else still stops the run, leaving the previous report as it was.
 
     Parameters
     ----------
@@ -242,6 +426,8 @@ def reproduce(
     out
         Output folder: new, empty, or a previous report (replaced as a whole, only once the new
         one is complete). A folder holding anything else is refused with :class:`OutputError`.
+        Staging folders that an earlier, killed run left beside it (``.NAME.new-*``, ``.NAME.old-*``)
+        are removed (see :func:`remove_stale_staging`).
     seed
         Seed of the held-out split and of every fit.
     figures
@@ -259,11 +445,18 @@ def reproduce(
         :func:`bouncelab.plots.figure_units`). Tables stay in scaled units.
     laws
         Further laws (classes, instances or registered names, e.g. your own) fitted, compared and
-        cross-validated beside the paper's laws and the tangential-restitution law.
+        cross-validated beside those of ``law_set`` (the command line's ``--law``).
     surrogate
         Which synthetic surrogate the embedded campaigns are (``"turf"`` or ``"published"``; None,
         the default, is :data:`bouncelab.data.surrogate.DEFAULT_SURROGATE`, see
         :func:`bouncelab.load_campaign`); the report's notes name it. Ignored when ``load`` is given.
+    law_set
+        The laws of the report (names in any case, classes or instances; the command line's
+        ``--laws``); None, the default, is :func:`default_laws` (the paper's four and
+        :data:`BEYOND_PAPER_LAWS`). Table 2 needs PiecewiseAffine among them, the bootstrap one of
+        :data:`BOOTSTRAPPED`; without them those steps are left out (not skips).
+    bootstrap
+        Resamples of the parameter bootstrap (default :data:`BOOTSTRAP_RESAMPLES`); 0 leaves it out.
 
     Returns
     -------
@@ -276,12 +469,17 @@ def reproduce(
         the previous report is then left as it was.
     DataError
         A source cannot be loaded.
+    FitError
+        An unknown law, no laws, or a bad ``bootstrap``.
     """
     from bouncelab.data.io import load_campaign
     from bouncelab.data.io.load import EMBEDDED_SURROGATES
-    from bouncelab.fitting.comparison import law_instance
 
-    extra = [law_instance(law) for law in laws]  # unknown names fail here, before any work
+    chosen = _resolve_laws(law_set, laws)  # unknown names fail here, before any work
+    resamples = BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap
+    if isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0:
+        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}")
+    resamples = int(resamples)
     sources = [*campaigns, *data]
     if not sources:
         raise DataError("nothing to reproduce: give campaigns (A, B) or data files")
@@ -309,6 +507,7 @@ def reproduce(
         def load(src: str) -> xr.Dataset:
             return load_campaign(src, surrogate=surrogate) if src in campaigns else load_campaign(src)
     start = time.perf_counter()
+    started = time.time()
     out = Path(out).expanduser()
     if out.is_symlink():
         out = Path(os.path.realpath(out))  # replace the folder the link points to, keep the link
@@ -321,32 +520,47 @@ def reproduce(
     for src, name in zip(sources, names, strict=True):
         with step(f"loading {src}"):
             loaded.append((name, load(src)))
-    try:
-        staging = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
-    except OSError as exc:
-        raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
-    try:
-        report = _build(loaded, staging, seed, figures, step, start, units, extra)
-        _swap_in(staging, out)
-    except OSError as exc:
-        shutil.rmtree(staging, ignore_errors=True)
-        where = f" ({exc.filename})" if exc.filename else ""
-        raise OutputError(f"cannot write the report to {str(out)!r}{where}: {exc.strerror or exc}; "
-                          "the previous report, if any, is unchanged") from None
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+    for stale in remove_stale_staging(out, started):
+        if progress:
+            print(f"removed {str(stale)!r}, left by an earlier run that was killed", file=sys.stderr)
+    with _sigterm_raises():
+        staging = lock = None
+        try:
+            staging = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
+            lock = _lock(staging)  # in use: a run starting meanwhile does not take it for a stale one
+            report = _build(loaded, staging, seed, figures, step, start, units, chosen, resamples)
+            _swap_in(staging, out)
+        except OSError as exc:
+            _remove(staging)
+            where = f" ({exc.filename})" if exc.filename else ""
+            if staging is None:
+                raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
+            raise OutputError(f"cannot write the report to {str(out)!r}{where}: {exc.strerror or exc}; "
+                              "the previous report, if any, is unchanged") from None
+        except BaseException:
+            _remove(staging)
+            raise
+        finally:
+            _unlock(lock)
     return _moved(report, staging, out)
 
 
+def _remove(staging: Path | None) -> None:
+    if staging is not None:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
 def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: bool, step: _Progress,
-           start: float, units: Any = None, extra: Sequence[Any] = ()) -> Report:
+           start: float, units: Any = None, laws: Sequence[Any] = (), bootstrap: int | None = None) -> Report:
     """Write the whole report into the (new, empty) folder ``out``."""
     report = Report(out=out, index=out / "index.html")
     if units is not None and (units.velocity, units.spin) != ("radius/s", "rad/s"):
         report.figure_units = {"velocity": units.velocity, "spin": units.spin}
     for name, ds in loaded:
-        report.sections[name] = _campaign(name, ds, out, seed, figures, step, report.files, units, extra=extra)
+        section = _campaign(name, ds, out, seed, figures, step, report.files, units, laws=laws,
+                            bootstrap=BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap)
+        report.sections[name] = section
+        report.skipped += [(name, what, why) for what, why in section.get("skipped", [])]
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
         report.files.append(report.index)
@@ -367,21 +581,31 @@ def _moved(report: Report, staging: Path, out: Path) -> Report:
         sec["laws"] = {k: move(p) for k, p in sec["laws"].items()}
         sec["figures"] = {k: move(p) for k, p in sec["figures"].items()}
     return Report(out=out, index=out / "index.html", files=[move(p) for p in report.files],
-                  sections=report.sections, elapsed=report.elapsed, figure_units=report.figure_units)
+                  sections=report.sections, elapsed=report.elapsed, figure_units=report.figure_units,
+                  skipped=list(report.skipped))
+
+
+def _first_line(exc: BaseException) -> str:
+    return str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
 
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,
-              files: list[Path], units: Any = None, *, extra: Sequence[Any] = ()) -> dict[str, Any]:
+              files: list[Path], units: Any = None, *, laws: Sequence[Any] = (), bootstrap: int = 0
+              ) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
     from bouncelab.data import published
     from bouncelab.data.settings import infer_settings
-    from bouncelab.fitting import bootstrap, compare, cross_validate, fit, split_by_setting
-    from bouncelab.fitting.comparison import PAPER_LAWS
-    from bouncelab.laws import PiecewiseAffine, Rigid, law_name, registered_laws
+    from bouncelab.fitting import bootstrap as bootstrap_fit
+    from bouncelab.fitting import compare, cross_validate, fit, split_by_setting
+    from bouncelab.fitting.comparison import SKIPPABLE, generating_law, generator_note
+    from bouncelab.laws import PiecewiseAffine, Rigid, law_name
 
     camp = str(ds.attrs.get("campaign", "")).upper()
-    section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {},
+    synthetic = ds.attrs.get("data_kind") == "synthetic surrogate"
+    generator = generating_law(ds)
+    section: dict[str, Any] = {"notes": [], "tables": {}, "figures": {}, "laws": {}, "skipped": [],
+                               "figures_skipped": {}, "synthetic": synthetic, "generator": generator,
                                "paper_campaign": camp if camp in published.CAMPAIGNS else None}
     if (note := synthetic_warning(ds)) is not None:
         section["notes"].append(note)
@@ -393,118 +617,247 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             "the landing conditions (bouncelab.infer_settings)."
         )
     tables = out / "tables"
-    compared = [registered_laws()[law] for law in [*PAPER_LAWS, *BEYOND_PAPER_LAWS]] + list(extra)
+    compared = list(laws) if laws else _resolve_laws(None, ())
+    names = [law_name(m) for m in compared]
+    section["law_names"] = names
+
+    def skip(what: str, reason: str) -> None:
+        section["skipped"].append((what, reason))
 
     def add(key: str, df: pd.DataFrame, stem: str, title: str, *, percent: bool = False,
-            shown: pd.DataFrame | None = None, missing: str = "nan", note: str = "") -> None:
-        """Write a table as CSV and markdown and show it in the report under ``key``."""
-        md = f"### {title}\n\n" + frame_markdown(df if shown is None else shown, percent=percent, missing=missing)
+            shown: pd.DataFrame | None = None, missing: str = "nan", note: str = "", marked: bool = False) -> None:
+        """Write a table as CSV and markdown and show it in the report under ``key``; ``marked``: the table's
+        rows are laws, and the one that generated synthetic data is marked."""
+        frame = df if shown is None else shown
+        mark = generator if marked and generator is not None else None
+        md = f"### {title}\n\n" + frame_markdown(frame, percent=percent, missing=missing, mark=mark)
         md += f"\n{note}\n" if note else ""
+        if marked and (footnote := generator_note(generator, [str(i) for i in frame.index])) is not None:
+            md += f"\n> {footnote}\n"
         _write_table(df, md, tables / f"{name}_{stem}", files)
         section["tables"][key] = md
 
-    with step(f"{name}: fitting the paper's laws to all bounces (Table 3)"):
-        cmp = compare(ds, [*compared], seed=seed)
-        structured = fit(Rigid, ds, method="structured", seed=seed)
-        md = cmp.to_markdown()
-        md += ("\n### The paper's two-stage procedure for Rigid (r by least squares on ydot, then mu)\n\n"
-               f"r = {structured.model.r:.4g}, mu = {structured.model.mu:.4g}, delta = {100 * structured.delta:.3g} % "
-               f"(global search: delta = {100 * cmp.results['Rigid'].delta:.3g} %)\n")
-        _write_table(cmp.side_by_side(), md, tables / f"{name}_table3", files)
-        section["tables"]["Table 3: laws fitted to all bounces"] = md
-        laws_dir = out / "laws"
-        laws_dir.mkdir(exist_ok=True)
-        for key, res in cmp.results.items():
-            path = laws_dir / f"{name}_{campaign_file_name(key)}.json"  # a user law's key holds ':'
-            res.model.to_json(path)
-            files.append(path)
-            section["laws"][key] = path
-        section["comparison"] = cmp
+    def skipped_table(key: str, stem: str, title: str, reason: str) -> str:
+        """A section that could not be computed: its markdown says why (no CSV: there are no numbers).
+        Returns the progress display's status."""
+        md = f"### {title}\n\nSkipped: {reason}\n"
+        tables.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(tables / f"{name}_{stem}.md", md)
+        files.append(tables / f"{name}_{stem}.md")
+        section["tables"][key] = md
+        skip(key, reason)
+        return f"skipped: {reason}"
 
-    with step(f"{name}: piecewise-affine law on the paper's split, SVM and delta plane (Table 2)"):
-        train, test = split_by_setting(ds, seed)
-        pw = {}
-        for method, label in (("svm", "paper's SVM plane"), ("plane", "bouncelab's delta-optimal plane")):
-            try:
-                pw[label] = fit(PiecewiseAffine, train, test=test, method=method, seed=seed)
-            except FitError as exc:
-                if method != "svm":
-                    raise
-                # the SVM needs enough bounces of both classes; a small campaign still gets the rest of the report
-                section["notes"].append(f"Table 2 shows no SVM plane: the paper's SVM procedure cannot run on the "
-                                        f"{train.sizes['bounce']} training bounces of the split ({exc}).")
-        rows = []
-        for label, res in pw.items():
-            for data_name in ("train", "test"):
-                t = res.errors.loc[data_name]
-                diags = res.diagnostics if data_name == "train" else res.test_diagnostics
-                for subset in t.index:
-                    rows.append({"method": label, "data": data_name, "subset": subset, **t.loc[subset].to_dict(),
-                                 **{k: (v if subset == "all" else np.nan) for k, v in diags.items()}})
-        t2 = pd.DataFrame(rows).set_index(["method", "data", "subset"])
-        md = table2_markdown(name, pw, ds)
-        _write_table(t2, md, tables / f"{name}_table2", files)
-        section["tables"]["Table 2: piecewise-affine law, held-out bounces"] = md
-        section["piecewise"] = pw
-        for label, res in pw.items():
-            key = "svm" if "SVM" in label else "plane"
-            path = out / "laws" / f"{name}_PiecewiseAffine_{key}_train.json"
-            res.model.to_json(path)
-            files.append(path)
+    cmp = None
+    key3 = "Table 3: laws fitted to all bounces"
+    with step(f"{name}: fitting the paper's laws to all bounces (Table 3)") as st:
+        try:
+            cmp = compare(ds, compared, seed=seed, errors="skip")
+        except SKIPPABLE as exc:
+            st.status = skipped_table(key3, "table3", f"Laws fitted to campaign {name}", _first_line(exc))
+        if cmp is not None:
+            for law, why in cmp.skipped.items():
+                skip(f"Table 3: {law}", why)
+            md = cmp.to_markdown()
+            if "Rigid" in cmp.results:
+                try:
+                    structured = fit(Rigid, ds, method="structured", seed=seed)
+                    md += ("\n### The paper's two-stage procedure for Rigid (r by least squares on ydot, then mu)\n\n"
+                           f"r = {structured.model.r:.4g}, mu = {structured.model.mu:.4g}, "
+                           f"delta = {100 * structured.delta:.3g} % (global search: delta = "
+                           f"{100 * cmp.results['Rigid'].delta:.3g} %)\n")
+                except SKIPPABLE as exc:
+                    md += f"\n### The paper's two-stage procedure for Rigid\n\nSkipped: {_first_line(exc)}\n"
+                    skip("Table 3: the paper's two-stage procedure for Rigid", _first_line(exc))
+            if cmp.skipped:
+                st.status = f"done, {len(cmp.skipped)} law(s) skipped"
+            _write_table(cmp.side_by_side(), md, tables / f"{name}_table3", files)
+            section["tables"][key3] = md
+            laws_dir = out / "laws"
+            laws_dir.mkdir(exist_ok=True)
+            for key, res in cmp.results.items():
+                path = laws_dir / f"{name}_{campaign_file_name(key)}.json"  # a user law's key holds ':'
+                res.model.to_json(path)
+                files.append(path)
+                section["laws"][key] = path
+            section["comparison"] = cmp
 
-    with step(f"{name}: 5-fold cross-validation by launcher setting (beyond the paper)"):
+    pw: dict[str, Any] = {}
+    train = test = None
+    split_error = None
+    key2 = "Table 2: piecewise-affine law, held-out bounces"
+    with step(f"{name}: piecewise-affine law on the paper's split, SVM and delta plane (Table 2)") as st:
+        try:
+            train, test = split_by_setting(ds, seed)
+        except SKIPPABLE as exc:
+            split_error = _first_line(exc)
+        if "PiecewiseAffine" not in names:
+            st.status = "left out (PiecewiseAffine is not among the laws)"
+            section["notes"].append("Table 2 is left out: PiecewiseAffine is not among the laws asked for.")
+        elif split_error is not None:
+            st.status = skipped_table(key2, "table2", f"Piecewise-affine law, campaign {name}, on the paper's split",
+                                      f"the paper's split cannot be made: {split_error}")
+        else:
+            for method, label in (("svm", "paper's SVM plane"), ("plane", "bouncelab's delta-optimal plane")):
+                try:
+                    pw[label] = fit(PiecewiseAffine, train, test=test, method=method, seed=seed)
+                except SKIPPABLE as exc:
+                    # e.g. the SVM needs enough bounces of both classes; the rest of the report is written
+                    skip(f"Table 2: {label}", f"cannot run on the {train.sizes['bounce']} training bounces of the "
+                                              f"split: {_first_line(exc)}")
+            if not pw:
+                st.status = "skipped"
+                md = (f"### Piecewise-affine law, campaign {name}, on the paper's split\n\n"
+                      + "".join(f"Skipped ({w.split(': ', 1)[1]}): {r}\n\n" for w, r in section["skipped"]
+                                if w.startswith("Table 2: ")))
+                atomic_write_text(tables / f"{name}_table2.md", md)
+                files.append(tables / f"{name}_table2.md")
+                section["tables"][key2] = md
+            else:
+                if len(pw) < 2:
+                    st.status = "done, one plane skipped"
+                rows = []
+                for label, res in pw.items():
+                    for data_name in ("train", "test"):
+                        t = res.errors.loc[data_name]
+                        diags = res.diagnostics if data_name == "train" else res.test_diagnostics
+                        for subset in t.index:
+                            rows.append({"method": label, "data": data_name, "subset": subset,
+                                         **t.loc[subset].to_dict(),
+                                         **{k: (v if subset == "all" else np.nan) for k, v in diags.items()}})
+                t2 = pd.DataFrame(rows).set_index(["method", "data", "subset"])
+                md = table2_markdown(name, pw, ds)
+                for what, why in section["skipped"]:
+                    if what.startswith("Table 2: "):
+                        md += f"\n> {what.split(': ', 1)[1]}: skipped, {why}\n"
+                _write_table(t2, md, tables / f"{name}_table2", files)
+                section["tables"][key2] = md
+                section["piecewise"] = pw
+                for label, res in pw.items():
+                    key = "svm" if "SVM" in label else "plane"
+                    path = out / "laws" / f"{name}_PiecewiseAffine_{key}_train.json"
+                    path.parent.mkdir(exist_ok=True)
+                    res.model.to_json(path)
+                    files.append(path)
+
+    keycv = "Cross-validation (beyond the paper)"
+    with step(f"{name}: 5-fold cross-validation by launcher setting (beyond the paper)") as st:
         rows = {}
+        k = min(5, len(np.unique(ds.setting.values)))
+        left_out = [n for n in names if n in NOT_CROSS_VALIDATED]
+        failed: dict[str, str] = {}
         for model in compared:
             if law_name(model) in NOT_CROSS_VALIDATED:
                 continue
-            cv = cross_validate(model, ds, k=min(5, len(np.unique(ds.setting.values))), seed=seed)
+            try:
+                cv = cross_validate(model, ds, k=k, seed=seed)
+            except SKIPPABLE as exc:
+                failed[law_name(model)] = _first_line(exc)
+                skip(f"cross-validation: {law_name(model)}", _first_line(exc))
+                continue
             rows[law_name(model)] = {"cv_delta": cv.delta, "cv_delta_std": cv.delta_std,
-                         "fitted_delta": float(cv.folds["train_delta"].mean())}
-        cvt = pd.DataFrame(rows).T
-        cvt.index.name = "law"
-        skipped = [law_name(m) for m in compared if law_name(m) in NOT_CROSS_VALIDATED]
-        add("Cross-validation (beyond the paper)", cvt, "crossvalidation",
-            f"Cross-validated delta, campaign {name} (5 folds grouped by launcher setting)", percent=True,
-            note=(f"Not cross-validated here, to keep the report quick: {', '.join(skipped)} (each fit integrates "
-                  "every bounce through the contact); run bouncelab.cross_validate for them." if skipped else ""))
+                                     "fitted_delta": float(cv.folds["train_delta"].mean())}
+        notes = []
+        if left_out:
+            notes.append(f"Not cross-validated here, to keep the report quick: {', '.join(left_out)} (each fit "
+                         "integrates every bounce through the contact); run bouncelab.cross_validate for them.")
+        notes += [f"{law}: skipped, {why}" for law, why in failed.items()]
+        if rows:
+            cvt = pd.DataFrame(rows).T
+            cvt.index.name = "law"
+            add(keycv, cvt, "crossvalidation",
+                f"Cross-validated delta, campaign {name} ({k} folds grouped by launcher setting)", percent=True,
+                note="\n\n".join(notes), marked=True)
+            if failed:
+                st.status = f"done, {len(failed)} law(s) skipped"
+        elif failed:
+            st.status = "skipped"
+            md = (f"### Cross-validated delta, campaign {name}\n\n" + "\n\n".join(notes) + "\n")
+            atomic_write_text(tables / f"{name}_crossvalidation.md", md)
+            files.append(tables / f"{name}_crossvalidation.md")
+            section["tables"][keycv] = md
+        else:
+            st.status = "left out (no law to cross-validate)"
 
     with step(f"{name}: where the horizontal impulse acts (lever arm, beyond the paper)"):
         from bouncelab.analysis.impulse import lever_arm_summary
 
-        lever = lever_arm_summary(ds, [res.model for res in cmp.results.values()])
+        fitted = [] if cmp is None else [res.model for res in cmp.results.values()]
+        lever = lever_arm_summary(ds, fitted)
         add("Impulse lever arm (beyond the paper)", lever, "lever_arm",
             f"Lever arm of the horizontal impulse, d(omega)/d(xdot) per bounce, campaign {name}: data and each law "
             "fitted to all bounces, on the same landings",
             note="A law whose whole horizontal impulse acts at the contact point gives 2.5; the centre fraction "
                  "1 - median/2.5 estimates the share passing through the ball's centre (ploughing). Bounces whose "
-                 "xdot changes by less than 2 % of the landing speed have no lever arm (n_defined).")
+                 "xdot changes by less than 2 % of the landing speed have no lever arm (n_defined).", marked=True)
 
-    with step(f"{name}: parameter uncertainty, bootstrap over launcher settings (beyond the paper)"):
+    keyboot = "Parameter uncertainty (beyond the paper)"
+    with step(f"{name}: parameter uncertainty, bootstrap over launcher settings (beyond the paper)") as st:
         frames = {}
-        for law in ("Rigid", "PennerVarying", "PennerFixed"):
-            boot = bootstrap(registered_laws()[law], ds, n=BOOTSTRAP_RESAMPLES, seed=seed)
-            frames[law] = boot.summary()
-        boot_table = pd.concat(frames, names=["law", "parameter"])
-        add("Parameter uncertainty (beyond the paper)", boot_table, "bootstrap",
-            f"Parameter uncertainty, campaign {name}: {BOOTSTRAP_RESAMPLES} bootstrap resamples of whole "
-            "launcher settings (95 % percentile intervals)", shown=boot_table.reset_index().set_index("law"))
+        targets = [m for m in compared if law_name(m) in BOOTSTRAPPED]
+        failed = {}
+        for model in targets if bootstrap > 0 else []:
+            try:
+                frames[law_name(model)] = bootstrap_fit(model, ds, n=bootstrap, seed=seed).summary()
+            except SKIPPABLE as exc:
+                failed[law_name(model)] = _first_line(exc)
+                skip(f"bootstrap: {law_name(model)}", _first_line(exc))
+        if frames:
+            boot_table = pd.concat(frames, names=["law", "parameter"])
+            add(keyboot, boot_table, "bootstrap",
+                f"Parameter uncertainty, campaign {name}: {bootstrap} bootstrap resamples of whole "
+                "launcher settings (95 % percentile intervals)", shown=boot_table.reset_index().set_index("law"),
+                note="\n\n".join(f"{law}: skipped, {why}" for law, why in failed.items()), marked=True)
+            if failed:
+                st.status = f"done, {len(failed)} law(s) skipped"
+        elif failed:
+            st.status = "skipped"
+            md = (f"### Parameter uncertainty, campaign {name}\n\n"
+                  + "\n\n".join(f"{law}: skipped, {why}" for law, why in failed.items()) + "\n")
+            atomic_write_text(tables / f"{name}_bootstrap.md", md)
+            files.append(tables / f"{name}_bootstrap.md")
+            section["tables"][keyboot] = md
+        else:
+            why = ("bootstrap resamples set to 0" if bootstrap == 0 else
+                   f"none of {', '.join(BOOTSTRAPPED)} is among the laws")
+            st.status = f"left out ({why})"
+            section["notes"].append(f"The parameter bootstrap is left out: {why}.")
 
-    with step(f"{name}: repeatability per launcher setting"):
-        rep = repeatability(ds)
-        summ = repeatability_summary(rep)
-        rep_df = rep.to_dataframe()
-        rep_df.to_csv(tables / f"{name}_repeatability.csv")
-        files.append(tables / f"{name}_repeatability.csv")
-        add("Repeatability", summ, "repeatability_summary",
-            f"Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting", missing="–",
-            note="Medians over the settings. The row 'all' pools the three components for the ratio and the "
-                 "fraction of settings whose lift-off interval is wider; it has no median half-width, as the "
-                 "components' units differ.")
-        section["repeatability"] = rep
+    rep = None
+    rep_error = None
+    keyrep = "Repeatability"
+    with step(f"{name}: repeatability per launcher setting") as st:
+        counts = np.unique(ds.setting.values, return_counts=True)[1]
+        if not (counts >= 2).any():
+            rep_error = (f"no launcher setting has two or more bounces ({len(counts)} settings, one bounce each), "
+                         "so no repeat can be compared")
+        else:
+            try:
+                rep = repeatability(ds)
+                summ = repeatability_summary(rep)
+            except SKIPPABLE as exc:
+                rep, rep_error = None, _first_line(exc)
+        if rep_error is not None:
+            st.status = skipped_table(keyrep, "repeatability_summary", f"Repeatability, campaign {name}", rep_error)
+        else:
+            rep_df = rep.to_dataframe()
+            tables.mkdir(parents=True, exist_ok=True)
+            rep_df.to_csv(tables / f"{name}_repeatability.csv")
+            files.append(tables / f"{name}_repeatability.csv")
+            add(keyrep, summ, "repeatability_summary",
+                f"Repeatability, campaign {name}: 95 % CI half-widths of the mean per setting", missing="–",
+                note="Medians over the settings. The row 'all' pools the three components for the ratio and the "
+                     "fraction of settings whose lift-off interval is wider; it has no median half-width, as the "
+                     "components' units differ.")
+            section["repeatability"] = rep
 
-    with step(f"{name}: tangential velocities and prediction intervals"):
-        tang = tangential_summary(ds)
-        add("Tangential velocities", tang, "tangential", f"Tangential velocity v_P = xdot + omega, campaign {name}")
+    with step(f"{name}: tangential velocities and prediction intervals") as st:
+        try:
+            tang = tangential_summary(ds)
+            add("Tangential velocities", tang, "tangential", f"Tangential velocity v_P = xdot + omega, campaign {name}")
+        except SKIPPABLE as exc:
+            st.status = skipped_table("Tangential velocities", "tangential", f"Tangential velocity, campaign {name}",
+                                      _first_line(exc))
         if "landing_pi" in ds.data_vars:
             widths = {}
             for state in ("landing", "liftoff"):
@@ -518,22 +871,32 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
     with step(f"{name}: checking the fitted laws reload"):
         from bouncelab.laws import load_law
 
-        for law_name, path in section["laws"].items():
+        for key, path in section["laws"].items():
             again = load_law(path)
-            if again != cmp.results[law_name].model:
+            if again != cmp.results[key].model:
                 raise RuntimeError(f"{path} does not reload to the fitted law")
 
     if figures:
-        with step(f"{name}: figures"):
-            # Fig. 8 rings held-out bounces, so its laws are fitted without them (the split of Table 2).
-            held_out = {law: fit(registered_laws()[law], train, test=test, seed=seed) for law in PAPER_LAWS[:-1]}
-            held_out[PAPER_LAWS[-1]] = pw["bouncelab's delta-optimal plane"]
-            section["figures"] = _figures(name, ds, cmp, held_out, test, rep, out / "figures", files, units)
+        with step(f"{name}: figures") as st:
+            context = {"cmp": cmp, "pw": pw, "train": train, "test": test, "split_error": split_error,
+                       "rep": rep, "rep_error": rep_error, "names": names, "compared": compared, "seed": seed}
+            made, not_drawn = _figures(name, ds, context, out / "figures", files, units)
+            section["figures"] = made
+            section["figures_skipped"] = not_drawn
+            for label, why in not_drawn.values():
+                skip(label, why)
+            if not_drawn:
+                st.status = f"done, {len(not_drawn)} not drawn" if made else "skipped"
     return section
 
 
-def _figures(name, ds, cmp, held_out, test, rep, folder: Path, files: list[Path], units: Any = None
-             ) -> dict[str, Path]:
+def _figures(name: str, ds: xr.Dataset, context: dict[str, Any], folder: Path, files: list[Path],
+             units: Any = None) -> tuple[dict[str, Path], dict[str, tuple[str, str]]]:
+    """Draw the figures; returns (caption -> file) of those drawn and (caption -> (short name, reason)) of
+    those that cannot be drawn on these data."""
+    from bouncelab.fitting import fit
+    from bouncelab.fitting.comparison import PAPER_LAWS, SKIPPABLE
+    from bouncelab.laws import law_name
     from bouncelab.laws.plane_fitting import fit_svm
     from bouncelab.plots import (
         plot_landing_space,
@@ -549,33 +912,72 @@ def _figures(name, ds, cmp, held_out, test, rep, folder: Path, files: list[Path]
 
     plt = pyplot()
     folder.mkdir(parents=True, exist_ok=True)
+    cmp, names = context["cmp"], context["names"]
     p0, pf = ds.landing.values, ds.liftoff.values
     try:
         svm = fit_svm(np.ascontiguousarray(p0), np.ascontiguousarray(pf))
-    except FitError:  # too few bounces of a class for the SVM: Fig. 3 without support vectors (noted in Table 2)
+    except SKIPPABLE:  # too few bounces of a class for the SVM: Fig. 3 without support vectors (Table 2 says why)
         svm = None
-    plane_law = cmp.results["PiecewiseAffine"].model
+    fitted = {} if cmp is None else cmp.results
+    plane_law = fitted["PiecewiseAffine"].model if "PiecewiseAffine" in fitted else None
+    shown = ["the delta-optimal plane" if plane_law is not None else "", "SVM support vectors" if svm else ""]
+    absent = [] if plane_law is not None else [
+        "no plane: " + ("PiecewiseAffine is not among the laws" if "PiecewiseAffine" not in names
+                        else "PiecewiseAffine could not be fitted, see Table 3")]
+    if svm is None:
+        absent.append("no support vectors: the paper's SVM cannot run on these data")
+    fig3 = ("Fig. 3: landing conditions, slip/roll classes" + "".join(f", {x}" for x in shown if x)
+            + (f" ({'; '.join(absent)})" if absent else ""))
+
+    def held_out_laws() -> dict[str, Any]:
+        """Fig. 8's laws, fitted without the held-out bounces it rings (the split of Table 2)."""
+        if context["train"] is None:
+            raise DataError(f"the paper's split cannot be made: {context['split_error']}")
+        laws = {}
+        for model in context["compared"]:
+            key = law_name(model)
+            if key in PAPER_LAWS[:-1]:
+                laws[key] = fit(model, context["train"], test=context["test"], seed=context["seed"])
+        if "bouncelab's delta-optimal plane" in context["pw"]:
+            laws[PAPER_LAWS[-1]] = context["pw"]["bouncelab's delta-optimal plane"]
+        if not laws:
+            raise DataError("none of the paper's laws was fitted on the split")
+        return laws
+
+    def repeatability_figure():
+        if context["rep"] is None:
+            raise DataError(context["rep_error"])
+        return plot_repeatability(context["rep"], units=units)
+
     figs = {
-        "Fig. 3: landing conditions, slip/roll classes, the delta-optimal plane and SVM support vectors":
-            ("fig3_landing_space", lambda: plot_landing_space(ds, plane_law, support=svm, units=units)),
-        "Fig. 6: prediction-interval widths": ("fig6_pi_widths", lambda: plot_pi_widths(ds)),
+        fig3: ("fig3_landing_space", "Fig. 3",
+               lambda: plot_landing_space(ds, plane_law, support=svm, units=units)),
+        "Fig. 6: prediction-interval widths": ("fig6_pi_widths", "Fig. 6", lambda: plot_pi_widths(ds)),
         "Fig. 7: tangential velocity at landing and lift-off":
-            ("fig7_tangential", lambda: plot_tangential(ds, units=units)),
+            ("fig7_tangential", "Fig. 7", lambda: plot_tangential(ds, units=units)),
         "Fig. 8: predicted vs observed lift-off, laws fitted without the ringed held-out bounces":
-            ("fig8_predictions", lambda: plot_predictions(ds, held_out, test=test, units=units)),
-        "Fig. 9: repeatability of each launcher setting":
-            ("fig9_repeatability", lambda: plot_repeatability(rep, units=units)),
-        "Fig. 10: all landing/lift-off slices": ("fig10_slices", lambda: plot_slices(ds, units=units)),
+            ("fig8_predictions", "Fig. 8",
+             lambda: plot_predictions(ds, held_out_laws(), test=context["test"], units=units)),
+        "Fig. 9: repeatability of each launcher setting": ("fig9_repeatability", "Fig. 9", repeatability_figure),
+        "Fig. 10: all landing/lift-off slices": ("fig10_slices", "Fig. 10", lambda: plot_slices(ds, units=units)),
         "Beyond the paper: lever arm of the horizontal impulse, data and every fitted law":
-            ("lever_arm", lambda: plot_lever_arm(ds, [res.model for res in cmp.results.values()])),
+            ("lever_arm", "lever-arm figure", lambda: plot_lever_arm(ds, [res.model for res in fitted.values()])),
     }
-    made = {}
-    for caption, (stem, draw) in figs.items():
+    made: dict[str, Path] = {}
+    not_drawn: dict[str, tuple[str, str]] = {}
+    for caption, (stem, label, draw) in figs.items():
         if stem == "fig6_pi_widths" and "landing_pi" not in ds.data_vars:
             continue
-        fig = draw()
+        before = set(plt.get_fignums())
+        try:
+            fig = draw()
+        except SKIPPABLE as exc:
+            not_drawn[caption] = (label, _first_line(exc))
+            for number in set(plt.get_fignums()) - before:  # only the figure this draw had begun
+                plt.close(number)
+            continue
         path = save_figure(fig, folder / f"{name}_{stem}.png")
         plt.close(fig)
         files.append(path)
         made[caption] = path
-    return made
+    return made, not_drawn

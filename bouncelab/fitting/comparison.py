@@ -2,7 +2,12 @@
 
 Everything law-specific comes from the laws: their parameters (scalars get a
 column each, arrays a one-line summary), their diagnostics, and, for the
-paper's campaigns, the values the paper published for laws of those names.
+paper's campaigns, the values the paper published for laws of those names, each
+only beside a figure of the same kind: Table 3's errors (the laws fitted to all
+bounces) beside errors on the fitted bounces, Table 2's (the piecewise-affine law on
+its test set) beside errors on held-out bounces. On a synthetic campaign the paper's
+values are labelled as what they are (its results on its measured bounces, a
+reference, not a validation), and the law that generated the data is marked.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ import xarray as xr
 
 from bouncelab.data import published
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.errors import FitError
+from bouncelab.errors import DataError, FitError, ParameterError
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
@@ -25,11 +30,72 @@ from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_name
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["PAPER_LAWS", "Comparison", "compare", "law_instance"]
+__all__ = ["PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "generating_law", "law_instance", "paper_reference"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
 PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
+#: The errors that mean "this fit cannot be done on these data" (too few bounces, one regime only, a
+#: degenerate plane...): ``compare(..., errors="skip")`` and ``bouncelab reproduce`` skip the law or step
+#: with its message. Anything else is a bug and propagates.
+SKIPPABLE = (FitError, DataError, ParameterError)
 _LABELS = {"delta_xdot": "Delta xdot", "delta_ydot": "Delta ydot", "delta_omega": "Delta omega", "n": "bounces"}
+#: How the paper's values are introduced: plain for measured data, as a reference on synthetic data.
+PAPER_LABEL = "the paper's values in brackets"
+PAPER_LABEL_SYNTHETIC = ("in brackets, the paper's results on its measured bounces: a reference, not a validation, "
+                         "as these bounces are synthetic")
+#: The mark of the law that generated a synthetic campaign, in table headings.
+GENERATOR_MARK = "†"
+
+
+def generating_law(data: Any) -> str | None:
+    """The law that generated a synthetic campaign, as its attrs record it; None for anything else.
+
+    Read from ``generator_law`` (any synthetic campaign may carry it, e.g. ``make_campaign(...,
+    attrs={"generator_law": "Rigid"})``), else ``turf_law`` (:func:`bouncelab.simulate_campaign`:
+    the turf surrogates are simulated with CraterContact), else, for the ``"published"`` surrogate
+    (:func:`bouncelab.data.surrogate.generate_surrogate`), its generator, the paper's published
+    PiecewiseAffine law. Only for ``data_kind="synthetic surrogate"``: a measured campaign has none.
+    """
+    if not isinstance(data, xr.Dataset) or data.attrs.get("data_kind") != "synthetic surrogate":
+        return None
+    for key in ("generator_law", "turf_law"):
+        if data.attrs.get(key):
+            return str(data.attrs[key])
+    if (data.attrs.get("surrogate") == "published"
+            or str(data.attrs.get("source", "")).startswith("bouncelab.data.surrogate.generate_surrogate(")):
+        return "PiecewiseAffine"
+    return None
+
+
+def generator_note(generator: str | None, laws: Sequence[str]) -> str | None:
+    """The footnote naming the law that generated synthetic data (None when none is recorded)."""
+    if generator is None:
+        return None
+    if generator in laws:
+        return (f"{GENERATOR_MARK} {generator} generated these data: its fit is not a test of it (it is fitted to its "
+                "own output, plus noise).")
+    return f"{generator} generated these data (it is not among the laws here)."
+
+
+def paper_reference(campaign: str, law: str, *, held_out: bool) -> dict[str, float]:
+    """The paper's values for ``law`` that are comparable with ours: Table 3's parameters always; its errors
+    (on all the bounces it fitted) only beside errors on fitted bounces (``held_out=False``); Table 2's overall
+    figures (the piecewise-affine law on its test set) only beside errors on held-out bounces."""
+    values = published.paper_values(campaign, law)
+    if law == "PiecewiseAffine":  # Table 2: a test-set figure
+        return values if held_out else {}
+    if held_out:  # Table 3's errors are on the fitted bounces: keep only its parameters
+        return {k: v for k, v in values.items() if k not in ERROR_COLUMNS}
+    return values
+
+
+def _plane_text(model: BounceModel) -> str | None:
+    """A piecewise-affine law's plane as an equation (the form that exists), else None."""
+    from bouncelab.laws.piecewise import PiecewiseAffine
+
+    if isinstance(model, PiecewiseAffine) and model.normal is not None and model.offset is not None:
+        return model.plane_equation(3)
+    return None
 
 
 @dataclass
@@ -47,6 +113,12 @@ class Comparison:
         (``train_<name>``, ``test_<name>``). Fractions, not per cent.
     campaign
         "A" or "B" when the data are (a surrogate of) one of the paper's campaigns, else None.
+    skipped
+        Law name -> why it could not be fitted (``compare(..., errors="skip")``).
+    synthetic
+        Whether the data are synthetic (the paper's values are then labelled as a reference).
+    generator
+        The law that generated synthetic data (:func:`generating_law`), marked in the tables.
     """
 
     results: dict[str, FitResult]
@@ -55,6 +127,9 @@ class Comparison:
     split: str | None = None
     notes: list[str] = field(default_factory=list)
     units: dict[str, str] = field(default_factory=dict)
+    skipped: dict[str, str] = field(default_factory=dict)
+    synthetic: bool = False
+    generator: str | None = None
 
     def _which(self) -> str:
         return "test" if self.split else "train"
@@ -92,10 +167,16 @@ class Comparison:
         return t
 
     def published(self) -> pd.DataFrame | None:
-        """The paper's published values for the same laws (Table 3, and Table 2's overall figures)."""
+        """The paper's published values for the same laws that are comparable with this table's figures.
+
+        Table 3's parameters; its errors only for a comparison on all bounces (``split=None``, errors on the
+        fitted bounces, as Table 3's); Table 2's overall figures (a test set) only with a split (errors on
+        held-out bounces). See :func:`paper_reference`.
+        """
         if self.campaign is None:
             return None
-        rows = {law: published.paper_values(self.campaign, law) for law in self.table.index}
+        rows = {law: paper_reference(self.campaign, law, held_out=self.split is not None)
+                for law in self.table.index}
         out = pd.DataFrame(rows).T
         out = out.reindex(index=list(self.table.index))
         out.index.name = "law"
@@ -113,9 +194,9 @@ class Comparison:
         out = pd.concat(frames, axis=1).swaplevel(axis=1)
         return out.reindex(columns=pd.MultiIndex.from_product([cols, list(frames)]))
 
-    def _label(self, q: str) -> str:
-        unit = self.units.get(q, "1")
-        return _LABELS.get(q, q if unit == "1" or q.endswith(f" [{unit}]") else f"{q} [{unit}]")
+    def _label(self, q: str, units: dict[str, str] | None = None) -> str:
+        unit = (self.units if units is None else units).get(q, "1")
+        return _LABELS.get(q, q if unit in ("1", "") or q.endswith(f" [{unit}]") else f"{q} [{unit}]")
 
     def to_markdown(self, digits: int = 3) -> str:
         """The comparison as markdown, laid out as the paper's Tables 3 and 2.
@@ -128,13 +209,32 @@ class Comparison:
         title = f"campaign {self.campaign}" if self.campaign else "this campaign"
         which = "held-out" if self.split else "fitted"
         paper = self.published()
+        if paper is not None and not paper.notna().any().any():
+            paper = None  # nothing comparable: no brackets, and no heading promising them
         diag = self._diagnostic_names()
         ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS, *diag)})
-        quantities = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *diag)
-                      if c in ours.columns and ours[c].notna().any()]
-        brackets = "; the paper's values in brackets" if paper is not None else ""
+        # A plane is printed as its equation, not as a normal and an offset, whose scale (and so unit) is arbitrary.
+        planes = {law: text for law, res in self.results.items() if (text := _plane_text(res.model)) is not None}
+        params = self.parameter_columns()
+        if planes:
+            ours = ours.astype(object)
+            for law in planes:
+                for col in ("normal", "offset"):
+                    if col in ours.columns:
+                        ours.loc[law, col] = np.nan
+            ours["plane"] = pd.Series(planes, dtype=object)
+            units = dict(self.units, plane="1")
+            at = params.index("normal") if "normal" in params else len(params)
+            params = [*params[:at], "plane", *params[at:]]
+        else:
+            units = self.units
+        quantities = [c for c in (*params, *ERROR_COLUMNS, *diag) if c in ours.columns and ours[c].notna().any()]
+        brackets = ""
+        if paper is not None:
+            brackets = "; " + (PAPER_LABEL_SYNTHETIC if self.synthetic else PAPER_LABEL)
+        mark = {law: law + (f" {GENERATOR_MARK}" if law == self.generator else "") for law in ours.index}
         lines = [f"### Laws fitted to {title} (errors on the {which} bounces{brackets})\n"]
-        lines.append("| quantity | " + " | ".join(ours.index) + " |")
+        lines.append("| quantity | " + " | ".join(mark[law] for law in ours.index) + " |")
         lines.append("|---|" + "---|" * len(ours.index))
         for q in quantities:
             cells = []
@@ -144,14 +244,18 @@ class Comparison:
                     ref = _fmt(paper.loc[law, q], q, digits, percent=q in ERROR_COLUMNS or q in diag)
                     cell += f" ({ref})" if ref else ""
                 cells.append(cell)
-            lines.append(f"| {self._label(q)} | " + " | ".join(cells) + " |")
+            lines.append(f"| {self._label(q, units)} | " + " | ".join(cells) + " |")
         for law, res in self.results.items():
             if not (res.test_diagnostics if self.split else res.diagnostics):
                 continue
             t = self.by_class(law)
-            ref = None if self.campaign is None else published.paper_by_class(self.campaign, law)
-            brackets = ", the paper's in brackets" if ref is not None else ""
-            lines.append(f"\n### {law} by class (Table 2 layout; errors on the {t.attrs['data']} bounces"
+            # Table 2 is the paper's test set: its values stand only beside held-out errors
+            ref = (None if self.campaign is None or not self.split
+                   else published.paper_by_class(self.campaign, law))
+            brackets = ""
+            if ref is not None:
+                brackets = "; " + (PAPER_LABEL_SYNTHETIC if self.synthetic else "the paper's in brackets")
+            lines.append(f"\n### {mark[law]} by class (Table 2 layout; errors on the {t.attrs['data']} bounces"
                          f"{brackets})\n")
             cols = ["overall", "roll", "slip"]
             lines.append("| quantity | " + " | ".join(cols) + " |")
@@ -166,6 +270,11 @@ class Comparison:
                         cell += f" ({r})" if r else ""
                     cells.append(cell)
                 lines.append(f"| {self._label(q)} | " + " | ".join(cells) + " |")
+        footnote = generator_note(self.generator, list(ours.index))
+        if footnote is not None:
+            lines.append(f"\n> {footnote}")
+        for law, why in self.skipped.items():
+            lines.append(f"\n> {law} was not fitted: {why}")
         for note in self.notes:
             lines.append(f"\n> {note}")
         return "\n".join(lines) + "\n"
@@ -206,6 +315,7 @@ def compare(
     split: str | None = None,
     seed: int = 0,
     executor: Any = None,
+    errors: str = "raise",
     **fit_kwargs: Any,
 ) -> Comparison:
     """Fit several laws to the same bounces and tabulate them as the paper's Tables 3 and 2.
@@ -225,6 +335,11 @@ def compare(
         Seed of the split and of every fit.
     executor
         Where to run the fits (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
+    errors
+        ``"raise"`` (default): a law that cannot be fitted to these data stops the comparison.
+        ``"skip"``: it is left out and recorded, with the reason, in :attr:`Comparison.skipped`
+        (and the markdown); only the errors of :data:`SKIPPABLE` (FitError, DataError,
+        ParameterError) are skipped, anything else propagates. If no law can be fitted, FitError.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` for every law (e.g. ``objective``).
 
@@ -236,6 +351,8 @@ def compare(
     """
     if split not in (None, "setting"):
         raise FitError(f"split must be None or 'setting'; got {split!r}")
+    if errors not in ("raise", "skip"):
+        raise FitError(f"errors must be 'raise' or 'skip'; got {errors!r}")
     seed = check_seed(seed)
     if isinstance(laws, str | BounceModel) or isinstance(laws, type):
         laws = [laws]
@@ -248,8 +365,11 @@ def compare(
     if split is not None:
         refuse_sample_weight(fit_kwargs, "compare(split='setting')")
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
-    fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs) for m in models], executor)
-    results = dict(zip(names, fits, strict=True))
+    fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs, errors == "skip") for m in models], executor)
+    results = {name: res for name, res in zip(names, fits, strict=True) if isinstance(res, FitResult)}
+    skipped = {name: res[1] for name, res in zip(names, fits, strict=True) if not isinstance(res, FitResult)}
+    if not results:
+        raise FitError("no law could be fitted: " + "; ".join(f"{k}: {v}" for k, v in skipped.items()))
     # A parameter name carried in different units by different laws gets a column per unit: the
     # plain name keeps the unit of bouncelab's own law that has it (so the paper's values stay beside
     # it), else of the first law; the others are named "name [unit]".
@@ -290,10 +410,18 @@ def compare(
         if campaign is not None:
             note += " Agreement with the paper's numbers for its measured campaign is expected only roughly."
         notes.append(note)
-    return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes, units=units)
+    synthetic = isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate"
+    return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes, units=units,
+                      skipped=skipped, synthetic=synthetic, generator=generating_law(data))
 
 
-def _fit_task(task: tuple) -> FitResult:
-    """One law's fit in :func:`compare` (a module-level function, so executors can pickle it)."""
-    model, train, test, seed, fit_kwargs = task
-    return fit(model, train, test=test, seed=seed, **fit_kwargs)
+def _fit_task(task: tuple) -> FitResult | tuple[str, str]:
+    """One law's fit in :func:`compare` (a module-level function, so executors can pickle it); with ``skip``
+    a fit these data cannot give returns ``("skipped", reason)`` (a picklable pair, not the exception)."""
+    model, train, test, seed, fit_kwargs, skip = task
+    try:
+        return fit(model, train, test=test, seed=seed, **fit_kwargs)
+    except SKIPPABLE as exc:
+        if not skip:
+            raise
+        return ("skipped", str(exc))

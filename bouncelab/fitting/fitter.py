@@ -235,22 +235,50 @@ def _check_options(law: BounceModel, name: str, func: Any, options: dict[str, An
 
 
 def _check_contract(fitted: BounceModel, method: str, box: dict, held: dict, *, explicit_bounds: set[str]) -> None:
-    """A method must honour what the caller asked: held parameters keep their values, and parameters
-    given explicit ``bounds`` lie inside them. A method that cannot honour them fails here instead of
-    returning a law that silently ignores them."""
+    """A method must honour what the caller asked: held parameters keep their values, and every free
+    parameter lies inside the search box (the law's default bounds, or the ``bounds`` given). A method
+    that cannot honour them (a closed form, least squares, a plane search whose result has no bounds of
+    its own) fails here, naming the parameter, instead of returning a law outside its own bounds."""
     who = f"fitting method {method!r} of {law_name(fitted)}"
     for name, value in held.items():
         got = getattr(fitted, name)
         if got is None or not np.array_equal(np.asarray(got, dtype=float), np.asarray(value, dtype=float)):
             raise FitError(f"{who} does not hold parameter {name!r}: it was fixed at {value!r} but the method "
                            f"returned {got!r}; this method cannot hold it (use method='global')")
-    for name in explicit_bounds - set(held):
+    specs = {p.name: p for p in fitted.parameter_specs}
+    for name in [n for n in box if n not in held]:
         lo, hi = box[name]
-        got = np.ravel(np.asarray(getattr(fitted, name), dtype=float))
+        value = getattr(fitted, name)
+        if value is None:
+            raise FitError(f"{who} returned no value for parameter {name!r}")
+        got = np.ravel(np.asarray(value, dtype=float))
+        lo_a, hi_a = np.broadcast_to(lo, got.shape), np.broadcast_to(hi, got.shape)
         tol = 1e-9 * np.maximum(1.0, np.abs(got))
-        if np.any(got < np.asarray(lo) - tol) or np.any(got > np.asarray(hi) + tol):
-            raise FitError(f"{who} returned {name} = {getattr(fitted, name)!r}, outside the bounds {lo!r}..{hi!r} "
-                           f"given; this method does not search within bounds (use method='global')")
+        bad = ~np.isfinite(got) | (got < lo_a - tol) | (got > hi_a + tol)
+        if not bad.any():
+            continue
+        i = int(np.argmax(bad))
+        element = specs[name].element_names()[i] if name in specs and specs[name].size == got.size else name
+        where = "" if element == name else f" ({element} = {got[i]:.6g}, outside {lo_a[i]:g}..{hi_a[i]:g})"
+        if name in explicit_bounds:
+            raise FitError(f"{who} returned {name} = {value!r}{where}, outside the bounds {_bound_text(lo)}.."
+                           f"{_bound_text(hi)} given; this method does not search within bounds (use method='global')")
+        raise FitError(f"{who} returned {name} = {_value_text(value)}{where}, outside the law's search box "
+                       f"{_bound_text(lo)}..{_bound_text(hi)}; the data do not determine {name} within it by this "
+                       f"method. If such values are plausible, widen the box (bounds={{{name!r}: (low, high)}}, "
+                       "within the physical range), or fit with method='global', which searches inside it")
+
+
+def _bound_text(bound: Any) -> str:
+    b = np.ravel(np.asarray(bound, dtype=float))
+    return f"{b[0]:g}" if np.all(b == b[0]) else np.array2string(b, precision=4, separator=", ")
+
+
+def _value_text(value: Any) -> str:
+    if np.ndim(value) == 0:
+        return f"{float(value):.6g}"
+    return np.array2string(np.asarray(value, dtype=float), precision=4, separator=", ",
+                           max_line_width=200).replace("\n", "")
 
 
 def _check_held_out(p0: np.ndarray, pf: np.ndarray, t0: np.ndarray, tf: np.ndarray) -> None:

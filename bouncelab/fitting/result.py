@@ -144,7 +144,7 @@ class FitResult:
     def _parameter_lines(self) -> list[str]:
         lines = []
         for name, p in self.params.items():
-            unit = "" if p.unit == "1" else f" {p.unit}"
+            unit = "" if p.unit in ("1", "") else f" {p.unit}"  # "": no unit of its own (a plane's normal)
             if p.is_scalar:
                 lo, hi = self.bounds.get(name, (np.nan, np.nan))
                 flag = ""

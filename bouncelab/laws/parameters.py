@@ -55,7 +55,8 @@ class Parameter:
         fit bounds outside it are refused with :class:`~bouncelab.ParameterError`
         naming the law and the parameter.
     unit
-        Unit of the value (``"1"`` when dimensionless).
+        Unit of the value (``"1"`` when dimensionless; ``""`` when it has none of its own, as the
+        coefficients of a plane, which any common factor leaves the same).
     description
         One line for reports.
     shape

@@ -26,9 +26,14 @@ PAPER_FORM_MIN = 1e-3
 
 _INF = float("inf")
 _SPECS = (
-    Parameter("normal", (-1.0, 1.0), (-_INF, _INF), "s/radius, s/radius, s",
-              "normal n of the plane n . p0 = offset splitting landing space (any non-zero scale)", shape=(3,)),
-    Parameter("offset", (-3000.0, 3000.0), (-_INF, _INF), "n . p0", "offset of the plane"),
+    # The plane n . p0 = offset has no scale of its own, so n and offset have no fixed unit (a fitted plane is
+    # stored with its largest coefficient +-1; in the paper's form, omega coefficient 1, a and b are in
+    # rad/radius and the offset in rad/s): reports print the plane as an equation, not these two numbers.
+    Parameter("normal", (-1.0, 1.0), (-_INF, _INF), "",
+              "coefficients of xdot0, ydot0, omega0 in the plane n . p0 = offset splitting landing space (any "
+              "non-zero scale, so no unit of their own: see plane_equation())", shape=(3,)),
+    Parameter("offset", (-3000.0, 3000.0), (-_INF, _INF), "",
+              "right-hand side of the plane n . p0 = offset (rad/s when n's omega coefficient is 1, the paper's form)"),
     Parameter("A1", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map on side 1 (roll), rows xdotF ydotF omegaF",
               shape=(3, 3)),
     Parameter("b1", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset of the map on side 1",
@@ -67,9 +72,13 @@ class PiecewiseAffine(CompiledLaw):
     Parameters
     ----------
     normal : array_like (3,), optional
-        Plane normal :math:`\mathbf n` (coefficients of xdot0 [s/radius], ydot0, omega0 [s]).
+        Plane normal :math:`\mathbf n`: the coefficients of xdot0, ydot0 and omega0. Any
+        non-zero scale gives the same plane, so the numbers have no unit of their own; in
+        the paper's form (omega coefficient 1) a and b are in rad/radius. Fitted planes are
+        stored with their largest coefficient +-1 (inside the search box).
     offset : float, optional
-        Plane offset :math:`c`, in the units of :math:`\mathbf n \cdot \mathbf p_0`.
+        Plane offset :math:`c` (rad/s in the paper's form; in general the unit of the
+        component whose coefficient is 1).
     A1, A2 : array_like (3, 3), optional
         Linear parts, dimensionless (rows: xdotF, ydotF, omegaF; columns: xdot0, ydot0, omega0).
     b1, b2 : array_like (3,), optional
@@ -163,7 +172,9 @@ class PiecewiseAffine(CompiledLaw):
     def plane_unit_equation(self, digits: int = 3) -> str:
         """The plane as ``u · p0 = d`` with the unit normal ``u``, e.g. ``'0.567·xdot0 + ... = 382'``."""
         u, d = self.plane_unit_form()
-        terms = " + ".join(f"{v:.{digits}g}·{c}0" for v, c in zip(u, COMPONENTS, strict=True)).replace("+ -", "- ")
+        # a zero coefficient (a plane parallel to that axis) is left out, not printed as "+ 0·omega0"
+        terms = " + ".join(f"{v:.{digits}g}·{c}0" for v, c in zip(u, COMPONENTS, strict=True) if v != 0)
+        terms = terms.replace("+ -", "- ")
         return f"{terms} = {d:.{digits}g}"
 
     def _require_plane(self) -> None:
@@ -176,9 +187,9 @@ class PiecewiseAffine(CompiledLaw):
     def _summary_lines(self) -> list[str]:
         if self.normal is None or self.offset is None:
             return []
-        lines = [f"plane (unit normal): {self.plane_unit_equation(4)}"]
+        lines = [f"plane (unit normal): {self.plane_unit_equation(4)}  (xdot0, ydot0 in radii/s, omega0 in rad/s)"]
         if self.has_paper_form():
-            lines.append(f"plane (paper's form): {self.plane_equation(4)}")
+            lines.append(f"plane (paper's form): {self.plane_equation(4)}  (each term in rad/s)")
         for side, name, (A, b) in ((1, "roll", (self.A1, self.b1)), (2, "slip", (self.A2, self.b2))):
             if A is not None and b is not None:
                 lines.append(f"side {side} ({name}): A{side} = {np.array2string(A, precision=3)}".replace("\n", ""))

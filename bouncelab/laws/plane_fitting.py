@@ -64,6 +64,7 @@ __all__ = [
     "SVM_PLANES",
     "SVM_SCALINGS",
     "PlaneFit",
+    "canonical_plane",
     "fit_svm",
     "least_squares_law",
     "mismatched_fraction",
@@ -120,6 +121,33 @@ def standardise(p0: np.ndarray, weights: np.ndarray | None = None) -> tuple[np.n
     return (p0 - mean) / scale, mean, scale
 
 
+def canonical_plane(normal: np.ndarray, offset: float) -> tuple[np.ndarray, float]:
+    """The plane ``normal . p0 = offset`` scaled so that its largest coefficient is +-1.
+
+    A plane has no natural scale; this one always lies in :class:`~bouncelab.PiecewiseAffine`'s
+    search box (every coefficient in [-1, 1]) and keeps its sides (the scale is positive). When
+    the omega coefficient is the largest it is the paper's printed form
+    ``a xdot0 + b ydot0 + omega0 = c``. Coefficients below 1e-12 of the largest are rounding
+    (a search that ends on the edge of its box gives cos(pi/2) = 6e-17, not 0) and become 0: so a plane
+    parallel to the omega axis is stored as such, not as ``[6e+15, 1.3e+16, 1]``.
+
+    Raises
+    ------
+    FitError
+        A normal that is zero or not finite, or an offset that is not finite.
+    """
+    n = np.asarray(normal, dtype=np.float64).copy()
+    c = float(offset)
+    if n.shape != (3,) or not (np.all(np.isfinite(n)) and np.isfinite(c)):
+        raise FitError(f"the plane search gave a plane that is not finite (normal {n!r}, offset {c!r})")
+    scale = float(np.max(np.abs(n)))
+    if scale == 0.0:
+        raise FitError("the plane search gave a zero normal; the plane is undetermined")
+    n /= scale
+    n[np.abs(n) < 1e-12] = 0.0
+    return n, c / scale
+
+
 def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset: float, *,
                       min_side: int = MIN_SIDE, sample_weight: np.ndarray | None = None):
     """The law with the given plane and a least-squares affine map ``pF = A p0 + b`` on each side.
@@ -166,7 +194,7 @@ def orient_slip_side(p0: np.ndarray, slip: np.ndarray, normal: np.ndarray, offse
         slip = slip == "slip"
     side2 = p0 @ normal >= offset
     if slip.any() and (side2 & slip).sum() < (~side2 & slip).sum():
-        return -normal, -offset
+        return -normal + 0.0, -offset + 0.0  # + 0.0: a zero coefficient stays 0, not -0
     return normal, offset
 
 
@@ -271,8 +299,6 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         # w . (p - mean) / scale + b = 0  <=>  (w / scale) . p = (w / scale) . mean - b
         normal = svc.coef_[0] / scale
         offset = float(normal @ mean - svc.intercept_[0])
-        if normal[2] != 0:
-            normal, offset = normal / abs(normal[2]), offset / abs(normal[2])
         notes.append(f"plane = the SVM's decision boundary (C = {C:g}, {scaling} landings; {len(support)} support "
                      f"vectors, {len(margin)} on the margin)")
     elif plane == "support_vectors":
@@ -283,7 +309,7 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         normal, offset = _ols_omega_plane(p0[margin], "on-margin support vectors")
         notes.append(f"plane through the {len(margin)} on-margin support vectors by least squares on omega0 "
                      f"(C = {C:g}, {scaling} landings)")
-    normal, offset = orient_slip_side(p0, slip, normal, offset)
+    normal, offset = orient_slip_side(p0, slip, *canonical_plane(normal, offset))
     model = least_squares_law(p0, pf, normal, offset, min_side=min_side, sample_weight=sample_weight)
     return PlaneFit(model=model, svm_support=support, margin_support=margin, svm_C=C, svm_plane=plane,
                     svm_scaling=scaling, converged=converged, notes=notes)
@@ -372,7 +398,6 @@ def search_plane(p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, search: A
     u, t = unit_to_plane(best.x)
     normal = u / scale  # back to landing units: (u / scale) . p0 = t + (u / scale) . mean
     offset = float(t + normal @ mean)
-    if normal[2] != 0:  # scale to the paper's printed form, omega coefficient +-1
-        normal, offset = normal / abs(normal[2]), offset / abs(normal[2])
+    normal, offset = canonical_plane(normal, offset)  # largest coefficient +-1: inside the law's search box
     return SearchedPlane(normal=normal, offset=offset, outcomes=outcomes, notes=notes)
 

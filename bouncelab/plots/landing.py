@@ -272,12 +272,13 @@ def _plane_mathtext(model: PiecewiseAffine, scale: np.ndarray | None = None) -> 
     With ``scale`` (the figure's unit factors) the equation is of the plane in those units.
     """
     scale = np.ones(3) if scale is None else np.asarray(scale, dtype=float)
-    if model.normal[2] != 0:
+    if model.has_paper_form():
         a, b, off = model.printed_plane()  # a xdot + b ydot + omega = off, scaled units
         coefs = tuple(np.array([a, b, 1.0]) / scale * scale[2])
         off = off * scale[2]
-    else:
-        coefs, off = tuple(np.asarray(model.normal, dtype=float) / scale), model.offset
+    else:  # (nearly) parallel to the omega axis: the unit normal's form, which always exists
+        u, d = model.plane_unit_form()
+        coefs, off = tuple(u / scale), d
     terms = []
     for coef, sym in zip(coefs, (r"\dot{x}_0", r"\dot{y}_0", r"\omega_0"), strict=True):
         if coef == 0:
