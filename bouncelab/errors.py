@@ -16,7 +16,11 @@ __all__ = [
     "LargeResultWarning",
     "NonphysicalLiftoffWarning",
     "NotFittedError",
+    "OutputError",
+    "OutsideFittedRangeWarning",
     "ParameterError",
+    "SyntheticDataWarning",
+    "UnknownLawError",
 ]
 
 
@@ -81,12 +85,77 @@ class NotFittedError(ParameterError):
     """The law has unset parameters: construct it with values or fit it first."""
 
 
+class UnknownLawError(ParameterError):
+    """No bounce law is registered under a name (:func:`bouncelab.laws.law_class`, a law file).
+
+    Attributes
+    ----------
+    law_name
+        The name asked for (``"Rigid"``, ``"mylaws:MyLaw"``).
+    module, qualname
+        For a ``module:QualName`` name, its two parts (None for a short name).
+    module_imported
+        Whether ``module`` is imported in this process: False means "import it first", True
+        means the module is there but defines no such law.
+    script
+        The file of the script that defined the law, when a law file says it was defined in a
+        script run as ``__main__`` (None otherwise).
+    """
+
+    def __init__(self, message: str, *, law_name: str, module: str | None = None, qualname: str | None = None,
+                 module_imported: bool = False, script: str | None = None) -> None:
+        super().__init__(message)
+        self.law_name = law_name
+        self.module = module
+        self.qualname = qualname
+        self.module_imported = module_imported
+        self.script = script
+
+    def __reduce__(self) -> tuple:  # keyword fields survive pickling (errors cross process boundaries)
+        return _rebuild, (type(self), self.args, {"law_name": self.law_name, "module": self.module,
+                                                  "qualname": self.qualname, "module_imported": self.module_imported,
+                                                  "script": self.script})
+
+
 class FitError(BouncelabError, ValueError):
     """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
 
 
 class LawDefinitionError(BouncelabError, TypeError):
     """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""
+
+
+class OutputError(BouncelabError, OSError):
+    """A result cannot be written (a read-only or missing folder, a folder where a file goes, a full disk).
+
+    It is an :class:`OSError` too, so code that catches ``OSError`` around a write still does.
+    Nothing was written: a file already at the path is unchanged.
+
+    Attributes
+    ----------
+    path
+        The path that could not be written.
+    reason
+        Why, in words (the operating system's reason, e.g. ``"Permission denied"``).
+    """
+
+    def __init__(self, message: str, *, path: str, reason: str) -> None:
+        super().__init__(message)
+        self.message = message
+        self.path = str(path)
+        self.reason = reason
+        self.filename = self.path  # as an OSError has them
+        self.strerror = reason
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __reduce__(self) -> tuple:
+        return _rebuild, ((type(self)), (self.message,), {"path": self.path, "reason": self.reason})
+
+
+def _rebuild(cls: type, args: tuple, fields: dict) -> BaseException:
+    return cls(*args, **fields)
 
 
 class BouncelabWarning(UserWarning):
@@ -103,3 +172,11 @@ class LargeResultWarning(BouncelabWarning):
 
 class DroppedRowsWarning(BouncelabWarning):
     """``load_campaign(..., missing="drop")`` left out incomplete rows; the message lists them."""
+
+
+class SyntheticDataWarning(BouncelabWarning):
+    """A law read from a file was fitted to synthetic bounces (a surrogate or a simulation), not to measurements."""
+
+
+class OutsideFittedRangeWarning(BouncelabWarning):
+    """``predict(..., warn_outside_fitted=True)``: some landings lie outside those the law was fitted on."""

@@ -527,10 +527,10 @@ def _predict(args: argparse.Namespace) -> int:
         raise DataError("give landings with --landing XDOT YDOT OMEGA, --speed-angle-spin or --input FILE")
     landing = np.vstack(chunks)
     _check_landings(landing, args, radius)
-    liftoff = units.from_scaled(law.predict(landing), velocity=args.velocity_unit, spin=args.spin_unit,
-                                radius_m=radius)
+    liftoff = units.from_scaled(law.predict(landing, radius_m=radius), velocity=args.velocity_unit,
+                                spin=args.spin_unit, radius_m=radius)
     landing_out = units.from_scaled(landing, velocity=args.velocity_unit, spin=args.spin_unit, radius_m=radius)
-    regimes = law.regime(landing)
+    regimes = law.regime(landing, radius_m=radius)
     v, s = args.velocity_unit, args.spin_unit
     print(f"# law: {law!r}")
     print(f"# xdot0[{v}] ydot0[{v}] omega0[{s}] -> xdotF[{v}] ydotF[{v}] omegaF[{s}] regime")
@@ -540,8 +540,11 @@ def _predict(args: argparse.Namespace) -> int:
 
 
 def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
-    """The unit guard of typed landings: numbers that only a wrong --velocity-unit/--spin-unit makes are refused."""
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, scaled_units_error
+    """The unit guard of typed landings, in flags: each landing must be one a golf ball can make (the guard of
+    the law's predict, bouncelab.data.plausibility.landing_error), else it is refused naming the landing, the
+    limit and the --velocity-unit/--spin-unit the numbers look like."""
+    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, landing_error
+    from bouncelab.data.units import canonical_unit
     from bouncelab.data.validation import as_states
     from bouncelab.errors import DataError
 
@@ -551,18 +554,22 @@ def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float
             raise DataError(f"--speed-angle-spin: {angle[1]}")
     landing, _ = as_states(landing, "landing", landing=True)  # shape and sign first: their own messages
 
-    def declare(likely: dict[str, list[str]]) -> str:
-        return "give the unit with " + " ".join(f"--{kind}-unit {units[0]}" for kind, units in likely.items())
+    def declare(units: dict[str, str]) -> str:
+        flags = {kind: canonical_unit(unit, kind) for kind, unit in (("velocity", args.velocity_unit),
+                                                                     ("spin", args.spin_unit))}
+        changed = [f"--{kind}-unit {unit}" for kind, unit in units.items() if unit != flags[kind]]
+        return "give the unit with " + " ".join(changed)
 
     def widen(limit: str) -> str:
-        return ("predict in Python with the law's predict() (the command line keeps bouncelab's plausible "
-                f"ranges, bouncelab.data.plausibility.PLAUSIBLE_RANGES.{limit})")
+        return ("predict in Python with the law's predict(..., plausible=PLAUSIBLE_RANGES.widened("
+                f"{limit}=...)) (the command line keeps bouncelab's plausible ranges, "
+                "bouncelab.data.plausibility.PLAUSIBLE_RANGES)")
 
-    error = scaled_units_error(landing, None, radius_m=radius, ranges=PLAUSIBLE_RANGES,
-                               units={"velocity": args.velocity_unit, "spin": args.spin_unit},
-                               declare=declare, widen=widen)
+    error = landing_error(landing, radius_m=radius, ranges=PLAUSIBLE_RANGES,
+                          units={"velocity": args.velocity_unit, "spin": args.spin_unit},
+                          declare=declare, widen=widen)
     if error is not None:
-        where = f"landing {error.row}, {error.column}" if error.row is not None else f"the landings' {error.column}"
+        where = f"landing {error.row}" + (f", {error.column}" if error.column else "")
         raise DataError(f"{where}: {error.message}")
 
 

@@ -40,7 +40,7 @@ def plot_lever_arm(data: Any, laws: Iterable[Any] = (), *, ax: Any = None, limit
     sources = [("data", pf)]
     for law in laws:
         model = getattr(law, "model", law)
-        sources.append((type(model).__name__, np.asarray(model.predict(p0))))
+        sources.append((type(model).__name__, np.asarray(model.predict(p0, plausible=None))))  # checked data
     for i, (name, liftoff) in enumerate(sources):
         _, _, lever = _lever(p0, liftoff, min_fraction)
         lever = np.clip(lever[np.isfinite(lever)], limits[0], limits[1])
