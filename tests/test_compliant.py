@@ -130,7 +130,7 @@ def test_parameter_recovery_with_one_percent_noise():
     truth = bl.CompliantImpact(r=0.5, mu=0.45, kappa=1.3)
     p = landings(500, seed=11)
     rng = np.random.default_rng(11)
-    pf = truth.predict(p)
+    pf = truth.predict(p, plausible=None)
     pf = pf + 0.01 * np.abs(pf) * rng.standard_normal(pf.shape)
     res = bl.fit(bl.CompliantImpact, bl.make_campaign(p, pf), seed=0)
     got = res.model.parameters

@@ -384,3 +384,13 @@ def test_provenance_round_trips_exactly(fitted_a):
 def test_load_law_data_error_from_the_cli_names_the_file(tmp_path, capsys):
     assert main(["predict", str(tmp_path / "gone.json"), "--landing", "1000", "-800", "200"]) == EXIT_DATA
     assert "gone.json" in capsys.readouterr().err
+
+
+def test_the_value_alone_for_descriptions_that_embed_a_law(fitted_a):
+    """A simulated turf embeds its law without the file's metadata (the campaign has its own units)."""
+    law = fitted_a.model
+    d = law.to_dict(metadata=False)
+    assert sorted(d) == ["bouncelab_version", "law", "parameters"]
+    assert bl.BounceModel.from_dict(d) == law and bl.BounceModel.from_dict(d).provenance is None
+    sim = json.loads(bl.load_campaign("A").attrs["simulation_json"])
+    assert sorted(sim["turf"]["law"]) == ["bouncelab_version", "law", "options", "parameters"]

@@ -957,8 +957,12 @@ class BounceModel:
             d["options"] = {k: plain(v) for k, v in self.options.items()}
         return d
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, *, metadata: bool = True) -> dict[str, Any]:
         """JSON-safe description, the content of a law file (format :data:`LAW_FORMAT_VERSION`).
+
+        ``metadata=False`` gives the law's value alone, in the keys of the first format
+        (``law``, ``parameters``, ``options``, ``bouncelab_version``): for descriptions that embed a
+        law among their own units and conventions (e.g. a simulated turf's); it loads as well.
 
         Keys: ``format`` and ``format_version``; ``law`` (:func:`law_name`: the class name for
         bouncelab's laws, ``module:QualName`` for others) and, for a class of yours, ``class``
@@ -975,6 +979,8 @@ class BounceModel:
         from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS
 
         cls = type(self)
+        if not metadata:
+            return {**self._value_dict(), "bouncelab_version": __version__}
         d: dict[str, Any] = {"format": LAW_FORMAT, "format_version": LAW_FORMAT_VERSION, **self._value_dict()}
         if not _is_builtin(cls):
             d["class"] = {"module": cls.__module__, "qualname": cls.__qualname__, "script": script_module(cls)[1]}
