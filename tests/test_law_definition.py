@@ -137,3 +137,11 @@ def test_a_correct_numpy_law_is_unaffected():
     law = _base("Fine", _predict=good_predict, _regime=one_regime)(e=0.5)
     res = bl.fit(type(law), bl.load_campaign("A"), maxeval=40)
     assert 0.0 <= res.model.e <= 1.0 and np.isfinite(res.delta)
+
+
+def test_score_names_a_definition_mistake_too():
+    ds = bl.load_campaign("A")
+    with pytest.raises(LawDefinitionError, match=r"Transposed._predict returned an array of shape \(3, 330\)"):
+        bl.score(Transposed(e=0.5), ds)
+    with pytest.raises(LawDefinitionError, match=r"FloatCodes._regime returned"):
+        bl.score(FloatCodes(e=0.5), ds, by="regime")
