@@ -35,9 +35,11 @@ CRATER = {"r0": 0.6, "v_r": 2000.0, "mu_k": 0.15, "mu_s": 1.0, "v_s": 150.0, "la
 
 
 def landings(n: int, seed: int = 0) -> np.ndarray:
-    """Landings spanning the paper's Table 1, in scaled units."""
+    """Landings spanning the paper's Table 1, in scaled units: golf landings, which predict's unit guard accepts
+    (the flattest come in at 5.5 degrees: xdot0 is capped at |ydot0| / tan 5.5 deg)."""
     rng = np.random.default_rng(seed)
-    return np.column_stack([rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n), rng.uniform(-410, 1700, n)])
+    xd, yd = rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n)
+    return np.column_stack([np.minimum(xd, -yd / np.tan(np.radians(5.5))), yd, rng.uniform(-410, 1700, n)])
 
 
 def rel_err(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> float:

@@ -18,7 +18,10 @@ __all__ = [
     "NonphysicalLiftoffWarning",
     "NotFittedError",
     "OutputError",
+    "OutsideFittedRangeWarning",
     "ParameterError",
+    "SyntheticDataWarning",
+    "UnknownLawError",
 ]
 
 
@@ -83,6 +86,38 @@ class NotFittedError(ParameterError):
     """The law has unset parameters: construct it with values or fit it first."""
 
 
+class UnknownLawError(ParameterError):
+    """No bounce law is registered under a name (:func:`bouncelab.laws.law_class`, a law file).
+
+    Attributes
+    ----------
+    law_name
+        The name asked for (``"Rigid"``, ``"mylaws:MyLaw"``).
+    module, qualname
+        For a ``module:QualName`` name, its two parts (None for a short name).
+    module_imported
+        Whether ``module`` is imported in this process: False means "import it first", True
+        means the module is there but defines no such law.
+    script
+        The file of the script that defined the law, when a law file says it was defined in a
+        script run as ``__main__`` (None otherwise).
+    """
+
+    def __init__(self, message: str, *, law_name: str, module: str | None = None, qualname: str | None = None,
+                 module_imported: bool = False, script: str | None = None) -> None:
+        super().__init__(message)
+        self.law_name = law_name
+        self.module = module
+        self.qualname = qualname
+        self.module_imported = module_imported
+        self.script = script
+
+    def __reduce__(self) -> tuple:  # keyword fields survive pickling (errors cross process boundaries)
+        return _rebuild, (type(self), self.args, {"law_name": self.law_name, "module": self.module,
+                                                  "qualname": self.qualname, "module_imported": self.module_imported,
+                                                  "script": self.script})
+
+
 class FitError(BouncelabError, ValueError):
     """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
 
@@ -93,25 +128,44 @@ class LawDefinitionError(BouncelabError, TypeError):
 
 class OutputError(BouncelabError, OSError, ValueError):
     """A file or folder bouncelab was asked to write cannot be written (a read-only or missing folder, a
-    folder where a file should be, a full disk); nothing is left half-written.
+    folder where a file should be, a full disk); nothing is left half-written: a file already at the path
+    is unchanged.
 
-    An ``OSError`` (what writing a file raises) and, as the command line's output error always was, a
-    ``ValueError``. The ``bouncelab`` command exits with status 2 for it.
+    An ``OSError`` (what writing a file raises, so code that catches ``OSError`` around a write still
+    does) and, as the command line's output error always was, a ``ValueError``. The ``bouncelab``
+    command exits with status 2 for it.
 
     Attributes
     ----------
     path
         The file or folder that could not be written, when known.
+    reason
+        Why, in words (the operating system's reason, e.g. ``"Permission denied"``), when known.
     errno
         The operating system's error number (``errno.EACCES``...), when one caused it.
     """
 
-    def __init__(self, message: str, *, path: str | None = None, errno: int | None = None) -> None:
+    def __init__(self, message: str, *, path: str | None = None, reason: str | None = None,
+                 errno: int | None = None) -> None:
         super().__init__(message)
         self.message = message
         self.path = None if path is None else str(path)
+        self.reason = reason
+        self.filename = self.path  # as an OSError has them
+        self.strerror = reason
         if errno is not None:
-            self.errno = errno  # str(self) stays the message: OSError formats only errno with strerror
+            self.errno = errno
+
+    def __str__(self) -> str:
+        return self.message  # OSError would format errno and strerror instead
+
+    def __reduce__(self) -> tuple:
+        return _rebuild, (type(self), (self.message,), {"path": self.path, "reason": self.reason,
+                                                        "errno": getattr(self, "errno", None)})
+
+
+def _rebuild(cls: type, args: tuple, fields: dict) -> BaseException:
+    return cls(*args, **fields)
 
 
 class BouncelabWarning(UserWarning):
@@ -128,3 +182,11 @@ class LargeResultWarning(BouncelabWarning):
 
 class DroppedRowsWarning(BouncelabWarning):
     """``load_campaign(..., missing="drop")`` left out incomplete rows; the message lists them."""
+
+
+class SyntheticDataWarning(BouncelabWarning):
+    """A law read from a file was fitted to synthetic bounces (a surrogate or a simulation), not to measurements."""
+
+
+class OutsideFittedRangeWarning(BouncelabWarning):
+    """``predict(..., warn_outside_fitted=True)``: some landings lie outside those the law was fitted on."""

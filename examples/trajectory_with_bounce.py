@@ -74,8 +74,10 @@ def fly(x: float, y: float, vx: float, vy: float, t_max: float = 30.0):
 def bounce(law: bl.BounceModel, vx: float, vy: float, omega: float):
     """Lift-off velocity (m/s) and spin (rad/s) from the landing ones, through the law in scaled units."""
     landing = units.to_scaled([vx, vy, omega], velocity="m/s", spin="rad/s")  # radii/s, radii/s, rad/s
-    liftoff = law.predict(landing)
-    regime = str(law.regime(landing))
+    # plausible=None: the simulation's own states, not numbers typed by a person. The unit guard would refuse
+    # the last hops of a ball coming to rest (slower than 1 m/s or flatter than 5 degrees: no measured bounce).
+    liftoff = law.predict(landing, plausible=None)
+    regime = str(law.regime(landing, plausible=None))
     vx_f, vy_f, omega_f = units.from_scaled(liftoff, velocity="m/s", spin="rad/s")
     return float(vx_f), float(vy_f), float(omega_f), regime
 

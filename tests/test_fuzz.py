@@ -60,10 +60,19 @@ def odd_inputs():
 
 
 def check(law, landing) -> None:
+    # The unit guard (the default) refuses with a DataError or predicts what the maths predict; the
+    # properties below are of the maths (plausible=None), on every valid landing, plausible for golf or not.
     try:
-        out = law.predict(landing)
+        guarded = law.predict(landing)
     except DataError:
+        guarded = None
+    try:
+        out = law.predict(landing, plausible=None)
+    except DataError:
+        assert guarded is None  # what the value checks refuse, the guarded call refuses too
         return
+    if guarded is not None:
+        np.testing.assert_array_equal(np.asarray(guarded), np.asarray(out))
     if isinstance(landing, pd.DataFrame):  # labelled in, labelled out (columns xdot, ydot, omega)
         assert isinstance(out, pd.DataFrame) and list(out.columns) == ["xdot", "ydot", "omega"]
         out = out.to_numpy()
@@ -75,7 +84,7 @@ def check(law, landing) -> None:
     assert np.all(np.abs(out) < 1e15)
     if law in ENERGY_SAFE:
         assert np.all(kinetic_energy(out) <= kinetic_energy(p) * (1 + 1e-12) + 1e-9)
-    regimes = np.asarray(law.regime(landing))
+    regimes = np.asarray(law.regime(landing, plausible=None))
     assert regimes.shape == p.shape[:-1] and set(np.ravel(regimes)) <= set(law.regimes)
 
 
@@ -89,3 +98,13 @@ def test_predict_arrays(law, landing):
 @given(landing=odd_inputs())
 def test_predict_odd_inputs(law, landing):
     check(law, landing)
+
+
+@given(speed=st.floats(0.2, 150.0), angle=st.floats(0.5, 90.0), spin=st.floats(-40_000.0, 40_000.0))
+def test_unit_guard_judges_a_landing_alike_in_every_form_and_unit(speed, angle, spin):
+    """Issue 22: one guard. Polar or Cartesian, SI, scaled or km/h and rad/s: the same verdict (the same limit)."""
+    from tests.test_unit_guard import _forms, _verdicts
+
+    verdicts = _verdicts(speed, angle, spin)
+    assert len(set(verdicts.values())) == 1, (speed, angle, spin, verdicts)
+    assert len(verdicts) == len(_forms(speed, angle, spin))

@@ -49,7 +49,7 @@ def threads():
 def test_results_do_not_depend_on_batch_size_or_threads(law, threads):
     """bouncelab 0.1: 143 of campaign B's 693 lift-offs changed bits inside a 30,000-row call."""
     p = bl.load_campaign("B").landing.values
-    alone = law.predict(p)
+    alone = law.predict(p, plausible=None)
     rng = np.random.default_rng(0)
     filler = np.abs(rng.normal(500.0, 300.0, (200_000, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
     for size, at in ((30_000, 0), (30_000, 12_345), (PARALLEL_MIN + 1, 40_000), (200_000, 150_001)):
@@ -57,16 +57,17 @@ def test_results_do_not_depend_on_batch_size_or_threads(law, threads):
         big[at:at + len(p)] = p
         for n_threads in (1, 2, 3):
             threads(n_threads)
-            np.testing.assert_array_equal(law.predict(big)[at:at + len(p)], alone)
-            np.testing.assert_array_equal(law.regime(big, codes=True)[at:at + len(p)], law.regime(p, codes=True))
+            np.testing.assert_array_equal(law.predict(big, plausible=None)[at:at + len(p)], alone)
+            np.testing.assert_array_equal(law.regime(big, codes=True, plausible=None)[at:at + len(p)],
+                                          law.regime(p, codes=True, plausible=None))
     for row in (0, 17, len(p) - 1):
-        np.testing.assert_array_equal(law.predict(p[row]), alone[row])
+        np.testing.assert_array_equal(law.predict(p[row], plausible=None), alone[row])
 
 
 def test_error_sums_do_not_depend_on_threads(threads):
     rng = np.random.default_rng(1)
     p0 = np.abs(rng.normal(600.0, 300.0, (3 * PARALLEL_MIN, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
-    pf = bl.Rigid(r=0.4, mu=0.3).predict(p0) + rng.normal(0.0, 20.0, p0.shape)
+    pf = bl.Rigid(r=0.4, mu=0.3).predict(p0, plausible=None) + rng.normal(0.0, 20.0, p0.shape)
     inv = 1.0 / np.linalg.norm(p0, axis=1)
     values = []
     for n_threads in (1, 2, 4):
@@ -84,12 +85,12 @@ def test_threads_calling_predict_at_once():
     rng = np.random.default_rng(2)
     arrays = [np.abs(rng.normal(500.0, 300.0, (150_000, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
               for _ in range(6)]
-    expected = [law.predict(a) for a in arrays]
+    expected = [law.predict(a, plausible=None) for a in arrays]
     results: dict[int, np.ndarray] = {}
 
     def work(i: int) -> None:
         for _ in range(3):
-            results[i] = law.predict(arrays[i])
+            results[i] = law.predict(arrays[i], plausible=None)
 
     workers = [threading.Thread(target=work, args=(i,)) for i in range(6)]
     for t in workers:

@@ -11,6 +11,7 @@ import xarray as xr
 
 import bouncelab as bl
 from bouncelab.data import published, units
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES
 from bouncelab.errors import DataError, LargeResultWarning, NonphysicalLiftoffWarning
 from bouncelab.laws import BounceModel, Parameter
 
@@ -100,8 +101,9 @@ def test_polar_landing_angle_out_of_range_refused() -> None:
 
 
 @pytest.mark.parametrize("landing, kw, column, row, hint", [
-    # 2000 "m/s": radii/s given as m/s
-    ([[20.0, -8.0, 2000.0], [2000.0, -800.0, 2000.0]], {}, "xdot0", 2, "'velocity': 'radius/s'"),
+    # 2000 "m/s": radii/s given as m/s (the first landing is plausible in both units; the speed of a Cartesian
+    # landing involves two columns, so the error names none: the message names xdot0 and ydot0)
+    ([[50.0, -30.0, 2000.0], [2000.0, -800.0, 2000.0]], {}, None, 2, "'velocity': 'radius/s'"),
     # 30 000 "rpm" is beyond what any golf ball spins, in any unit
     ([[20.0, -8.0, 30_000.0]], {}, "omega0", 1, "max_spin"),
     # an angle in radians given as degrees
@@ -118,12 +120,17 @@ def test_physical_landings_that_only_a_unit_mistake_makes_are_refused(landing, k
     assert np.isfinite(law.predict(np.array(landing), units=SI, plausible=wide, **kw)).all()
 
 
-def test_scaled_landings_are_not_unit_guarded_and_a_bad_guard_is_refused() -> None:
+def test_scaled_landings_are_guarded_too_and_a_bad_guard_is_refused() -> None:
     law = bl.Rigid.published("A")
-    # Scaled Cartesian states are the law's own: any physical state is predicted.
+    # Issue 22: scaled Cartesian landings get the same guard (46 m/s and 19 100 rpm are golf landings) ...
     assert np.isfinite(law.predict([[2000.0, -800.0, 2000.0]])).all()
-    with pytest.raises(DataError, match="plausible must be"):
-        law.predict([[20.0, -8.0, 200.0]], units=SI, plausible={"max_speed": 90})
+    with pytest.raises(DataError, match="min_landing_speed"):  # ... and m/s given as radii/s are refused
+        law.predict([[20.0, -8.0, 200.0]])
+    for units_ in (SI, None):
+        with pytest.raises(DataError, match="plausible must be"):
+            law.predict([[20.0, -8.0, 200.0]], units=units_, plausible={"max_speed": 90})
+        with pytest.raises(DataError, match="plausible must be"):
+            law.regime([[20.0, -8.0, 200.0]], units=units_, plausible={"max_speed": 90})
 
 
 class Booster(BounceModel):
@@ -246,25 +253,36 @@ def test_polar_landings_are_guarded_by_their_speed_as_given() -> None:
         law.predict([[120.0, 45.0, 2000.0]], units=SI, form="polar")  # 85 m/s in each component
     assert err.value.column == "speed"
     with pytest.raises(DataError, match=r"2000 m/s.*look like radius/s"):
-        law.predict([[20.0, 30.0, 2000.0], [2000.0, 30.0, 2000.0]], units=SI, form="polar")
+        law.predict([[60.0, 30.0, 2000.0], [2000.0, 30.0, 2000.0]], units=SI, form="polar")
     with pytest.raises(DataError) as err:
         law.predict([[20.0, 30.0, 30_000.0]], units=SI, form="polar")
     assert (err.value.column, err.value.row) == ("spin", 1)
 
 
-def test_declared_units_are_held_to_the_upper_limits_only() -> None:
+def test_declared_units_are_held_to_the_lower_limits_too() -> None:
+    """Issue 22: one guard for every landing. A landing slower than any golf landing is refused even when its
+    unit is declared (it was accepted before as 'a slow landing, not a unit mistake'), and can be accepted on
+    purpose."""
     law = bl.Rigid.published("A")
-    # A single slow landing is a slow landing, not a unit mistake, when its unit is declared.
-    slow = law.predict([[0.5, 30.0, 100.0]], units=SI, form="polar")
-    both = law.predict([[0.5, 30.0, 100.0], [20.0, 30.0, 2000.0]], units=SI, form="polar")
+    with pytest.raises(DataError, match=r"0.5 m/s is slower than any golf landing.*min_landing_speed") as err:
+        law.predict([[0.5, 30.0, 100.0]], units=SI, form="polar")
+    assert (err.value.column, err.value.row) == ("speed", 1)
+    slow = law.predict([[0.5, 30.0, 100.0]], units=SI, form="polar",
+                       plausible=PLAUSIBLE_RANGES.widened(min_landing_speed=0.1))
+    both = law.predict([[0.5, 30.0, 100.0], [20.0, 30.0, 2000.0]], units=SI, form="polar", plausible=None)
     np.testing.assert_allclose(slow[0], both[0])
-    assert np.isfinite(law.predict([[3.0, -2.0, 50.0]], units={"velocity": "km/h", "spin": "rpm"})).all()
+    assert np.isfinite(law.predict([[3.0, -2.0, 50.0]], units={"velocity": "km/h", "spin": "rpm"})).all()  # 1.0 m/s
 
 
-def test_scaled_units_spelled_out_are_not_guarded_either() -> None:
+def test_scaled_units_spelled_out_are_guarded_alike() -> None:
     law = bl.Rigid.published("A")
-    landing = [[20_000.0, -1000.0, 30_000.0]]
-    np.testing.assert_array_equal(law.predict(landing, units="scaled"), law.predict(landing))
+    landing = [[20_000.0, -1000.0, 30_000.0]]  # 427 m/s, 286 000 rpm: no golf landing
+    for given in (None, "scaled"):
+        with pytest.raises(DataError, match="faster than 90 m/s") as err:
+            law.predict(landing, units=given)
+        assert err.value.row == 1
+    np.testing.assert_array_equal(law.predict(landing, units="scaled", plausible=None),
+                                  law.predict(landing, plausible=None))
 
 
 @pytest.mark.parametrize("radius", [21.35, 0.0, -0.02, "0.02135", True])

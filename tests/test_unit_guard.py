@@ -211,3 +211,169 @@ def test_cli_predict_landing_without_spin_is_plausible(capsys):
     """A landing alone may have no spin: the peak-spin limit applies to campaigns, not to landings."""
     assert main([*PUB, "--landing", "900", "-700", "0"]) == EXIT_OK
     capsys.readouterr()
+
+
+# ----------------------------------------------------------------------------- one guard for every landing (issue 22)
+SI = {"velocity": "m/s", "spin": "rpm"}
+LAW = bl.Rigid.published("A")
+
+
+def _forms(speed_mps: float, angle_deg: float, spin_rpm: float) -> dict[str, tuple[np.ndarray, dict]]:
+    """One landing in every form and unit: (landing, predict keywords)."""
+    polar = np.array([[speed_mps, angle_deg, spin_rpm]])
+    cart_si = units.state_from_polar(polar, kind="landing", speed_unit="m/s", spin_unit="rpm")
+    cart_si = units.from_scaled(cart_si, velocity="m/s", spin="rpm")
+    scaled = units.to_scaled(cart_si, velocity="m/s", spin="rpm")
+    kmh = units.from_scaled(scaled, velocity="km/h", spin="rad/s")
+    return {
+        "polar SI": (polar, {"units": SI, "form": "polar"}),
+        "Cartesian SI": (cart_si, {"units": SI}),
+        "Cartesian scaled": (scaled, {}),
+        "Cartesian km/h, rad/s": (kmh, {"units": {"velocity": "km/h", "spin": "rad/s"}}),
+    }
+
+
+def _verdicts(speed_mps: float, angle_deg: float, spin_rpm: float) -> dict[str, str | None]:
+    out = {}
+    for name, (landing, kw) in _forms(speed_mps, angle_deg, spin_rpm).items():
+        try:
+            LAW.predict(landing, **kw)
+            out[name] = None
+        except bl.DataError as exc:
+            out[name] = next(limit for limit in ("min_landing_speed", "max_speed", "max_spin", "min_landing_angle")
+                             if f"widened({limit}=" in str(exc))
+    return out
+
+
+@pytest.mark.parametrize("landing, limit", [
+    ((20.0, 4.9, 2000.0), "min_landing_angle"),   # grazing: refused in polar form before, accepted as Cartesian
+    ((20.0, 30.0, 30_000.0), "max_spin"),          # 30 000 rpm: refused in SI before, 3141 rad/s accepted scaled
+    ((0.5, 30.0, 2000.0), "min_landing_speed"),    # slower than any golf landing: accepted everywhere before
+    ((95.0, 40.0, 2000.0), "max_speed"),           # 95 m/s at 40 degrees: 73 m/s per component, accepted before
+    ((20.0, 30.0, 2000.0), None),                  # a golf landing, accepted in every form
+])
+def test_one_landing_is_judged_alike_in_every_form_and_unit(landing, limit):
+    assert _verdicts(*landing) == dict.fromkeys(_forms(*landing), limit)
+
+
+@pytest.mark.parametrize("landing", [(1.0, 30.0, 2000.0), (20.0, 5.0, 2000.0), (90.0, 60.0, 2000.0),
+                                     (20.0, 30.0, 20_000.0), (20.0, 30.0, -20_000.0)])
+def test_landings_at_the_limits_are_accepted_in_every_form(landing):
+    """The limits hold to a relative 1e-9, so a conversion's last bits do not decide."""
+    assert set(_verdicts(*landing).values()) == {None}
+
+
+def test_m_per_s_given_as_scaled_units_are_refused_naming_the_unit():
+    for method in (LAW.predict, LAW.regime):
+        with pytest.raises(bl.DataError) as exc:
+            method([[20.0, -15.0, 200.0]])
+        msg = str(exc.value)
+        assert exc.value.row == 1 and exc.value.column is None
+        assert "25 radii/s = 0.5338 m/s is slower than any golf landing (min_landing_speed 1 m/s" in msg
+        assert "if they are m/s, pass units={'velocity': 'm/s', 'spin': 'rad/s'}" in msg
+        assert "PLAUSIBLE_RANGES.widened(min_landing_speed=...) or plausible=None" in msg
+    # ... and declaring the unit, as the message says, predicts the landing
+    out = LAW.predict([[20.0, -15.0, 200.0]], units={"velocity": "m/s", "spin": "rad/s"})
+    np.testing.assert_allclose(out, units.from_scaled(LAW.predict(units.to_scaled(
+        [[20.0, -15.0, 200.0]], velocity="m/s", spin="rad/s")), velocity="m/s", spin="rad/s"))
+
+
+def test_rad_per_s_that_are_rpm_are_refused_in_scaled_units():
+    with pytest.raises(bl.DataError, match=r"100000 rad/s is 954930 rpm, beyond 20000 rpm") as exc:
+        LAW.predict([[1000.0, -800.0, 1e5]])
+    assert (exc.value.column, exc.value.row) == ("omega0", 1)
+    with pytest.raises(bl.DataError, match="the numbers look like rpm") as exc:
+        LAW.predict([[1000.0, -800.0, 3000.0]])
+
+
+def test_the_guard_can_be_widened_or_dropped_on_purpose():
+    slow = [[20.0, -15.0, 200.0]]
+    expected = LAW.predict(slow, plausible=None)
+    np.testing.assert_array_equal(LAW.predict(slow, plausible=PLAUSIBLE_RANGES.widened(min_landing_speed=0.1)),
+                                  expected)
+    assert list(LAW.regime(slow, plausible=None)) == list(LAW.regime(
+        slow, plausible=PLAUSIBLE_RANGES.widened(min_landing_speed=0.1)))
+    grazing = [[1000.0, -50.0, 200.0]]
+    with pytest.raises(bl.DataError, match="min_landing_angle"):
+        LAW.predict(grazing)
+    assert np.isfinite(LAW.predict(grazing, plausible=PLAUSIBLE_RANGES.widened(min_landing_angle=1.0))).all()
+    with pytest.raises(bl.ParameterError, match="min_landing_speed must be a finite number >= 0"):
+        PLAUSIBLE_RANGES.widened(min_landing_speed=-1.0)
+
+
+def test_the_scaled_guard_uses_the_ball_radius():
+    landing = [[20.0, -15.0, 200.0]]  # 25 radii/s: 0.53 m/s for a golf ball, 5 m/s for a 0.2 m ball
+    with pytest.raises(bl.DataError):
+        LAW.predict(landing)
+    assert np.isfinite(LAW.predict(landing, radius_m=0.2)).all()
+    with pytest.raises(bl.DataError, match="ball_radius_m"):
+        LAW.predict(landing, radius_m=21.35)  # millimetres
+
+
+def test_a_dataframe_landing_is_named_by_its_row_label():
+    import pandas as pd
+
+    frame = pd.DataFrame([[1000.0, -800.0, 300.0], [20.0, -15.0, 200.0]], columns=["xdot", "ydot", "omega"],
+                         index=["shot-1", "shot-2"])
+    with pytest.raises(bl.DataError, match=r"^row 2 \(row label 'shot-2'\)") as exc:
+        LAW.predict(frame)
+    assert exc.value.row_label == "shot-2"
+
+
+@pytest.mark.parametrize("n", [1, 8, 9, 500, 3 * 4096])  # plain Python, NumPy and the compiled pass
+def test_each_limit_is_found_whatever_the_number_of_landings(n):
+    from bouncelab.data.plausibility import LandingFaults, landing_faults
+
+    base = np.tile([[1000.0, -800.0, 300.0]], (n, 1))
+    assert landing_faults(base) == LandingFaults()
+    row = n - 1
+    for kind, landing in {"slow": [20.0, -15.0, 200.0], "fast": [5000.0, -800.0, 0.0],
+                          "spin": [1000.0, -800.0, 3000.0], "flat": [1000.0, -50.0, 0.0]}.items():
+        p = base.copy()
+        p[row] = landing
+        assert landing_faults(p) == LandingFaults(**{kind: row}), kind
+    p = base.copy()
+    p[row, 1] = np.nan  # not a landing: left to the value check, which names it
+    assert landing_faults(p) == LandingFaults(invalid=True)
+
+
+def test_a_large_array_names_its_first_implausible_landing_and_its_bad_values_first():
+    p = np.tile([[1000.0, -800.0, 300.0]], (60_000, 1))
+    p[45_000] = [20.0, -15.0, 200.0]
+    with pytest.raises(bl.DataError) as exc:
+        LAW.predict(p)
+    assert exc.value.row == 45_001 and "min_landing_speed" in str(exc.value)
+    p[50_000, 1] = np.nan  # a value no landing has: the value check names it, as without the guard
+    with pytest.raises(bl.DataError, match="NaN") as exc:
+        LAW.predict(p)
+    assert exc.value.row == 50_001
+
+
+def test_lazy_predictions_are_guarded_chunk_by_chunk():
+    pytest.importorskip("dask")
+    import xarray as xr
+
+    p = np.tile([[1000.0, -800.0, 300.0]], (10, 1))
+    p[7] = [20.0, -15.0, 200.0]
+    da = xr.DataArray(p, dims=("bounce", "component"), coords={"component": ["xdot", "ydot", "omega"]}).chunk(
+        {"bounce": 5})
+    with pytest.raises(bl.DataError, match="min_landing_speed"):
+        LAW.predict(da).compute()
+    np.testing.assert_array_equal(LAW.predict(da, plausible=None).compute().values, LAW.predict(p, plausible=None))
+
+
+def test_cli_refuses_a_grazing_landing_alike_in_both_forms(capsys):
+    for landing in (["--landing", "1000", "-80", "300"], ["--speed-angle-spin", "20", "4.9", "2000",
+                                                          "--velocity-unit", "m/s", "--spin-unit", "rpm"]):
+        assert main([*PUB, *landing]) == EXIT_DATA
+        err = capsys.readouterr().err
+        assert "min_landing_angle" in err or "flatter than any golf landing" in err
+
+
+def test_cli_refuses_m_per_s_typed_as_scaled_and_keeps_the_ball_radius(capsys):
+    assert main([*PUB, "--landing", "20", "-15", "200"]) == EXIT_DATA
+    err = capsys.readouterr().err
+    assert "landing 1: the landing speed" in err and "--velocity-unit m/s" in err
+    # with a 0.2 m ball the same numbers are a 5 m/s landing: the CLI's check and the law's agree
+    assert main([*PUB, "--landing", "20", "-15", "200", "--radius-mm", "200"]) == EXIT_OK
+    capsys.readouterr()

@@ -128,7 +128,7 @@ def lever_arm_summary(data: Any, laws: Iterable[Any] = (), *,
     add("data", pf)
     for law in laws:
         model = getattr(law, "model", law)
-        add(type(model).__name__, np.asarray(model.predict(p0)))
+        add(type(model).__name__, np.asarray(model.predict(p0, plausible=None)))  # campaign data: checked
     out = pd.DataFrame.from_dict(rows, orient="index")
     out["n_defined"] = out["n_defined"].astype(int)
     out.index.name = "source"

@@ -655,8 +655,8 @@ def _predict(args: argparse.Namespace) -> int:
     # the unit guard, told the units the numbers were given in (and the typed angles in degrees)
     _check_landings(landing, argparse.Namespace(**{**vars(args), "velocity_unit": v, "spin_unit": s,
                                                    "speed_angle_spin": None if sas is None else sas.tolist()}), radius)
-    liftoff = law.predict(landing)
-    regimes = law.regime(landing)
+    liftoff = law.predict(landing, radius_m=radius)
+    regimes = law.regime(landing, radius_m=radius)
     print(f"# law: {law!r}")
     if table is not None and table.form == "polar" and not args.landing:
         # Landings given as speed, angle and spin: lift-offs too, in the same units.
@@ -677,8 +677,11 @@ def _predict(args: argparse.Namespace) -> int:
 
 
 def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
-    """The unit guard of typed landings: numbers that only a wrong --velocity-unit/--spin-unit makes are refused."""
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, scaled_units_error
+    """The unit guard of typed landings, in flags: each landing must be one a golf ball can make (the guard of
+    the law's predict, bouncelab.data.plausibility.landing_error), else it is refused naming the landing, the
+    limit and the --velocity-unit/--spin-unit the numbers look like."""
+    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, landing_error
+    from bouncelab.data.units import canonical_unit
     from bouncelab.data.validation import as_states
     from bouncelab.errors import DataError
 
@@ -688,18 +691,22 @@ def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float
             raise DataError(f"--speed-angle-spin: {angle[1]}")
     landing, _ = as_states(landing, "landing", landing=True)  # shape and sign first: their own messages
 
-    def declare(likely: dict[str, list[str]]) -> str:
-        return "give the unit with " + " ".join(f"--{kind}-unit {units[0]}" for kind, units in likely.items())
+    def declare(units: dict[str, str]) -> str:
+        flags = {kind: canonical_unit(unit, kind) for kind, unit in (("velocity", args.velocity_unit),
+                                                                     ("spin", args.spin_unit))}
+        changed = [f"--{kind}-unit {unit}" for kind, unit in units.items() if unit != flags[kind]]
+        return "give the unit with " + " ".join(changed)
 
     def widen(limit: str) -> str:
-        return ("predict in Python with the law's predict() (the command line keeps bouncelab's plausible "
-                f"ranges, bouncelab.data.plausibility.PLAUSIBLE_RANGES.{limit})")
+        return ("predict in Python with the law's predict(..., plausible=PLAUSIBLE_RANGES.widened("
+                f"{limit}=...)) (the command line keeps bouncelab's plausible ranges, "
+                "bouncelab.data.plausibility.PLAUSIBLE_RANGES)")
 
-    error = scaled_units_error(landing, None, radius_m=radius, ranges=PLAUSIBLE_RANGES,
-                               units={"velocity": args.velocity_unit, "spin": args.spin_unit},
-                               declare=declare, widen=widen)
+    error = landing_error(landing, radius_m=radius, ranges=PLAUSIBLE_RANGES,
+                          units={"velocity": args.velocity_unit, "spin": args.spin_unit},
+                          declare=declare, widen=widen)
     if error is not None:
-        where = f"landing {error.row}, {error.column}" if error.row is not None else f"the landings' {error.column}"
+        where = f"landing {error.row}" + (f", {error.column}" if error.column else "")
         raise DataError(f"{where}: {error.message}")
 
 

@@ -15,6 +15,19 @@ catch unit mistakes (factors of 3.3, 9.5, 47 or 60), not unusual shots. To accep
 them on purpose, pass wider ranges, e.g.
 ``load_campaign(path, units=..., plausible=PLAUSIBLE_RANGES.widened(max_spin=40_000))``.
 
+Two kinds of check use them:
+
+* sets of bounces (files, :func:`~bouncelab.data.campaign.make_campaign`, :func:`bouncelab.fit`
+  on bare arrays): :func:`implausibility`, :func:`scaled_units_error`, :func:`check_scaled`;
+  every value against the upper limits, and the lower ones on the whole set (a median landing
+  speed, a peak spin) to tell units apart;
+* landings given to a law (``predict``, ``regime``, ``bouncelab predict``): :func:`landing_faults`
+  and :func:`landing_error` hold **each landing** to ``min_landing_speed`` (1 m/s) ...
+  ``max_speed`` (90 m/s) for its speed ``sqrt(xdot0^2 + ydot0^2)``, ``max_spin`` (20 000 rpm) and
+  ``min_landing_angle`` (5 degrees) for its angle of incidence ``atan(-ydot0 / |xdot0|)``, on its
+  scaled Cartesian state, so that one landing gets the same verdict in every form (Cartesian
+  or speed, angle and spin) and unit (scaled or physical).
+
 Examples
 --------
 >>> import numpy as np
@@ -36,17 +49,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from bouncelab.data.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
+from bouncelab.data.validation import STATE_LIMIT, check_values
 from bouncelab.errors import DataError, ParameterError
 
 __all__ = [
     "CANDIDATE_UNITS",
     "PLAUSIBLE_RANGES",
     "Implausibility",
+    "LandingFaults",
     "PlausibleRanges",
     "check_scaled",
     "declare_units_hint",
     "implausibility",
     "landing_angle_error",
+    "landing_error",
+    "landing_faults",
+    "landing_limits",
     "plausible_units",
     "scaled_units_error",
 ]
@@ -76,9 +94,13 @@ class PlausibleRanges:
         300 rpm: a ball rolling off the turf at 5 m/s already spins at 2200 rpm). Used only to
         tell units apart when a file gives none.
     min_landing_angle
-        Smallest angle of incidence below the horizontal, in degrees, of a landing given as
-        speed, angle and spin (default 5 degrees; the paper's landings come in at 16.4 to 89.5
-        degrees): angles in radians read as degrees are all below 1.6 degrees.
+        Smallest angle of incidence below the horizontal, ``atan(-ydot0 / |xdot0|)``, in degrees,
+        of a landing given to a law (default 5 degrees; the paper's landings come in at 16.4 to
+        89.5 degrees): angles in radians read as degrees are all below 1.6 degrees.
+    min_landing_speed
+        Smallest speed ``sqrt(xdot0^2 + ydot0^2)`` of any one landing given to a law, in m/s
+        (default 1.0 m/s; the paper's slowest landing is 1.93 m/s): m/s given as radii/s make
+        every landing below 47 m/s slower than this.
     """
 
     max_speed: float = 90.0
@@ -86,6 +108,7 @@ class PlausibleRanges:
     min_median_landing_speed: float = 1.0
     min_peak_spin: float = 300.0
     min_landing_angle: float = 5.0
+    min_landing_speed: float = 1.0
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -116,7 +139,7 @@ class PlausibleRanges:
 
 
 _UNITS = {"max_speed": "m/s", "max_spin": "rpm", "min_median_landing_speed": "m/s", "min_peak_spin": "rpm",
-          "min_landing_angle": "degrees"}
+          "min_landing_angle": "degrees", "min_landing_speed": "m/s"}
 
 #: The default ranges (see :class:`PlausibleRanges`).
 PLAUSIBLE_RANGES = PlausibleRanges()
@@ -286,9 +309,9 @@ def scaled_units_error(
 ) -> DataError | None:
     """The error for states that a wrong unit made, or ``None`` when they are plausible golf bounces.
 
-    This is the unit guard of everything that takes numbers without a file around them
-    (:func:`~bouncelab.data.campaign.make_campaign`, :func:`bouncelab.fit` on bare arrays, the
-    command line's ``predict``). The whole set is checked against ``ranges``: every value against
+    This is the unit guard of everything that takes sets of bounces without a file around them
+    (:func:`~bouncelab.data.campaign.make_campaign`, :func:`bouncelab.fit` on bare arrays; landings
+    given to a law have :func:`landing_error`). The whole set is checked against ``ranges``: every value against
     the upper limits, and, as the loader does for a column without a unit, the median landing
     speed and (landing and lift-off given) the peak spin against the lower ones, since m/s read
     as radii/s make every landing slower than 1 m/s.
@@ -391,10 +414,261 @@ def landing_angle_error(angles_deg, ranges: PlausibleRanges = PLAUSIBLE_RANGES) 
     if not low.any():
         return None
     row = int(np.argmax(low))
-    a = float(angles[row])
-    return row, (f"an angle of incidence of {a:g} degrees is implausible for a golf landing (below "
-                 f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees); "
-                 f"if it is in radians ({a:g} rad = {math.degrees(a):.4g} degrees), give degrees")
+    return row, _angle_sentence(float(angles[row]), ranges)
+
+
+def _angle_sentence(a: float, ranges: PlausibleRanges) -> str:
+    """Why an angle of incidence of ``a`` degrees is refused (and, if it could be radians, what to do)."""
+    said = (f"an angle of incidence of {a:g} degrees is flatter than any golf landing (min_landing_angle "
+            f"{ranges.min_landing_angle:g} degrees; the paper's landings come in at 16.4 to 89.5 degrees)")
+    if 0 < a <= math.pi / 2:  # could be radians
+        return f"{said}; if it is in radians ({a:g} rad = {math.degrees(a):.4g} degrees), give degrees"
+    return said
+
+
+#: Relative slack of the landing guard's limits: a landing converted between forms or units (polar and
+#: Cartesian, m/s and radii/s) changes in its last bits, and must be judged alike at a limit.
+LIMIT_SLACK = 1e-9
+
+#: From this many landings on, :func:`landing_faults` scans them in one compiled pass (NumPy below).
+FAST_GUARD_MIN = 4096
+
+#: The paper's slowest landing (Table 1), quoted by the guard's messages, in m/s.
+PAPER_SLOWEST_LANDING = 1.93
+
+_FAULT_LIMITS = {"slow": "min_landing_speed", "fast": "max_speed", "spin": "max_spin", "flat": "min_landing_angle"}
+
+
+@dataclass(frozen=True)
+class LandingFaults:
+    """Where a set of landings breaks the per-landing limits of :class:`PlausibleRanges`.
+
+    Attributes
+    ----------
+    slow, fast, spin, flat
+        0-based first landing slower than ``min_landing_speed``, faster than ``max_speed``,
+        spinning faster than ``max_spin``, flatter than ``min_landing_angle``; -1 for none.
+    invalid
+        Whether some rows are not valid landings (NaN, infinite, ``ydot >= 0``...): those are
+        left to the value checks of :mod:`bouncelab.data.validation`, which name them.
+    """
+
+    slow: int = -1
+    fast: int = -1
+    spin: int = -1
+    flat: int = -1
+    invalid: bool = False
+
+    def first(self) -> tuple[str, int] | None:
+        """``(fault, row)`` of the first faulty landing (ties: slow, fast, spin, flat), or None."""
+        found = [(row, k, name) for k, name in enumerate(_FAULT_LIMITS) if (row := getattr(self, name)) >= 0]
+        return None if not found else (min(found)[2], min(found)[0])
+
+
+def landing_limits(radius_m: float = BALL_RADIUS_M,
+                   ranges: PlausibleRanges = PLAUSIBLE_RANGES) -> tuple[float, float, float, float]:
+    """The per-landing limits in scaled units, with :data:`LIMIT_SLACK`: smallest and largest squared
+    speed ((radii/s)^2), largest ``|omega|`` (rad/s) and the tangent of the smallest angle of incidence."""
+    vmin, vmax = ranges.min_landing_speed / radius_m, ranges.max_speed / radius_m
+    tan_a = math.tan(math.radians(ranges.min_landing_angle))
+    return (vmin * vmin * (1.0 - LIMIT_SLACK), vmax * vmax * (1.0 + LIMIT_SLACK),
+            ranges.max_spin * _RPM * (1.0 + LIMIT_SLACK), tan_a * (1.0 - LIMIT_SLACK))
+
+
+def landing_faults(landing: np.ndarray, *, radius_m: float = BALL_RADIUS_M,
+                   ranges: PlausibleRanges = PLAUSIBLE_RANGES) -> LandingFaults:
+    """The landings, one by one, against the per-landing limits (scaled (n, 3) float64 array in).
+
+    A landing is refused when its speed ``sqrt(xdot0^2 + ydot0^2)`` is below ``min_landing_speed``
+    or above ``max_speed``, its ``|omega0|`` above ``max_spin``, or its angle of incidence
+    ``atan(-ydot0 / |xdot0|)`` below ``min_landing_angle``. A few landings are checked in plain
+    Python (a predict of one landing pays a few microseconds for it), more with NumPy, and from
+    :data:`FAST_GUARD_MIN` on in one compiled pass (tens of ms for 10 million); only when that
+    finds a fault are the rows located.
+    """
+    p = np.ascontiguousarray(landing, dtype=np.float64)
+    limits = landing_limits(radius_m, ranges)
+    if len(p) <= _SMALL:
+        return _faults_small(p.tolist(), *limits)
+    if len(p) >= FAST_GUARD_MIN:
+        from bouncelab._parallel import run_rows
+        from bouncelab.data._fast_guard import scan_landings
+
+        parts = run_rows(scan_landings, len(p), p, *limits, STATE_LIMIT)
+        if not any(part[0] for part in parts):
+            return LandingFaults(invalid=any(part[1] for part in parts))
+    min_s2, max_s2, max_w, tan_a = limits
+    x, y, w = p[:, 0], p[:, 1], p[:, 2]
+    with np.errstate(invalid="ignore", over="ignore"):
+        valid = (np.abs(p) <= STATE_LIMIT).all(axis=1) & (y < 0.0)
+        s2 = x * x + y * y
+        masks = (s2 < min_s2, s2 > max_s2, np.abs(w) > max_w, -y < np.abs(x) * tan_a)
+    rows = [int(np.argmax(m)) if (m := mask & valid).any() else -1 for mask in masks]
+    return LandingFaults(*rows, invalid=not bool(valid.all()))
+
+
+#: Up to this many landings, :func:`landing_faults` checks them in plain Python (NumPy costs tens of us a call).
+_SMALL = 8
+
+
+def _faults_small(rows: list[list[float]], min_s2: float, max_s2: float, max_w: float, tan_a: float) -> LandingFaults:
+    """:func:`landing_faults` of a few landings (the same comparisons, one row at a time)."""
+    first = [-1, -1, -1, -1]
+    invalid = False
+    for i, (x, y, w) in enumerate(rows):
+        if not (abs(x) <= STATE_LIMIT and abs(y) <= STATE_LIMIT and abs(w) <= STATE_LIMIT and y < 0.0):
+            invalid = True
+            continue
+        s2 = x * x + y * y
+        for k, bad in enumerate((s2 < min_s2, s2 > max_s2, abs(w) > max_w, -y < abs(x) * tan_a)):
+            if bad and first[k] < 0:
+                first[k] = i
+    return LandingFaults(*first, invalid=invalid)
+
+
+def landing_error(
+    landing,
+    *,
+    radius_m: float = BALL_RADIUS_M,
+    ranges: PlausibleRanges = PLAUSIBLE_RANGES,
+    units: Mapping[str, str] | None = None,
+    form: str = "cartesian",
+    declare: Callable[[dict[str, str]], str],
+    widen: Callable[[str], str],
+    row_labels=None,
+) -> DataError | None:
+    """The unit guard of landings given to a law: the error for the first landing no golf bounce has, or None.
+
+    This is the guard of :meth:`BounceModel.predict <bouncelab.BounceModel.predict>`,
+    :meth:`~bouncelab.BounceModel.regime` and ``bouncelab predict``: every landing, whatever the
+    form and units it was given in, is held to the same limits (:func:`landing_faults`), lower
+    ones as well as upper ones, so one landing is accepted or refused alike as ``[xdot, ydot,
+    omega]`` or as speed, angle and spin, in scaled or physical units.
+
+    Parameters
+    ----------
+    landing
+        Validated (n, 3) landings ``[xdot0, ydot0, omega0]`` in scaled units.
+    radius_m
+        Ball radius of the scaling, in metres.
+    ranges
+        The limits.
+    units
+        The units the landings were given in (``{"velocity": "m/s", "spin": "rpm"}``), default the
+        scaled ones: the message quotes the numbers as given and looks for the unit they were in.
+    form
+        The form they were given in, ``"cartesian"`` or ``"polar"``: it names the columns
+        (``omega0`` or ``spin``, ``speed``).
+    declare
+        ``declare({"velocity": unit, "spin": unit})``: how to give the numbers in the units they
+        look like, e.g. ``"pass units={'velocity': 'm/s', 'spin': 'rad/s'}"``.
+    widen
+        ``widen(limit)``: how to accept the numbers on purpose, given the name of the limit of
+        :class:`PlausibleRanges` they break.
+    row_labels
+        The caller's row labels (a pandas index), if any: the error names the label too.
+
+    Returns
+    -------
+    DataError or None
+        Naming the row (1-based), the column where one is at fault (``omega0``/``spin``,
+        ``speed`` for polar landings; a Cartesian speed or angle involves two columns, named in
+        the message), the limit, the units the numbers look like and how to widen. Rows that
+        are not valid landings give the value check's error (NaN, ``ydot >= 0``...).
+    """
+    p = np.ascontiguousarray(landing, dtype=np.float64)
+    faults = landing_faults(p, radius_m=radius_m, ranges=ranges)
+    if faults.invalid:
+        try:
+            check_values(p, "landing", landing=True)
+        except DataError as exc:
+            return exc
+    first = faults.first()
+    if first is None:
+        return None
+    fault, row = first
+    polar = form == "polar"
+    given = {kind: canonical_unit((units or {}).get(kind, CANDIDATE_UNITS[kind][0]), kind)
+             for kind in ("velocity", "spin")}
+    as_given = {kind: scale_factor(given[kind], kind, radius_m) for kind in given}
+    shown = {kind: {"radius/s": "radii/s"}.get(given[kind], given[kind]) for kind in given}
+    min_s2, max_s2, max_w, _ = landing_limits(radius_m, ranges)
+    valid = (np.abs(p) <= STATE_LIMIT).all(axis=1) & (p[:, 1] < 0.0)
+    speeds = np.hypot(p[valid, 0], p[valid, 1])
+    spins = np.abs(p[valid, 2])
+
+    def speed_ok(factor: float) -> bool:
+        s_lo, s_hi = float(speeds.min()) * factor, float(speeds.max()) * factor
+        return s_lo * s_lo >= min_s2 and s_hi * s_hi <= max_s2
+
+    def likely(kind: str) -> list[str]:
+        out = []
+        for unit in CANDIDATE_UNITS[kind]:
+            if canonical_unit(unit, kind) == given[kind]:
+                continue
+            factor = scale_factor(unit, kind, radius_m) / as_given[kind]
+            if speed_ok(factor) if kind == "velocity" else float(spins.max()) * factor <= max_w:
+                out.append(unit)
+        return out
+
+    x, y, w = p[row]
+    speed = math.hypot(x, y)
+    column: str | None = None
+    if fault in ("slow", "fast"):
+        value = speed / as_given["velocity"]
+        said = f"{_fmt(value)} {shown['velocity']}" if polar else \
+            f"the landing speed sqrt(xdot0^2 + ydot0^2) = {_fmt(value)} {shown['velocity']}"
+        mps = "" if given["velocity"] == "m/s" else f" = {_fmt(speed * radius_m)} m/s"
+        if fault == "slow":
+            reason = (f"{said}{mps} is slower than any golf landing (min_landing_speed {ranges.min_landing_speed:g} "
+                      f"m/s; the paper's slowest is {PAPER_SLOWEST_LANDING:g} m/s)")
+        else:
+            reason = f"{said}{mps} is faster than {ranges.max_speed:g} m/s (max_speed), which no golf ball reaches"
+        kind = "velocity"
+        column = "speed" if polar else None
+    elif fault == "spin":
+        value = w / as_given["spin"]
+        rpm = " is" if given["spin"] == "rpm" else f" is {_fmt(w / _RPM)} rpm,"
+        reason = (f"{_fmt(value)} {shown['spin']}{rpm} beyond {ranges.max_spin:g} rpm (max_spin), which no golf "
+                  "ball reaches")
+        kind = "spin"
+        column = "spin" if polar else "omega0"
+    else:
+        angle = math.degrees(math.atan2(-y, abs(x)))
+        if polar:  # the angle as given, and radians read as degrees
+            reason = _angle_sentence(float(f"{angle:.12g}"), ranges)
+        else:
+            reason = (f"the angle of incidence atan(-ydot0 / |xdot0|) = {angle:.3g} degrees is flatter than any golf "
+                      f"landing (min_landing_angle {ranges.min_landing_angle:g} degrees; the paper's landings come in "
+                      "at 16.4 to 89.5 degrees)")
+        kind = None
+        column = "angle" if polar else None
+    msg = reason
+    found: dict[str, str] = {}
+    if kind is not None:
+        units_ = likely(kind)
+        if units_:
+            msg += f"; the numbers look like {' or '.join(units_)}"
+            found[kind] = units_[0]
+        else:
+            others = [u for u in CANDIDATE_UNITS[kind] if canonical_unit(u, kind) != given[kind]]
+            msg += f"; the numbers are not plausible in {', '.join(others)} either"
+        if kind == "velocity" and faults.spin >= 0:  # both units wrong: say so, and declare both
+            spin_units = likely("spin")
+            msg += (f" (and the spins too: row {faults.spin + 1}, {_fmt(p[faults.spin, 2] / as_given['spin'])} "
+                    f"{shown['spin']} is beyond {ranges.max_spin:g} rpm"
+                    + (f"; they look like {' or '.join(spin_units)})" if spin_units else ")"))
+            if spin_units:
+                found["spin"] = spin_units[0]
+        if found:
+            msg += f": if they are {' and '.join(found.values())}, {declare(dict(given) | found)}"
+        else:
+            msg += ": check them"
+    elif not polar:
+        msg += ": check that xdot0 and ydot0 are the landing's horizontal and vertical velocities, in one unit"
+    msg += f"; if they are right, {widen(_FAULT_LIMITS[fault])}"
+    label = None if row_labels is None else row_labels[row]
+    return DataError(msg, column=column, row=row + 1, row_label=label)
 
 
 def check_scaled(

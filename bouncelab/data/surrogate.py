@@ -191,7 +191,7 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     turf_sd = np.sqrt(np.pi / 2.0) * np.asarray(spec.turf_delta_q) * norm0
     with warnings.catch_warnings():  # the surrogate is the published law by design, warts included
         warnings.simplefilter("ignore", NonphysicalLiftoffWarning)
-        liftoff = law.predict(landing) + turf_sd * rng.standard_normal((n, 3))
+        liftoff = law.predict(landing, plausible=None) + turf_sd * rng.standard_normal((n, 3))
 
     def measured(true: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         scale = 0.5 * spec.pi_fraction * np.abs(true).mean(axis=0)

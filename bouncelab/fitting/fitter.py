@@ -31,6 +31,7 @@ from bouncelab.fitting.problem import (
 )
 from bouncelab.fitting.result import FitResult
 from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_class, law_name, registered_laws
+from bouncelab.laws.provenance import Provenance
 from bouncelab.metrics import error_terms
 
 __all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "default_maxeval", "fit", "law_instance", "resolve_bounds"]
@@ -113,7 +114,9 @@ def fit(
     Returns
     -------
     FitResult
-        With the fitted law in ``result.model``; ``print(result)`` gives a report.
+        With the fitted law in ``result.model``; ``print(result)`` gives a report. The law carries
+        what it was fitted to (``result.model.provenance``: the campaign, synthetic or measured,
+        the generator of synthetic bounces, the landing ranges fitted), which its law file keeps.
 
     Raises
     ------
@@ -126,6 +129,9 @@ def fit(
     ParameterError
         Bounds outside the law's physical range, a start outside the bounds, an
         unknown parameter name.
+    LawDefinitionError
+        The law is written wrongly (no ``_predict``, or one returning anything but an (n, 3)
+        array), naming the class, the method and the shape.
     """
     start_time = time.perf_counter()
     law = law_instance(model)
@@ -164,6 +170,9 @@ def fit(
                        f"not a FitOutcome holding a {type(law).__name__}")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
     label = objective_label(weights, weighting) + ("" if user_weights is None else ", sample-weighted")
+    # what the law was fitted to travels with it (law.provenance, law files), beside its value
+    outcome.model = outcome.model._with_provenance(
+        Provenance.of_fit(data, problem.landing, method=name, objective=label, seed=seed))
     result = _result(outcome, name, label, problem, box, held, seed, start_time)
     if dropped:
         result.notes.append(f"{dropped} bounce(s) with sample_weight 0 left out: {problem.n} fitted")
@@ -297,7 +306,7 @@ def _result(outcome: FitOutcome, method: str, label: str, problem: Problem, box:
     theta = fitted._theta()
 
     def overall(landing: np.ndarray, liftoff: np.ndarray, inv: np.ndarray | None = None) -> np.ndarray:
-        return error_terms(landing, liftoff, fitted._predict(landing, theta), inv).mean(axis=0)
+        return error_terms(landing, liftoff, fitted._predict_valid(landing, theta), inv).mean(axis=0)
 
     train = overall(problem.landing, problem.liftoff)
     tst = problem.test

@@ -28,7 +28,8 @@ class FitResult:
     Attributes
     ----------
     model
-        The fitted law (a new object; the law passed to ``fit`` is unchanged).
+        The fitted law (a new object; the law passed to ``fit`` is unchanged). Its
+        ``provenance`` says what it was fitted to (see :mod:`bouncelab.laws.provenance`).
     method
         The fitting method used (``"global"``, or one of the law's own, e.g.
         ``"structured"``, ``"plane"``, ``"svm"``).
@@ -116,7 +117,7 @@ class FitResult:
         tables = {}
         for name, (p0, pf) in self.data.items():
             classes = np.asarray(SLIP_ROLL_CLASSES)[_slip_codes(p0, pf)]
-            tables[name] = _error_table(error_terms(p0, pf, self.model._predict(p0, theta)), classes)
+            tables[name] = _error_table(error_terms(p0, pf, self.model._predict_valid(p0, theta)), classes)
         return pd.concat(tables, names=["data", "subset"])
 
     @property

@@ -130,7 +130,7 @@ def _sweep_task(task: tuple) -> list[dict[str, Any]]:
         at, held = _law_at(law, point, params)
         row: dict[str, Any] = {k: v for k, v in point.items()}
         if set(held) == params:
-            terms = error_terms(p0, pf, at.predict(p0)).mean(axis=0)
+            terms = error_terms(p0, pf, at.predict(p0, plausible=None)).mean(axis=0)  # the data fitted
             fitted = at
             extra: dict[str, Any] = {}
         else:

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_angle_error, scaled_units_error
+from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
 from bouncelab.data.units import (
     BALL_RADIUS_M,
     COMPONENTS,
@@ -27,7 +27,46 @@ from bouncelab.data.units import (
 from bouncelab.data.validation import check_downward
 from bouncelab.errors import DataError
 
-__all__ = ["PhysicalIO", "is_lazy"]
+__all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
+
+#: How a Python caller accepts landings beyond the plausible ranges on purpose.
+WIDEN = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
+
+
+def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
+    """``plausible=`` as given, if it is a :class:`PlausibleRanges` or None (DataError otherwise)."""
+    if plausible is not None and not isinstance(plausible, PlausibleRanges):
+        raise DataError(f"plausible must be a bouncelab.data.plausibility.PlausibleRanges or None; got {plausible!r}")
+    return plausible
+
+
+def radius_of(radius_m: Any) -> float:
+    """The ball radius in metres of ``radius_m=`` (default 21.35 mm; DataError for what is not metres)."""
+    return BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)
+
+
+def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: float, io: PhysicalIO | None = None,
+                   row_labels: Any = None) -> None:
+    """The unit guard of ``predict`` and ``regime``: refuse landings no golf bounce has, whatever their form and units.
+
+    ``p`` are the validated scaled Cartesian landings (values not checked yet for a large
+    array: the guard then raises the value check's error); ``io`` says how the caller gave them
+    (None: scaled Cartesian states). See :func:`bouncelab.data.plausibility.landing_error`.
+    """
+    if plausible is None:
+        return
+    pair = None if io is None else _unit_pair(io.units)
+    units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
+
+    def declare(likely: dict[str, str]) -> str:
+        return f"pass units={dict(likely)}"
+
+    error = landing_error(p, radius_m=radius_m, ranges=plausible, units=units,
+                          form="cartesian" if io is None else io.form_in, declare=declare,
+                          widen=lambda limit: WIDEN.format(limit=limit),
+                          row_labels=row_labels if io is None else io.index)
+    if error is not None:
+        raise error
 
 
 def is_lazy(x: Any) -> bool:
@@ -41,13 +80,10 @@ class PhysicalIO:
     def __init__(self, units: Any, form: Any, radius_m: float | None,
                  plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> None:
         _unit_pair(units)  # validate early, before any work
-        if plausible is not None and not isinstance(plausible, PlausibleRanges):
-            raise DataError(f"plausible must be a bouncelab.data.plausibility.PlausibleRanges or None; "
-                            f"got {plausible!r}")
         self.units = units
-        self.plausible = plausible
+        self.plausible = check_plausible_argument(plausible)
         self.form_in, self.form_out = _form_pair(form)
-        self.radius_m = BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)  # metres, not mm
+        self.radius_m = radius_of(radius_m)
         self.index = None
         self.lead: tuple[int, ...] = ()
 
@@ -83,36 +119,8 @@ class PhysicalIO:
         self.lead = arr.shape[:-1]
         if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
             check_downward(arr.reshape(-1, 3)[:, 1], unit=(_unit_pair(self.units) or ("radii/s",))[0])
-        scaled = physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
-        self._check_plausible(arr.reshape(-1, 3).astype(float), scaled.reshape(-1, 3))
-        return scaled
-
-    def _check_plausible(self, raw: np.ndarray, scaled: np.ndarray) -> None:
-        """Refuse landings that only a wrong unit (or radians for degrees) makes, as the file loader does.
-
-        Units are declared here, so only the upper limits apply (as for a file with declared units).
-        """
-        ranges = self.plausible
-        if ranges is None or not np.isfinite(scaled).all():  # NaN/inf: the validation names them next
-            return
-        widen = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
-        columns = ("xdot0", "ydot0", "omega0")
-        if self.form_in == "polar":
-            angle = landing_angle_error(raw[:, 1], ranges)
-            if angle is not None:
-                raise DataError(f"{angle[1]}; if it is right, {widen.format(limit='min_landing_angle')}",
-                                column="angle", row=angle[0] + 1)
-            # Check the speed as given, not its components (120 m/s at 45 degrees is 85 m/s in each).
-            scaled = np.column_stack([np.hypot(scaled[:, 0], scaled[:, 1]), np.zeros(len(scaled)), scaled[:, 2]])
-            columns = ("speed", "speed", "spin")
-        pair = _unit_pair(self.units) or ("radius/s", "rad/s")
-        given = {"velocity": pair[0], "spin": pair[1]}
-        error = scaled_units_error(
-            scaled, None, radius_m=self.radius_m, ranges=ranges, units=given, lower=False, landing_columns=columns,
-            declare=lambda likely: f"pass units={given | {k: u[0] for k, u in likely.items()}}",
-            widen=lambda limit: widen.format(limit=limit))
-        if error is not None:
-            raise error
+        # the unit guard (guard_landings) judges the converted landings, as it judges every landing
+        return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
 
     def liftoff(self, out: np.ndarray) -> Any:
         """Scaled (n, 3) lift-offs in the caller's units, form and kind."""

@@ -64,7 +64,7 @@ import numpy as np
 from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
 from bouncelab.data.validation import STATE_LIMIT
 from bouncelab.errors import LawDefinitionError
-from bouncelab.laws.base import BounceModel
+from bouncelab.laws.base import BounceModel, law_name
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
@@ -176,7 +176,9 @@ class CompiledLaw(BounceModel):
 
     def _loops(self) -> _Loops:
         if self.kernel is None:
-            raise NotImplementedError(f"{type(self).__name__} sets no kernel")
+            raise LawDefinitionError(
+                f"{law_name(self)} sets no kernel: a CompiledLaw needs the class attribute kernel = a numba.njit "
+                "function kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, regime_code)")
         return loops_for(self.kernel)
 
     def _kt(self, theta: np.ndarray) -> np.ndarray:

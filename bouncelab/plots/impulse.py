@@ -52,7 +52,7 @@ def plot_lever_arm(data: Any, laws: Iterable[Any] = (), *, ax: Any = None, limit
     sources = [("data", pf)]
     for law in laws:
         model = getattr(law, "model", law)
-        sources.append((type(model).__name__, np.asarray(model.predict(p0))))
+        sources.append((type(model).__name__, np.asarray(model.predict(p0, plausible=None))))
     clipped = {"below": 0, "above": 0}
     for i, (name, liftoff) in enumerate(sources):
         _, _, lever = _lever(p0, liftoff, min_fraction)

@@ -282,7 +282,7 @@ class Turf:
         """JSON-safe description: the nominal law, the scatter, the correlation and the contact duration."""
         return {
             "name": self.name,
-            "law": self.law.to_dict(),
+            "law": self.law.to_dict(metadata=False),  # the law's value: units and conventions are the campaign's
             "scatter": {k: v.to_dict() for k, v in self.scatter.items()},
             "correlation": None if self.correlation is None else [list(r) for r in self.correlation],
             "contact_duration": self.contact.to_dict(),

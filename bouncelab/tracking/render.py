@@ -193,7 +193,8 @@ def render_clip(
             from bouncelab import Rigid
 
             law = Rigid.published("A")
-        liftoff = np.asarray(law.predict(np.asarray(landing, dtype=float)[None, :]), dtype=float)[0]
+        liftoff = np.asarray(law.predict(np.asarray(landing, dtype=float)[None, :], plausible=None),  # any state
+                             dtype=float)[0]
     h, w = (int(v) for v in size)
     if h < 16 or w < 16:
         raise DataError(f"size must be at least 16 x 16 pixels; got {size!r}")

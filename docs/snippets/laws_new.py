@@ -50,5 +50,5 @@ if __name__ == "__main__":
     res = bl.fit(SpeedRestitution, ds)                       # the generic global search works for any law
     print(res)
     print(bl.compare(ds, ["Rigid", SpeedRestitution]).table.round(4).to_string())
-    print(res.model.to_json())                               # named by module:class
+    print(res.model.to_json())                               # named by the script's module: laws_new:SpeedRestitution
     print(bl.BounceModel.from_dict(res.model.to_dict()) == res.model)
