@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from bouncelab._parallel import num_threads
+from bouncelab.core._parallel import num_threads
 from bouncelab.ground import Surface, preset, run
 from bouncelab.ground.surface import GRAVITY
 

@@ -25,7 +25,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bouncelab as bl
-from bouncelab.errors import NonphysicalLiftoffWarning
+from bouncelab.core.errors import NonphysicalLiftoffWarning
 
 
 def bounces(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:

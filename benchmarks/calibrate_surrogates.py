@@ -248,7 +248,7 @@ def json_start(path: str, campaign: str, law: str, scatter: tuple[str, ...] | No
 
 def shipped_start(campaign: str, law: str, scatter: tuple[str, ...] | None) -> np.ndarray:
     """Start vector: the shipped point of ``TURF_CALIBRATION`` (a searched log-sd it lacks starts at 0)."""
-    from bouncelab.data.surrogate import TURF_CALIBRATION
+    from bouncelab.simulation.surrogate import TURF_CALIBRATION
 
     shipped = TURF_CALIBRATION[campaign]
     if shipped["law"] != law:
@@ -358,7 +358,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
         print(f"all 28 numbers: max |dev| {both['max_abs_deviation']:.1%}, median {both['median_abs_deviation']:.1%}"
               f", target {'met' if both['met'] else 'NOT met'}")
     if args.output:
-        from bouncelab.atomic import atomic_write_text
+        from bouncelab.core.atomic import atomic_write_text
 
         out = [{**{k: v for k, v in r.items() if k != "table"},
                 "table": json.loads(r["table"].reset_index().to_json(orient="records"))} for r in results]

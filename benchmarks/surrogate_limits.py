@@ -20,7 +20,7 @@ target; this script measures why, without any simulation or noise:
 
 The landings are those of the published surrogate (``--landings published``, the default) or the true
 landings of the shipped turf surrogate's simulation (``--landings turf``:
-``bouncelab.data.surrogate.generate_turf_surrogate(key)["true_landing"]``), to see how much the
+``bouncelab.simulation.surrogate.generate_turf_surrogate(key)["true_landing"]``), to see how much the
 launcher's landings move the floor.
 
 Run: ``python benchmarks/surrogate_limits.py`` (about 3 min on 2 cores, most of it fitting CraterContact).
@@ -70,7 +70,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, dict[str, float]]
     out: dict[str, dict[str, dict[str, float]]] = {}
     for key in args.campaign or ["A", "B"]:
         if args.landings == "turf":
-            from bouncelab.data.surrogate import generate_turf_surrogate
+            from bouncelab.simulation.surrogate import generate_turf_surrogate
 
             p0 = generate_turf_surrogate(key)["true_landing"].values
         else:

@@ -4,7 +4,7 @@ Fit bounce laws to measured bounces, compare them and use them, following
 Biber, Jones, Champneys, Green & Szalai, *Measurements and linearized models
 for golf ball bounce*. All states are ``[xdot, ydot, omega]`` in the paper's
 scaled units (radii/s and rad/s, y up, omega > 0 backspin); see
-:mod:`bouncelab.data.units`.
+:mod:`bouncelab.core.units`.
 
 >>> import bouncelab as bl
 >>> law = bl.Rigid.published("A")
@@ -17,12 +17,8 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__version__ = "0.1.0"
-
-from bouncelab.data import published, units
-from bouncelab.data.campaign import make_campaign, validate_campaign
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.errors import (
+from bouncelab.core import __version__, published, units
+from bouncelab.core.errors import (
     BouncelabError,
     DataError,
     FitError,
@@ -30,6 +26,7 @@ from bouncelab.errors import (
     NotFittedError,
     ParameterError,
 )
+from bouncelab.core.slip_roll import classify_slip_roll
 from bouncelab.laws import (
     BounceModel,
     CompiledLaw,
@@ -46,13 +43,19 @@ from bouncelab.laws import (
     fit_method,
     load_law,
 )
-from bouncelab.metrics import delta, delta_q, error_table, score
 
-# Heavier or edge modules load on first use, to keep `import bouncelab` fast.
+# Everything above the laws (campaigns, the loader, fitting, analysis) loads on first use: `import bouncelab`
+# and `import bouncelab.laws` stay fast and import neither pandas nor xarray nor the loader (tested).
 _LAZY = {
+    "make_campaign": "bouncelab.data.campaign",
+    "validate_campaign": "bouncelab.data.campaign",
+    "delta": "bouncelab.metrics",
+    "delta_q": "bouncelab.metrics",
+    "error_table": "bouncelab.metrics",
+    "score": "bouncelab.metrics",
     "load_campaign": "bouncelab.data.io",
     "save_campaign": "bouncelab.data.io",
-    "generate_surrogate": "bouncelab.data.surrogate",
+    "generate_surrogate": "bouncelab.simulation.surrogate",
     "simulate_campaign": "bouncelab.simulation",
     "fit": "bouncelab.fitting",
     "FitResult": "bouncelab.fitting",
@@ -106,7 +109,9 @@ __all__ = [
 
 
 # Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
-_SUBPACKAGES = ("analysis", "cli", "data", "estimators", "fitting", "ground", "laws", "plots", "simulation")
+_SUBPACKAGES = ("analysis", "cli", "core", "data", "estimators", "fitting", "ground", "laws", "plots", "simulation")
+#: Modules of the ground floor known by their short names: ``bl.errors.DataError``, ``bl.units.to_scaled``.
+_CORE = ("errors", "plausibility", "published", "units")
 
 
 def __getattr__(name: str) -> Any:
@@ -114,6 +119,8 @@ def __getattr__(name: str) -> Any:
         return getattr(importlib.import_module(_LAZY[name]), name)
     if name in _SUBPACKAGES:
         return importlib.import_module(f"bouncelab.{name}")
+    if name in _CORE:
+        return importlib.import_module(f"bouncelab.core.{name}")
     raise AttributeError(f"module 'bouncelab' has no attribute {name!r}")
 
 

@@ -2,7 +2,7 @@ r"""scikit-learn: a bounce law as a 3-output regressor, :class:`BounceRegressor`
 
 ``X`` holds landings ``[xdot0, ydot0, omega0]`` and ``Y`` lift-offs
 ``[xdotF, ydotF, omegaF]``, both (n, 3) in scaled units (radii/s, rad/s; see
-:mod:`bouncelab.data.units`). ``fit`` runs :func:`bouncelab.fit`, ``predict``
+:mod:`bouncelab.core.units`). ``fit`` runs :func:`bouncelab.fit`, ``predict``
 the fitted law, and ``score`` is :math:`-\delta` (eq. error of the paper), so
 that greater is better as scikit-learn's model selection expects:
 
@@ -33,8 +33,8 @@ from sklearn.base import BaseEstimator, MultiOutputMixin, RegressorMixin
 from sklearn.exceptions import NotFittedError as _SklearnNotFittedError
 from sklearn.utils.validation import check_is_fitted
 
-from bouncelab.errors import DataError, FitError, ParameterError
-from bouncelab.errors import NotFittedError as _BouncelabNotFittedError
+from bouncelab.core.errors import DataError, FitError, ParameterError
+from bouncelab.core.errors import NotFittedError as _BouncelabNotFittedError
 from bouncelab.laws.base import BounceModel
 
 __all__ = ["BounceRegressor", "EstimatorNotFittedError"]
@@ -45,7 +45,7 @@ class EstimatorNotFittedError(_BouncelabNotFittedError, _SklearnNotFittedError):
 
     Both scikit-learn's :class:`sklearn.exceptions.NotFittedError` (what
     scikit-learn code and its estimator checks catch) and bouncelab's
-    :class:`bouncelab.errors.NotFittedError` (a law without values); both are
+    :class:`bouncelab.core.errors.NotFittedError` (a law without values); both are
     ``ValueError``s.
     """
 
@@ -152,7 +152,7 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
         ------
         EstimatorNotFittedError
             Before ``fit``: an instance of scikit-learn's ``sklearn.exceptions.NotFittedError`` (as
-            scikit-learn's tools expect) and of :class:`bouncelab.errors.NotFittedError`.
+            scikit-learn's tools expect) and of :class:`bouncelab.core.errors.NotFittedError`.
         DataError
             Bad landings, as in :meth:`fit` (naming the row and column of a bad value).
         """
@@ -187,7 +187,7 @@ def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
     magnitude, sign), every failure a DataError naming X or y (and the row and column of a bad value)."""
     from sklearn.utils.validation import check_array
 
-    from bouncelab.data.validation import _from_labelled, as_states
+    from bouncelab.core.validation import _from_labelled, as_states
 
     arg = "X" if name == "landing" else "y"
     what = f"{name} ({arg})"
@@ -214,7 +214,7 @@ def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
 
 
 def _pair(X: Any, y: Any, min_samples: int = 1) -> tuple[np.ndarray, np.ndarray]:
-    from bouncelab.data.validation import check_same_length
+    from bouncelab.core.validation import check_same_length
 
     p0, pf = _states(X, "landing", min_samples), _states(y, "liftoff", min_samples)
     check_same_length(p0, pf, "landing (X)", "liftoff (y)")

@@ -22,10 +22,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
-from bouncelab.data.validation import States, as_states, check_same_length, inverse_norms
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
+from bouncelab.core.validation import States, as_states, check_same_length, inverse_norms
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = ["ERROR_COLUMNS", "delta", "delta_q", "error_table", "error_terms", "score"]
 
@@ -45,7 +45,7 @@ def _arrays(landing: States, liftoff: States, predicted: States) -> tuple[np.nda
 def error_terms(p0: np.ndarray, pf: np.ndarray, pp: np.ndarray, inv: np.ndarray | None = None) -> np.ndarray:
     """Per-bounce (n, 4) terms whose means are delta, Delta xdot, Delta ydot, Delta omega (validated arrays).
 
-    ``inv`` is ``1 / ||p0||`` when already known (:func:`bouncelab.data.validation.inverse_norms`).
+    ``inv`` is ``1 / ||p0||`` when already known (:func:`bouncelab.core.validation.inverse_norms`).
     """
     inv = inverse_norms(p0) if inv is None else inv
     err = pf - pp
@@ -136,7 +136,7 @@ def score(model: Any, data: Any, *, by: str | None = "slip_roll") -> pd.DataFram
     from bouncelab.laws.base import BounceModel
 
     if not isinstance(model, BounceModel):
-        from bouncelab.errors import ParameterError
+        from bouncelab.core.errors import ParameterError
 
         raise ParameterError(f"model must be a bounce law (a BounceModel); got {type(model).__name__}")
     if by not in (None, "slip_roll", "regime"):

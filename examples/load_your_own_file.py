@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data import units
+from bouncelab.core import units
 
 
 def write_measurements(path: Path, seed: int = 1) -> None:

@@ -10,7 +10,7 @@ What it shows
     * touch-down found as an event of the ODE solver (the ball's centre one radius above the
       ground);
     * the bounce law applied at touch-down, converting the state to the paper's scaled units
-      with :mod:`bouncelab.data.units` on the way in and back to m/s and rad/s on the way out;
+      with :mod:`bouncelab.core.units` on the way in and back to m/s and rad/s on the way out;
     * several bounces in a row, until the ball hops less than ``--min-hop`` (then it rolls)
       or ``--max-bounces`` is reached.
 
@@ -39,7 +39,7 @@ from scipy.integrate import solve_ivp
 
 import bouncelab as bl
 from bouncelab.analysis.trajectories import AIR_DENSITY, BALL_MASS_KG, DRAG_COEFFICIENT, GRAVITY
-from bouncelab.data import units
+from bouncelab.core import units
 
 RADIUS = units.BALL_RADIUS_M  # m
 #: Quadratic-drag coefficient K in a = -K |v| v, 1/m.

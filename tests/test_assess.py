@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
 from bouncelab.fitting.assessment import VERDICTS, Assessment, assess
 from bouncelab.laws import BounceModel, Parameter
 

@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from bouncelab.atomic import atomic_path, atomic_write_text
+from bouncelab.core.atomic import atomic_path, atomic_write_text
 
 
 def test_failed_write_keeps_previous_file(tmp_path):

@@ -3,7 +3,7 @@
 A fresh clone failed on an AVX-512 machine: the compiled row loops were built with the fast-math
 freedoms ``contract`` and ``arcp``, so the vectorised body of a loop and its scalar tail fused
 multiply-adds differently and a landing's lift-off changed in the last bit with its row's parity.
-The loops now allow no freedom that can change a finite result (:data:`bouncelab._jit.ROW_FLAGS`).
+The loops now allow no freedom that can change a finite result (:data:`bouncelab.core._jit.ROW_FLAGS`).
 
 CI runs this module twice: natively, and under a reduced instruction set (``NUMBA_CPU_NAME=generic``
 and NumPy's SIMD dispatch switched off, see ``.ci/run``); ``test_reduced_instruction_set_gives_the_same_bits``
@@ -119,7 +119,7 @@ def test_changed_floating_point_flags_are_not_served_from_the_cache(tmp_path):
     module = tmp_path / "flagged.py"
     module.write_text(textwrap.dedent("""
         import os
-        from bouncelab._jit import jit
+        from bouncelab.core._jit import jit
         flags = {"contract"} if os.environ["FLAGS"] == "contract" else {"nnan"}
 
         @jit(fastmath=flags)

@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.errors import BouncelabWarning, DataError, FitError, ParameterError
+from bouncelab.core.errors import BouncelabWarning, DataError, FitError, ParameterError
 from bouncelab.fitting import hierarchical as H
 from bouncelab.fitting.hierarchical import ConvergenceWarning, Posterior, calibrate, load_posterior
 from bouncelab.laws._contact import predict_per_bounce
@@ -257,7 +257,7 @@ def test_figures(quick_posterior) -> None:
     from bouncelab.plots.posterior import plot_corner, plot_spread, spread_table
 
     post, data = quick_posterior
-    fig = post.plot_corner(columns=["r", "mu", "scale_r"])
+    fig = plot_corner(post, columns=["r", "mu", "scale_r"])
     assert len([ax for ax in fig.axes if ax.get_visible()]) == 6
     with pytest.raises(ParameterError, match="columns"):
         plot_corner(post, columns=["nope"])

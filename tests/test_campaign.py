@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bouncelab.data.campaign import CONVENTIONS, campaign_arrays, make_campaign, validate_campaign
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.data.campaign import CONVENTIONS, make_campaign, validate_campaign
+from bouncelab.data.inputs import campaign_arrays
 
 P0 = np.array([
     [100.0, -200.0, 50.0],

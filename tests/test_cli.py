@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_FIT, EXIT_OK, EXIT_USAGE, main
-from bouncelab.data import units
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_FIT, EXIT_OK, EXIT_USAGE
+from bouncelab.core import units
 
 
 def run(capsys, *argv):

@@ -14,7 +14,8 @@ import sys
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_FIT, EXIT_USAGE, main
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_FIT, EXIT_USAGE
 
 LANDING = ["--landing", "1000", "-800", "200"]
 PUB = ["predict", "Rigid", "--published", "A"]

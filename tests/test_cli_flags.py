@@ -20,9 +20,10 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_FIT, EXIT_OK, EXIT_USAGE, main
-from bouncelab.data import units
-from bouncelab.errors import DataError
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_FIT, EXIT_OK, EXIT_USAGE
+from bouncelab.core import units
+from bouncelab.core.errors import DataError
 
 PUB = ["predict", "Rigid", "--published", "A"]
 LAW = bl.Rigid.published("A")
@@ -305,7 +306,7 @@ def clip(tmp_path_factory):
 @pytest.mark.parametrize(("fps", "direction"), [("100", "low"), ("1e6", "high")])
 def test_a_wrong_frame_rate_is_blamed_on_fps_not_on_units(tmp_path, capsys, clip, fps, direction):
     """A clip filmed at 5000 frames/s tracked with --fps 100 (or 10^6): the speeds are 50 times too slow (200
-    times too fast). The unit guard's message ended with a Python call (bouncelab.data.units.to_scaled)."""
+    times too fast). The unit guard's message ended with a Python call (bouncelab.core.units.to_scaled)."""
     out = tmp_path / "c.nc"
     code, _, err = run(capsys, "track", str(clip), "--fps", fps, "--out", str(out), "--quiet")
     assert code == EXIT_DATA

@@ -22,7 +22,8 @@ import pytest
 
 import bouncelab as bl
 from bouncelab.cli import reproduce as rp
-from bouncelab.cli.main import EXIT_DATA, EXIT_OK, EXIT_USAGE, main
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE
 
 
 def _fake_campaign(name, ds, out, seed, figures, step, files, units=None, **_):
@@ -183,7 +184,7 @@ def test_fit_save_failure_prints_the_fit_and_keeps_the_old_file(capsys, tmp_path
     def too_big(*args, **_):
         raise OSError(errno.EFBIG, "File too large")
 
-    monkeypatch.setattr("bouncelab.atomic.os.replace", too_big)
+    monkeypatch.setattr("bouncelab.core.atomic.os.replace", too_big)
     code, out, err = run(capsys, "fit", "Rigid", "A", "--save", law)
     assert code == EXIT_USAGE
     assert "[[Fit]] Rigid" in out and "law written" not in out
@@ -220,7 +221,7 @@ def test_fit_save_to_a_folder_is_refused_before_fitting(capsys, tmp_path, monkey
 
 
 def test_report_files_are_written_atomically(capsys, tmp_path, monkeypatch):
-    """Every table goes through bouncelab.atomic: a failed write leaves no half-written file."""
+    """Every table goes through bouncelab.core.atomic: a failed write leaves no half-written file."""
     calls = []
     real = rp.atomic_write_text
 

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.errors import DataError, FitError
+from bouncelab.core.errors import DataError, FitError
 
 da = pytest.importorskip("dask.array", reason="dask is not installed (pip install -e '.[cluster]')")
 distributed = pytest.importorskip("distributed", reason="dask.distributed is not installed")

@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import differential_evolution
 
 import bouncelab as bl
-from bouncelab.errors import DataError, FitError, ParameterError
+from bouncelab.core.errors import DataError, FitError, ParameterError
 from bouncelab.fitting.objective import ErrorMeasure
 from tests.conftest import random_landings
 from tests.test_laws import Frictionless

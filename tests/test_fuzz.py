@@ -15,8 +15,8 @@ from hypothesis import strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
 import bouncelab as bl  # noqa: E402
-from bouncelab.data.validation import as_states  # noqa: E402
-from bouncelab.errors import DataError  # noqa: E402
+from bouncelab.core.errors import DataError  # noqa: E402
+from bouncelab.core.validation import as_states  # noqa: E402
 from tests.conftest import kinetic_energy  # noqa: E402
 
 # Profiles "bouncelab" (the default here, 60 examples per test) and "fuzz" (1200) are registered in conftest.py.

@@ -1,7 +1,7 @@
 """A run gives the same bits for a shot whatever the batch, its position in it and the thread count (issue 25, item 6).
 
 As in tests/test_bits.py: the compiled loops of the ground phase allow no floating-point freedom that could
-change a finite result (bouncelab._jit.ROW_FLAGS), and every shot is its own row.
+change a finite result (bouncelab.core._jit.ROW_FLAGS), and every shot is its own row.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab import _jit, _parallel
+from bouncelab.core import _jit, _parallel
 from bouncelab.ground import Air, preset, run
 from bouncelab.ground import _kernels as gk
 from bouncelab.laws import set_num_threads

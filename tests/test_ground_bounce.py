@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import DataError, NotFittedError, ParameterError
+from bouncelab.core.errors import DataError, NotFittedError, ParameterError
 from bouncelab.ground import Surface, bounce
 from tests.test_bits import CLOSED_FORM, INTEGRATED, random_law
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.ground import PHASES, Air, BounceLimitWarning, Surface, preset, run
 
 R = 0.02135

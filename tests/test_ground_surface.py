@@ -8,7 +8,7 @@ import math
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import NotFittedError, ParameterError
+from bouncelab.core.errors import NotFittedError, ParameterError
 from bouncelab.ground import PRESET_NAMES, STIMP_SPEED_M_S, Surface, load_surface, preset
 
 

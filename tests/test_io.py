@@ -13,12 +13,12 @@ import pytest
 import scipy.io
 import xarray as xr
 
+from bouncelab.core.errors import DataError
 from bouncelab.data import io as bio
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.io import excel as io_excel
 from bouncelab.data.io import load as io_load
 from bouncelab.data.io import load_campaign, save_campaign
-from bouncelab.errors import DataError
 
 R = 0.02135  # default ball radius, metres
 RPM = 2 * math.pi / 60
@@ -34,7 +34,7 @@ SETTING = np.array([1, 1, 1, 2, 2, 2])
 COLS = {"vx0": VX0, "vy0": VY0, "w0": W0, "vxF": VXF, "vyF": VYF, "wF": WF}
 PHYS = {"velocity": "m/s", "spin": "rpm"}
 
-# Expected scaled values, computed independently of bouncelab.data.units.
+# Expected scaled values, computed independently of bouncelab.core.units.
 EXP_LANDING = np.column_stack([VX0 / R, VY0 / R, W0 * 2 * np.pi / 60])
 EXP_LIFTOFF = np.column_stack([VXF / R, VYF / R, WF * 2 * np.pi / 60])
 
@@ -351,7 +351,7 @@ def test_save_refuses_unstorable_attr_and_bad_suffix(tmp_path):
 
 
 def test_save_missing_directory(tmp_path):
-    from bouncelab.errors import OutputError
+    from bouncelab.core.errors import OutputError
 
     with pytest.raises(OutputError, match="does not exist") as e:
         save_campaign(make_full_campaign(SETTING), tmp_path / "no" / "dir" / "x.nc")

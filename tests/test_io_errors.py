@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import canonical_unit, spin_to_scaled
 from bouncelab.data.io import excel as io_excel
 from bouncelab.data.io import load_campaign, save_campaign
-from bouncelab.data.units import canonical_unit, spin_to_scaled
-from bouncelab.errors import DataError
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -77,7 +77,7 @@ def _campaign():
 
 def test_output_error_is_one_type_for_the_library_and_the_command_line():
     from bouncelab.cli.reproduce import OutputError as CliOutputError
-    from bouncelab.errors import BouncelabError, OutputError
+    from bouncelab.core.errors import BouncelabError, OutputError
 
     assert CliOutputError is OutputError
     err = OutputError("cannot write 'x'", path="x", errno=errno.EACCES)
@@ -88,7 +88,7 @@ def test_output_error_is_one_type_for_the_library_and_the_command_line():
 def test_saving_where_it_cannot_be_written_is_an_output_error_naming_the_path(tmp_path, monkeypatch):
     import tempfile
 
-    from bouncelab.errors import OutputError
+    from bouncelab.core.errors import OutputError
 
     ds = _campaign()
     target = tmp_path / "c.nc"
@@ -110,7 +110,7 @@ def test_saving_where_it_cannot_be_written_is_an_output_error_naming_the_path(tm
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux only")
 def test_saving_into_proc_is_an_output_error():
-    from bouncelab.errors import OutputError
+    from bouncelab.core.errors import OutputError
 
     with pytest.raises(OutputError, match=r"/proc/bouncelab-campaign\.nc") as e:
         save_campaign(_campaign(), "/proc/bouncelab-campaign.nc")
@@ -119,7 +119,7 @@ def test_saving_into_proc_is_an_output_error():
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root writes to read-only folders")
 def test_saving_into_a_read_only_folder_is_an_output_error(tmp_path):
-    from bouncelab.errors import OutputError
+    from bouncelab.core.errors import OutputError
 
     ro = tmp_path / "ro"
     ro.mkdir()

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import bouncelab as bl
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 HEAD = "setting,vx0 [m/s],vy0 [m/s],w0 [rpm],vxF [m/s],vyF [m/s],wF [rpm]"
 ROWS = ["1,20.1,-15.2,3000,9.5,5.1,1500", "1,12.2,-22.5,-1200,6.1,7.7,600", "2,30.0,-20.0,4500,14.0,6.0,2500"]

@@ -13,11 +13,12 @@ import pandas as pd
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_OK
+from bouncelab.core.errors import DataError, DroppedRowsWarning
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES
+from bouncelab.core.units import state_from_polar
 from bouncelab.data.io import load_campaign, save_campaign
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES
-from bouncelab.data.units import state_from_polar
-from bouncelab.errors import DataError, DroppedRowsWarning
 
 R = 0.02135
 RPM = 2 * math.pi / 60
@@ -111,7 +112,8 @@ def test_angles_in_radians(tmp_path):
 
 
 def test_angle_unit_on_the_command_line(tmp_path, capsys):
-    from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
+    from bouncelab.cli.main import main
+    from bouncelab.cli.messages import EXIT_DATA, EXIT_OK
 
     table = {("angle_in" if "angle_in" in k else "angle_out" if "angle_out" in k else k): v
              for k, v in POLAR.items()}

@@ -1,4 +1,4 @@
-"""Unit plausibility: bouncelab.data.plausibility and how the loader uses it (issue 7, item 3)."""
+"""Unit plausibility: bouncelab.core.plausibility and how the loader uses it (issue 7, item 3)."""
 
 from __future__ import annotations
 
@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.data.plausibility import (
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import (
     CANDIDATE_UNITS,
     PLAUSIBLE_RANGES,
     declare_units_hint,
     implausibility,
     plausible_units,
 )
-from bouncelab.errors import DataError
 
 R = 0.02135
 RPM = 2 * math.pi / 60

@@ -12,9 +12,9 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import implausibility
 from bouncelab.data.campaign import make_campaign, validate_campaign
-from bouncelab.data.plausibility import implausibility
-from bouncelab.errors import DataError
 
 R = 0.02135
 RPM = 2 * math.pi / 60

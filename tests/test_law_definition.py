@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import FitError, LawDefinitionError
+from bouncelab.core.errors import FitError, LawDefinitionError
 from bouncelab.laws import BounceModel, CompiledLaw, FitOutcome, Parameter, fit_method
 
 LANDINGS = np.array([[1000.0, -800.0, 300.0], [600.0, -900.0, -100.0], [1500.0, -400.0, 50.0],

@@ -20,8 +20,9 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_FIT, EXIT_OK, main
-from bouncelab.errors import (
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_FIT, EXIT_OK
+from bouncelab.core.errors import (
     DataError,
     OutputError,
     OutsideFittedRangeWarning,

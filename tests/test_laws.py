@@ -11,7 +11,7 @@ import xarray as xr
 
 import bouncelab as bl
 from benchmarks import numpy_reference
-from bouncelab.errors import DataError, NotFittedError, ParameterError
+from bouncelab.core.errors import DataError, NotFittedError, ParameterError
 from bouncelab.laws.base import BounceModel, Parameter
 from tests.conftest import kinetic_energy, random_landings
 
@@ -428,7 +428,7 @@ def test_fast_atan_and_sincos_accuracy():
                                                             (99999, 0, np.inf, "infinite")])
 def test_large_arrays_are_checked_too(row, col, value, match):
     """Past FAST_CHECK_MIN bounces a compiled pass checks the values; errors still name the row."""
-    from bouncelab.data.validation import FAST_CHECK_MIN
+    from bouncelab.core.validation import FAST_CHECK_MIN
 
     p = np.random.default_rng(0).uniform(1, 100, (2 * FAST_CHECK_MIN, 3)) * np.array([1, -1, 1])
     p[row, col] = value

@@ -26,8 +26,8 @@ from bouncelab.analysis.trajectories import (
     drag_scaled,
     simulate_tracked_bounce,
 )
+from bouncelab.core.errors import DataError
 from bouncelab.data.campaign import make_campaign
-from bouncelab.errors import DataError
 
 LANDING = np.array([1063.0, -810.0, 219.0])
 LIFTOFF = np.array([700.0, 280.0, -550.0])

@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 # Two bounces with landing norms 5 and 13, prediction errors (0, 0, 0.5) and (3, 4, 12).
 P0 = np.array([[3.0, -4.0, 0.0], [5.0, -12.0, 0.0]])

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
 
 
 def two_law_campaign(pi_first: float, pi_second: float) -> tuple:

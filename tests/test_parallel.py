@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab._parallel import PARALLEL_MIN, num_threads, set_num_threads
+from bouncelab.core._parallel import PARALLEL_MIN, num_threads, set_num_threads
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -172,7 +172,7 @@ def test_no_cache_location_falls_back(tmp_path):
     assert run.returncode == 0, run.stderr
     assert "WARNING" not in run.stdout
     assert list(tmp.glob("bouncelab-numba-*/**/*.nbi"))  # cached in the private folder
-    no_folder = "import bouncelab._jit as j; j.cache_directory = lambda: None\n"
+    no_folder = "import bouncelab.core._jit as j; j.cache_directory = lambda: None\n"
     run = _run(no_locators + no_folder + PREDICT, env={"NUMBA_CACHE_DIR": ""})
     assert run.returncode == 0, run.stderr
     warnings = [line for line in run.stdout.splitlines() if line.startswith("WARNING")]

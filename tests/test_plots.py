@@ -17,8 +17,8 @@ from matplotlib.colors import to_rgba  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 import bouncelab as bl  # noqa: E402
+from bouncelab.core.errors import DataError, NotFittedError  # noqa: E402
 from bouncelab.data.campaign import make_campaign  # noqa: E402
-from bouncelab.errors import DataError, NotFittedError  # noqa: E402
 from bouncelab.laws.plane_fitting import fit_svm  # noqa: E402
 from bouncelab.plots import (  # noqa: E402
     plot_landing_space,
@@ -115,7 +115,7 @@ def test_landing_space_accepts_fit_results_and_svm_fits(ds_a):
     assert len(_points(ax, "support-vectors")) == len(svm.svm_support)
     mask = np.zeros(len(p0), dtype=bool)
     mask[svm.svm_support] = True
-    ax = plot_landing_space(ds_a, svm.model, mask).axes[0]
+    ax = plot_landing_space(ds_a, bl.PiecewiseAffine(**svm.parameters), mask).axes[0]
     assert len(_points(ax, "support-vectors")) == mask.sum()
 
 

@@ -10,9 +10,9 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.data import published, units
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES
-from bouncelab.errors import DataError, LargeResultWarning, NonphysicalLiftoffWarning
+from bouncelab.core import published, units
+from bouncelab.core.errors import DataError, LargeResultWarning, NonphysicalLiftoffWarning
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 from bouncelab.laws import BounceModel, Parameter
 
 SI = {"velocity": "m/s", "spin": "rpm"}
@@ -116,7 +116,7 @@ def test_physical_landings_that_only_a_unit_mistake_makes_are_refused(landing, k
             method(np.array(landing), units=SI, **kw)
         assert (err.value.column, err.value.row) == (column, row)
         method(np.array(landing), units=SI, plausible=None, **kw)  # accepted on purpose
-    wide = bl.data.plausibility.PLAUSIBLE_RANGES.widened(max_speed=1e4, max_spin=1e5, min_landing_angle=0.1)
+    wide = bl.plausibility.PLAUSIBLE_RANGES.widened(max_speed=1e4, max_spin=1e5, min_landing_angle=0.1)
     assert np.isfinite(law.predict(np.array(landing), units=SI, plausible=wide, **kw)).all()
 
 
@@ -302,7 +302,7 @@ def test_a_ball_radius_that_is_not_metres_is_refused(radius) -> None:
     ({"max_spn": 3.0}, "no limit \\['max_spn'\\]"),
 ])
 def test_plausible_ranges_refuse_limits_that_are_not_limits(change, match) -> None:
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES
+    from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 
     with pytest.raises(bl.errors.ParameterError, match=match):
         PLAUSIBLE_RANGES.widened(**change)

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.errors import FitError, NotFittedError, ParameterError
+from bouncelab.core.errors import FitError, NotFittedError, ParameterError
 from bouncelab.laws import BounceModel, CompiledLaw, FitOutcome, Parameter, fit_method, law_class, law_name
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -213,7 +213,7 @@ def test_to_json_is_atomic(tmp_path, monkeypatch):
     def fail(*args, **kwargs):
         raise OSError("disk full")
 
-    import bouncelab.atomic as atomic
+    import bouncelab.core.atomic as atomic
 
     monkeypatch.setattr(atomic.os, "replace", fail)
     with pytest.raises(OSError, match="disk full"):
@@ -298,7 +298,7 @@ def test_validation_happens_once_per_fit(campaign_b, monkeypatch):
     """Internals call the private hooks: a piecewise fit checks its arrays' values at the entry only.
 
     (bouncelab 0.1 validated the same arrays 16 times in one piecewise fit.)"""
-    import bouncelab.data.validation as validation
+    import bouncelab.core.validation as validation
 
     calls = []
     real = validation._check_values
@@ -453,7 +453,7 @@ def test_load_law_given_json_text_says_what_it_takes():
 
 
 def test_a_law_name_in_its_exact_case_wins_over_one_differing_in_case():
-    from bouncelab.errors import FitError, ParameterError
+    from bouncelab.core.errors import FitError, ParameterError
     from bouncelab.laws.base import law_class
 
     def init(self, g=None):

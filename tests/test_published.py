@@ -1,4 +1,4 @@
-"""The paper's published numbers (bouncelab.data.published), checked cell by cell.
+"""The paper's published numbers (bouncelab.core.published), checked cell by cell.
 
 The expected values below were typed from the paper's LaTeX source
 (bounce-paper.tex: Table 1 ``tab:ic_camA``, Table 2 ``tab:disjoin_error``,
@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bouncelab.data import published
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core import published
+from bouncelab.core.errors import DataError, ParameterError
 
 PAPER = Path("/work/shared/reference/bounce-paper.tex")
 

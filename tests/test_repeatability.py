@@ -11,8 +11,8 @@ from scipy import stats
 
 import bouncelab as bl
 from bouncelab.analysis import repeatability, repeatability_summary
+from bouncelab.core.errors import DataError
 from bouncelab.data.campaign import make_campaign
-from bouncelab.errors import DataError
 
 # Deviations of the 4 repeats from the setting's centre: mean 0, sum of squares 4+1+0+9 = 14, so
 # the sample variance is 14/3 and the std sqrt(14/3) for a unit scale.

@@ -24,9 +24,10 @@ import pytest
 
 import bouncelab as bl
 from bouncelab.cli import reproduce as rp
-from bouncelab.cli.main import EXIT_FIT, EXIT_OK, EXIT_PARTIAL, main
-from bouncelab.data.units import polar_from_state, state_from_polar
-from bouncelab.errors import DataError, FitError
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_FIT, EXIT_OK, EXIT_PARTIAL
+from bouncelab.core.errors import DataError, FitError
+from bouncelab.core.units import polar_from_state, state_from_polar
 from bouncelab.fitting.comparison import generating_law
 from bouncelab.laws.plane_fitting import canonical_plane
 

@@ -12,7 +12,7 @@ import bouncelab as bl
 from bouncelab.analysis.measurement import measure_bounce
 from bouncelab.analysis.repeats import repeatability, repeatability_summary
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
-from bouncelab.data import published
+from bouncelab.core import published
 from bouncelab.simulation import (
     Camera,
     ContactDuration,
@@ -63,7 +63,7 @@ def test_design_counts_and_span(key, n, repeats):
 def test_dial_grid_stays_within_table1_up_to_the_launcher_scatter(key):
     design = LauncherDesign.for_campaign(key)
     grid = design.dial_grid()
-    p0 = bl.data.units.landing_from_speed_angle_spin(grid[:, 0], grid[:, 1], grid[:, 2])
+    p0 = bl.units.landing_from_speed_angle_spin(grid[:, 0], grid[:, 1], grid[:, 2])
     sd = design.landing_scatter_sd(grid)
     t1 = published.TABLE1.loc[key]
     for col, name in enumerate(("xdot", "ydot")):

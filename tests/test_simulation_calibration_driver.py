@@ -78,7 +78,7 @@ def test_surrogate_limits_measures_the_floor_the_jump_and_rolling_liftoffs():
 def test_surrogate_limits_on_the_turf_surrogates_landings():
     import bouncelab as bl
     from benchmarks import surrogate_limits as lim
-    from bouncelab.data.surrogate import generate_turf_surrogate
+    from bouncelab.simulation.surrogate import generate_turf_surrogate
 
     out = lim.main(["--campaign", "A", "--laws", "Rigid", "--landings", "turf"])["A"]
     p0 = generate_turf_surrogate("A")["true_landing"].values
@@ -131,7 +131,7 @@ def test_json_start_reads_a_previous_output_or_a_mapping(tmp_path):
 
 
 def test_shipped_start_is_the_shipped_turf():
-    from bouncelab.data.surrogate import TURF_CALIBRATION, turf_for_campaign
+    from bouncelab.simulation.surrogate import TURF_CALIBRATION, turf_for_campaign
 
     scatter = ("r0", "mu_k", "lam", "e_t", "beta0", "kappa")  # kappa does not scatter in the shipped turf
     x = drv.shipped_start("B", "CraterContact", scatter)

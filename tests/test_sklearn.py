@@ -11,7 +11,7 @@ from sklearn.model_selection import GridSearchCV, GroupKFold, cross_val_score
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import bouncelab as bl
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 # scikit-learn's generic checks fit on random data of 1 to 10 columns whose second column is mostly positive.
 # A bounce law takes exactly three columns [xdot0, ydot0, omega0] with ydot0 < 0 (a landing moves down), so

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, classify_slip_roll
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, classify_slip_roll
 
 
 def _one(landing, liftoff, **kw):

@@ -10,7 +10,7 @@ import pytest
 from sklearn.metrics import adjusted_rand_score
 
 import bouncelab as bl
-from bouncelab.errors import DataError, FitError
+from bouncelab.core.errors import DataError, FitError
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Synthetic surrogate campaigns (bouncelab.data.surrogate) and the embedded files."""
+"""Synthetic surrogate campaigns (bouncelab.simulation.surrogate) and the embedded files."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ import pytest
 import xarray as xr
 
 import bouncelab
-from bouncelab.data import published
-from bouncelab.data.surrogate import DEFAULT_SEEDS, SurrogateSpec, generate_surrogate
-from bouncelab.data.units import speed_angle_spin
-from bouncelab.errors import ParameterError
+from bouncelab.core import published
+from bouncelab.core.errors import ParameterError
+from bouncelab.core.units import speed_angle_spin
 from bouncelab.metrics import delta
+from bouncelab.simulation.surrogate import DEFAULT_SEEDS, SurrogateSpec, generate_surrogate
 
 FILES = Path(bouncelab.__file__).parent / "data" / "files"
 VARS = ("landing", "liftoff", "landing_pi", "liftoff_pi")
@@ -229,7 +229,7 @@ def test_unknown_campaign():
 def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
     import json
 
-    from bouncelab.data.surrogate import TURF_CALIBRATION
+    from bouncelab.simulation.surrogate import TURF_CALIBRATION
 
     ds = bouncelab.load_campaign(campaign, surrogate="turf")
     assert ds.sizes["bounce"] == n
@@ -250,8 +250,8 @@ def test_load_turf_surrogate_is_the_shipped_simulated_campaign(campaign, n):
 
 
 def test_load_campaign_default_is_turf_and_unknown_surrogate_is_refused():
-    from bouncelab.data.surrogate import DEFAULT_SURROGATE
-    from bouncelab.errors import DataError
+    from bouncelab.core.errors import DataError
+    from bouncelab.simulation.surrogate import DEFAULT_SURROGATE
 
     assert DEFAULT_SURROGATE == "turf"  # the one the calibration measures closer to the paper (docs/simulation.md)
     default = bouncelab.load_campaign("B")
@@ -266,7 +266,7 @@ def test_load_campaign_default_is_turf_and_unknown_surrogate_is_refused():
 
 
 def test_surrogate_for_a_file_is_refused_not_ignored(tmp_path):
-    from bouncelab.errors import DataError
+    from bouncelab.core.errors import DataError
 
     ds = bouncelab.load_campaign("A")
     path = bouncelab.save_campaign(ds, tmp_path / "a.nc")
@@ -282,7 +282,7 @@ def test_surrogate_for_a_file_is_refused_not_ignored(tmp_path):
 
 def test_cli_surrogate_option_chooses_the_embedded_campaign(capsys):
     from bouncelab.cli.main import main
-    from bouncelab.data.surrogate import TURF_CALIBRATION
+    from bouncelab.simulation.surrogate import TURF_CALIBRATION
 
     assert main(["info", "A"]) == 0
     turf = capsys.readouterr()
@@ -322,8 +322,8 @@ def assert_regenerates(shipped: xr.Dataset, fresh: xr.Dataset) -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("campaign", ["A", "B"])
 def test_shipped_turf_files_equal_a_fresh_simulation(campaign, tmp_path):
-    """Regenerate the shipped turf files (python -m bouncelab.data.surrogate --write) and compare."""
-    from bouncelab.data.surrogate import embedded_path, generate_turf_surrogate
+    """Regenerate the shipped turf files (python -m bouncelab.simulation.surrogate --write) and compare."""
+    from bouncelab.simulation.surrogate import embedded_path, generate_turf_surrogate
 
     with xr.open_dataset(embedded_path(campaign, "turf"), engine="scipy") as f:
         shipped = f.load()
@@ -350,7 +350,7 @@ def test_the_regeneration_check_catches_a_changed_number_or_label():
 
 
 def test_embedded_file_names_and_paths_agree_with_the_loader():
-    from bouncelab.data.surrogate import SURROGATES, embedded_file_name, embedded_path
+    from bouncelab.simulation.surrogate import SURROGATES, embedded_file_name, embedded_path
 
     assert embedded_file_name("B", "published") == "campaign_B.nc"
     assert embedded_file_name("B") == embedded_file_name("B", "turf") == "campaign_B_turf.nc"

@@ -10,8 +10,8 @@ import bouncelab as bl
 import bouncelab.analysis as analysis
 from bouncelab.analysis import tangential_crosstab, tangential_summary, tangential_velocities
 from bouncelab.analysis.contact_velocity import NEAR_ZERO_FRACTION, SUMMARY_ROWS
+from bouncelab.core.errors import DataError
 from bouncelab.data.campaign import make_campaign
-from bouncelab.errors import DataError
 
 # One bounce per behaviour; comments give v_P0 -> v_PF and omega0 -> omegaF.
 BOUNCES = [

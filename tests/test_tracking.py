@@ -9,7 +9,7 @@ import pytest
 
 cv2 = pytest.importorskip("cv2")
 
-from bouncelab.errors import DataError  # noqa: E402
+from bouncelab.core.errors import DataError  # noqa: E402
 from bouncelab.tracking import (  # noqa: E402
     clip_settings,
     estimate_background,

@@ -17,7 +17,7 @@ cv2 = pytest.importorskip("cv2")
 import bouncelab.tracking.frames as frames_module  # noqa: E402
 from bouncelab.analysis.measurement import estimate_velocity, measure_bounce  # noqa: E402
 from bouncelab.analysis.trajectories import simulate_tracked_bounce  # noqa: E402
-from bouncelab.errors import DataError  # noqa: E402
+from bouncelab.core.errors import DataError  # noqa: E402
 from bouncelab.tracking import (  # noqa: E402
     clip_settings,
     measure_clip,

@@ -194,7 +194,7 @@ def test_fit_objective_shared_between_threads_is_thread_count_independent():
 
 
 def test_predict_varying_large_calls_do_not_depend_on_threads():
-    from bouncelab._parallel import PARALLEL_MIN
+    from bouncelab.core._parallel import PARALLEL_MIN
 
     n = PARALLEL_MIN + 1000
     rng = np.random.default_rng(9)

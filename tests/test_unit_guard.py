@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli.main import EXIT_DATA, EXIT_OK, main
-from bouncelab.data import units
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, check_scaled
+from bouncelab.cli.main import main
+from bouncelab.cli.messages import EXIT_DATA, EXIT_OK
+from bouncelab.core import units
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, check_scaled
 
 RPM = 60 / (2 * np.pi)  # rpm per rad/s
 
@@ -322,7 +323,7 @@ def test_a_dataframe_landing_is_named_by_its_row_label():
 
 @pytest.mark.parametrize("n", [1, 8, 9, 500, 3 * 4096])  # plain Python, NumPy and the compiled pass
 def test_each_limit_is_found_whatever_the_number_of_landings(n):
-    from bouncelab.data.plausibility import LandingFaults, landing_faults
+    from bouncelab.core.plausibility import LandingFaults, landing_faults
 
     base = np.tile([[1000.0, -800.0, 300.0]], (n, 1))
     assert landing_faults(base) == LandingFaults()

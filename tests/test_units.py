@@ -1,4 +1,4 @@
-"""Units and sign conventions (bouncelab.data.units).
+"""Units and sign conventions (bouncelab.core.units).
 
 Expected values are computed by hand from the definitions (1 ft = 0.3048 m,
 1 mile = 1609.344 m, R = 21.35 mm, 1 rev = 2 pi rad), never from the module's
@@ -14,8 +14,8 @@ import warnings
 import numpy as np
 import pytest
 
-from bouncelab.data import published, units
-from bouncelab.errors import DataError
+from bouncelab.core import published, units
+from bouncelab.core.errors import DataError
 
 R = 0.02135  # the paper's ball radius in metres, typed independently of units.BALL_RADIUS_M
 
@@ -326,7 +326,7 @@ def test_docstring_examples():
 def test_conversion_overflow_is_silent_inf_for_the_state_checks_to_refuse():
     import warnings
 
-    from bouncelab.data.units import velocity_from_scaled, velocity_to_scaled
+    from bouncelab.core.units import velocity_from_scaled, velocity_to_scaled
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no NumPy RuntimeWarning reaches the user

@@ -1,4 +1,4 @@
-"""Shared validation of bounce-state arrays (bouncelab.data.validation) and the error types."""
+"""Shared validation of bounce-state arrays (bouncelab.core.validation) and the error types."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bouncelab.data.validation import as_states, check_same_length
-from bouncelab.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+from bouncelab.core.errors import BouncelabError, DataError, FitError, NotFittedError, ParameterError
+from bouncelab.core.validation import as_states, check_same_length
 
 P0 = np.array([
     [100.0, -200.0, 50.0],
@@ -314,7 +314,7 @@ def test_non_real_values_are_refused(values, what):
 def test_magnitudes_beyond_any_bounce_are_refused(value):
     """bouncelab 0.1 turned 1e308 into an infinite lift-off."""
     import bouncelab as bl
-    from bouncelab.data.validation import STATE_LIMIT
+    from bouncelab.core.validation import STATE_LIMIT
 
     bad = P0.copy()
     bad[1, 0] = value
@@ -373,7 +373,7 @@ def test_dataframe_errors_name_its_own_row_label_and_column():
 
 
 def test_error_rows_name_a_numpy_index_label_as_a_plain_value():
-    from bouncelab.errors import DataError, plain_label, row_text
+    from bouncelab.core.errors import DataError, plain_label, row_text
 
     assert row_text(3) == "row 3" and row_text(3, np.int64(7)) == "row 3 (row label 7)"
     assert row_text(2, np.str_("shot-2")) == "row 2 (row label 'shot-2')"

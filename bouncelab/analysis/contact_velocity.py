@@ -54,9 +54,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.slip_roll import classify_slip_roll
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = [
     "NEAR_ZERO_FRACTION",

@@ -26,8 +26,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = ["CONTACT_POINT_LEVER_ARM", "MIN_DXDOT_FRACTION", "impulse_lever_arm", "lever_arm_summary"]
 

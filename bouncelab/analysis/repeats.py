@@ -27,9 +27,10 @@ import pandas as pd
 import xarray as xr
 from scipy import stats
 
-from bouncelab.data.campaign import campaign_arrays, setting_labels
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import COMPONENTS
+from bouncelab.data.campaign import setting_labels
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = ["STATES", "repeatability", "repeatability_summary"]
 

@@ -23,8 +23,8 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import solve_ivp
 
-from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import BALL_RADIUS_M
 
 __all__ = [
     "AIR_DENSITY",

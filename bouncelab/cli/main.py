@@ -27,16 +27,19 @@ from typing import Any
 
 import numpy as np
 
-EXIT_OK, EXIT_UNEXPECTED, EXIT_USAGE, EXIT_DATA, EXIT_FIT, EXIT_PARTIAL = 0, 1, 2, 3, 4, 5
+from bouncelab.cli.messages import (
+    EXIT_DATA,
+    EXIT_FIT,
+    EXIT_OK,
+    EXIT_PARTIAL,
+    EXIT_USAGE,
+    UsageError,
+)
 
 # A negative number on the command line, exponent and inf/nan included: argparse (before Python 3.13)
 # only knows "-8" and "-8.5", so "--landing 1000 -8e2 200" read "-8e2" as an unknown option.
 _NEGATIVE_NUMBER = re.compile(r"^-(?:\d[\d_]*(?:\.[\d_]*)?|\.\d[\d_]*)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$",
                               re.IGNORECASE)
-
-
-class UsageError(Exception):
-    """A command line that cannot be run as given (exit code 2)."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -134,7 +137,7 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                         "says)")
     p.add_argument("--surrogate", choices=EMBEDDED_SURROGATES,
                    help="which synthetic surrogate the embedded campaigns A and B are: turf (default: simulated from "
-                        "turf physics, the calibrated law of bouncelab.data.surrogate.TURF_CALIBRATION, through "
+                        "turf physics, the calibrated law of bouncelab.simulation.surrogate.TURF_CALIBRATION, through "
                         "camera frames) or published (made from the paper's published laws, so comparing the "
                         "paper's laws on it is circular); see docs/simulation.md")
 
@@ -146,7 +149,7 @@ def _add_import_option(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from bouncelab import __version__
+    from bouncelab.core import __version__
 
     parser = _Parser(
         prog="bouncelab",
@@ -263,7 +266,7 @@ def main(argv: list[str] | None = None) -> int:
 def _run(args: argparse.Namespace) -> int:
     """Run one command; every user error becomes a message and an exit code (no traceback)."""
     from bouncelab.cli.reproduce import OutputError
-    from bouncelab.errors import DataError, FitError, ParameterError
+    from bouncelab.core.errors import DataError, FitError, ParameterError
 
     try:
         if args.command == "track":
@@ -303,7 +306,7 @@ def _one_line_warnings(command: str) -> None:
     """bouncelab's own warnings as one line each on stderr, like the errors (no source line quoted)."""
     import warnings
 
-    from bouncelab.errors import BouncelabWarning
+    from bouncelab.core.errors import BouncelabWarning
 
     default = warnings.showwarning
 
@@ -340,7 +343,7 @@ def _figure_units(text: str | None):
     """--figure-units: a preset name or VELOCITY,SPIN; checked now (exit 2), before any work."""
     if text is None:
         return None
-    from bouncelab.errors import DataError
+    from bouncelab.core.errors import DataError
     from bouncelab.plots._common import figure_units
 
     parts = [p.strip() for p in text.split(",")]
@@ -402,7 +405,7 @@ def _import_modules(modules: list[str], law: str | None = None) -> None:
     import importlib
     import importlib.util
 
-    from bouncelab.errors import ParameterError
+    from bouncelab.core.errors import ParameterError
 
     if modules and os.getcwd() not in sys.path:
         sys.path.insert(0, os.getcwd())
@@ -443,7 +446,7 @@ def _law_class(name: str):
 
     A missing module (ParameterError naming --import and the current folder) is told from a module without
     that class (naming the laws the module does define)."""
-    from bouncelab.errors import ParameterError
+    from bouncelab.core.errors import ParameterError
     from bouncelab.laws import law_class
 
     try:
@@ -475,7 +478,7 @@ def _saved_law_name(path: str) -> str | None:
 def _predict_law(args: argparse.Namespace):
     """The law of ``predict``: published values of a named law, or a law JSON file. A file naming a user's
     law whose module is not imported says to add --import (a law file never imports code)."""
-    from bouncelab.errors import ParameterError
+    from bouncelab.core.errors import ParameterError
     from bouncelab.laws import law_class, load_law
 
     if args.published:
@@ -587,7 +590,7 @@ def _read_input(args: argparse.Namespace, radius: float):
     if args.input == "-":
         data = sys.stdin.buffer.read(MAX_FILE_BYTES + 1)
         if len(data) > MAX_FILE_BYTES:
-            from bouncelab.errors import DataError
+            from bouncelab.core.errors import DataError
 
             raise DataError(f"standard input holds more than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads",
                             file=STDIN_NAME)
@@ -621,8 +624,8 @@ def _output_units(args: argparse.Namespace, table) -> dict[str, str]:
 
 
 def _predict(args: argparse.Namespace) -> int:
-    from bouncelab.data import units
-    from bouncelab.errors import DataError
+    from bouncelab.core import units
+    from bouncelab.core.errors import DataError
 
     law = _predict_law(args)
     radius = args.radius_mm / 1000.0
@@ -641,7 +644,7 @@ def _predict(args: argparse.Namespace) -> int:
             sas[:, 0], sas[:, 1], sas[:, 2], speed_unit=v, spin_unit=s, radius_m=radius))
     if table is not None:
         if table.form == "polar":  # the angle guard of --speed-angle-spin, for the file's angles too
-            from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error
+            from bouncelab.core.plausibility import PLAUSIBLE_RANGES, landing_angle_error
 
             degrees = table.values[:, 1] if table.units["angle"] == "deg" else np.rad2deg(table.values[:, 1])
             low = landing_angle_error(degrees, PLAUSIBLE_RANGES)
@@ -678,12 +681,12 @@ def _predict(args: argparse.Namespace) -> int:
 
 def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
     """The unit guard of typed landings, in flags: each landing must be one a golf ball can make (the guard of
-    the law's predict, bouncelab.data.plausibility.landing_error), else it is refused naming the landing, the
+    the law's predict, bouncelab.core.plausibility.landing_error), else it is refused naming the landing, the
     limit and the --velocity-unit/--spin-unit the numbers look like."""
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, landing_angle_error, landing_error
-    from bouncelab.data.units import canonical_unit
-    from bouncelab.data.validation import as_states
-    from bouncelab.errors import DataError
+    from bouncelab.core.errors import DataError
+    from bouncelab.core.plausibility import PLAUSIBLE_RANGES, landing_angle_error, landing_error
+    from bouncelab.core.units import canonical_unit
+    from bouncelab.core.validation import as_states
 
     if args.speed_angle_spin:  # angles <= 0 or > 90 were refused by the conversion
         angle = landing_angle_error(np.array(args.speed_angle_spin)[:, 1], PLAUSIBLE_RANGES)
@@ -700,7 +703,7 @@ def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float
     def widen(limit: str) -> str:
         return ("predict in Python with the law's predict(..., plausible=PLAUSIBLE_RANGES.widened("
                 f"{limit}=...)) (the command line keeps bouncelab's plausible ranges, "
-                "bouncelab.data.plausibility.PLAUSIBLE_RANGES)")
+                "bouncelab.core.plausibility.PLAUSIBLE_RANGES)")
 
     error = landing_error(landing, radius_m=radius, ranges=PLAUSIBLE_RANGES,
                           units={"velocity": args.velocity_unit, "spin": args.spin_unit},

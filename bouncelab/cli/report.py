@@ -42,7 +42,7 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
     held-out bounces. The paper's Table 2 (its SVM plane on its test set) stands in brackets beside the SVM's
     held-out figures only, the comparable ones; on synthetic data it is labelled as a reference, and the
     footnote says when PiecewiseAffine generated the data."""
-    from bouncelab.data import published
+    from bouncelab.core import published
     from bouncelab.fitting.comparison import GENERATOR_MARK, generating_law, generator_note
 
     camp = str(ds.attrs.get("campaign", "")).upper()
@@ -138,7 +138,7 @@ nav a { margin-right: 1em; }
 
 def _paper_values(report: Report) -> str:
     """What the brackets in the tables mean, said only when some campaign has the paper's values."""
-    from bouncelab.data import published
+    from bouncelab.core import published
 
     with_paper = [n for n, sec in report.sections.items() if sec.get("paper_campaign") in published.CAMPAIGNS]
     if not with_paper:
@@ -165,8 +165,8 @@ def _figure_units(report: Report) -> str:
 
 
 def index_html(report: Report) -> str:
-    from bouncelab import __version__
-    from bouncelab.data.published import CITATION
+    from bouncelab.core import __version__
+    from bouncelab.core.published import CITATION
 
     parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
              f"<style>{_CSS}</style></head><body>",

@@ -53,10 +53,10 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.atomic import atomic_write_text
 from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
+from bouncelab.core.atomic import atomic_write_text
+from bouncelab.core.errors import DataError, FitError, OutputError
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.errors import DataError, FitError, OutputError
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "default_laws",
            "remove_stale_staging", "reproduce"]
@@ -448,7 +448,7 @@ def reproduce(
         cross-validated beside those of ``law_set`` (the command line's ``--law``).
     surrogate
         Which synthetic surrogate the embedded campaigns are (``"turf"`` or ``"published"``; None,
-        the default, is :data:`bouncelab.data.surrogate.DEFAULT_SURROGATE`, see
+        the default, is :data:`bouncelab.simulation.surrogate.DEFAULT_SURROGATE`, see
         :func:`bouncelab.load_campaign`); the report's notes name it. Ignored when ``load`` is given.
     law_set
         The laws of the report (names in any case, classes or instances; the command line's
@@ -594,7 +594,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
               ) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
-    from bouncelab.data import published
+    from bouncelab.core import published
     from bouncelab.data.settings import infer_settings
     from bouncelab.fitting import bootstrap as bootstrap_fit
     from bouncelab.fitting import compare, cross_validate, fit, split_by_setting

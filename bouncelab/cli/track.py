@@ -30,9 +30,8 @@ import threading
 import time
 from pathlib import Path
 
-from bouncelab.errors import DataError
-
-EXIT_OK, EXIT_USAGE, EXIT_DATA = 0, 2, 3
+from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE, UsageError
+from bouncelab.core.errors import DataError
 
 #: Frame rates ``--fps`` accepts, frames/s. Below 100 no camera films a golf bounce (a ball at 25 m/s moves
 #: 0.25 m between frames, the whole contact falls between two of them): 24-60 frames/s is the playback rate a
@@ -79,7 +78,7 @@ def _positive(text: str) -> float:
 
 
 def _ball_radius_mm(text: str) -> float:
-    from bouncelab.data.units import BALL_RADIUS_RANGE_M
+    from bouncelab.core.units import BALL_RADIUS_RANGE_M
 
     value = _number(text)
     low, high = (1000.0 * r for r in BALL_RADIUS_RANGE_M)
@@ -201,7 +200,6 @@ class _Slow(Exception):
 
 def _compile_pattern(pattern: str) -> re.Pattern[str]:
     """--pattern compiled once, with named groups that set something (UsageError otherwise)."""
-    from bouncelab.cli.main import UsageError
 
     try:
         regex = re.compile(pattern)
@@ -226,7 +224,6 @@ def _check_pattern_time(regex: re.Pattern[str], clips: list[str], seconds: float
     names are matched in a child process that is stopped after ``seconds`` a name (plus its start-up).
     ``seconds`` defaults to PATTERN_SECONDS.
     """
-    from bouncelab.cli.main import UsageError
 
     seconds = PATTERN_SECONDS if seconds is None else seconds
     names = [Path(c).name for c in clips]
@@ -307,7 +304,7 @@ def _check_states(res, settings: dict, args: argparse.Namespace) -> None:
     """The unit guard of the tracked campaign, in the command line's words: speeds and spins measured from
     frames scale with the frame rate, so states that no golf bounce has mean a wrong --fps (or manifest or
     file-name rate)."""
-    from bouncelab.data.plausibility import PLAUSIBLE_RANGES, implausibility
+    from bouncelab.core.plausibility import PLAUSIBLE_RANGES, implausibility
 
     ds = res.campaign
     why = implausibility(ds["landing"].values, ds["liftoff"].values, radius_m=float(ds.attrs["ball_radius_m"]),

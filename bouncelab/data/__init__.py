@@ -1,16 +1,8 @@
-"""Data and units: conventions, the campaign container, file loading, the published tables."""
+"""Campaigns: the container (:mod:`~.data.campaign`), the files it is read from and written to
+(:mod:`~.data.io`), the campaigns shipped with the package (:mod:`~.data.embedded`), what every analysis
+accepts as data (:mod:`~.data.inputs`) and the launcher settings inferred from landings
+(:mod:`~.data.settings`).
 
-from bouncelab.data import plausibility, published, units
-from bouncelab.data.campaign import campaign_arrays, make_campaign, validate_campaign
-from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, classify_slip_roll
-
-__all__ = [
-    "SLIP_ROLL_CLASSES",
-    "campaign_arrays",
-    "classify_slip_roll",
-    "make_campaign",
-    "plausibility",
-    "published",
-    "units",
-    "validate_campaign",
-]
+This layer sits above the laws; the conventions, units and checks every layer shares are in
+:mod:`bouncelab.core`.
+"""

@@ -18,19 +18,23 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
-import sys
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
-from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, ball_radius, canonical_unit
-from bouncelab.data.validation import as_states, check_same_length
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, Z95, ball_radius, canonical_unit
+from bouncelab.core.validation import as_states, check_same_length
 
 __all__ = [
-    "CONVENTIONS", "campaign_arrays", "make_campaign", "setting_labels", "synthetic_warning", "validate_campaign",
+    "CONVENTIONS",
+    "interval_sds",
+    "make_campaign",
+    "setting_labels",
+    "synthetic_warning",
+    "validate_campaign",
 ]
 
 #: Text stored in every campaign's attrs so a file explains its own sign conventions.
@@ -71,7 +75,7 @@ def make_campaign(
         Descriptive attrs.
     ball_radius_m
         Ball radius used for the scaling, in metres (within
-        :data:`~bouncelab.data.units.BALL_RADIUS_RANGE_M`; see :func:`~bouncelab.data.units.ball_radius`).
+        :data:`~bouncelab.core.units.BALL_RADIUS_RANGE_M`; see :func:`~bouncelab.core.units.ball_radius`).
     data_kind
         ``"measured"``, ``"synthetic surrogate"`` or ``"unknown"``.
     attrs
@@ -80,7 +84,7 @@ def make_campaign(
         checked like the argument.
     plausible
         The magnitudes a golf bounce can have
-        (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`, the loader's ranges). Values
+        (:data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`, the loader's ranges). Values
         that only a unit mistake makes are refused: any speed beyond 90 m/s or spin beyond
         20 000 rpm, a median landing speed below 1 m/s (m/s given as radii/s), a campaign
         spinning nowhere faster than 300 rpm. Widen them on purpose with
@@ -253,42 +257,34 @@ def _check_unit_coord(ds: xr.Dataset, file: str | None) -> None:
         if not ok:
             raise DataError(
                 f"the unit coordinate says {comp} is in {str(unit)!r}; a campaign holds scaled units "
-                f"({dict(zip(COMPONENTS, COMPONENT_UNITS, strict=True))}): convert with bouncelab.data.units first",
+                f"({dict(zip(COMPONENTS, COMPONENT_UNITS, strict=True))}): convert with bouncelab.core.units first",
                 file=file, column="unit",
             )
 
 
-def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """Landing, lift-off and setting arrays from a campaign Dataset or a ``(landing, liftoff)`` pair.
+def interval_sds(data: Any, n: int | None = None) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Standard deviations of the measurement errors of the landings and the lift-offs, each ``(n, 3)``, from
+    a campaign's 95 % prediction-interval half-widths (``landing_pi / Z95``, ``liftoff_pi / Z95``); None for a
+    state without intervals, and both None for anything but a campaign Dataset.
 
-    This is the one place where fitters and analyses accept their ``data``
-    argument, so every entry point validates the same way.
+    Raises
+    ------
+    DataError
+        Half-widths that are not finite or negative (naming the variable and the row), or of another length
+        than ``n`` bounces.
     """
-    if isinstance(data, xr.Dataset):
-        for var in ("landing", "liftoff"):
-            if var not in data.data_vars:
-                raise DataError(f"{name} has no {var!r} variable; it has {sorted(map(str, data.data_vars))}")
-        p0, _ = as_states(data["landing"], "landing", landing=True)
-        pf, _ = as_states(data["liftoff"], "liftoff")
-        check_same_length(p0, pf, "landing", "liftoff")
-        setting = data["setting"].values if "setting" in data.coords else None
-        return p0, pf, setting
-    if isinstance(data, tuple | list) and len(data) in (2, 3):
-        p0, _ = as_states(data[0], "landing", landing=True)
-        pf, _ = as_states(data[1], "liftoff")
-        check_same_length(p0, pf, "landing", "liftoff")
-        setting = None if len(data) == 2 or data[2] is None else setting_labels(data[2], p0.shape[0])
-        return p0, pf, setting
-    if _is_dataframe(data):  # one row per bounce, read as load_campaign reads a file
-        from bouncelab.data.io import load_campaign
-
-        return campaign_arrays(load_campaign(data), name=name)
-    raise DataError(
-        f"{name} must be a campaign Dataset or a (landing, liftoff) pair of (n, 3) arrays; "
-        f"got {type(data).__name__}"
-    )
-
-
-def _is_dataframe(obj) -> bool:
-    pd = sys.modules.get("pandas")  # never imported just to ask
-    return pd is not None and isinstance(obj, pd.DataFrame)
+    if not isinstance(data, xr.Dataset):
+        return None, None
+    out: list[np.ndarray | None] = []
+    for var in ("landing_pi", "liftoff_pi"):
+        if var not in data.data_vars:
+            out.append(None)
+            continue
+        h = np.asarray(data[var].transpose("bounce", "component").values, dtype=float)
+        rows = h.shape[0] if n is None else n
+        if h.shape != (rows, 3) or not np.isfinite(h).all() or (h < 0).any():
+            bad = ~np.isfinite(h) | (h < 0)
+            row = int(np.argmax(bad.any(axis=1))) + 1 if h.shape == (rows, 3) else None
+            raise DataError("prediction-interval half-widths must be finite and >= 0", column=var, row=row)
+        out.append(h / Z95)
+    return out[0], out[1]

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = ["infer_settings"]
 

@@ -70,8 +70,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays, make_campaign, synthetic_warning
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
+from bouncelab.data.campaign import make_campaign, synthetic_warning
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import SEED_MAX, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.objective import bounce_weights, objective_weighting, objective_weights
 from bouncelab.fitting.problem import resolve_fixed

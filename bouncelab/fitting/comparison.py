@@ -12,6 +12,7 @@ reference, not a validation), and the law that generated the data is marked.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -20,9 +21,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data import published
+from bouncelab.core import published
+from bouncelab.core.errors import DataError, FitError, ParameterError
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.errors import DataError, FitError, ParameterError
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
@@ -47,13 +48,17 @@ PAPER_LABEL_SYNTHETIC = ("in brackets, the paper's results on its measured bounc
 GENERATOR_MARK = "†"
 
 
+#: How the published surrogate's "source" attr starts (the module moved from data to simulation).
+_PUBLISHED_SOURCE = r"bouncelab\.(data|simulation)\.surrogate\.generate_surrogate\("
+
+
 def generating_law(data: Any) -> str | None:
     """The law that generated a synthetic campaign, as its attrs record it; None for anything else.
 
     Read from ``generator_law`` (any synthetic campaign may carry it, e.g. ``make_campaign(...,
     attrs={"generator_law": "Rigid"})``), else ``turf_law`` (:func:`bouncelab.simulate_campaign`:
     the turf surrogates are simulated with CraterContact), else, for the ``"published"`` surrogate
-    (:func:`bouncelab.data.surrogate.generate_surrogate`), its generator, the paper's published
+    (:func:`bouncelab.simulation.surrogate.generate_surrogate`), its generator, the paper's published
     PiecewiseAffine law. Only for ``data_kind="synthetic surrogate"``: a measured campaign has none.
     """
     if not isinstance(data, xr.Dataset) or data.attrs.get("data_kind") != "synthetic surrogate":
@@ -62,7 +67,7 @@ def generating_law(data: Any) -> str | None:
         if data.attrs.get(key):
             return str(data.attrs[key])
     if (data.attrs.get("surrogate") == "published"
-            or str(data.attrs.get("source", "")).startswith("bouncelab.data.surrogate.generate_surrogate(")):
+            or re.match(_PUBLISHED_SOURCE, str(data.attrs.get("source", "")))):
         return "PiecewiseAffine"
     return None
 

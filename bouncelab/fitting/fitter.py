@@ -11,9 +11,10 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays, synthetic_warning
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
-from bouncelab.errors import FitError, ParameterError
+from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
+from bouncelab.data.campaign import synthetic_warning
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.objective import (
     bounce_weights,
     mean_one,
@@ -95,7 +96,7 @@ def fit(
         The unit guard of bare arrays (a campaign Dataset was checked when it was made or
         loaded): ``(landing, liftoff)`` values that only a unit mistake makes (m/s or rpm given
         as radii/s or rad/s) are refused as by :func:`~bouncelab.data.campaign.make_campaign`.
-        Default :data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
+        Default :data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
         (``PLAUSIBLE_RANGES.widened(max_spin=...)``) or pass ``None`` to check nothing.
     sample_weight
         One non-negative weight per bounce; only their ratios matter (they are scaled to mean 1).

@@ -97,19 +97,18 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays, synthetic_warning
-from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
-from bouncelab.data.units import COMPONENTS
-from bouncelab.data.validation import as_states
-from bouncelab.errors import BouncelabWarning, DataError, FitError, ParameterError
+from bouncelab.core.errors import BouncelabWarning, DataError, FitError, ParameterError
+from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
+from bouncelab.core.units import COMPONENTS
+from bouncelab.core.validation import as_states
+from bouncelab.data.campaign import interval_sds, synthetic_warning
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_from_dict, law_name
 
 __all__ = ["ConvergenceWarning", "Posterior", "calibrate", "load_posterior"]
 
-#: Standard deviations of a 95 % prediction interval's half-width: sd = half-width / 1.96.
-PI_Z = 1.959963984540054
 
 #: How :func:`calibrate` marginalises the per-bounce parameters (see the module documentation).
 APPROXIMATIONS = ("linear", "unscented")
@@ -474,7 +473,7 @@ def calibrate(
         arrays = [s.name for s in specs.values() if not s.is_scalar]
         raise FitError(f"calibrate samples scalar parameters only; hold the array parameter(s) {arrays} with "
                        "fixed=[...]")
-    landing_sd, liftoff_sd = _measurement_sds(data, len(p0))
+    landing_sd, liftoff_sd = interval_sds(data, len(p0))
     with_tau = discrepancy or liftoff_sd is None
     tau_prior = np.maximum(pf.std(axis=0), 1e-6)
     post = _LogPosterior(fitted, p0, pf, free=free, vary=vary, box=point.bounds, landing_sd=landing_sd,
@@ -541,24 +540,6 @@ def _count(value: Any, name: str, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
         raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}")
     return int(value)
-
-
-def _measurement_sds(data: Any, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """Standard deviations of the measurement errors (n, 3) from the data's 95 % intervals, or None."""
-    if not isinstance(data, xr.Dataset):
-        return None, None
-    out = []
-    for var in ("landing_pi", "liftoff_pi"):
-        if var not in data.data_vars:
-            out.append(None)
-            continue
-        h = np.asarray(data[var].transpose("bounce", "component").values, dtype=float)
-        if h.shape != (n, 3) or not np.isfinite(h).all() or (h < 0).any():
-            bad = ~np.isfinite(h) | (h < 0)
-            row = int(np.argmax(bad.any(axis=1))) + 1 if h.shape == (n, 3) else None
-            raise DataError("prediction-interval half-widths must be finite and >= 0", column=var, row=row)
-        out.append(h / PI_Z)
-    return out[0], out[1]
 
 
 def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
@@ -881,7 +862,7 @@ class Posterior:
         columns: ``n``, the share inside for each component, and ``all3`` (inside for all three).
         """
         p0, pf, _ = campaign_arrays(data)
-        land_sd, lift_sd = _measurement_sds(data, len(p0))
+        land_sd, lift_sd = interval_sds(data, len(p0))
         sd = None
         if land_sd is not None or lift_sd is not None:
             sd = (land_sd if land_sd is not None else np.zeros((len(p0), 3)),
@@ -902,23 +883,11 @@ class Posterior:
         return table
 
     # ------------------------------------------------------------------ figures
-    def plot_corner(self, **kwargs: Any) -> Any:
-        """Corner plot of the posterior samples (see :func:`bouncelab.plots.posterior.plot_corner`)."""
-        from bouncelab.plots.posterior import plot_corner
-
-        return plot_corner(self, **kwargs)
-
-    def plot_spread(self, data: Any, **kwargs: Any) -> Any:
-        """Predicted against observed spread of the repeats of each launcher setting
-        (see :func:`bouncelab.plots.posterior.plot_spread`)."""
-        from bouncelab.plots.posterior import plot_spread
-
-        return plot_spread(self, data, **kwargs)
 
     # ------------------------------------------------------------------ saving
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe description: the law, the model, the samples (column-wise) and the diagnostics."""
-        from bouncelab import __version__
+        from bouncelab.core import __version__
 
         return {
             "format": FORMAT, "format_version": FORMAT_VERSION, "bouncelab_version": __version__,
@@ -935,7 +904,7 @@ class Posterior:
         """JSON text of :meth:`to_dict`; also written to ``path`` if given (atomically)."""
         text = json.dumps(self.to_dict(), indent=1)
         if path is not None:
-            from bouncelab.atomic import atomic_write_text
+            from bouncelab.core.atomic import atomic_write_text
 
             atomic_write_text(path, text + "\n")
         return text

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
 from bouncelab.metrics import ERROR_COLUMNS
 
 __all__ = [
@@ -130,7 +130,7 @@ def sample_weights(sample_weight: Any, n: int) -> np.ndarray | None:
         Not one real number per bounce, or a weight that is negative, NaN or infinite (row named),
         or all weights zero.
     """
-    from bouncelab.errors import DataError
+    from bouncelab.core.errors import DataError
 
     if sample_weight is None:
         return None
@@ -180,7 +180,7 @@ class ErrorMeasure:
     """
 
     def __init__(self, model: Any, landing: Any, liftoff: Any) -> None:
-        from bouncelab.data.validation import as_states, check_same_length, inverse_norms
+        from bouncelab.core.validation import as_states, check_same_length, inverse_norms
 
         self.model = model
         self.landing, _ = as_states(landing, "landing", landing=True)

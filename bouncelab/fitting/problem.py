@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.validation import inverse_norms
-from bouncelab.errors import FitError, ParameterError
+from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.validation import inverse_norms
 from bouncelab.fitting.search import SearchOutcome, global_search
 from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_name
 

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from bouncelab.data.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
+from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
 from bouncelab.laws.base import BounceModel, law_name
 from bouncelab.laws.parameters import Parameters
 from bouncelab.metrics import _error_table, error_terms

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import nlopt
 import numpy as np
 
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
 
 __all__ = ["GLOBAL_ALGORITHMS", "LOCAL_ALGORITHMS", "SearchOutcome", "global_search"]
 

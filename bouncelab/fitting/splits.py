@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.errors import DataError, FitError
+from bouncelab.core.errors import DataError, FitError
+from bouncelab.data.inputs import campaign_arrays
 
 __all__ = ["CrossValidation", "cross_validate", "split_by_setting"]
 

@@ -10,8 +10,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws.base import BounceModel, law_name

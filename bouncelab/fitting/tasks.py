@@ -23,7 +23,7 @@ import math
 from collections.abc import Callable, Iterable
 from typing import Any
 
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
 
 __all__ = ["BATCHES_PER_WORKER", "is_dask_client", "map_tasks"]
 

@@ -17,9 +17,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.data.units import (
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import (
     BALL_RADIUS_M,
     SPEED_UNITS,
     SPIN_UNITS,
@@ -19,7 +20,9 @@ from bouncelab.data.units import (
     velocity_from_scaled,
     velocity_to_scaled,
 )
-from bouncelab.errors import DataError, ParameterError
+
+if TYPE_CHECKING:
+    from bouncelab.laws import BounceModel
 
 __all__ = ["Units", "as_vectors", "unit_normals"]
 
@@ -171,4 +174,28 @@ def positive(value: Any, name: str, *, allow_zero: bool = False, error: type = P
     if not (math.isfinite(x) and (x >= 0 if allow_zero else x > 0)):
         want = "a finite number >= 0" if allow_zero else "a finite number > 0"
         raise error(f"{name} must be {want}; got {value!r}")
+    return x
+
+
+def check_law(law: Any) -> BounceModel:
+    """``law`` if it is a bounce law with all its parameters, else a ParameterError."""
+    from bouncelab.laws import BounceModel
+
+    if not isinstance(law, BounceModel):
+        raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
+                             f"{type(law).__name__}")
+    if not law.is_fitted:
+        from bouncelab.core.errors import NotFittedError
+
+        missing = [k for k, v in law.parameters.items() if v is None]
+        raise NotFittedError(f"{type(law).__name__} has no value for {missing}: fit it or give the values")
+    return law
+
+
+def retention(value: Any) -> float:
+    """A pivot retention: the fraction in [0, 1] of the spin about the normal that a bounce keeps."""
+    x = positive(value, "pivot_retention", allow_zero=True)
+    if x > 1:
+        raise ParameterError(f"pivot_retention is the fraction of the spin about the normal kept by a bounce, in "
+                             f"[0, 1]; got {value!r}")
     return x

@@ -1,7 +1,7 @@
 """Compiled row loops of the ground phase (numba; built on first use, cached on disk).
 
 Every loop here treats its rows independently, in scaled units (radii, radii/s, rad/s,
-seconds), with the floating-point flags :data:`bouncelab._jit.ROW_FLAGS` only (no
+seconds), with the floating-point flags :data:`bouncelab.core._jit.ROW_FLAGS` only (no
 contraction into fused multiply-adds, no reassociation, no approximate functions): a
 shot gives the same bits whatever the batch it is in, its position there and the number
 of threads. Besides ``+ - * /`` and ``math.sqrt`` (correctly rounded), the loops call
@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from bouncelab._jit import ROW_FLAGS, jit
+from bouncelab.core._jit import ROW_FLAGS, jit
 
 #: A glide is straight when ``|q x a| <= PARALLEL |q| |a|`` or ``|a| <= PARALLEL k`` (see :func:`glide`).
 PARALLEL = 1.0e-12

@@ -99,11 +99,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.errors import DataError, ParameterError
-from bouncelab.ground._inputs import Units, as_vectors, broadcast_rows, unit_normals
+from bouncelab.core.errors import DataError
+from bouncelab.ground._inputs import Units, as_vectors, broadcast_rows, check_law, retention, unit_normals
+from bouncelab.ground.surface import Surface
 
 if TYPE_CHECKING:
-    from bouncelab.ground.surface import Surface
     from bouncelab.laws import BounceModel
 
 __all__ = ["bounce", "from_plane", "to_plane"]
@@ -116,7 +116,7 @@ def _kernels():
 
 
 def _run_rows(fn: Any, n: int, *args: Any) -> None:
-    from bouncelab._parallel import run_rows
+    from bouncelab.core._parallel import run_rows
 
     run_rows(fn, n, *args)
 
@@ -145,21 +145,6 @@ def from_plane(liftoff2d: np.ndarray, frames: np.ndarray, normal: np.ndarray,
     return vf, wf
 
 
-def check_law(law: Any) -> BounceModel:
-    """``law`` if it is a bounce law with all its parameters, else a ParameterError."""
-    from bouncelab.laws import BounceModel
-
-    if not isinstance(law, BounceModel):
-        raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
-                             f"{type(law).__name__}")
-    if not law.is_fitted:
-        from bouncelab.errors import NotFittedError
-
-        missing = [k for k, v in law.parameters.items() if v is None]
-        raise NotFittedError(f"{type(law).__name__} has no value for {missing}: fit it or give the values")
-    return law
-
-
 def bounce(law: BounceModel | Surface, velocity: Any, spin: Any, normal: Any = (0.0, 0.0, 1.0),
            units: Mapping[str, str] | str | None = None, *, radius_m: float | None = None,
            pivot_retention: float | None = None, return_flags: bool = False) -> Any:
@@ -178,7 +163,7 @@ def bounce(law: BounceModel | Surface, velocity: Any, spin: Any, normal: Any = (
         The ground's normal, (3,) or (n, 3), any non-zero length (normalised here).
     units
         None (scaled: radii/s and rad/s) or ``{"velocity": "m/s", "spin": "rpm"}`` (any units
-        of :mod:`bouncelab.data.units`) for the landings and the lift-offs.
+        of :mod:`bouncelab.core.units`) for the landings and the lift-offs.
     radius_m
         Ball radius in metres for physical units (default 21.35 mm).
     pivot_retention
@@ -215,15 +200,13 @@ def bounce(law: BounceModel | Surface, velocity: Any, spin: Any, normal: Any = (
     >>> law.predict([[1000.0, -800.0, 300.0]]).round(3)
     array([[ 628.571,  400.   , -628.571]])
     """
-    from bouncelab.ground.surface import Surface
-
     keep = 1.0
     if isinstance(law, Surface):
         keep = law.pivot_retention
         law = law.law
     law = check_law(law)
     if pivot_retention is not None:
-        keep = _retention(pivot_retention)
+        keep = retention(pivot_retention)
     u = Units(units, radius_m)
     v, lead_v = as_vectors(velocity, "velocity")
     w, lead_w = as_vectors(spin, "spin")
@@ -251,13 +234,3 @@ def bounce(law: BounceModel | Surface, velocity: Any, spin: Any, normal: Any = (
     if lead_v == lead_w == lead_n == ():
         vf, wf = vf[0], wf[0]
     return (vf, wf, flags) if return_flags else (vf, wf)
-
-
-def _retention(value: Any) -> float:
-    from bouncelab.ground._inputs import positive
-
-    x = positive(value, "pivot_retention", allow_zero=True)
-    if x > 1:
-        raise ParameterError(f"pivot_retention is the fraction of the spin about the normal kept by a bounce, in "
-                             f"[0, 1]; got {value!r}")
-    return x

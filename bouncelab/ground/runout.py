@@ -50,7 +50,7 @@ powers of :math:`\tan(\psi/2)`, :math:`\psi` the angle between :math:`q` and :ma
 ``scipy.integrate.solve_ivp`` to 1e-9 of the run, tested).
 
 Every step of a shot is its own row in compiled loops with IEEE arithmetic in a fixed order
-(:data:`bouncelab._jit.ROW_FLAGS`) and the law's compiled prediction, so a shot gives the same
+(:data:`bouncelab.core._jit.ROW_FLAGS`) and the law's compiled prediction, so a shot gives the same
 bits whatever the batch it is in, its position there and the number of threads.
 """
 
@@ -65,7 +65,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.errors import BouncelabWarning, DataError, LargeResultWarning, NonphysicalLiftoffWarning, ParameterError
+from bouncelab.core.errors import (
+    BouncelabWarning,
+    DataError,
+    LargeResultWarning,
+    NonphysicalLiftoffWarning,
+    ParameterError,
+)
 from bouncelab.ground._inputs import Units, as_vectors, broadcast_rows, normal_text, positive, unit_normals
 from bouncelab.ground.bounce3d import from_plane, to_plane
 from bouncelab.ground.surface import GRAVITY, Surface, preset
@@ -158,7 +164,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _rows(fn: Any, n: int, *args: Any) -> None:
-    from bouncelab._parallel import run_rows
+    from bouncelab.core._parallel import run_rows
 
     run_rows(fn, n, *args)
 

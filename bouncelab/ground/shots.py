@@ -132,7 +132,7 @@ def plot_paths(path: str | Path, surfaces: tuple[str, ...] = PRESET_NAMES, rate:
 
 def write(docs: str | Path) -> list[Path]:
     """Regenerate the checked-in CSV, the Markdown table and the plot under the docs folder ``docs``."""
-    from bouncelab.atomic import atomic_write_text
+    from bouncelab.core.atomic import atomic_write_text
 
     docs = Path(docs)
     table = reference_table()

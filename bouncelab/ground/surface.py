@@ -31,8 +31,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from bouncelab.errors import ParameterError
-from bouncelab.ground._inputs import positive
+from bouncelab.core.errors import ParameterError
+from bouncelab.ground._inputs import check_law, positive, retention
 
 __all__ = [
     "ASSUMED_SLIDING_FRICTION",
@@ -95,8 +95,6 @@ class Surface:
 
     def __init__(self, name: str, law: Any, sliding_friction: float, stimp_m: float | None = None, *,
                  stimp_ft: float | None = None, pivot_retention: float = 1.0, description: str = "") -> None:
-        from bouncelab.ground.bounce3d import _retention, check_law
-
         if not isinstance(name, str) or not name.strip():
             raise ParameterError(f"a surface needs a name (non-empty text); got {name!r}")
         if (stimp_m is None) == (stimp_ft is None):
@@ -108,7 +106,7 @@ class Surface:
         self.law = check_law(law)
         self.sliding_friction = positive(sliding_friction, "sliding_friction")
         self.stimp_m = stimp
-        self.pivot_retention = _retention(pivot_retention)
+        self.pivot_retention = retention(pivot_retention)
         self.description = description
 
     # ----------------------------------------------------------------- derived
@@ -151,7 +149,7 @@ class Surface:
     # ----------------------------------------------------------- serialisation
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe description; the law as its own JSON description (:meth:`BounceModel.to_dict`)."""
-        from bouncelab import __version__
+        from bouncelab.core import __version__
 
         return {"surface": self.name, "law": self.law.to_dict(), "sliding_friction": self.sliding_friction,
                 "stimp_m": self.stimp_m, "pivot_retention": self.pivot_retention,
@@ -184,7 +182,7 @@ class Surface:
         """JSON text of :meth:`to_dict`; also written to ``path`` if given (atomically)."""
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            from bouncelab.atomic import atomic_write_text
+            from bouncelab.core.atomic import atomic_write_text
 
             atomic_write_text(path, text + "\n")
         return text

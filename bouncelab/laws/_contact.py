@@ -13,9 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab._parallel import run_rows
-from bouncelab.data.validation import as_states
-from bouncelab.errors import DataError, ParameterError, row_text
+from bouncelab.core._parallel import run_rows
+from bouncelab.core.errors import DataError, ParameterError, row_text
+from bouncelab.core.validation import as_states
 
 __all__ = ["check_speeds", "kernel_rows", "predict_per_bounce", "restitution_line", "run_kernel_rows",
            "vertical_restitution"]
@@ -36,7 +36,7 @@ def _row_loop(kernel: Any) -> Any:
     hit = _ROW_LOOPS.get(id(kernel))
     if hit is not None and hit[0] is kernel:
         return hit[1]
-    from bouncelab._jit import jit
+    from bouncelab.core._jit import jit
 
     @jit(nogil=True)
     def loop(P, T, out, codes, start, stop):  # pragma: no cover - compiled

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from bouncelab._jit import jit
+from bouncelab.core._jit import jit
 
 # Regime codes shared by both contact laws.
 SLIP = 0       # the contact point slips throughout (after the bristle/spring has loaded)

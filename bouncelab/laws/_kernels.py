@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from bouncelab._jit import ROW_FLAGS, jit
+from bouncelab.core._jit import ROW_FLAGS, jit
 
 # Regime codes of the rigid family (lab frame: "forward" is +x).
 SLIP_FORWARD = 0

@@ -1,7 +1,7 @@
 """The edges of ``predict(..., units=, form=)``: physical landings in, physical lift-offs out.
 
 The law itself only ever sees scaled Cartesian states; these helpers convert at
-the edge with :mod:`bouncelab.data.units` and give the result back in the
+the edge with :mod:`bouncelab.core.units` and give the result back in the
 caller's kind (an array of the same leading shape, or a DataFrame with the
 same index and named columns).
 """
@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
-from bouncelab.data.units import (
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
+from bouncelab.core.units import (
     BALL_RADIUS_M,
     COMPONENTS,
     POLAR_COMPONENTS,
@@ -24,8 +25,7 @@ from bouncelab.data.units import (
     physical_to_scaled,
     scaled_to_physical,
 )
-from bouncelab.data.validation import check_downward
-from bouncelab.errors import DataError
+from bouncelab.core.validation import check_downward
 
 __all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
 
@@ -36,7 +36,7 @@ WIDEN = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
 def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
     """``plausible=`` as given, if it is a :class:`PlausibleRanges` or None (DataError otherwise)."""
     if plausible is not None and not isinstance(plausible, PlausibleRanges):
-        raise DataError(f"plausible must be a bouncelab.data.plausibility.PlausibleRanges or None; got {plausible!r}")
+        raise DataError(f"plausible must be a bouncelab.core.plausibility.PlausibleRanges or None; got {plausible!r}")
     return plausible
 
 
@@ -51,7 +51,7 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
 
     ``p`` are the validated scaled Cartesian landings (values not checked yet for a large
     array: the guard then raises the value check's error); ``io`` says how the caller gave them
-    (None: scaled Cartesian states). See :func:`bouncelab.data.plausibility.landing_error`.
+    (None: scaled Cartesian states). See :func:`bouncelab.core.plausibility.landing_error`.
     """
     if plausible is None:
         return
@@ -98,7 +98,7 @@ class PhysicalIO:
 
         if isinstance(landing, xr.DataArray):
             raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
-                            "in scaled units (see bouncelab.data.units) or pass its .values")
+                            "in scaled units (see bouncelab.core.units) or pass its .values")
         names = COMPONENTS if self.form_in == "cartesian" else POLAR_COMPONENTS
         if isinstance(landing, pd.DataFrame):
             self.index = landing.index

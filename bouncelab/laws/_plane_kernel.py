@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from bouncelab._jit import jit
+from bouncelab.core._jit import jit
 from bouncelab.laws.compiled import PARALLEL_MIN, run_chunked
 
 INFEASIBLE = 1.0e3  # objective of a plane leaving a side with too few bounces (delta is ~0.1)

@@ -2,7 +2,7 @@
 
 A bounce law maps the landing state ``p0 = [xdot0, ydot0, omega0]`` of a ball to
 its lift-off state ``pF = [xdotF, ydotF, omegaF]`` (scaled units, see
-:mod:`bouncelab.data.units`). :class:`BounceModel` does everything that is the
+:mod:`bouncelab.core.units`). :class:`BounceModel` does everything that is the
 same for every law: keyword parameters stored as given, their validation,
 input validation and broadcasting (once, at the public entry), regimes, repr,
 equality, JSON and identity. A law owns everything that is law-specific:
@@ -64,9 +64,9 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.validation import States, as_states, check_values
-from bouncelab.errors import DataError, LawDefinitionError, NotFittedError, ParameterError, UnknownLawError
+from bouncelab.core.errors import DataError, LawDefinitionError, NotFittedError, ParameterError, UnknownLawError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
+from bouncelab.core.validation import States, as_states, check_values
 from bouncelab.laws.parameters import Parameter, Parameters
 from bouncelab.laws.provenance import Provenance
 
@@ -560,27 +560,27 @@ class BounceModel:
             states only).
         units
             None (scaled units) or ``{"velocity": "m/s", "spin": "rpm"}`` (any unit
-            of :data:`~bouncelab.data.units.SPEED_UNITS` and
-            :data:`~bouncelab.data.units.SPIN_UNITS`) for both the landings and the
+            of :data:`~bouncelab.core.units.SPEED_UNITS` and
+            :data:`~bouncelab.core.units.SPIN_UNITS`) for both the landings and the
             lift-offs.
         form
             ``"cartesian"`` (``[xdot, ydot, omega]``) or ``"polar"``
             (``[speed, angle_deg, spin]``), or a pair (landing form, lift-off form).
             A landing angle is positive *below* the horizontal, a lift-off angle
             positive *above* it, both measured from the direction of travel +x
-            (:func:`~bouncelab.data.units.state_from_polar`). DataFrames name polar
+            (:func:`~bouncelab.core.units.state_from_polar`). DataFrames name polar
             columns ``speed``, ``angle``, ``spin``.
         radius_m
             Ball radius in metres (default 21.35 mm): of the conversion of physical units, and
             of the unit guard's limits on scaled landings (one radius/s is ``radius_m`` m/s).
         plausible
             The unit guard: every landing, in whatever form and units it is given, must be one
-            a golf ball can make (:func:`~bouncelab.data.plausibility.landing_faults`): a speed
+            a golf ball can make (:func:`~bouncelab.core.plausibility.landing_faults`): a speed
             ``sqrt(xdot0^2 + ydot0^2)`` from 1 to 90 m/s, a spin up to 20 000 rpm and an angle of
             incidence of at least 5 degrees (m/s given as radii/s, rpm as rad/s, radians as
             degrees fail them). A landing that does not is refused, naming the row, the limit
             and the unit the numbers look like. Default
-            :data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
+            :data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`; widen them on purpose
             (``PLAUSIBLE_RANGES.widened(min_landing_speed=0.1)``) or pass ``None`` to predict any
             state (the maths of a law, a ball rolling to rest).
         return_flags
@@ -588,7 +588,7 @@ class BounceModel:
             non-physical lift-offs (``ydotF <= 0``, energy gain), computed in the same
             call.
         warn_outside_fitted
-            Warn (:class:`~bouncelab.errors.OutsideFittedRangeWarning`) when some landings lie
+            Warn (:class:`~bouncelab.core.errors.OutsideFittedRangeWarning`) when some landings lie
             outside the ranges of the landings the law was fitted on (``law.provenance``: each
             of xdot0, ydot0, omega0, the speed and the angle of incidence): there the law
             extrapolates. Off by default; a law with no record of its fit warns that it cannot
@@ -604,7 +604,7 @@ class BounceModel:
         ------
         DataError
             Wrong shape, NaN/inf, masked or complex values, magnitudes beyond
-            :data:`bouncelab.data.validation.STATE_LIMIT`, a landing with
+            :data:`bouncelab.core.validation.STATE_LIMIT`, a landing with
             ``ydot0 >= 0`` (row named), an unknown unit or form, a polar angle out of range,
             landings outside ``plausible`` (naming the row, the limit and the unit they look like).
         NotFittedError
@@ -664,7 +664,7 @@ class BounceModel:
         ``form``, ``radius_m`` and ``plausible`` describe and guard the landings as in :meth:`predict`.
         Names take 4 bytes per character per landing (52 MB per million landings
         for ``"slip_backward"``), codes one byte: from :data:`REGIME_NAMES_WARN`
-        landings on, names come with a :class:`~bouncelab.errors.LargeResultWarning`.
+        landings on, names come with a :class:`~bouncelab.core.errors.LargeResultWarning`.
 
         Raises
         ------
@@ -694,7 +694,7 @@ class BounceModel:
             return wrap(c)
         names = np.asarray(self.regimes)
         if len(c) >= REGIME_NAMES_WARN:
-            from bouncelab.errors import LargeResultWarning
+            from bouncelab.core.errors import LargeResultWarning
 
             warnings.warn(f"regime names for {len(c):,} landings take {len(c) * names.itemsize / 1e6:.0f} MB; "
                           f"regime(..., codes=True) gives int8 codes into law.regimes ({len(c) / 1e6:.0f} MB)",
@@ -728,7 +728,7 @@ class BounceModel:
 
     def _warn_outside_fitted(self, p: np.ndarray) -> None:
         """The warning of ``predict(..., warn_outside_fitted=True)``."""
-        from bouncelab.errors import OutsideFittedRangeWarning
+        from bouncelab.core.errors import OutsideFittedRangeWarning
         from bouncelab.laws.provenance import outside_ranges
 
         prov = self.provenance
@@ -794,7 +794,7 @@ class BounceModel:
         return self._regime_output(self._code_array(self._regime(p, theta), len(p)), True)
 
     def _lazy_input(self, da: Any) -> Any:
-        from bouncelab.data.units import COMPONENTS
+        from bouncelab.core.units import COMPONENTS
 
         if "component" not in da.dims or da.sizes["component"] != 3:
             raise DataError(f"landing DataArray needs a 'component' dimension of size 3; its sizes are "
@@ -811,7 +811,7 @@ class BounceModel:
         """``predict`` of a dask-backed DataArray: one task per chunk, nothing computed yet (guarded per chunk)."""
         import xarray as xr
 
-        from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
+        from bouncelab.core.units import COMPONENT_UNITS, COMPONENTS
 
         out = xr.apply_ufunc(lambda block: self.predict(block, plausible=plausible, radius_m=radius_m),
                              self._lazy_input(da), input_core_dims=[["component"]], output_core_dims=[["component"]],
@@ -974,9 +974,9 @@ class BounceModel:
         synthetic or measured, the generator of synthetic data, the fit, the landing ranges
         fitted), or None.
         """
-        from bouncelab import __version__
+        from bouncelab.core import __version__
+        from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS
         from bouncelab.data.campaign import CONVENTIONS
-        from bouncelab.data.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS
 
         cls = type(self)
         if not metadata:
@@ -1005,13 +1005,13 @@ class BounceModel:
         ------
         OutputError
             ``path`` cannot be written (a missing or read-only folder, a folder at ``path``, a
-            full disk): a :class:`~bouncelab.errors.BouncelabError` that is also an
+            full disk): a :class:`~bouncelab.core.errors.BouncelabError` that is also an
             :class:`OSError`, naming the path. Nothing is written; a file already there is unchanged.
         """
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            from bouncelab.atomic import atomic_write_text
-            from bouncelab.errors import OutputError
+            from bouncelab.core.atomic import atomic_write_text
+            from bouncelab.core.errors import OutputError
 
             try:
                 atomic_write_text(path, text + "\n")
@@ -1145,7 +1145,7 @@ def load_law(path: str | Path) -> BounceModel:
     """Read a law written by :meth:`BounceModel.to_json` (any format bouncelab has written).
 
     A law fitted to synthetic bounces (the embedded surrogates, a simulation) comes with a
-    :class:`~bouncelab.errors.SyntheticDataWarning` saying so, and ``print(law)`` says it too
+    :class:`~bouncelab.core.errors.SyntheticDataWarning` saying so, and ``print(law)`` says it too
     (``law.provenance``).
 
     Raises
@@ -1187,7 +1187,7 @@ def load_law(path: str | Path) -> BounceModel:
         raise ParameterError(f"{file}: {exc}") from None
     note = None if law.provenance is None else law.provenance.synthetic_note()
     if note is not None:
-        from bouncelab.errors import SyntheticDataWarning
+        from bouncelab.core.errors import SyntheticDataWarning
 
         warnings.warn(f"{file}: {note}", SyntheticDataWarning, stacklevel=2)
     return law

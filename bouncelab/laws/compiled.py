@@ -23,7 +23,7 @@ by a small thread pool. Hence:
 * results are bit-identical whatever the batch size, a bounce's position in it and
   the number of threads, and on any x86-64 CPU (every bounce goes through the same
   compiled code, which allows no floating-point freedom that could change a finite
-  result, :data:`bouncelab._jit.ROW_FLAGS`; the error sums add the bounces in row
+  result, :data:`bouncelab.core._jit.ROW_FLAGS`; the error sums add the bounces in row
   order and the chunks' partial sums in a fixed order);
 * prediction is safe under ``fork``, ``spawn`` and threads: no OpenMP or TBB
   runtime is involved, and a forked child starts a fresh pool;
@@ -61,9 +61,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from bouncelab._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
-from bouncelab.data.validation import STATE_LIMIT
-from bouncelab.errors import LawDefinitionError
+from bouncelab.core._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
+from bouncelab.core.errors import LawDefinitionError
+from bouncelab.core.validation import STATE_LIMIT
 from bouncelab.laws.base import BounceModel, law_name
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -74,12 +74,12 @@ class _Loops:
     """The compiled array loops built around one kernel."""
 
     def __init__(self, kernel: Any) -> None:
-        from bouncelab._jit import ROW_FLAGS, jit
+        from bouncelab.core._jit import ROW_FLAGS, jit
         from bouncelab.laws._kernels import valid_bits as _valid_bits
 
         # The row loops also report whether every landing in their rows is valid (finite, within
         # the limit, ydot < 0): for large arrays the public methods fuse that check into this pass
-        # instead of reading the array once more (see bouncelab.data.validation, defer_check). The
+        # instead of reading the array once more (see bouncelab.core.validation, defer_check). The
         # check reads the values' bits as integers (``bits`` is a view of P), which fast-math
         # assumptions about NaN and infinity cannot touch.
         @jit(nogil=True, fastmath=ROW_FLAGS)

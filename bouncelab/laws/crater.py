@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import ParameterError
+from bouncelab.core.errors import ParameterError
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 

@@ -8,12 +8,12 @@ from the landings and lift-offs already in memory (no second prediction):
     :math:`\dot y_F \le 0`: the ball does not leave the surface (y points up).
 ``energy_gain``
     :math:`E_F > E_0` with :math:`E \propto \dot x^2 + \dot y^2 + k\,\omega^2` in scaled
-    units, :math:`k = I / (m R^2)` = :data:`~bouncelab.data.units.INERTIA_FACTOR` (0.4, a
+    units, :math:`k = I / (m R^2)` = :data:`~bouncelab.core.units.INERTIA_FACTOR` (0.4, a
     solid sphere, as the rigid bounce assumes); a relative tolerance of
     :data:`ENERGY_RTOL` absorbs rounding.
 
 A law with the reference paper's published values (``Law.published("A")`` or
-``"B"``) warns with :class:`~bouncelab.errors.NonphysicalLiftoffWarning` whenever
+``"B"``) warns with :class:`~bouncelab.core.errors.NonphysicalLiftoffWarning` whenever
 it predicts such lift-offs, since its users take it as given: e.g. the published
 Penner laws of campaign B send landings within the paper's Table 1 ranges into
 the ground (see ``docs/simulators.md``).
@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.units import INERTIA_FACTOR
-from bouncelab.errors import NonphysicalLiftoffWarning
+from bouncelab.core.errors import NonphysicalLiftoffWarning
+from bouncelab.core.units import INERTIA_FACTOR
 
 __all__ = [
     "ENERGY_RTOL", "LiftoffFlags", "any_flagged", "liftoff_flags", "published_campaign",
@@ -102,10 +102,10 @@ def any_flagged(landing: np.ndarray, liftoff: np.ndarray) -> bool:
     check a published law makes on every ``predict`` costs a fraction of the prediction, not several times it."""
     global _any_flagged_compiled
     if _any_flagged_compiled is None:
-        from bouncelab._jit import jit
+        from bouncelab.core._jit import jit
 
         _any_flagged_compiled = jit(nogil=True)(_any_flagged)  # no fastmath: the same arithmetic as NumPy's
-    from bouncelab._parallel import run_chunked
+    from bouncelab.core._parallel import run_chunked
 
     p0, pf = np.ascontiguousarray(landing, dtype=np.float64), np.ascontiguousarray(liftoff, dtype=np.float64)
     return any(run_chunked(_any_flagged_compiled, len(p0), p0, pf, INERTIA_FACTOR, ENERGY_RTOL))
@@ -116,7 +116,7 @@ def published_campaign(law: Any) -> str | None:
     cached = law.__dict__.get("_published_as", False)
     if cached is not False:
         return cached
-    from bouncelab.errors import ParameterError
+    from bouncelab.core.errors import ParameterError
 
     found = None
     for campaign in ("A", "B"):

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import ParameterError
+from bouncelab.core.errors import ParameterError
 
 __all__ = ["Parameter", "Parameters"]
 

@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data import published as _published
-from bouncelab.data.validation import as_states
-from bouncelab.errors import ParameterError
+from bouncelab.core import published as _published
+from bouncelab.core.errors import ParameterError
+from bouncelab.core.validation import as_states
 from bouncelab.laws.base import Parameter
 from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, landing_bits, run_chunked, run_rows
 from bouncelab.laws.rigid import MU_SPEC, R_SPEC

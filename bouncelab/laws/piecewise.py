@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data import published as _published
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import FitError, ParameterError
+from bouncelab.core import published as _published
+from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.units import COMPONENTS
 from bouncelab.laws import plane_fitting as pf_
 from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
 from bouncelab.laws.compiled import CompiledLaw
@@ -179,7 +179,7 @@ class PiecewiseAffine(CompiledLaw):
 
     def _require_plane(self) -> None:
         if self.normal is None or self.offset is None:
-            from bouncelab.errors import NotFittedError
+            from bouncelab.core.errors import NotFittedError
 
             raise NotFittedError("PiecewiseAffine has no plane yet; give normal and offset or fit the law")
 
@@ -251,8 +251,8 @@ class PiecewiseAffine(CompiledLaw):
         slip = pf_._slip_codes(p0, pf).astype(bool)
         if held is not None:
             normal, offset = held
-            model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side,
-                                          sample_weight=problem.sample_weight)
+            model = PiecewiseAffine(**pf_.least_squares_maps(p0, pf, normal, offset, min_side=min_side,
+                                                             sample_weight=problem.sample_weight))
             return self._outcome(problem, model, "least squares maps (plane held)",
                                  ["plane held fixed; both maps by least squares"])
         try:
@@ -270,7 +270,7 @@ class PiecewiseAffine(CompiledLaw):
             try:
                 svm = pf_.fit_svm(p0, pf, C=svm_C, min_side=min_side, plane="hyperplane", max_bounces=5000,
                                   seed=problem.seed, sample_weight=problem.sample_weight)
-                start = (svm.model.normal, svm.model.offset)
+                start = (svm.normal, svm.offset)
             except FitError as exc:
                 if "svm_C" in str(exc):
                     raise
@@ -280,7 +280,8 @@ class PiecewiseAffine(CompiledLaw):
                                  min_side=min_side, max_search_bounces=max_search_bounces,
                                  sample_weight=problem.sample_weight)
         normal, offset = pf_.orient_slip_side(p0, slip, found.normal, found.offset)
-        model = pf_.least_squares_law(p0, pf, normal, offset, min_side=min_side, sample_weight=problem.sample_weight)
+        model = PiecewiseAffine(**pf_.least_squares_maps(p0, pf, normal, offset, min_side=min_side,
+                                                         sample_weight=problem.sample_weight))
         first, last = found.outcomes[0], found.outcomes[-1]
         stop = "; ".join(o.global_stop + (f"; polish: {o.local_stop}" if o.local_stop else "") for o in found.outcomes)
         algo = (f"{first.algorithms[0]} + {first.algorithms[1] or 'no polish'} over the plane; "
@@ -311,9 +312,9 @@ class PiecewiseAffine(CompiledLaw):
         res = pf_.fit_svm(p0, pf, C=svm_C, min_side=int(min_side), plane=svm_plane, scaling=svm_scaling,
                           max_bounces=int(max_svm_bounces), seed=problem.seed, sample_weight=problem.sample_weight)
         algo = f"SVC(kernel='linear', C={res.svm_C:g}) + least squares"
-        return self._outcome(problem, res.model, algo, res.notes, stop="SVM converged" if res.converged else
-                             "SVM iteration limit", extras={"svm_support": res.svm_support,
-                                                            "margin_support": res.margin_support})
+        stop = "SVM converged" if res.converged else "SVM iteration limit"
+        return self._outcome(problem, PiecewiseAffine(**res.parameters), algo, res.notes, stop=stop,
+                             extras={"svm_support": res.svm_support, "margin_support": res.margin_support})
 
     @classmethod
     def published(cls, campaign: str) -> PiecewiseAffine:

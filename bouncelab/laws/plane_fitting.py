@@ -55,9 +55,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.slip_roll import _slip_codes
-from bouncelab.data.validation import as_states, check_same_length
-from bouncelab.errors import FitError
+from bouncelab.core.errors import FitError
+from bouncelab.core.slip_roll import _slip_codes
+from bouncelab.core.validation import as_states, check_same_length
 
 __all__ = [
     "MIN_SIDE",
@@ -66,7 +66,7 @@ __all__ = [
     "PlaneFit",
     "canonical_plane",
     "fit_svm",
-    "least_squares_law",
+    "least_squares_maps",
     "mismatched_fraction",
     "orient_slip_side",
 ]
@@ -85,12 +85,14 @@ T_MAX = 3.0
 
 @dataclass
 class PlaneFit:
-    """A piecewise-affine law found by :func:`fit_svm`, and how.
+    """The parameters of a piecewise-affine law found by :func:`fit_svm`, and how.
 
     Attributes
     ----------
-    model
-        The law (plane oriented so that side 2 holds most slipping bounces).
+    normal, offset
+        The plane ``normal . p0 = offset``, oriented so that side 2 holds most slipping bounces.
+    A1, b1, A2, b2
+        The affine maps of side 1 (roll) and side 2 (slip), by least squares.
     svm_support
         Indices of all support vectors.
     margin_support
@@ -103,7 +105,12 @@ class PlaneFit:
         What a report should say about it.
     """
 
-    model: Any
+    normal: np.ndarray
+    offset: float
+    A1: np.ndarray
+    b1: np.ndarray
+    A2: np.ndarray
+    b2: np.ndarray
     svm_support: np.ndarray
     margin_support: np.ndarray
     svm_C: float
@@ -111,6 +118,12 @@ class PlaneFit:
     svm_scaling: str
     converged: bool = True
     notes: list[str] = field(default_factory=list)
+
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """The law's parameters by name: ``bouncelab.PiecewiseAffine(**fit.parameters)`` is the law."""
+        return {"normal": self.normal, "offset": self.offset, "A1": self.A1, "b1": self.b1, "A2": self.A2,
+                "b2": self.b2}
 
 
 def standardise(p0: np.ndarray, weights: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -148,9 +161,10 @@ def canonical_plane(normal: np.ndarray, offset: float) -> tuple[np.ndarray, floa
     return n, c / scale
 
 
-def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset: float, *,
-                      min_side: int = MIN_SIDE, sample_weight: np.ndarray | None = None):
-    """The law with the given plane and a least-squares affine map ``pF = A p0 + b`` on each side.
+def least_squares_maps(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset: float, *,
+                       min_side: int = MIN_SIDE, sample_weight: np.ndarray | None = None) -> dict[str, Any]:
+    """The parameters of the piecewise law with the given plane and a least-squares affine map
+    ``pF = A p0 + b`` on each side, by name (``PiecewiseAffine(**maps)``).
 
     ``sample_weight`` (one non-negative weight per bounce) makes the least squares weighted.
 
@@ -160,8 +174,6 @@ def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset
         When a side has fewer than ``min_side`` bounces or its landings do not
         span 3-D space (the map would be undetermined).
     """
-    from bouncelab.laws.piecewise import PiecewiseAffine
-
     side2 = p0 @ normal >= offset
     maps = []
     for name, mask in (("side 1 (roll)", ~side2), ("side 2 (slip)", side2)):
@@ -181,7 +193,7 @@ def least_squares_law(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offset
             raise FitError(f"the landings on {name} do not span 3-D space; its affine map is undetermined")
         maps.append((coef[:3].T, coef[3]))
     (A1, b1), (A2, b2) = maps
-    return PiecewiseAffine(normal=normal, offset=float(offset), A1=A1, b1=b1, A2=A2, b2=b2)
+    return {"normal": normal, "offset": float(offset), "A1": A1, "b1": b1, "A2": A2, "b2": b2}
 
 
 def orient_slip_side(p0: np.ndarray, slip: np.ndarray, normal: np.ndarray, offset: float):
@@ -310,8 +322,8 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
         notes.append(f"plane through the {len(margin)} on-margin support vectors by least squares on omega0 "
                      f"(C = {C:g}, {scaling} landings)")
     normal, offset = orient_slip_side(p0, slip, *canonical_plane(normal, offset))
-    model = least_squares_law(p0, pf, normal, offset, min_side=min_side, sample_weight=sample_weight)
-    return PlaneFit(model=model, svm_support=support, margin_support=margin, svm_C=C, svm_plane=plane,
+    maps = least_squares_maps(p0, pf, normal, offset, min_side=min_side, sample_weight=sample_weight)
+    return PlaneFit(**maps, svm_support=support, margin_support=margin, svm_C=C, svm_plane=plane,
                     svm_scaling=scaling, converged=converged, notes=notes)
 
 

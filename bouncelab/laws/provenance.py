@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import ParameterError
+from bouncelab.core.errors import ParameterError
+from bouncelab.core.units import BALL_RADIUS_M
 
 __all__ = ["RANGE_NAMES", "RANGE_UNITS", "Provenance", "landing_ranges", "outside_ranges"]
 
@@ -138,7 +138,7 @@ class Provenance:
                seed: int | None = None) -> Provenance:
         """The provenance of a law fitted to ``landing`` (the bounces actually fitted) from ``data``
         (a campaign Dataset, whose attrs say what it is, or bare arrays, which say nothing)."""
-        from bouncelab import __version__
+        from bouncelab.core import __version__
 
         attrs: Mapping[str, Any] = getattr(data, "attrs", None) or {}
         is_dataset = hasattr(data, "data_vars")

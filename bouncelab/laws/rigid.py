@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from bouncelab.data import published as _published
-from bouncelab.errors import FitError
+from bouncelab.core import published as _published
+from bouncelab.core.errors import FitError
 from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
 from bouncelab.laws.compiled import CompiledLaw
 

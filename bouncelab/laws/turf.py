@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab import _parallel
+from bouncelab.core import _parallel
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 from bouncelab.laws.rigid import MU_SPEC

@@ -12,10 +12,10 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data import units as _u
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core import units as _u
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import COMPONENTS
+from bouncelab.data.inputs import campaign_arrays
 
 #: Named unit sets for the ``units=`` argument of the plots: name -> (velocity unit, spin unit).
 UNIT_PRESETS: dict[str, tuple[str, str]] = {
@@ -30,7 +30,7 @@ UNIT_PRESETS: dict[str, tuple[str, str]] = {
 class FigureUnits:
     """Units of a figure's axes. Data stay in scaled units; only plotted values and labels convert.
 
-    ``velocity`` is any speed unit of :mod:`bouncelab.data.units` (m/s, ft/s, mph, km/h,
+    ``velocity`` is any speed unit of :mod:`bouncelab.core.units` (m/s, ft/s, mph, km/h,
     radius/s), ``spin`` any spin unit (rad/s, rpm, rev/s, deg/s); ``radius_m`` is the ball
     radius used to turn radii/s into a speed (default 21.35 mm).
     """
@@ -261,7 +261,7 @@ def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) ->
     leaves any previous file at ``path`` intact. Further keyword arguments go to
     :meth:`matplotlib.figure.Figure.savefig`.
     """
-    from bouncelab.atomic import atomic_path
+    from bouncelab.core.atomic import atomic_path
 
     _check_figure(fig)
     path = Path(path)

@@ -8,10 +8,10 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.slip_roll import classify_slip_roll
+from bouncelab.core.units import COMPONENTS
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import delta_q
 from bouncelab.plots import _common as c

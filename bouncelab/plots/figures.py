@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.slip_roll import classify_slip_roll
+from bouncelab.core.units import COMPONENTS
 from bouncelab.plots import _common as c
 
 __all__ = ["plot_pi_widths", "plot_slices", "plot_tangential"]

@@ -6,12 +6,13 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.data import published
-from bouncelab.data.slip_roll import classify_slip_roll
-from bouncelab.data.units import landing_from_speed_angle_spin
-from bouncelab.errors import DataError
+from bouncelab.core import published
+from bouncelab.core.errors import DataError
+from bouncelab.core.slip_roll import classify_slip_roll
+from bouncelab.core.units import landing_from_speed_angle_spin
 from bouncelab.laws.base import BounceModel
 from bouncelab.laws.piecewise import PiecewiseAffine
+from bouncelab.laws.plane_fitting import PlaneFit
 from bouncelab.plots import _common as c
 
 __all__ = ["driver_landing", "plane_polygon", "plot_landing_space"]
@@ -45,7 +46,8 @@ def plot_landing_space(
         A campaign Dataset (or a ``(landing, liftoff)`` pair).
     law
         Optional fitted :class:`~bouncelab.PiecewiseAffine` (or a fit result holding
-        one in ``.model``): its separating plane is drawn as a translucent surface
+        one in ``.model``, or the :class:`~bouncelab.laws.plane_fitting.PlaneFit` of
+        :func:`~bouncelab.laws.plane_fitting.fit_svm`): its separating plane is drawn as a translucent surface
         clipped to the box spanned by the data.
     support
         Optional support vectors to circle: indices of bounces, a boolean mask, or
@@ -164,6 +166,8 @@ def plot_landing_space(
 def _plane_law(law: Any) -> PiecewiseAffine | None:
     if law is None:
         return None
+    if isinstance(law, PlaneFit):  # the paper's SVM procedure: its plane and maps
+        return PiecewiseAffine(**law.parameters)
     model = getattr(law, "model", law)
     if not isinstance(model, PiecewiseAffine):
         kind = type(model).__name__ if isinstance(model, BounceModel) else type(law).__name__

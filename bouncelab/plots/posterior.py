@@ -15,9 +15,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import COMPONENTS
+from bouncelab.data.campaign import interval_sds
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.plots import _common as c
 
 __all__ = ["plot_corner", "plot_spread"]
@@ -100,12 +101,10 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
     setting's measured landings, so it includes the landings' own scatter as the repeats do.
     """
     _check_posterior(posterior)
-    from bouncelab.fitting.hierarchical import _measurement_sds
-
     p0, pf, setting = campaign_arrays(data)
     if setting is None:
         raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)")
-    land_sd, lift_sd = _measurement_sds(data, len(p0))
+    land_sd, lift_sd = interval_sds(data, len(p0))
     sd = None
     if land_sd is not None or lift_sd is not None:
         sd = (np.zeros_like(p0) if land_sd is None else land_sd, np.zeros_like(p0) if lift_sd is None else lift_sd)

@@ -45,10 +45,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from bouncelab.data import published
-from bouncelab.data.campaign import campaign_arrays
-from bouncelab.data.slip_roll import _slip_codes
-from bouncelab.errors import DataError
+from bouncelab.core import published
+from bouncelab.core.errors import DataError
+from bouncelab.core.slip_roll import _slip_codes
+from bouncelab.data.inputs import campaign_arrays
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
 
 __all__ = [

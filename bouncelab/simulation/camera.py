@@ -43,7 +43,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from bouncelab.analysis.trajectories import DRAG_SCALED, GRAVITY_SCALED
-from bouncelab.errors import ParameterError
+from bouncelab.core.errors import ParameterError
 
 __all__ = ["Camera", "Frames"]
 

@@ -8,10 +8,10 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.data import published
+from bouncelab.core import published
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.data.campaign import make_campaign
-from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import DataError, ParameterError
 from bouncelab.simulation.camera import Camera
 from bouncelab.simulation.launcher import LauncherDesign
 from bouncelab.simulation.measure import measure_frames

@@ -49,9 +49,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from bouncelab.data import published
-from bouncelab.data.units import landing_from_speed_angle_spin
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core import published
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import landing_from_speed_angle_spin
 
 __all__ = ["DIALS", "LaunchPlan", "LauncherDesign"]
 

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import ParameterError
+from bouncelab.core.errors import ParameterError
 from bouncelab.laws.base import BounceModel
 from bouncelab.laws.compiled import CompiledLaw
 

@@ -14,10 +14,10 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import estimate_spin, measure_bounce
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
+from bouncelab.core.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.data.campaign import make_campaign
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.units import BALL_RADIUS_M, INERTIA_FACTOR
-from bouncelab.errors import DataError
 from bouncelab.tracking.frames import open_clip, stored_fps
 from bouncelab.tracking.tracker import FPS_SOURCES, check_fps, track_clip
 
@@ -38,7 +38,7 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
 
     A bounce cannot gain kinetic energy: a clip whose lift-off has more
     kinetic energy (translation and spin, ``xdot^2 + ydot^2 + k omega^2`` with
-    ``k`` = :data:`~bouncelab.data.units.INERTIA_FACTOR`) than its landing by
+    ``k`` = :data:`~bouncelab.core.units.INERTIA_FACTOR`) than its landing by
     more than the measurement intervals allow (the lift-off's energy at the
     near ends of its intervals above the landing's at the far ends) is refused:
     such a clip is played backwards (reversed frames, a folder's frame numbers

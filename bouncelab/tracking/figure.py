@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from bouncelab.atomic import atomic_path
+from bouncelab.core.atomic import atomic_path
 
 __all__ = ["diagnostic_figure"]
 

@@ -27,7 +27,7 @@ Memory
 may take: tracking a clip needs about :data:`WORKING_BYTES_PER_PIXEL` bytes per
 pixel of one frame whatever the clip's length (about 130 MB for 1920 x 1080), and
 reading a whole clip (:func:`read_frames`) its frames' size. What would exceed the
-budget is refused with a :class:`~bouncelab.errors.DataError` saying how much it
+budget is refused with a :class:`~bouncelab.core.errors.DataError` saying how much it
 would take. Set ``bouncelab.tracking.frames.MEMORY_BUDGET`` (bytes), or pass
 ``memory_budget=`` to :func:`open_clip`, :func:`read_frames`,
 :func:`~bouncelab.tracking.track_clip` or :func:`~bouncelab.tracking.measure_clips`,
@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 from bouncelab.tracking._cv import cv2
 
 __all__ = [

@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 __all__ = ["RenderedClip", "ball_pattern", "render_clip"]
 
@@ -84,7 +84,7 @@ class RenderedClip:
         """
         import io
 
-        from bouncelab.atomic import atomic_write_bytes
+        from bouncelab.core.atomic import atomic_write_bytes
 
         buf = io.BytesIO()
         np.savez_compressed(buf, frames=self.frames, fps=self.fps, true_landing=self.landing,

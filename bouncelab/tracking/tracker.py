@@ -14,8 +14,8 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import FRAME_RATE_RANGE
-from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.tracking.detect import estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip
 from bouncelab.tracking.rotation import _window_rotation, rotation_window
@@ -113,7 +113,7 @@ def track_clip(
     ------
     FrameRateError
         A missing frame rate, or one outside :data:`FPS_RANGE` (a
-        :class:`~bouncelab.errors.DataError` with the value and its source).
+        :class:`~bouncelab.core.errors.DataError` with the value and its source).
     DataError
         Unreadable, truncated or damaged source, frames that would take more
         than the memory budget (saying how much), or a ball found in no frame.

@@ -2,6 +2,7 @@ import time
 
 import bouncelab as bl
 from bouncelab.plots import save_figure
+from bouncelab.plots.posterior import plot_corner, plot_spread
 
 # SYNTHETIC data: the default 'turf' surrogate of campaign B, simulated with the CraterContact law
 # (whose own parameters vary from spot to spot); Rigid did not generate it.
@@ -23,5 +24,5 @@ print("share of B's bounces inside their 95 % predictive intervals (with measure
 print(post.check(data).round(3))
 post.to_json("rigid_B_posterior.json")
 print("saved and loaded:", repr(bl.load_posterior("rigid_B_posterior.json")))
-save_figure(post.plot_corner(columns=["r", "mu", "scale_r", "scale_mu"]), "calibrate_corner.png", dpi=80)
-save_figure(post.plot_spread(data), "calibrate_spread.png", dpi=80)
+save_figure(plot_corner(post, columns=["r", "mu", "scale_r", "scale_mu"]), "calibrate_corner.png", dpi=80)
+save_figure(plot_spread(post, data), "calibrate_spread.png", dpi=80)

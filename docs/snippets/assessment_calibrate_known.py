@@ -2,6 +2,7 @@ import numpy as np
 
 import bouncelab as bl
 from bouncelab.plots import save_figure
+from bouncelab.plots.posterior import plot_spread
 
 # A campaign made here, with known answers: 80 launcher settings x 5 repeats; at every bounce's spot the
 # Rigid law's r is logit-normal (median 0.5, scale 0.25) and mu log-normal (median 0.4, scale 0.3);
@@ -31,4 +32,4 @@ print(post.diagnostics["reason"], f"({post.diagnostics['elapsed_s']:.1f} s)")
 fresh = campaign(80)
 print("fresh bounces inside their 95 % predictive intervals:")
 print(post.check(fresh).round(3))
-save_figure(post.plot_spread(fresh), "calibrate_spread_known.png", dpi=80)
+save_figure(plot_spread(post, fresh), "calibrate_spread_known.png", dpi=80)

@@ -4,8 +4,8 @@ from pathlib import Path
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data.units import state_from_polar
-from bouncelab.errors import DroppedRowsWarning
+from bouncelab.core.errors import DroppedRowsWarning
+from bouncelab.core.units import state_from_polar
 
 # A launch-monitor export: a title line, then speed, angle and spin of the landing and the lift-off.
 Path("monitor.csv").write_text(

@@ -3,7 +3,7 @@ from pathlib import Path
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data.units import polar_halfwidths_to_cartesian
+from bouncelab.core.units import polar_halfwidths_to_cartesian
 
 # A polar landing with 95 % half-widths of its speed, angle and spin (a marker such as _pi after the name),
 # and a Cartesian lift-off without intervals.

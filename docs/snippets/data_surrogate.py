@@ -1,8 +1,8 @@
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data.surrogate import SurrogateSpec, generate_surrogate
 from bouncelab.laws.plane_fitting import mismatched_fraction
+from bouncelab.simulation.surrogate import SurrogateSpec, generate_surrogate
 
 print(SurrogateSpec.for_campaign("A"))
 for campaign in "AB":

@@ -1,8 +1,8 @@
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data import units
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES
+from bouncelab.core import units
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 
 # Campaign A's bounces as a lab sheet would hold them: m/s and rpm.
 a = bl.load_campaign("A", surrogate="published")

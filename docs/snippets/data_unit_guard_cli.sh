@@ -1,7 +1,7 @@
 # a lab sheet in m/s and rpm (spins all below 4800 rpm), whose spin columns give no unit
 python - <<'PY'
 import bouncelab as bl
-from bouncelab.data import units
+from bouncelab.core import units
 b = bl.load_campaign("B", surrogate="published")
 p0 = units.from_scaled(b.landing.values, velocity="m/s", spin="rpm")
 pf = units.from_scaled(b.liftoff.values, velocity="m/s", spin="rpm")

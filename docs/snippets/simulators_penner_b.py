@@ -3,7 +3,7 @@ import warnings
 import numpy as np
 
 import bouncelab as bl
-from bouncelab.data import published
+from bouncelab.core import published
 
 # 100,000 landings drawn uniformly within the paper's Table 1 ranges for campaign B.
 t = published.TABLE1.loc["B"]

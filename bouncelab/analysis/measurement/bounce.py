@@ -26,8 +26,8 @@ from bouncelab.analysis.measurement.velocity import (
     _check_velocity_options,
     estimate_velocity,
 )
-from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import COMPONENT_UNITS, COMPONENTS
 
 
 def measure_bounce(

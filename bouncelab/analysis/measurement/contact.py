@@ -16,7 +16,7 @@ from bouncelab.analysis.measurement.input_checks import (
     _frame_interval,
 )
 from bouncelab.analysis.measurement.results import ContactDetection
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 # A kink is accepted only if the flight slope next to it is this many standard errors from 0.
 _KINK_SIGMAS = 5.0

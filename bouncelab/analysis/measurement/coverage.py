@@ -9,8 +9,8 @@ import xarray as xr
 
 from bouncelab.analysis.measurement.bounce import measure_bounce
 from bouncelab.analysis.measurement.contact import detect_contact
-from bouncelab.data.units import COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import COMPONENTS
 
 
 def interval_coverage(
@@ -142,7 +142,7 @@ def interval_coverage(
 
 def _random_bounce(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """A plausible (landing, liftoff) pair in scaled units; see :func:`interval_coverage`."""
-    from bouncelab.data.units import velocity_to_scaled
+    from bouncelab.core.units import velocity_to_scaled
 
     speed = float(velocity_to_scaled(rng.uniform(10.0, 40.0)))
     angle = np.deg2rad(rng.uniform(20.0, 70.0))

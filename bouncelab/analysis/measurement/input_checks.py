@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 #: Largest relative deviation of a frame interval from the mean interval that is
 #: accepted as timing jitter (timestamps rounded to 1 us at 7000 fps deviate by 0.35 %).

@@ -9,7 +9,7 @@ from scipy import stats
 
 from bouncelab.analysis.measurement.input_checks import _as_1d, _check_finite, _check_level
 from bouncelab.analysis.measurement.results import SpinEstimate
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 
 def estimate_spin(spin_samples, *, level: float = 0.95) -> SpinEstimate:

@@ -17,7 +17,7 @@ from bouncelab.analysis.measurement.input_checks import (
     _frame_interval,
 )
 from bouncelab.analysis.measurement.results import VelocityEstimate
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 IntervalKind = Literal["prediction", "confidence"]
 VelocityMethod = Literal["differences", "positions"]

@@ -2,7 +2,7 @@
 
 :func:`load_campaign` turns a measurement file (one row per bounce) into a
 campaign :class:`xarray.Dataset` in the paper's scaled units (see
-:mod:`bouncelab.data.units` and :mod:`bouncelab.data.campaign`);
+:mod:`bouncelab.core.units` and :mod:`bouncelab.data.campaign`);
 :func:`save_campaign` writes a campaign to netCDF so that :func:`load_campaign`
 reads it back bit for bit.
 
@@ -91,7 +91,7 @@ used only when all three of a state are present. The setting column is one of
 ``configuration``, ``case``, ``test_case``; numeric labels become integers
 (``"01"`` becomes 1), other labels stay strings. If a role matches no column
 or several, :func:`load_campaign` raises a
-:class:`~bouncelab.errors.DataError` that lists the file's columns and spells
+:class:`~bouncelab.core.errors.DataError` that lists the file's columns and spells
 out the ``columns=`` argument to pass. A typical file that needs no argument::
 
     Test condition,Vx0 (m/s),Vy0 (m/s),Spin0 (rpm),VxF (m/s),VyF (m/s),SpinF (rpm)
@@ -120,7 +120,7 @@ Such a state's intervals may be half-widths of its speed, angle and spin
 ``columns={"landing_pi": {"speed": ..., "angle": ..., "spin": ...}}``): they
 are propagated to first order, with independent speed and angle errors, to the
 xdot, ydot, omega half-widths the campaign holds
-(:func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`), and the attr
+(:func:`~bouncelab.core.units.polar_halfwidths_to_cartesian`), and the attr
 ``interval_form`` says so. Half-widths are read in absolute units only: a
 relative unit (``speed_in_pi (%)``, ``pct``, ``rel``) is refused. A mapping in
 ``columns=`` is trusted to say what each column holds; a list (xdot, ydot,
@@ -142,13 +142,13 @@ column's header name or, failing that, a *units row* right under the header (a
 row whose cells are units such as ``m/s``, ``rpm``). If both are given for a
 column and disagree, the load fails; each column may have its own unit, and
 the units read are recorded in the ``source_units`` attr. Known units are those of
-:mod:`bouncelab.data.units` (velocity: m/s, ft/s, mph, km/h, radius/s = 1/s
+:mod:`bouncelab.core.units` (velocity: m/s, ft/s, mph, km/h, radius/s = 1/s
 = s^-1; spin: rad/s, rpm = rev/min = rot per min, rev/s = Hz, deg/s; ``1/s`` on a
 spin column means rad/s; CF spellings such as ``m s-1`` too). With no unit, the
 numbers are read in scaled units only if they are plausible in no other unit
-(:mod:`bouncelab.data.plausibility`); otherwise the load fails and says which units
+(:mod:`bouncelab.core.plausibility`); otherwise the load fails and says which units
 they fit and how to declare one. Whatever the units, values beyond
-:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES` are refused as a unit mistake.
+:data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES` are refused as a unit mistake.
 Examples::
 
     load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})
@@ -161,13 +161,13 @@ A campaign netCDF file is already in scaled units: ``columns=`` and
 
 Errors
 ------
-Every problem with the file is a :class:`~bouncelab.errors.DataError` whose
+Every problem with the file is a :class:`~bouncelab.core.errors.DataError` whose
 message names the file, the column as spelled in the file and the data row
 (the first row under the header is row 1; blank and comment lines are not
 counted, and the message also gives the line of a text file or the cell of a
 spreadsheet). Nothing is written or kept when a load fails. With
 ``missing="drop"`` rows with a missing value in a column that is read are left
-out instead, with a :class:`~bouncelab.errors.DroppedRowsWarning`.
+out instead, with a :class:`~bouncelab.core.errors.DroppedRowsWarning`.
 """
 
 # COLUMN_SYNONYMS, and the synonym table's internals (``_role_of``...), which stay importable

@@ -14,9 +14,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import COMPONENTS, Z95, canonical_unit
 from bouncelab.data.io import hints
-from bouncelab.data.units import COMPONENTS, canonical_unit
-from bouncelab.errors import DataError
 
 if TYPE_CHECKING:
     from bouncelab.data.io.table import _Column, _Table
@@ -665,8 +665,6 @@ def check_absolute_units(table: _Table, cols: Mapping[str, _Column], style: str)
 #: What ``intervals=`` may say a file's interval columns hold: ``"pi95"`` the half-widths of 95 %
 #: intervals (what a campaign stores), ``"sd"`` one standard deviation.
 INTERVAL_KINDS = ("pi95", "sd")
-#: The 97.5 % quantile of the standard normal: one standard deviation times Z95 is a 95 % half-width.
-Z95 = 1.959963984540054
 
 
 def _interval_marker(col: _Column) -> str | None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from bouncelab.core.errors import DataError
 from bouncelab.data.io import hints
 from bouncelab.data.io.table import (
     _finish_table,
@@ -13,7 +14,6 @@ from bouncelab.data.io.table import (
     _module_available,
     _Table,
 )
-from bouncelab.errors import DataError
 
 _EXCEL_SUFFIXES = (".xlsx", ".xls")
 

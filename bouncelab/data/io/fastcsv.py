@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from bouncelab.core.errors import DataError
 from bouncelab.data.io.table import _finish_table, _is_units_row, _Table
-from bouncelab.errors import DataError
 
 # Bytes a plain data line may hold.
 _PLAIN = b"0123456789eE+-.,\r\n"

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 #: The languages loader messages can speak: Python keywords (default) or the command's flags.
 HINT_STYLES = ("python", "cli")

@@ -23,6 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius, spin_to_scaled, velocity_to_scaled
+from bouncelab.core.validation import as_states
 from bouncelab.data.io import hints
 from bouncelab.data.io.columns import (
     _POLAR_STEMS,
@@ -49,9 +52,6 @@ from bouncelab.data.io.table import (
     _relocate,
     _Table,
 )
-from bouncelab.data.units import BALL_RADIUS_M, COMPONENTS, ball_radius, spin_to_scaled, velocity_to_scaled
-from bouncelab.data.validation import as_states
-from bouncelab.errors import DataError
 
 __all__ = ["LandingTable", "read_landings"]
 

@@ -13,6 +13,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
+from bouncelab.core.units import BALL_RADIUS_M, ball_radius
+from bouncelab.data.embedded import DEFAULT_SURROGATE, EMBEDDED_CAMPAIGNS, SURROGATES, embedded_file_name
 from bouncelab.data.io import hints
 from bouncelab.data.io.columns import INTERVAL_KINDS, _check_units_arg
 from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
@@ -20,10 +24,6 @@ from bouncelab.data.io.matlab import _read_mat
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
 from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
 from bouncelab.data.io.text import _read_text
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.data.surrogate import DEFAULT_SURROGATE, SURROGATES, embedded_file_name
-from bouncelab.data.units import BALL_RADIUS_M, ball_radius
-from bouncelab.errors import DataError, ParameterError
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -31,9 +31,7 @@ if TYPE_CHECKING:
 #: File suffixes :func:`load_campaign` reads (case-insensitive).
 SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".netcdf")
 
-#: Names of the campaigns shipped with the package (``load_campaign("A")``).
-EMBEDDED_CAMPAIGNS = ("A", "B")
-#: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.surrogate.SURROGATES).
+#: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.embedded.SURROGATES).
 EMBEDDED_SURROGATES = SURROGATES
 
 
@@ -149,7 +147,7 @@ def load_campaign(
         unless the header or ``units={"angle": "rad"}`` says otherwise); its
         intervals may be such a mapping too (half-widths of the speed, angle
         and spin, propagated to first order to xdot, ydot, omega ones, see
-        :func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`).
+        :func:`~bouncelab.core.units.polar_halfwidths_to_cartesian`).
         ``None`` detects them from :data:`~bouncelab.data.io.COLUMN_SYNONYMS`.
     units
         Units of the file's values, ``{"velocity": "m/s", "spin": "rpm"}``
@@ -163,21 +161,21 @@ def load_campaign(
         Excel sheet name or 0-based index (default: the first sheet).
     ball_radius_m
         Ball radius in metres used to scale velocities (a number in
-        :data:`~bouncelab.data.units.BALL_RADIUS_RANGE_M`, 5 mm to 20 cm: 21.35 is refused as millimetres).
+        :data:`~bouncelab.core.units.BALL_RADIUS_RANGE_M`, 5 mm to 20 cm: 21.35 is refused as millimetres).
     plausible
         The magnitudes a golf bounce can have
-        (:data:`~bouncelab.data.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
+        (:data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
         as a unit mistake. Widen them on purpose with
         ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
     surrogate
         Which embedded campaign ``"A"``/``"B"`` loads (embedded campaigns only):
         ``"turf"`` the campaign simulated from a calibrated physical turf law
-        (:data:`bouncelab.data.surrogate.TURF_CALIBRATION`) and measured through
+        (:data:`bouncelab.simulation.surrogate.TURF_CALIBRATION`) and measured through
         camera frames (:func:`bouncelab.simulate_campaign`; ``docs/simulation.md``),
         ``"published"`` the synthetic surrogate made from the paper's published
         piecewise-affine laws (:func:`bouncelab.generate_surrogate`; comparisons of
         the paper's laws on it are circular). ``None`` (default):
-        :data:`bouncelab.data.surrogate.DEFAULT_SURROGATE`, ``"turf"``, the one the
+        :data:`bouncelab.simulation.surrogate.DEFAULT_SURROGATE`, ``"turf"``, the one the
         calibration measures closer to the paper. The name is stored in attrs
         ``surrogate``.
     header_row
@@ -189,13 +187,13 @@ def load_campaign(
         ``"raise"`` (default): a missing value (an empty cell, ``NA``,
         ``NaN``...) in a column that is read is an error naming the cell.
         ``"drop"``: such rows are left out, with a
-        :class:`~bouncelab.errors.DroppedRowsWarning` that lists them, and
+        :class:`~bouncelab.core.errors.DroppedRowsWarning` that lists them, and
         their data rows (1-based) are stored in attrs ``dropped_rows``.
     intervals
         What the file's interval columns hold (a campaign stores the
         half-widths of 95 % prediction intervals): ``"pi95"`` such
         half-widths, ``"sd"`` one standard deviation (multiplied by
-        :data:`~bouncelab.data.io.columns.Z95`, 1.96, on loading). ``None``
+        :data:`~bouncelab.core.units.Z95`, 1.96, on loading). ``None``
         (default) lets the names say: ``pi``, ``pi95``, ``hw``, ``halfwidth``,
         ``ci``, ``ci95`` (and names without a marker given in ``columns=``)
         are 95 % half-widths; ``sd``, ``std``, ``stdev``, ``stddev``,

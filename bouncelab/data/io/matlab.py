@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core.errors import DataError
 from bouncelab.data.io.columns import _header_unit
 from bouncelab.data.io.table import _check_duplicates, _Column, _Table, _table_of_columns
-from bouncelab.errors import DataError
 
 
 def _read_mat(path: Path, file: str) -> _Table:

@@ -10,12 +10,12 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core.errors import DataError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled, implausibility
+from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.columns import _header_unit
 from bouncelab.data.io.table import _check_duplicates, _Column, _module_available, _Table, _table_of_columns
-from bouncelab.data.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled, implausibility
-from bouncelab.data.units import BALL_RADIUS_M
-from bouncelab.errors import DataError
 
 _NETCDF_SUFFIXES = (".nc", ".netcdf")
 
@@ -94,7 +94,7 @@ def _campaign_from_netcdf(
         if unit is not None and str(unit).strip().lower() not in ("scaled", ""):
             raise DataError(
                 f"the variable {var!r} says units={unit!r}, but a campaign file holds scaled units "
-                "(radii/s and rad/s, units='scaled'); convert it with bouncelab.data.units.to_scaled "
+                "(radii/s and rad/s, units='scaled'); convert it with bouncelab.core.units.to_scaled "
                 "and save it with save_campaign, or rename the variables to load the file as a table",
                 file=file, column=var,
             )

@@ -10,11 +10,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.atomic import atomic_path
+from bouncelab.core.atomic import atomic_path
+from bouncelab.core.errors import DataError, OutputError
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
 from bouncelab.data.io.table import _module_available
-from bouncelab.errors import DataError, OutputError
 
 
 def _netcdf_engine() -> str:
@@ -74,7 +74,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     OutputError
         The file cannot be written (its folder does not exist or is read-only,
         ``path`` is a folder, the disk is full...): a
-        :class:`~bouncelab.errors.OutputError` (an ``OSError``) naming the path
+        :class:`~bouncelab.core.errors.OutputError` (an ``OSError``) naming the path
         (``err.path``); no file is created and an existing one is unchanged.
     """
     path = Path(path).expanduser()
@@ -92,7 +92,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
     checked = _storable_settings(checked, engine or _netcdf_engine())
-    # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.atomic).
+    # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.core.atomic).
     try:
         with atomic_path(path) as tmp:
             checked.to_netcdf(tmp, engine=engine or _netcdf_engine())

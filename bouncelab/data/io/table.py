@@ -16,6 +16,24 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core.errors import DataError, DroppedRowsWarning
+from bouncelab.core.plausibility import (
+    CANDIDATE_UNITS,
+    PLAUSIBLE_RANGES,
+    PlausibleRanges,
+    declare_units_hint,
+    implausibility,
+    plausible_units,
+)
+from bouncelab.core.units import (
+    COMPONENTS,
+    polar_halfwidths_to_cartesian,
+    spin_to_scaled,
+    state_from_polar,
+    velocity_from_scaled,
+    velocity_to_scaled,
+)
+from bouncelab.core.validation import as_states
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.io import hints
 from bouncelab.data.io.columns import (
@@ -34,24 +52,6 @@ from bouncelab.data.io.columns import (
     check_absolute_units,
     interval_scales,
 )
-from bouncelab.data.plausibility import (
-    CANDIDATE_UNITS,
-    PLAUSIBLE_RANGES,
-    PlausibleRanges,
-    declare_units_hint,
-    implausibility,
-    plausible_units,
-)
-from bouncelab.data.units import (
-    COMPONENTS,
-    polar_halfwidths_to_cartesian,
-    spin_to_scaled,
-    state_from_polar,
-    velocity_from_scaled,
-    velocity_to_scaled,
-)
-from bouncelab.data.validation import as_states
-from bouncelab.errors import DataError, DroppedRowsWarning
 
 
 def _module_available(name: str) -> bool:
@@ -675,7 +675,7 @@ def _polar_intervals(
     """Propagate a polar state's speed, angle and spin half-widths to xdot, ydot, omega ones (in place).
 
     To first order with independent speed and angle errors
-    (:func:`~bouncelab.data.units.polar_halfwidths_to_cartesian`), at the state's measured speed and
+    (:func:`~bouncelab.core.units.polar_halfwidths_to_cartesian`), at the state's measured speed and
     angle (converted by :func:`_polar_state` first). The half-widths are checked as written before, since
     the propagation would square a negative one into a positive one.
     """

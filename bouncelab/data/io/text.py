@@ -6,6 +6,7 @@ import csv
 import re
 from pathlib import Path
 
+from bouncelab.core.errors import DataError
 from bouncelab.data.io.fastcsv import read_plain_csv
 from bouncelab.data.io.table import (
     _MISSING,
@@ -15,7 +16,6 @@ from bouncelab.data.io.table import (
     _parse_number,
     _Table,
 )
-from bouncelab.errors import DataError
 
 
 def _read_text(path: Path, file: str, raw: bytes, *, header_row: int | None = None,

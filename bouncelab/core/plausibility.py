@@ -31,7 +31,7 @@ Two kinds of check use them:
 Examples
 --------
 >>> import numpy as np
->>> from bouncelab.data.plausibility import implausibility
+>>> from bouncelab.core.plausibility import implausibility
 >>> landing = np.array([[900.0, -700.0, 3000.0]])   # 3000 rad/s: rpm read as rad/s
 >>> liftoff = np.array([[400.0, 200.0, 300.0]])
 >>> implausibility(landing, liftoff).reason  # doctest: +ELLIPSIS
@@ -48,9 +48,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bouncelab.data.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
-from bouncelab.data.validation import STATE_LIMIT, check_values
-from bouncelab.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
+from bouncelab.core.validation import STATE_LIMIT, check_values
 
 __all__ = [
     "CANDIDATE_UNITS",
@@ -338,7 +338,7 @@ def scaled_units_error(
         a check of the speeds of landings given as speed, angle and spin, put in the first column).
     declare
         ``declare({kind: likely_units})``: how to give the numbers in the units they look like
-        (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.data.units.to_scaled(...)"``.
+        (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.core.units.to_scaled(...)"``.
     widen
         ``widen(limit)``: how to accept the numbers on purpose, given the name of the limit
         (``"max_spin"``, ...) of :class:`PlausibleRanges` they break.
@@ -450,7 +450,7 @@ class LandingFaults:
         spinning faster than ``max_spin``, flatter than ``min_landing_angle``; -1 for none.
     invalid
         Whether some rows are not valid landings (NaN, infinite, ``ydot >= 0``...): those are
-        left to the value checks of :mod:`bouncelab.data.validation`, which name them.
+        left to the value checks of :mod:`bouncelab.core.validation`, which name them.
     """
 
     slow: int = -1
@@ -491,8 +491,8 @@ def landing_faults(landing: np.ndarray, *, radius_m: float = BALL_RADIUS_M,
     if len(p) <= _SMALL:
         return _faults_small(p.tolist(), *limits)
     if len(p) >= FAST_GUARD_MIN:
-        from bouncelab._parallel import run_rows
-        from bouncelab.data._fast_guard import scan_landings
+        from bouncelab.core._fast_guard import scan_landings
+        from bouncelab.core._parallel import run_rows
 
         parts = run_rows(scan_landings, len(p), p, *limits, STATE_LIMIT)
         if not any(part[0] for part in parts):
@@ -699,7 +699,7 @@ def check_scaled(
     >>> check_scaled(landing, liftoff)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    bouncelab.errors.DataError: column 'ydot0': read in radii/s, the median landing speed would be 0.538 m/s...
+    bouncelab.core.errors.DataError: column 'ydot0': read in radii/s, the median landing speed would be 0.538 m/s...
     """
     if ranges is None:
         return
@@ -707,7 +707,7 @@ def check_scaled(
     def declare(likely: dict[str, list[str]]) -> str:
         pair = {k: CANDIDATE_UNITS[k][0] for k in ("velocity", "spin")} | {k: u[0] for k, u in likely.items()}
         return ("states are in scaled units (radii/s, rad/s): convert them first, e.g. "
-                f"bouncelab.data.units.to_scaled(states, velocity={pair['velocity']!r}, spin={pair['spin']!r})")
+                f"bouncelab.core.units.to_scaled(states, velocity={pair['velocity']!r}, spin={pair['spin']!r})")
 
     error = scaled_units_error(landing, liftoff, radius_m=radius_m, ranges=ranges, declare=declare,
                                widen=lambda limit: accept.format(limit=limit))

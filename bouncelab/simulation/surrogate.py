@@ -63,10 +63,11 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 import xarray as xr
 
-from bouncelab.data import published
+from bouncelab.core import published
+from bouncelab.core.errors import NonphysicalLiftoffWarning, ParameterError
+from bouncelab.core.units import BALL_RADIUS_M, landing_from_speed_angle_spin
 from bouncelab.data.campaign import make_campaign
-from bouncelab.data.units import BALL_RADIUS_M, landing_from_speed_angle_spin
-from bouncelab.errors import NonphysicalLiftoffWarning, ParameterError
+from bouncelab.data.embedded import DEFAULT_SURROGATE, SURROGATES, embedded_file_name, embedded_path
 
 __all__ = [
     "DEFAULT_SEEDS",
@@ -80,16 +81,6 @@ __all__ = [
     "generate_turf_surrogate",
     "turf_for_campaign",
 ]
-
-#: The embedded surrogates: ``"published"`` (this module's generator, from the paper's published laws)
-#: and ``"turf"`` (:func:`bouncelab.simulate_campaign` with the calibrated turf of :data:`TURF_CALIBRATION`).
-SURROGATES = ("published", "turf")
-
-#: The surrogate ``load_campaign("A")`` and ``("B")`` return when none is named: the one the calibration
-#: measures closer to the paper (docs/simulation.md, "The shipped surrogates against the paper": its
-#: objective J, 0.18 for "turf" against 4.4 for "published", and fewer rolling lift-offs; the median miss is
-#: level). "published" is made from the very laws the paper fitted, so the comparisons on it are circular.
-DEFAULT_SURROGATE = "turf"
 
 #: Seeds of the embedded surrogates (``bouncelab/data/files/campaign_{A,B}.nc``).
 DEFAULT_SEEDS = {"A": 330, "B": 693}
@@ -214,7 +205,7 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
         campaign=key,
         surface=f"{table_surface} (synthetic surrogate)",
         ball_radius_m=BALL_RADIUS_M,
-        source=f"bouncelab.data.surrogate.generate_surrogate({key!r}, seed={seed})",
+        source=f"bouncelab.simulation.surrogate.generate_surrogate({key!r}, seed={seed})",
         data_kind="synthetic surrogate",
         attrs={
             "warning": (
@@ -294,28 +285,15 @@ def generate_turf_surrogate(campaign: str, *, seed: int | None = None) -> xr.Dat
     return ds
 
 
-def embedded_file_name(campaign: str, surrogate: str = DEFAULT_SURROGATE) -> str:
-    """Name of the embedded file of ``campaign`` and ``surrogate`` in ``bouncelab/data/files``
-    (``campaign_B.nc`` for the published surrogate, which came first; ``campaign_B_turf.nc``)."""
-    return f"campaign_{campaign}.nc" if surrogate == "published" else f"campaign_{campaign}_{surrogate}.nc"
-
-
-def embedded_path(campaign: str, surrogate: str = DEFAULT_SURROGATE):
-    """Path of the embedded file of ``campaign`` and ``surrogate`` inside the package."""
-    from pathlib import Path
-
-    return Path(__file__).parent / "files" / embedded_file_name(campaign, surrogate)
-
-
 def write_embedded(directory=None, surrogates=("turf",)) -> list:
-    """Regenerate the embedded surrogate files (``python -m bouncelab.data.surrogate --write``).
+    """Regenerate the embedded surrogate files (``python -m bouncelab.simulation.surrogate --write``).
 
     By default only the ``"turf"`` files are rewritten (the ``"published"`` ones are unchanged
     since generator version 1); pass ``surrogates=("published", "turf")`` for both.
     """
     from pathlib import Path
 
-    from bouncelab.atomic import atomic_path
+    from bouncelab.core.atomic import atomic_path
 
     paths = []
     for surrogate in surrogates:

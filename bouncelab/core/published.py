@@ -27,26 +27,30 @@ Examples
 --------
 Compare a new fit with the paper's in one line:
 
->>> from bouncelab.data import published
+>>> from bouncelab.core import published
 >>> float(published.TABLE3.loc[("A", "Rigid"), "delta"])
 0.319
 """
 
 from __future__ import annotations
 
-import numpy as np
-import pandas as pd
+from typing import TYPE_CHECKING, Any
 
-from bouncelab.errors import DataError, ParameterError
+import numpy as np
+
+from bouncelab.core.errors import DataError, ParameterError
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = [
     "CAMPAIGNS",
     "CITATION",
     "DRIVER_LANDING",
     "PIECEWISE",
-    "TABLE1",
-    "TABLE2",
-    "TABLE3",
+    "TABLE1",  # noqa: F822  (built on first use, by the module's __getattr__)
+    "TABLE2",  # noqa: F822
+    "TABLE3",  # noqa: F822
     "check_campaign",
     "paper_by_class",
     "paper_values",
@@ -87,11 +91,6 @@ _TABLE1_ROWS = [
     ("B", "ydot", -1570.0, -90.0, "radius/s"),
     ("B", "omega", -407.0, 1670.0, "rad/s"),
 ]
-TABLE1 = pd.DataFrame(_TABLE1_ROWS, columns=["campaign", "quantity", "min", "max", "unit"]).set_index(
-    ["campaign", "quantity"]
-)
-TABLE1.attrs["caption"] = "Table 1: range of initial conditions for Campaigns A and B"
-
 # Table 2: piecewise-affine (SVM) fit errors, as fractions.
 _TABLE2_ROWS = [
     # campaign, subset, delta, d_xdot, d_ydot, d_omega, mismatched
@@ -102,15 +101,6 @@ _TABLE2_ROWS = [
     ("B", "roll", 0.0807, 0.0533, 0.0252, 0.0474, np.nan),
     ("B", "slip", 0.0731, 0.0376, 0.00920, 0.0541, np.nan),
 ]
-TABLE2 = pd.DataFrame(
-    _TABLE2_ROWS,
-    columns=["campaign", "subset", "delta", "delta_xdot", "delta_ydot", "delta_omega", "mismatched"],
-).set_index(["campaign", "subset"])
-TABLE2.attrs["caption"] = (
-    "Table 2: error of the disjoint (piecewise) affine fits, eqs. (disjointA/B), on the test set; "
-    "'mismatched' is the fraction of test bounces the plane puts in the wrong class"
-)
-
 # Table 3: rigid-bounce family, parameters and errors (fractions).
 _TABLE3_ROWS = [
     # campaign, law, r, mu, beta_deg, k_p, delta, d_xdot, d_ydot, d_omega
@@ -121,13 +111,6 @@ _TABLE3_ROWS = [
     ("B", "PennerVarying", 0.222, 0.999, np.nan, 2.973e-4, 0.213, 0.0942, 0.0430, 0.164),
     ("B", "PennerFixed", 0.147, 0.998, 18.4, np.nan, 0.192, 0.0916, 0.0424, 0.151),
 ]
-TABLE3 = pd.DataFrame(
-    _TABLE3_ROWS,
-    columns=["campaign", "law", "r", "mu", "beta_deg", "k_p",
-             "delta", "delta_xdot", "delta_ydot", "delta_omega"],
-).set_index(["campaign", "law"])
-TABLE3.attrs["caption"] = "Table 3: best fit of the rigid-bounce models, with their errors"
-
 # Eqs. (disjointA) and (disjointB): p_F = A1 p0 + b1 if n.p0 < c (roll side), else A2 p0 + b2 (slip side),
 # with the plane printed as a*xdot0 + b*ydot0 + omega0 = c.
 PIECEWISE: dict[str, dict] = {
@@ -167,7 +150,7 @@ def rigid_family_parameters(campaign: str, law: str) -> dict[str, float]:
     key = check_campaign(campaign)
     if law not in names:
         raise ParameterError(f"Table 3 has the laws {list(names)}; got {law!r}")
-    row = TABLE3.loc[(key, law)]
+    row = _table("TABLE3").loc[(key, law)]
     return {name: float(row[name]) for name in names[law]}
 
 
@@ -192,12 +175,12 @@ def paper_values(campaign: str, law: str) -> dict[str, float]:
     other law.
     """
     key = check_campaign(campaign)
-    if law in TABLE3.loc[key].index:
-        row = TABLE3.loc[(key, law)]
+    if law in _table("TABLE3").loc[key].index:
+        row = _table("TABLE3").loc[(key, law)]
         return {k: float(v) for k, v in row.items() if np.isfinite(v)}
     if law == "PiecewiseAffine":
-        return {"delta": float(TABLE2.loc[(key, "overall"), "delta"]),
-                "mismatched": float(TABLE2.loc[(key, "overall"), "mismatched"])}
+        return {"delta": float(_table("TABLE2").loc[(key, "overall"), "delta"]),
+                "mismatched": float(_table("TABLE2").loc[(key, "overall"), "mismatched"])}
     return {}
 
 
@@ -205,5 +188,39 @@ def paper_by_class(campaign: str, law: str) -> pd.DataFrame | None:
     """The paper's errors by slip/roll class for a law (Table 2, the piecewise-affine law), or None."""
     key = check_campaign(campaign)
     if law == "PiecewiseAffine":
-        return TABLE2.loc[key]
+        return _table("TABLE2").loc[key]
     return None
+
+
+# The tables are pandas DataFrames, built on first use so that this module (below the laws) does not import
+# pandas: ``published.TABLE1`` works as a module attribute.
+_TABLES: dict[str, Any] = {}
+
+
+def _table(name: str) -> pd.DataFrame:
+    if name not in _TABLES:
+        import pandas as pd
+
+        if name == "TABLE1":
+            t = pd.DataFrame(_TABLE1_ROWS, columns=["campaign", "quantity", "min", "max", "unit"]).set_index(
+                ["campaign", "quantity"])
+            t.attrs["caption"] = "Table 1: range of initial conditions for Campaigns A and B"
+        elif name == "TABLE2":
+            t = pd.DataFrame(_TABLE2_ROWS, columns=["campaign", "subset", "delta", "delta_xdot", "delta_ydot",
+                                                    "delta_omega", "mismatched"]).set_index(["campaign", "subset"])
+            t.attrs["caption"] = (
+                "Table 2: error of the disjoint (piecewise) affine fits, eqs. (disjointA/B), on the test set; "
+                "'mismatched' is the fraction of test bounces the plane puts in the wrong class")
+        else:
+            t = pd.DataFrame(_TABLE3_ROWS, columns=["campaign", "law", "r", "mu", "beta_deg", "k_p", "delta",
+                                                    "delta_xdot", "delta_ydot", "delta_omega"]).set_index(
+                ["campaign", "law"])
+            t.attrs["caption"] = "Table 3: best fit of the rigid-bounce models, with their errors"
+        _TABLES[name] = t
+    return _TABLES[name]
+
+
+def __getattr__(name: str) -> Any:
+    if name in ("TABLE1", "TABLE2", "TABLE3"):
+        return _table(name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

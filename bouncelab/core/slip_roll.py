@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from bouncelab.data.validation import States, as_states, check_same_length
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.validation import States, as_states, check_same_length
 
 __all__ = ["SLIP_ROLL_CLASSES", "classify_slip_roll"]
 

@@ -7,14 +7,17 @@ Every public entry point that takes landing or lift-off states calls
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
-from bouncelab.data.units import COMPONENT_UNITS, COMPONENTS
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
+from bouncelab.core.units import COMPONENT_UNITS, COMPONENTS
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
            "inverse_norms"]
@@ -67,7 +70,7 @@ def as_states(
         Wrong shape, non-numeric, NaN or infinite values, or a landing with
         ``ydot >= 0``; the message names the row and component.
     """
-    if isinstance(states, xr.DataArray):
+    if _is_dataarray(states):
         return _from_dataarray(states, name, landing=landing, file=file, defer_check=defer_check)
     labelled = states
     states = _from_labelled(states, name, file)
@@ -176,6 +179,11 @@ def _component_order(labels: list[str]) -> list[int] | None:
     return None
 
 
+def _is_dataarray(obj: Any) -> bool:
+    xr = sys.modules.get("xarray")  # a DataArray exists only if xarray was imported: never imported just to ask
+    return xr is not None and isinstance(obj, xr.DataArray)
+
+
 def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | None, defer_check: bool = False):
     if "component" not in da.dims:
         raise DataError(
@@ -202,6 +210,8 @@ def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | N
     dims = (*other, "component")
     coords = {k: v for k, v in da.coords.items() if "component" not in v.dims}
 
+    import xarray as xr
+
     def wrap(result: np.ndarray) -> xr.DataArray:
         if result.ndim == 1:  # one value per bounce
             return xr.DataArray(result.reshape(lead), dims=other, coords=coords)
@@ -227,8 +237,8 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
     if arr.shape[0] == 0:
         raise DataError(f"{name} holds no bounces", file=file)
     if arr.shape[0] >= FAST_CHECK_MIN:
-        from bouncelab._parallel import run_chunked
-        from bouncelab.data._fast_checks import all_valid
+        from bouncelab.core._fast_checks import all_valid
+        from bouncelab.core._parallel import run_chunked
 
         if all(run_chunked(all_valid, arr.shape[0], arr, landing, STATE_LIMIT)):
             return

@@ -56,7 +56,7 @@ def num_threads() -> int:
 def set_num_threads(n: int) -> None:
     """Use ``n`` threads for large predictions (results do not depend on it)."""
     global _threads, _pool
-    from bouncelab.errors import ParameterError  # (imported here: this module has no dependencies)
+    from bouncelab.core.errors import ParameterError  # (imported here: this module has no dependencies)
 
     try:
         n = int(n)

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from bouncelab.errors import DataError
+from bouncelab.core.errors import DataError
 
 __all__ = [
     "BALL_RADIUS_M",
@@ -33,6 +33,7 @@ __all__ = [
     "INERTIA_FACTOR",
     "SPEED_UNITS",
     "SPIN_UNITS",
+    "Z95",
     "ball_radius",
     "from_scaled",
     "landing_from_speed_angle_spin",
@@ -56,6 +57,10 @@ BALL_RADIUS_M = 0.02135
 #: Moment of inertia of the ball as a fraction of m R^2 (a uniform solid sphere, 2/5, as the rigid bounce of
 #: the paper assumes); used for kinetic energies ``E = (m R^2 / 2) (xdot^2 + ydot^2 + k omega^2)``.
 INERTIA_FACTOR = 0.4
+
+#: The 97.5 % quantile of the standard normal: a campaign's prediction intervals are 95 % half-widths, one
+#: standard deviation times Z95 (the paper's intervals; a file's standard deviations are converted on loading).
+Z95 = 1.959963984540054
 
 #: Names of the three components of a landing or lift-off state, in order.
 COMPONENTS = ("xdot", "ydot", "omega")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bouncelab._jit import jit
+from bouncelab.core._jit import jit
 
 
 @jit(nogil=True, fastmath={"nsz", "reassoc"})

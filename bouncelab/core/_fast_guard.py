@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from bouncelab._jit import jit
+from bouncelab.core._jit import jit
 
 
 @jit(nogil=True)
 def scan_landings(P: np.ndarray, min_s2: float, max_s2: float, max_w: float, tan_a: float, limit: float,
                   start: int, stop: int) -> tuple[bool, bool]:
     """Whether some valid landing in rows ``[start, stop)`` breaks a limit of
-    :func:`bouncelab.data.plausibility.landing_faults` (too slow, too fast, spinning too fast, too flat), and
+    :func:`bouncelab.core.plausibility.landing_faults` (too slow, too fast, spinning too fast, too flat), and
     whether some row is not a valid landing (not finite, beyond ``limit``, ``ydot >= 0``).
 
     One pass over memory; on a fault the caller finds the rows with NumPy. Rows that are not valid
