@@ -34,6 +34,7 @@ from bouncelab.cli.messages import (
     EXIT_PARTIAL,
     EXIT_USAGE,
     UsageError,
+    message,
 )
 
 # A negative number on the command line, exponent and inf/nan included: argparse (before Python 3.13)
@@ -280,13 +281,13 @@ def _run(args: argparse.Namespace) -> int:
         _stdout_to_devnull()
         return EXIT_OK
     except (UsageError, OutputError) as exc:
-        print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
+        print(f"bouncelab {args.command}: {message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except (DataError, OSError) as exc:  # OSError here is reading an input: writes are OutputErrors
         print(f"bouncelab {args.command}: data error: {_oneline(exc)}", file=sys.stderr)
         return EXIT_DATA
     except (FitError, ParameterError) as exc:
-        print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
+        print(f"bouncelab {args.command}: {message(exc)}", file=sys.stderr)
         return EXIT_FIT
     except ImportError as exc:
         print(f"bouncelab {args.command}: {exc}", file=sys.stderr)
@@ -322,10 +323,7 @@ def _one_line_warnings(command: str) -> None:
 def _oneline(exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror and exc.filename:
         return f"{exc.strerror}: {exc.filename!r}"
-    return str(exc)
-
-
-# The loader's advice in Python (units={'spin': 'rpm'}), as the command line's flags.
+    return message(exc)
 
 
 def _resamples(text: str) -> int:

@@ -8,12 +8,16 @@ for a file or folder that cannot be written.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
+from typing import Any, NamedTuple
+
 __all__ = [
     "BouncelabError",
     "BouncelabWarning",
     "DataError",
     "DroppedRowsWarning",
     "FitError",
+    "Hint",
     "LargeResultWarning",
     "NonphysicalLiftoffWarning",
     "NotFittedError",
@@ -22,6 +26,7 @@ __all__ = [
     "ParameterError",
     "SyntheticDataWarning",
     "UnknownLawError",
+    "python_hint",
 ]
 
 
@@ -37,8 +42,74 @@ def plain_label(label: object) -> object:
     return item() if item is not None and type(label).__module__ == "numpy" else label
 
 
+class Hint(NamedTuple):
+    """What a person can change to put an error right: an option of the call, and a value to give it.
+
+    Errors carry their hints as data; the edge words them. In Python (:func:`python_hint`) a hint is a
+    keyword, ``units={'spin': 'rpm'}``; the command line words the same hint with its own flag
+    (``--spin-unit rpm``, :mod:`bouncelab.cli.messages`).
+
+    Attributes
+    ----------
+    option
+        The keyword of the call (``"units"``, ``"columns"``, ``"missing"``, ``"header_row"``, ``"sheet"``,
+        ``"intervals"``, ``"surrogate"``, ``"plausible"``, ...).
+    value
+        The value to give it, or None when the hint only names the option.
+    note
+        A few words on what the value means, e.g. ``"standard deviations, multiplied by 1.96"``.
+    """
+
+    option: str
+    value: Any = None
+    note: str = ""
+
+
+def python_hint(hint: Hint) -> str:
+    """A hint in Python's words: ``units={'spin': 'rpm'}``, or ``plausible=...`` when it has no value."""
+    text = f"{hint.option}=..." if hint.value is None else f"{hint.option}={hint.value!r}"
+    return text + (f" ({hint.note})" if hint.note else "")
+
+
 class BouncelabError(Exception):
-    """Base class of every error bouncelab raises on purpose."""
+    """Base class of every error bouncelab raises on purpose.
+
+    Every bouncelab error carries its facts as attributes (the file, column and row of a
+    :class:`DataError`, the law and parameter of a :class:`ParameterError`) and, in ``hints``, the
+    options a person can change to put it right; ``str(error)`` words them for Python, and the
+    command line words the same facts with its flags. Code and tests read the attributes, not the text.
+
+    Attributes
+    ----------
+    message
+        What is wrong, without where (the fields) and without the hints.
+    hints
+        :class:`Hint` s: the options that would put it right (alternatives).
+    """
+
+    def __init__(self, message: str = "", *, hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message)
+        self.message = message
+        self.hints = tuple(hints)
+
+    def where(self) -> str:
+        """Where the problem is, in words (empty for errors that have no place)."""
+        return ""
+
+    def render(self, speak: Callable[[Hint], str] = python_hint) -> str:
+        """The error in words: where, what, and the hints worded by ``speak`` (Python keywords by default)."""
+        where = self.where()
+        text = f"{where}: {self.message}" if where else self.message
+        if self.hints:
+            text += "; " + ("pass " if speak is python_hint else "give ") + " or ".join(map(speak, self.hints))
+        return text
+
+    def __str__(self) -> str:
+        return self.render()
+
+    def __reduce__(self) -> tuple:  # keyword fields survive pickling (errors cross process boundaries)
+        fields = {k: v for k, v in vars(self).items() if k != "message"}
+        return _rebuild, (type(self), (self.message,), fields)
 
 
 class DataError(BouncelabError, ValueError):
@@ -52,6 +123,8 @@ class DataError(BouncelabError, ValueError):
     row_label
         The row's label in the caller's pandas index, when the data came as a
         DataFrame (``row`` is still its 1-based position).
+    hints
+        The options of the call that would put it right (:class:`Hint`).
     """
 
     def __init__(
@@ -62,20 +135,23 @@ class DataError(BouncelabError, ValueError):
         column: str | None = None,
         row: int | None = None,
         row_label: object = None,
+        hints: Iterable[Hint] = (),
     ) -> None:
+        super().__init__(message, hints=hints)
         self.file = None if file is None else str(file)
         self.column = column
         self.row = row
         self.row_label = None if row_label is None else plain_label(row_label)
+
+    def where(self) -> str:
         where = []
         if self.file is not None:
             where.append(f"file {self.file!r}")
-        if column is not None:
-            where.append(f"column {column!r}")
-        if row is not None:
-            where.append(row_text(row, self.row_label))
-        self.message = message
-        super().__init__(f"{', '.join(where)}: {message}" if where else message)
+        if self.column is not None:
+            where.append(f"column {self.column!r}")
+        if self.row is not None:
+            where.append(row_text(self.row, self.row_label))
+        return ", ".join(where)
 
 
 class ParameterError(BouncelabError, ValueError):
