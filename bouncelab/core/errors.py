@@ -155,11 +155,33 @@ class DataError(BouncelabError, ValueError):
 
 
 class ParameterError(BouncelabError, ValueError):
-    """A law parameter or a bound is missing, non-finite or outside its physical range."""
+    """A law parameter, a bound or an option is missing, non-finite or outside its physical range.
+
+    Attributes
+    ----------
+    law
+        The law's name (:func:`bouncelab.laws.law_name`), when a law is concerned.
+    parameter
+        The parameter (or option, or array element such as ``"A1[0,2]"``) at fault, when one is.
+    value
+        The value that was refused, when there is one.
+    """
+
+    def __init__(self, message: str = "", *, law: str | None = None, parameter: str | None = None,
+                 value: Any = None, hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message, hints=hints)
+        self.law = law
+        self.parameter = parameter
+        self.value = value
 
 
 class NotFittedError(ParameterError):
-    """The law has unset parameters: construct it with values or fit it first."""
+    """The law has unset parameters: construct it with values or fit it first (``missing`` lists them)."""
+
+    def __init__(self, message: str = "", *, law: str | None = None, missing: Iterable[str] = (),
+                 parameter: str | None = None, value: Any = None, hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message, law=law, parameter=parameter, value=value, hints=hints)
+        self.missing = tuple(missing)
 
 
 class UnknownLawError(ParameterError):
@@ -181,7 +203,7 @@ class UnknownLawError(ParameterError):
 
     def __init__(self, message: str, *, law_name: str, module: str | None = None, qualname: str | None = None,
                  module_imported: bool = False, script: str | None = None) -> None:
-        super().__init__(message)
+        super().__init__(message, law=law_name)
         self.law_name = law_name
         self.module = module
         self.qualname = qualname
@@ -195,11 +217,32 @@ class UnknownLawError(ParameterError):
 
 
 class FitError(BouncelabError, ValueError):
-    """A fit cannot be run as asked (too few bounces, empty class, bad option)."""
+    """A fit cannot be run as asked (too few bounces, empty class, bad option, a result outside its bounds).
+
+    Attributes
+    ----------
+    law
+        The law being fitted, when known.
+    option
+        The option of the call at fault (``"method"``, ``"bounds"``, ``"k"``, ``"maxeval"``...), when one is.
+    """
+
+    def __init__(self, message: str = "", *, law: str | None = None, option: str | None = None,
+                 hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message, hints=hints)
+        self.law = law
+        self.option = option
 
 
 class LawDefinitionError(BouncelabError, TypeError):
-    """A law class is written wrongly (a kernel that is not compiled, regime codes out of range)."""
+    """A law class is written wrongly (a kernel that is not compiled, regime codes out of range, a result of
+    the wrong shape); ``law`` names the class and ``method`` the method at fault (``"_predict"``...)."""
+
+    def __init__(self, message: str = "", *, law: str | None = None, method: str | None = None,
+                 hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message, hints=hints)
+        self.law = law
+        self.method = method
 
 
 class OutputError(BouncelabError, OSError, ValueError):
