@@ -54,7 +54,7 @@ import pandas as pd
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bouncelab as bl
-from bouncelab.laws.base import law_class
+from bouncelab.laws import law_class
 from bouncelab.simulation import LauncherDesign, LogNormal, Normal, Turf, simulate_campaign
 from bouncelab.simulation import calibration as cal
 

@@ -142,12 +142,11 @@ def score(model: Any, data: Any, *, by: str | None = "slip_roll") -> pd.DataFram
     if by not in (None, "slip_roll", "regime"):
         raise DataError(f"by must be 'slip_roll', 'regime' or None; got {by!r}")
     p0, pf, _ = campaign_arrays(data)
-    theta = model._theta()
-    pred = model._predict_valid(p0, theta)  # a law's wrong shape: LawDefinitionError
+    pred = model._evaluate(p0)  # a law's wrong shape: LawDefinitionError
     if by is None:
         classes = None
     elif by == "slip_roll":
         classes = np.asarray(SLIP_ROLL_CLASSES)[_slip_codes(p0, pf)]
     else:
-        classes = np.asarray(model.regimes)[model._regime_valid(p0, theta)]
+        classes = np.asarray(model.regimes)[model._classify(p0)]
     return _error_table(error_terms(p0, pf, pred), classes)

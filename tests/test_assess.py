@@ -16,62 +16,50 @@ _RIGID = bl.Rigid(r=0.5, mu=0.5)
 
 
 def _rigid(p: np.ndarray, r: float, mu: float) -> np.ndarray:
-    return _RIGID._predict(p, np.array([r, mu]))
+    return _RIGID._predict(p, r=r, mu=mu)
 
 
 class RedundantRigid(BounceModel):
     """Rigid bounce whose restitution is the product r1 * r2: a deliberately redundant pair."""
 
-    parameter_specs = (Parameter("r1", (0.0, 1.0), (0.0, 1.0), "1", "restitution factor 1"),
-                       Parameter("r2", (0.0, 1.0), (0.0, 1.0), "1", "restitution factor 2"),
-                       Parameter("mu", (0.0, 1.5), (0.0, float("inf")), "1", "friction"))
+    r1 = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution factor 1")
+    r2 = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution factor 2")
+    mu = Parameter(bounds=(0.0, 1.5), physical=(0.0, float("inf")), doc="friction")
     regimes = bl.Rigid.regimes
 
-    def __init__(self, r1=None, r2=None, mu=None):
-        self.r1, self.r2, self.mu = r1, r2, mu
-        super().__init__()
+    def _predict(self, p, r1, r2, mu):
+        return _rigid(p, r1 * r2, mu)
 
-    def _predict(self, p, theta):
-        return _rigid(p, theta[0] * theta[1], theta[2])
-
-    def _regime(self, p, theta):
-        return _RIGID._regime(p, np.array([theta[0] * theta[1], theta[2]]))
+    def _regime(self, p, r1, r2, mu):
+        return _RIGID._regime(p, r=r1 * r2, mu=mu)
 
 
 class IdleRigid(BounceModel):
     """Rigid bounce with a parameter that changes nothing."""
 
-    parameter_specs = (Parameter("r", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
-                       Parameter("mu", (0.0, 1.5), (0.0, float("inf")), "1", "friction"),
-                       Parameter("idle", (0.0, 5.0), (0.0, 10.0), "1", "does nothing"))
+    r = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
+    mu = Parameter(bounds=(0.0, 1.5), physical=(0.0, float("inf")), doc="friction")
+    idle = Parameter(bounds=(0.0, 5.0), physical=(0.0, 10.0), doc="does nothing")
     regimes = bl.Rigid.regimes
 
-    def __init__(self, r=None, mu=None, idle=None):
-        self.r, self.mu, self.idle = r, mu, idle
-        super().__init__()
+    def _predict(self, p, r, mu, idle):
+        return _rigid(p, r, mu)
 
-    def _predict(self, p, theta):
-        return _rigid(p, theta[0], theta[1])
-
-    def _regime(self, p, theta):
-        return _RIGID._regime(p, theta[:2])
+    def _regime(self, p, r, mu, idle):
+        return _RIGID._regime(p, r=r, mu=mu)
 
 
 class VectorRigid(BounceModel):
     """Rigid bounce with its two parameters in one array parameter ``rm = [r, mu]``."""
 
-    parameter_specs = (Parameter("rm", (0.0, 1.0), (0.0, 1.0), "1", "[restitution, friction]", shape=(2,)),)
+    rm = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), shape=(2,), doc="[restitution, friction]")
     regimes = bl.Rigid.regimes
 
-    def __init__(self, rm=None):
-        self.rm = rm
-        super().__init__()
+    def _predict(self, p, rm):
+        return _rigid(p, rm[0], rm[1])
 
-    def _predict(self, p, theta):
-        return _rigid(p, theta[0], theta[1])
-
-    def _regime(self, p, theta):
-        return _RIGID._regime(p, theta)
+    def _regime(self, p, rm):
+        return _RIGID._regime(p, r=rm[0], mu=rm[1])
 
 
 def campaign(law: BounceModel, n_settings: int = 40, repeats: int = 6, noise=(8.0, 8.0, 30.0), seed: int = 1):

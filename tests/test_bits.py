@@ -90,19 +90,15 @@ def test_a_compiled_user_law_gives_the_same_bits_anywhere_in_a_batch():
     from numba import njit
 
     @njit
-    def kernel(xd, yd, w, t):
-        j = t[1] * yd * (1.0 + t[0]) + 0.1 * (xd + w)
-        return xd * t[2] + j, -t[0] * yd + 1e-3 * xd * w, w * t[2] + 2.5 * j, 0
+    def kernel(xd, yd, w, r, mu, g):
+        j = mu * yd * (1.0 + r) + 0.1 * (xd + w)
+        return xd * g + j, -r * yd + 1e-3 * xd * w, w * g + 2.5 * j, 0
 
     class MultiplyAdd(bl.CompiledLaw):
-        parameter_specs = (bl.Parameter("r", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
-                           bl.Parameter("mu", (0.0, 1.0), (0.0, 1.0), "1", "friction"),
-                           bl.Parameter("g", (0.0, 1.0), (0.0, 1.0), "1", "gain"))
+        r = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
+        mu = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="friction")
+        g = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="gain")
         regimes = ("bounce",)
-
-        def __init__(self, r=None, mu=None, g=None):
-            self.r, self.mu, self.g = r, mu, g
-            super().__init__()
 
     MultiplyAdd.kernel = kernel
     rng = np.random.default_rng(3)

@@ -16,16 +16,15 @@ import bouncelab as bl
 from bouncelab.core.errors import BouncelabWarning, DataError, FitError, ParameterError
 from bouncelab.fitting import hierarchical as H
 from bouncelab.fitting.hierarchical import ConvergenceWarning, Posterior, calibrate, load_posterior
-from bouncelab.laws._contact import predict_per_bounce
+from bouncelab.laws import predict_per_bounce
 
 pytest.importorskip("emcee", reason="emcee is not installed (pip install -e '.[bayes]')")
 
-KERNEL = bl.Rigid(r=0.5, mu=0.5).kernel
 LOGIT = H._Transform.of(0.0, 1.0)
 
 
 def rigid_rows(landing: np.ndarray, r: np.ndarray, mu: np.ndarray) -> np.ndarray:
-    return predict_per_bounce(bl.Rigid, landing, np.column_stack([r, mu]), kernel=KERNEL)
+    return predict_per_bounce(bl.Rigid, landing, np.column_stack([r, mu]))
 
 
 # the done-when campaign: Rigid with r logit-normal and mu log-normal from bounce to bounce, known measurement noise

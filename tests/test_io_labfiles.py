@@ -126,7 +126,7 @@ def test_angle_unit_on_the_command_line(tmp_path, capsys):
     assert "6 bounces" in capsys.readouterr().out
     out = tmp_path / "fit.json"
     assert main(["fit", "Rigid", path, "--angle-unit", "rad", "--save", str(out)]) == EXIT_OK
-    from bouncelab.laws.base import load_law
+    from bouncelab.laws import load_law
 
     assert load_law(out) == bl.fit(bl.Rigid, load_campaign(path, units={"angle": "rad"})).model
 

@@ -30,8 +30,8 @@ from bouncelab.core.errors import (
     SyntheticDataWarning,
     UnknownLawError,
 )
-from bouncelab.laws import BounceModel, Parameter, Provenance
-from bouncelab.laws.base import LAW_FORMAT_VERSION, law_class
+from bouncelab.laws import BounceModel, Parameter, Provenance, law_class
+from bouncelab.laws.files import LAW_FORMAT_VERSION
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,17 +42,13 @@ from bouncelab.laws import BounceModel, Parameter
 
 
 class Simple(BounceModel):
-    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+    e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="restitution")
     regimes = ("bounce",)
 
-    def __init__(self, e=None):
-        self.e = e
-        super().__init__()
+    def _predict(self, p, e):
+        return np.column_stack([p[:, 0], -e * p[:, 1], p[:, 2]])
 
-    def _predict(self, p, theta):
-        return np.column_stack([p[:, 0], -theta[0] * p[:, 1], p[:, 2]])
-
-    def _regime(self, p, theta):
+    def _regime(self, p, e):
         return np.zeros(len(p), dtype=np.int8)
 
 
@@ -130,15 +126,10 @@ def test_an_old_main_law_file_loads_once_a_module_defines_the_class(script_law):
 
 
 def _user_law(module: str, name: str = "Twin") -> type[BounceModel]:
-    def init(self, e=None):
-        self.e = e
-        BounceModel.__init__(self)
-
     return type(name, (BounceModel,), {
-        "__module__": module, "__init__": init, "regimes": ("bounce",),
-        "parameter_specs": (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "e"),),
-        "_predict": lambda self, p, theta: p * [1.0, -theta[0], 1.0],
-        "_regime": lambda self, p, theta: np.zeros(len(p), dtype=np.int8)})
+        "__module__": module, "regimes": ("bounce",), "e": Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="e"),
+        "_predict": lambda self, p, e: p * [1.0, -e, 1.0],
+        "_regime": lambda self, p, e: np.zeros(len(p), dtype=np.int8)})
 
 
 def test_a_main_name_is_the_one_registered_class_of_that_name_else_ambiguous():

@@ -12,7 +12,8 @@ import xarray as xr
 import bouncelab as bl
 from benchmarks import numpy_reference
 from bouncelab.core.errors import DataError, NotFittedError, ParameterError
-from bouncelab.laws.base import BounceModel, Parameter
+from bouncelab.laws import Parameter
+from bouncelab.laws.base import BounceModel
 from tests.conftest import kinetic_energy, random_landings
 
 RIGID_FAMILY = [
@@ -374,17 +375,13 @@ def test_default_bounds():
 class Frictionless(BounceModel):
     """pF = [xdot0, -e ydot0, omega0]: the one-small-class extension point."""
 
-    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+    e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="restitution")
     regimes = ("bounce",)
 
-    def __init__(self, e=None):
-        self.e = e
-        super().__init__()
+    def _predict(self, p, e):
+        return p * np.array([1.0, -e, 1.0])
 
-    def _predict(self, p, theta):
-        return p * np.array([1.0, -theta[0], 1.0])
-
-    def _regime(self, p, theta):
+    def _regime(self, p, e):
         return np.zeros(len(p), dtype=np.int8)
 
 

@@ -136,17 +136,13 @@ def test_scaled_landings_are_guarded_too_and_a_bad_guard_is_refused() -> None:
 class Booster(BounceModel):
     """Not a physical law: bounces up with ``g`` times the landing speed (energy gain for g > 1)."""
 
-    parameter_specs = (Parameter("g", (0.0, 3.0), (0.0, 10.0), "1", "gain"),)
+    g = Parameter(bounds=(0.0, 3.0), physical=(0.0, 10.0), unit="1", doc="gain")
     regimes = ("bounce",)
 
-    def __init__(self, g=None):
-        self.g = g
-        super().__init__()
+    def _predict(self, p, g):
+        return p * np.array([g, -g, g])
 
-    def _predict(self, p, theta):
-        return p * np.array([theta[0], -theta[0], theta[0]])
-
-    def _regime(self, p, theta):
+    def _regime(self, p, g):
         return np.zeros(len(p), dtype=np.int8)
 
 
@@ -168,9 +164,9 @@ def test_flags_come_from_the_same_prediction() -> None:
     calls = []
 
     class Counted(Booster):
-        def _predict(self, p, theta):
+        def _predict(self, p, g):
             calls.append(len(p))
-            return super()._predict(p, theta)
+            return super()._predict(p, g)
 
     out, flags = Counted(g=1.5).predict(table1_polar("A", 10), units=SI, form="polar", return_flags=True)
     assert calls == [10]  # one prediction, no second pass for the flags

@@ -147,17 +147,13 @@ def test_examples_in_the_cli(tmp_path):
 # ------------------------------------------------------------------ identity
 def test_user_class_named_like_a_builtin_does_not_replace_it():
     class Rigid(BounceModel):  # deliberately the built-in's name
-        parameter_specs = (Parameter("k", (0.0, 1.0), (0.0, 1.0), "1", "k"),)
+        k = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="k")
         regimes = ("one",)
 
-        def __init__(self, k=None):
-            self.k = k
-            super().__init__()
+        def _predict(self, p, k):
+            return p * k
 
-        def _predict(self, p, theta):
-            return p * theta[0]
-
-        def _regime(self, p, theta):
+        def _regime(self, p, k):
             return np.zeros(len(p), np.int8)
 
     assert law_class("Rigid") is bl.Rigid
@@ -172,8 +168,7 @@ def test_user_class_named_like_a_builtin_does_not_replace_it():
 def test_ambiguous_and_unknown_names():
     made = []
     for module in ("lab_one", "lab_two"):
-        made.append(type("Twin", (BounceModel,), {"__module__": module, "parameter_specs": (), "regimes": (),
-                                                  "__init__": lambda self: BounceModel.__init__(self)}))
+        made.append(type("Twin", (BounceModel,), {"__module__": module, "regimes": ()}))
     with pytest.raises(ParameterError, match=r"ambiguous.*lab_one:Twin.*lab_two:Twin"):
         bl.BounceModel.from_dict({"law": "Twin", "parameters": {}})
     assert type(bl.BounceModel.from_dict({"law": "lab_two:Twin", "parameters": {}})) is made[1]
@@ -227,12 +222,16 @@ def test_parameters_objects():
     params = bl.PiecewiseAffine.published("A").params
     assert list(params) == ["normal", "offset", "A1", "b1", "A2", "b2"]
     assert params["A1"].shape == (3, 3) and params["A1"].size == 9 and params["A1"].value[0, 2] == -0.205
-    assert "description" in params.pretty() and "A1" in repr(params)
+    assert "doc" in params.pretty() and "A1" in repr(params)
     assert bl.Rigid().params["mu"].value is None and bl.Rigid(r=0.5, mu=0.3).params.valuesdict()["mu"] == 0.3
     law = bl.PennerFixed(r=0.4, mu=0.3, beta_deg=10.0)
-    assert law._with_theta(law._theta()) == law
-    with pytest.raises(NotFittedError):
-        bl.Rigid(r=0.5)._theta()
+    from bouncelab.fitting.vector import ParameterVector
+
+    vec = ParameterVector(law)
+    assert vec.law(law, vec.of(law)) == law and vec.names == ["r", "mu", "beta_deg"]
+    with pytest.raises(NotFittedError) as err:
+        vec.of(bl.Rigid(r=0.5))
+    assert err.value.missing == ("mu",) and err.value.law == "Rigid"
 
 
 def test_fixed_and_free(campaign_a):
@@ -249,11 +248,7 @@ def test_fixed_and_free(campaign_a):
         bl.fit(bl.Rigid, campaign_a, fixed={"r": 2.0})
 
     class Held(_Scaled):  # the same law, its spin parameter held at 1 unless freed
-        parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
-                           Parameter("g", (0.0, 2.0), (0.0, 2.0), "1", "spin kept", vary=False))
-
-        def __init__(self, e=None, g=1.0):
-            super().__init__(e, g)
+        g = Parameter(bounds=(0.0, 2.0), physical=(0.0, 2.0), doc="spin kept", vary=False, default=1.0)
 
     held = bl.fit(Held, campaign_a)
     assert held.model.g == 1.0 and "g" in held.fixed
@@ -317,17 +312,13 @@ def test_validation_happens_once_per_fit(campaign_b, monkeypatch):
 
 def test_fit_outcome_type_is_checked(campaign_a):
     class Bad(BounceModel):
-        parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+        e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
         regimes = ("one",)
 
-        def __init__(self, e=None):
-            self.e = e
-            super().__init__()
-
-        def _predict(self, p, theta):
+        def _predict(self, p, e):
             return p
 
-        def _regime(self, p, theta):
+        def _regime(self, p, e):
             return np.zeros(len(p), np.int8)
 
         @fit_method("broken")
@@ -341,25 +332,20 @@ def test_fit_outcome_type_is_checked(campaign_a):
 class _Scaled(BounceModel):
     """A two-parameter law whose own methods misbehave on purpose (for the fit contract tests)."""
 
-    parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),
-                       Parameter("g", (0.0, 2.0), (0.0, 2.0), "1", "spin kept"))
+    e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
+    g = Parameter(bounds=(0.0, 2.0), physical=(0.0, 2.0), doc="spin kept")
     regimes = ("one",)
 
-    def __init__(self, e=None, g=None):
-        self.e = e
-        self.g = g
-        super().__init__()
+    def _predict(self, p, e, g):
+        return p * np.array([1.0, -e, g])
 
-    def _predict(self, p, theta):
-        return p * np.array([1.0, -theta[0], theta[1]])
-
-    def _regime(self, p, theta):
+    def _regime(self, p, e, g):
         return np.zeros(len(p), np.int8)
 
     @fit_method("ignores_everything")
     def _ignores(self, problem) -> FitOutcome:
         law = self.replace(e=0.9, g=1.9)
-        return FitOutcome(model=law, objective_value=problem.objective(law)(law._theta()), algorithm="none")
+        return FitOutcome(model=law, objective_value=problem.value(law), algorithm="none")
 
     @fit_method("holds_e")
     def _holds_e(self, problem) -> FitOutcome:
@@ -385,12 +371,12 @@ def test_callers_fixed_values_win_over_a_methods_hold(campaign_a):
 def test_law_definition_errors(campaign_a):
     with pytest.raises(bl.LawDefinitionError, match=r"numba\.njit"):
         class NotCompiled(CompiledLaw):
-            parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+            e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
             regimes = ("one",)
-            kernel = staticmethod(lambda xd, yd, w, theta: (xd, -yd, w, 0))
+            kernel = staticmethod(lambda xd, yd, w, e: (xd, -yd, w, 0))
 
     class BadCodes(_Scaled):
-        def _regime(self, p, theta):
+        def _regime(self, p, e, g):
             return np.full(len(p), 3, np.int8)
 
     with pytest.raises(bl.LawDefinitionError, match="regime code 3"):
@@ -454,18 +440,13 @@ def test_load_law_given_json_text_says_what_it_takes():
 
 def test_a_law_name_in_its_exact_case_wins_over_one_differing_in_case():
     from bouncelab.core.errors import FitError, ParameterError
-    from bouncelab.laws.base import law_class
-
-    def init(self, g=None):
-        self.g = g
-        bl.BounceModel.__init__(self)
+    from bouncelab.laws import law_class
 
     def make(name):
         return type(name, (bl.BounceModel,), {
-            "__module__": "caselaws", "__init__": init,
-            "parameter_specs": (bl.laws.Parameter("g", (0.0, 1.0), (0.0, 1.0), "1", "g"),),
-            "regimes": ("bounce",), "_predict": lambda self, p, theta: p * np.array([theta[0], -theta[0], 0.0]),
-            "_regime": lambda self, p, theta: np.zeros(len(p), dtype=np.int8)})
+            "__module__": "caselaws", "g": bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="g"),
+            "regimes": ("bounce",), "_predict": lambda self, p, g: p * np.array([g, -g, 0.0]),
+            "_regime": lambda self, p, g: np.zeros(len(p), dtype=np.int8)})
 
     upper, lower = make("CaseLaw"), make("caselaw")
     for name, cls in (("CaseLaw", upper), ("caselaw", lower), ("caselaws:CaseLaw", upper), ("caselaws:caselaw", lower)):
@@ -485,4 +466,5 @@ def test_the_documented_compiled_law_weighs_its_least_squares_by_the_sample_weig
     for weighted in (False, True):
         a = bl.fit(compiled_law, (p0, pf), sample_weight=w, weighted=weighted)
         b = bl.fit(compiled_law, (p0[idx], pf[idx]), weighted=weighted)
-        np.testing.assert_allclose(a.model._theta(), b.model._theta(), rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(list(a.model.flat_parameters().values()),
+                                   list(b.model.flat_parameters().values()), rtol=1e-9, atol=1e-9)

@@ -284,7 +284,7 @@ def test_no_fitting_method_returns_parameters_outside_the_search_box():
     class Loose(bl.Rigid):
         @bl.laws.base.fit_method("closed_form")
         def _fit_closed(self, problem, *, mu=2.0):
-            from bouncelab.laws.base import FitOutcome
+            from bouncelab.laws import FitOutcome
 
             return FitOutcome(model=self.replace(r=0.5, mu=mu), objective_value=0.0, algorithm="closed form")
 

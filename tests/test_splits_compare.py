@@ -159,21 +159,17 @@ def test_compare_takes_law_names_in_any_case(campaign_b):
 def _tilt_law(name: str, unit: str, to_rad: float) -> type:
     """A toy law whose one parameter, ``tilt``, is in ``unit`` (to_rad converts it to radians)."""
 
-    def _predict(self, p, theta):
-        c = np.cos(theta[0] * to_rad)
+    def _predict(self, p, tilt):
+        c = np.cos(tilt * to_rad)
         return p * np.array([0.5 * c, -0.5 * c, 0.2])
 
-    def _regime(self, p, theta):
+    def _regime(self, p, tilt):
         return np.zeros(len(p), dtype=np.int8)
 
-    def __init__(self, tilt=None):
-        self.tilt = tilt
-        bl.BounceModel.__init__(self)
-
     hi = 89.0 if unit == "deg" else np.radians(89.0)
-    spec = bl.laws.Parameter("tilt", (0.0, hi), (0.0, hi), unit, "tilt of the contact")
-    return type(name, (bl.BounceModel,), {"parameter_specs": (spec,), "regimes": ("bounce",),
-                                          "__init__": __init__, "_predict": _predict, "_regime": _regime})
+    spec = bl.laws.Parameter(bounds=(0.0, hi), physical=(0.0, hi), unit=unit, doc="tilt of the contact")
+    return type(name, (bl.BounceModel,), {"tilt": spec, "regimes": ("bounce",), "_predict": _predict,
+                                          "_regime": _regime})
 
 
 def test_compare_keeps_a_shared_parameter_name_apart_by_unit(campaign_b):
@@ -192,19 +188,16 @@ def test_compare_keeps_a_shared_parameter_name_apart_by_unit(campaign_b):
 
 
 def test_bouncelab_laws_keep_their_parameter_columns_and_the_papers_values(campaign_b):
-    spec = bl.laws.Parameter("beta_deg", (0.0, 1.5), (0.0, 1.5), "rad", "a tilt in radians under the same name")
+    spec = bl.laws.Parameter(bounds=(0.0, 1.5), physical=(0.0, 1.5), unit="rad",
+                             doc="a tilt in radians under the same name")
 
-    def _predict(self, p, theta):
-        c = np.cos(theta[0])
+    def _predict(self, p, beta_deg):
+        c = np.cos(beta_deg)
         return p * np.array([0.5 * c, -0.5 * c, 0.2])
 
-    def __init__(self, beta_deg=None):
-        self.beta_deg = beta_deg
-        bl.BounceModel.__init__(self)
-
     radians = type("BetaInRadians", (bl.BounceModel,), {
-        "parameter_specs": (spec,), "regimes": ("bounce",), "__init__": __init__, "_predict": _predict,
-        "_regime": lambda self, p, theta: np.zeros(len(p), dtype=np.int8)})
+        "beta_deg": spec, "regimes": ("bounce",), "_predict": _predict,
+        "_regime": lambda self, p, beta_deg: np.zeros(len(p), dtype=np.int8)})
     # Whatever the order, PennerFixed keeps "beta_deg" and the paper's 18.4 degrees stay beside it.
     cmp = bl.compare(campaign_b, [radians, "PennerFixed"])
     assert "beta_deg" in cmp.table.columns and "beta_deg [rad]" in cmp.table.columns

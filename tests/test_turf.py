@@ -179,7 +179,7 @@ def test_fit_objective_shared_between_threads_is_thread_count_independent():
     p = landings(300, seed=8)
     pf = LAWS[0].predict(p, plausible=None)
     inv = 1.0 / np.linalg.norm(p, axis=1)
-    theta = LAWS[1]._theta()
+    theta = np.array(list(LAWS[1].flat_parameters().values()))
     before = bl.laws.num_threads()
     try:
         values = []

@@ -432,8 +432,7 @@ def _import_modules(modules: list[str], law: str | None = None) -> None:
 
 def _laws_of_module(module: str) -> list[str]:
     """The bounce laws a module defines (module:Class names), from the registry."""
-    from bouncelab.laws import registered_laws
-    from bouncelab.laws.base import law_name
+    from bouncelab.laws import law_name, registered_laws
 
     return sorted({law_name(c) for c in registered_laws().values() if c.__module__ == module})
 

@@ -58,6 +58,12 @@ BALL_RADIUS_M = 0.02135
 #: the paper assumes); used for kinetic energies ``E = (m R^2 / 2) (xdot^2 + ydot^2 + k omega^2)``.
 INERTIA_FACTOR = 0.4
 
+#: The conventions of every state bouncelab holds (written into campaigns and law files).
+CONVENTIONS = (
+    "scaled units: xdot, ydot in ball radii per second, omega in rad/s; y up (landing ydot < 0); "
+    "omega anticlockwise (omega > 0 is backspin for a ball moving in +x); v_P = xdot + omega"
+)
+
 #: The 97.5 % quantile of the standard normal: a campaign's prediction intervals are 95 % half-widths, one
 #: standard deviation times Z95 (the paper's intervals; a file's standard deviations are converted on loading).
 Z95 = 1.959963984540054

@@ -25,7 +25,15 @@ import xarray as xr
 
 from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
-from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, Z95, ball_radius, canonical_unit
+from bouncelab.core.units import (
+    BALL_RADIUS_M,
+    COMPONENT_UNITS,
+    COMPONENTS,
+    CONVENTIONS,
+    Z95,
+    ball_radius,
+    canonical_unit,
+)
 from bouncelab.core.validation import as_states, check_same_length
 
 __all__ = [
@@ -38,10 +46,6 @@ __all__ = [
 ]
 
 #: Text stored in every campaign's attrs so a file explains its own sign conventions.
-CONVENTIONS = (
-    "scaled units: xdot, ydot in ball radii per second, omega in rad/s; y up (landing ydot < 0); "
-    "omega anticlockwise (omega > 0 is backspin for a ball moving in +x); v_P = xdot + omega"
-)
 
 DATA_KINDS = ("measured", "synthetic surrogate", "unknown")
 

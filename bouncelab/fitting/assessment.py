@@ -80,7 +80,9 @@ from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import CrossValidation, cross_validate
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.fitting.uncertainty import Bootstrap, bootstrap
-from bouncelab.laws.base import BounceModel, law_name
+from bouncelab.fitting.vector import ParameterVector
+from bouncelab.laws.base import BounceModel
+from bouncelab.laws.registry import law_name
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
 
 __all__ = ["START_ALGORITHMS", "VERDICTS", "Assessment", "assess"]
@@ -420,13 +422,14 @@ def assess(
 
     # per-bounce objective terms, and the noise test of a change from the estimate
     inv = bounce_weights(data, p0) if with_pis else None
-    theta_hat = estimate_law._theta()
+    vec = ParameterVector(estimate_law)
+    theta_hat = vec.of(estimate_law)
 
     def terms(theta: np.ndarray) -> np.ndarray:
-        return error_terms(p0, pf, estimate_law._predict(p0, theta), inv) @ weights
+        return error_terms(p0, pf, vec.predict(estimate_law, p0, theta), inv) @ weights
 
     def deltas(theta: np.ndarray) -> np.ndarray:
-        return error_terms(p0, pf, estimate_law._predict(p0, theta))[:, 0]
+        return error_terms(p0, pf, vec.predict(estimate_law, p0, theta))[:, 0]
 
     t_hat = terms(theta_hat)
     codes = pd.factorize(groups)[0]
@@ -506,7 +509,7 @@ def assess(
     parameters = pd.DataFrame.from_dict(rows, orient="index")
     parameters.index.name = "parameter"
 
-    train = error_terms(p0, pf, estimate_law._predict(p0, theta_hat)).mean(axis=0)
+    train = error_terms(p0, pf, vec.predict(estimate_law, p0, theta_hat)).mean(axis=0)
     folds = cv.folds
     held_cols = ["test_delta", "test_delta_xdot", "test_delta_ydot", "test_delta_omega"]
     heldout = [float(np.average(folds[c], weights=folds["n_test"])) for c in held_cols]
@@ -615,7 +618,8 @@ def _held_at(law: BounceModel, e: _Element, value: float, held: Mapping[str, Any
 def _fit_task(task: tuple) -> np.ndarray:
     """One start or profile fit (module level, so that executors can pickle it): the fitted parameter vector."""
     law, data, seed, kwargs = task
-    return fit(law, data, method="global", seed=seed, **kwargs).model._theta()
+    fitted = fit(law, data, method="global", seed=seed, **kwargs).model
+    return ParameterVector(fitted).of(fitted)
 
 
 def _with_groups(data: Any, p0: np.ndarray, pf: np.ndarray, groups: np.ndarray, by_bounce: bool) -> Any:
@@ -653,6 +657,7 @@ def _null_directions(law: BounceModel, p0: np.ndarray, pf: np.ndarray, free: Seq
     if not free:
         return []
     inv = 1.0 / np.linalg.norm(p0, axis=1)
+    vec = ParameterVector(law)
     where = {name: i for i, name in enumerate(_flat_names(law))}
     cols = []
     for e in free:
@@ -661,7 +666,7 @@ def _null_directions(law: BounceModel, p0: np.ndarray, pf: np.ndarray, free: Seq
         up, down = min(theta[i] + h, e.high), max(theta[i] - h, e.low)
         tu, td = theta.copy(), theta.copy()
         tu[i], td[i] = up, down
-        d = (law._predict(p0, tu) - law._predict(p0, td)) / (up - down)
+        d = (vec.predict(law, p0, tu) - vec.predict(law, p0, td)) / (up - down)
         cols.append((d * inv[:, None]).ravel())
     jac = np.column_stack(cols)
     norms = np.linalg.norm(jac, axis=0)

@@ -28,7 +28,8 @@ from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sampl
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
 from bouncelab.fitting.tasks import map_tasks
-from bouncelab.laws.base import BounceModel, law_name
+from bouncelab.laws import law_name
+from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import ERROR_COLUMNS
 
 __all__ = ["PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "generating_law", "law_instance", "paper_reference"]

@@ -31,7 +31,9 @@ from bouncelab.fitting.problem import (
     resolve_fixed,
 )
 from bouncelab.fitting.result import FitResult
-from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_class, law_name, registered_laws
+from bouncelab.laws import FitOutcome, law_class, law_name, registered_laws
+from bouncelab.laws.base import BounceModel
+from bouncelab.laws.protocol import DEFAULT_LOCAL_ALGORITHM
 from bouncelab.laws.provenance import Provenance
 from bouncelab.metrics import error_terms
 
@@ -304,10 +306,8 @@ def _check_held_out(p0: np.ndarray, pf: np.ndarray, t0: np.ndarray, tf: np.ndarr
 def _result(outcome: FitOutcome, method: str, label: str, problem: Problem, box: dict, held: dict,
             seed: int, start_time: float) -> FitResult:
     fitted = outcome.model
-    theta = fitted._theta()
-
     def overall(landing: np.ndarray, liftoff: np.ndarray, inv: np.ndarray | None = None) -> np.ndarray:
-        return error_terms(landing, liftoff, fitted._predict_valid(landing, theta), inv).mean(axis=0)
+        return error_terms(landing, liftoff, fitted._evaluate(landing), inv).mean(axis=0)
 
     train = overall(problem.landing, problem.liftoff)
     tst = problem.test

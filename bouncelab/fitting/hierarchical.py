@@ -105,7 +105,9 @@ from bouncelab.data.campaign import interval_sds, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
-from bouncelab.laws.base import BounceModel, law_from_dict, law_name
+from bouncelab.fitting.vector import ParameterVector
+from bouncelab.laws import law_from_dict, law_name
+from bouncelab.laws.base import BounceModel
 
 __all__ = ["ConvergenceWarning", "Posterior", "calibrate", "load_posterior"]
 
@@ -203,7 +205,8 @@ class _LogPosterior:
         self.free = list(free)
         self.vary = list(vary)
         names = [s.name for s in law.parameter_specs]
-        self.theta0 = law._theta()
+        self._vec = ParameterVector(law)
+        self.theta0 = self._vec.of(law)
         self.index = {n: names.index(n) for n in self.free}
         specs = {s.name: s for s in law.parameter_specs}
         self.transforms = {n: _Transform.of(*(float(v[0]) for v in specs[n].physical_arrays())) for n in self.vary}
@@ -281,11 +284,11 @@ class _LogPosterior:
         theta, s, tau = self.split(x)
         law, p0, n = self.law, self.p0, self.n
         if self.landing_sd is not None:  # the landing steps share the parameters: one call for all four
-            out = law._predict(self._stacked, theta)
+            out = self._vec.predict(law, self._stacked, theta)
             mean = out[:n]
             cols = [(out[(c + 1) * n:(c + 2) * n] - mean) * self._land_scale[c] for c in range(3)]
         else:
-            mean = law._predict(p0, theta)
+            mean = self._vec.predict(law, p0, theta)
             cols = []
         if self.approximation == "linear":
             for j, name in enumerate(self.vary):
@@ -293,7 +296,7 @@ class _LogPosterior:
                 tr = self.transforms[name]
                 shifted = theta.copy()
                 shifted[k] = float(tr.inverse(float(tr.forward(theta[k])) + self.step))
-                cols.append((law._predict(p0, shifted) - mean) * (s[j] / self.step))  # J_ij s_j
+                cols.append((self._vec.predict(law, p0, shifted) - mean) * (s[j] / self.step))  # J_ij s_j
         else:  # unscented: 2V + 1 sigma points in the transformed space
             nv = len(self.vary)
             if nv:
@@ -308,7 +311,7 @@ class _LogPosterior:
                     for sign in (1.0, -1.0):
                         shifted = theta.copy()
                         shifted[k] = float(tr.inverse(z + sign * spread * s[j]))
-                        points.append(law._predict(p0, shifted))
+                        points.append(self._vec.predict(law, p0, shifted))
                 centre = mean
                 mean = w0 * centre + wi * sum(points)
                 if w0 > 0:
@@ -479,7 +482,7 @@ def calibrate(
     post = _LogPosterior(fitted, p0, pf, free=free, vary=vary, box=point.bounds, landing_sd=landing_sd,
                          liftoff_sd=liftoff_sd, with_tau=with_tau, tau_prior=tau_prior, approximation=approximation)
     # start: the point fit, small scales, the fit's residual spread as discrepancy; then the mode
-    resid = pf - fitted._predict(p0, fitted._theta())
+    resid = pf - fitted._evaluate(p0)
     x0 = np.r_[[getattr(fitted, n) for n in free], np.full(len(vary), math.log(0.1)),
                np.log(np.maximum(0.5 * resid.std(axis=0), 1e-6 * tau_prior)) if with_tau else []]
     for j, name in enumerate(free):  # a median on the edge of its transform's range cannot start the search
@@ -790,7 +793,7 @@ class Posterior:
         rows = self.samples.to_numpy()[rng.integers(0, len(self.samples), n)]
         col = {c: i for i, c in enumerate(self.samples.columns)}
         specs = [s.name for s in self.law.parameter_specs]
-        base = self.law._theta()
+        base = ParameterVector(self.law).of(self.law)
         theta = np.broadcast_to(base, (n, m, len(base))).copy()
         for name in self.free:
             k = specs.index(name)
@@ -963,15 +966,7 @@ def load_posterior(path: str | Path) -> Posterior:
 
 
 def _predict_rows(law: BounceModel, landing: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """The law on each landing with its own parameter vector: the compiled kernel row by row, else a loop."""
-    from bouncelab.laws.compiled import CompiledLaw
+    """The law on each landing with its own parameter numbers (:func:`bouncelab.laws.predict_per_bounce`)."""
+    from bouncelab.laws.varying import predict_per_bounce
 
-    kernel = getattr(law, "kernel", None) if isinstance(law, CompiledLaw) else None
-    if kernel is not None and all(s.is_scalar for s in law.parameter_specs):
-        from bouncelab.laws._contact import kernel_rows, run_kernel_rows
-
-        return run_kernel_rows(kernel, np.ascontiguousarray(landing), kernel_rows(law, theta))[0]
-    out = np.empty_like(landing)
-    for i in range(len(landing)):  # any other law: one call per bounce
-        out[i] = law._predict(landing[i:i + 1], theta[i])[0]
-    return out
+    return predict_per_bounce(law, landing, theta)

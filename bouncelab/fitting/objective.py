@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from bouncelab.core.errors import FitError
+from bouncelab.fitting.vector import ParameterVector
 from bouncelab.metrics import ERROR_COLUMNS
 
 __all__ = [
@@ -165,7 +166,8 @@ def objective_label(weights: np.ndarray, weighting: str = "landing") -> str:
 
 
 class ErrorMeasure:
-    """delta and Delta q of a law on fixed data, as a function of its flat parameter vector.
+    """delta and Delta q of a law on fixed data, as a function of its flat parameter vector
+    (:class:`~bouncelab.fitting.vector.ParameterVector`).
 
     A convenience over the law's one objective hook,
     :meth:`~bouncelab.BounceModel._error_function` (compiled for compiled laws).
@@ -189,10 +191,11 @@ class ErrorMeasure:
         self.inv_norm = inverse_norms(self.landing)
         self.n = len(self.landing)
         self._sums = model._error_function(self.landing, self.liftoff, self.inv_norm)
+        self._values = ParameterVector(model).values
 
     def errors(self, theta: Any) -> np.ndarray:
         """``[delta, Delta xdot, Delta ydot, Delta omega]`` at ``theta`` (flat parameter vector)."""
-        return np.asarray(self._sums(np.ascontiguousarray(theta, dtype=np.float64)), dtype=np.float64) / self.n
+        return np.asarray(self._sums(self._values(theta)), dtype=np.float64) / self.n
 
     def value(self, theta: Any, weights: Any) -> float:
         """Weighted sum of the four errors at ``theta``."""

@@ -17,7 +17,10 @@ import numpy as np
 from bouncelab.core.errors import FitError, ParameterError
 from bouncelab.core.validation import inverse_norms
 from bouncelab.fitting.search import SearchOutcome, global_search
-from bouncelab.laws.base import DEFAULT_LOCAL_ALGORITHM, BounceModel, FitOutcome, law_name
+from bouncelab.fitting.vector import ParameterVector
+from bouncelab.laws.base import BounceModel
+from bouncelab.laws.protocol import DEFAULT_LOCAL_ALGORITHM, FitOutcome
+from bouncelab.laws.registry import law_name
 
 __all__ = ["DEFAULT_ALGORITHM", "Problem", "default_maxeval", "resolve_bounds", "resolve_fixed"]
 
@@ -150,17 +153,24 @@ class Problem:
         self.test = test
 
     # ------------------------------------------------------------------ services
+    def value(self, law: BounceModel) -> float:
+        """The objective (the weighted mean error, delta by default) of ``law`` on the bounces fitted."""
+        vec = ParameterVector(law)
+        return float(self.objective(law)(vec.of(law)))
+
     def objective(self, law: BounceModel) -> Callable[[np.ndarray], float]:
-        """Weighted mean error (delta by default) as a function of the law's flat parameter vector."""
+        """The objective as a function of the law's flat parameter vector (:class:`ParameterVector`), for
+        the fitting machinery: a fitting method asks for :meth:`value` or :meth:`run_global` instead."""
         sums = law._error_function(self.landing, self.liftoff, self.inv_norm)
+        values = ParameterVector(law).values
         w = self.weights / self.n
         if w[1] == w[2] == w[3] == 0.0:
             w0 = float(w[0])
-            return lambda theta: w0 * sums(theta)[0]
+            return lambda theta: w0 * sums(values(theta))[0]
         w0, w1, w2, w3 = (float(v) for v in w)
 
         def f(theta: np.ndarray) -> float:
-            s = sums(theta)
+            s = sums(values(theta))
             return w0 * s[0] + w1 * s[1] + w2 * s[2] + w3 * s[3]
 
         return f
@@ -173,12 +183,12 @@ class Problem:
     def run_global(self, law: BounceModel, *, algorithm: str | None = None,
                    local_algorithm: str | None = DEFAULT_LOCAL_ALGORITHM, maxeval: int | None = None,
                    hold: Mapping[str, Any] | None = None,
-                   criterion: Callable[[np.ndarray], float] | None = None) -> FitOutcome:
+                   criterion: Callable[..., float] | None = None) -> FitOutcome:
         """The generic method: NLopt global search then a polish over the free parameters of ``law``.
 
         ``hold`` holds further parameters (name -> value) in this call only;
-        ``criterion`` replaces the objective (a function of the parameter vector)
-        in the search, while diagnostics and the reported value use the objective.
+        ``criterion`` replaces the objective in the search: a function of the law's parameters by
+        keyword, ``criterion(r=..., mu=...) -> float``; diagnostics and the reported value use the objective.
         """
         space = _Space(law, self.box, {**(hold or {}), **self.fixed})  # the caller's fixed values win
         if self.n <= space.d:
@@ -195,7 +205,11 @@ class Problem:
                 raise FitError(f"maxeval must be a positive integer; got {maxeval!r}")
         obj = self.objective(law)
         f = space.unit_function(obj)
-        g = f if criterion is None else space.unit_function(criterion)
+        if criterion is None:
+            g = f
+        else:
+            named = space.vector.named
+            g = space.unit_function(lambda theta: float(criterion(**named(theta))))
         if space.d == 0:
             outcome = SearchOutcome(x=np.empty(0), fun=float(f(np.empty(0))), global_stop="all parameters fixed")
         else:
@@ -204,7 +218,7 @@ class Problem:
                 maxeval=maxeval if maxeval is not None else default_maxeval(space.d, self.n),
             )
         theta = space.theta(outcome.x)
-        fitted = law._with_theta(theta)
+        fitted = space.vector.law(law, theta)
         at_bounds, flat = space.diagnose(f, outcome.x)
         notes = _notes(at_bounds, flat, space)
         stop = outcome.global_stop + (f"; polish: {outcome.local_stop}" if outcome.local_stop else "")
@@ -219,8 +233,9 @@ class _Space:
     """Map between a law's flat parameter vector and the unit box of its free numbers."""
 
     def __init__(self, law: BounceModel, box: dict[str, tuple[Any, Any]], held: Mapping[str, Any]) -> None:
+        self.vector = ParameterVector(law)
         names, lo, hi, start, free = [], [], [], [], []
-        for spec, _ in law._theta_slices():
+        for spec in self.vector.specs:
             blo, bhi = (np.broadcast_to(np.asarray(b, dtype=np.float64), (spec.size,)) for b in box[spec.name])
             enames = spec.element_names()
             if spec.name in held:

@@ -10,7 +10,8 @@ import numpy as np
 import pandas as pd
 
 from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
-from bouncelab.laws.base import BounceModel, law_name
+from bouncelab.laws import law_name
+from bouncelab.laws.base import BounceModel
 from bouncelab.laws.parameters import Parameters
 from bouncelab.metrics import _error_table, error_terms
 
@@ -113,11 +114,10 @@ class FitResult:
     @cached_property
     def errors(self) -> pd.DataFrame:
         """delta and Delta q overall and per measured slip/roll class, on the fitted and held-out data."""
-        theta = self.model._theta()
         tables = {}
         for name, (p0, pf) in self.data.items():
             classes = np.asarray(SLIP_ROLL_CLASSES)[_slip_codes(p0, pf)]
-            tables[name] = _error_table(error_terms(p0, pf, self.model._predict_valid(p0, theta)), classes)
+            tables[name] = _error_table(error_terms(p0, pf, self.model._evaluate(p0)), classes)
         return pd.concat(tables, names=["data", "subset"])
 
     @property

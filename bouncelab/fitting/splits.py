@@ -136,7 +136,7 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     tasks = [(i + 1, law, data.isel(bounce=tr), data.isel(bounce=te), seed, fit_kwargs)
              for i, (tr, te) in enumerate(folds)]
     rows = map_tasks(_fold, tasks, executor)
-    from bouncelab.laws.base import law_name
+    from bouncelab.laws import law_name
 
     return CrossValidation(folds=pd.DataFrame(rows).set_index("fold"), law=law_name(law))
 

@@ -14,7 +14,8 @@ from bouncelab.core.errors import FitError
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
-from bouncelab.laws.base import BounceModel, law_name
+from bouncelab.laws import law_name
+from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
 
 __all__ = ["sweep"]

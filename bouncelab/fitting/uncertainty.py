@@ -23,7 +23,7 @@ from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks
-from bouncelab.laws.base import law_name
+from bouncelab.laws import law_name
 
 __all__ = ["Bootstrap", "bootstrap"]
 

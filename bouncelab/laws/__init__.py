@@ -12,33 +12,26 @@
 ==============================  =====================================================
 
 Writing a law: subclass :class:`BounceModel` (NumPy maths in ``_predict``) or
-:class:`CompiledLaw` (a numba scalar ``kernel``); declare :class:`Parameter` s;
+:class:`CompiledLaw` (a numba scalar ``kernel``); declare each parameter as a class attribute
+(:class:`Parameter`) and options as :class:`Option` s;
 register extra fitting procedures with :func:`fit_method`. See docs/laws.md.
 """
 
-from bouncelab.laws._contact import predict_per_bounce
-from bouncelab.laws.base import (
-    BounceModel,
-    FitOutcome,
-    FitProblem,
-    Parameter,
-    Parameters,
-    Provenance,
-    fit_method,
-    law_class,
-    law_from_dict,
-    law_name,
-    load_law,
-    registered_laws,
-)
+from bouncelab.laws.base import BounceModel
 from bouncelab.laws.compiled import CompiledLaw, num_threads, set_num_threads
 from bouncelab.laws.compliant import CompliantImpact
 from bouncelab.laws.crater import CraterContact
+from bouncelab.laws.files import law_from_dict, load_law
+from bouncelab.laws.parameters import Option, Parameter, Parameters
 from bouncelab.laws.penner import K_P_MAX, PennerFixed, PennerVarying
 from bouncelab.laws.piecewise import PiecewiseAffine
+from bouncelab.laws.protocol import FitOutcome, FitProblem, fit_method
+from bouncelab.laws.provenance import Provenance
+from bouncelab.laws.registry import law_class, law_name, registered_laws
 from bouncelab.laws.rigid import Rigid
 from bouncelab.laws.tangential_restitution import TangentialRestitution
 from bouncelab.laws.turf import TurfContact
+from bouncelab.laws.varying import predict_per_bounce
 
 __all__ = [
     "K_P_MAX",
@@ -48,6 +41,7 @@ __all__ = [
     "CraterContact",
     "FitOutcome",
     "FitProblem",
+    "Option",
     "Parameter",
     "Parameters",
     "PennerFixed",

@@ -105,8 +105,15 @@ def _switch_time(stick, a, b, tc, scale, t0, u0, v1, kap, j0, sig, vp0, kt, mu, 
 
 
 @jit
-def compliant_kernel(xd, yd, w, theta):
-    """theta = [r, mu, kappa, zeta, omega_d, t_c] (the last three from CompliantImpact._kernel_theta)."""
+def compliant_kernel(xd, yd, w, r, mu, kappa, z, wd, tc):
+    """CompliantImpact; ``z, wd, tc`` (damping ratio, damped frequency, contact time) from its restitution
+    (computed once per law, CompliantImpact._kernel_args)."""
+    return _compliant(xd, yd, w, (r, mu, kappa, z, wd, tc))
+
+
+@jit
+def _compliant(xd, yd, w, theta):
+    """theta = (r, mu, kappa, zeta, omega_d, t_c)."""
     r = theta[0]
     mu = theta[1]
     kap = theta[2]
@@ -421,9 +428,9 @@ def turf_integrate(xd, yd, w, theta, nsteps):
 
 
 @jit
-def turf_kernel(xd, yd, w, theta):
-    """theta = [log10_k, c (ms/radius), e_y (radii), mu, log10_kt, lam]."""
-    return turf_integrate(xd, yd, w, theta, TURF_STEPS)
+def turf_kernel(xd, yd, w, log10_k, c, e_y, mu, log10_kt, lam):
+    """TurfContact with its default TURF_STEPS (c in ms/radius, e_y in radii)."""
+    return turf_integrate(xd, yd, w, (log10_k, c, e_y, mu, log10_kt, lam), TURF_STEPS)
 
 
 # ============================================================================= CraterContact
@@ -601,6 +608,7 @@ def crater_integrate(xd, yd, w, theta, nsteps):
 
 
 @jit
-def crater_kernel(xd, yd, w, theta):
+def crater_kernel(xd, yd, w, r0, v_r, mu_k, mu_s, v_s, lam, kappa, e_t, beta0, beta_n, beta_t, fade_xdot):
     """CraterContact with its default CRATER_STEPS steps (the CompiledLaw kernel)."""
-    return crater_integrate(xd, yd, w, theta, CRATER_STEPS)
+    return crater_integrate(xd, yd, w, (r0, v_r, mu_k, mu_s, v_s, lam, kappa, e_t, beta0, beta_n, beta_t, fade_xdot),
+                            CRATER_STEPS)

@@ -1,8 +1,8 @@
 """Compiled scalar kernels of the built-in laws (numba; loaded on first use, cached on disk).
 
 Each built-in law is a :class:`~bouncelab.laws.CompiledLaw` whose ``kernel`` is
-one function below, ``kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF,
-omegaF, regime)``; :mod:`bouncelab.laws.compiled` builds the array loops around it.
+one function below, ``kernel(xdot0, ydot0, omega0, *parameters) -> (xdotF, ydotF,
+omegaF, regime)`` with the law's parameters by name; :mod:`bouncelab.laws.compiled` builds the array loops around it.
 The mathematics of each law lives in exactly one scalar function (``_impulse``
 for the rigid family, ``_penner`` for Penner's tilted surface). Penner's laws
 also have a dedicated objective loop (:func:`penner_error_sums`) that takes each
@@ -51,16 +51,18 @@ def _impulse(xd, yd, w, r, mu, et):
     return xd + j, -r * yd, w + 2.5 * j, code
 
 
-@jit(inline="always")
-def rigid_kernel(xd, yd, w, theta):
-    """Eq. (rigid_bounce); theta = [r, mu]."""
-    return _impulse(xd, yd, w, theta[0], theta[1], 0.0)
+# The kernels a law's loops call are compiled functions of their own (not inlined into the loops: numba
+# cannot inline a function it calls with the law's arguments unpacked, *args); their helpers are inlined.
+@jit
+def rigid_kernel(xd, yd, w, r, mu):
+    """Eq. (rigid_bounce)."""
+    return _impulse(xd, yd, w, r, mu, 0.0)
 
 
-@jit(inline="always")
-def tangential_kernel(xd, yd, w, theta):
-    """Walton's hard-sphere law; theta = [r, mu, e_t]."""
-    return _impulse(xd, yd, w, theta[0], theta[1], theta[2])
+@jit
+def tangential_kernel(xd, yd, w, r, mu, e_t):
+    """Walton's hard-sphere law."""
+    return _impulse(xd, yd, w, r, mu, e_t)
 
 
 # Cephes sin.c coefficients: sin and cos on [0, pi/4] to about 1 ulp. beta lies in [0, pi/2], so
@@ -157,17 +159,17 @@ def fade(xd, scale):
     return min(abs(xd) / scale, 1.0)
 
 
-@jit(inline="always")
-def penner_fixed_kernel(xd, yd, w, theta):
-    """theta = [r, mu, beta_deg, fade_xdot]."""
-    return _penner(xd, yd, w, theta[0], theta[1], theta[2] * DEG * fade(xd, theta[3]))
+@jit
+def penner_fixed_kernel(xd, yd, w, r, mu, beta_deg, fade_xdot):
+    """The tilt beta_deg (degrees), faded below fade_xdot (0: no fade, the published law)."""
+    return _penner(xd, yd, w, r, mu, beta_deg * DEG * fade(xd, fade_xdot))
 
 
-@jit(inline="always")
-def penner_varying_kernel(xd, yd, w, theta):
-    """theta = [r, mu, k_p, fade_xdot]; beta = k_p s phi (capped at 90 degrees)."""
-    beta = min(theta[2] * speed_times_angle(xd, yd) * fade(xd, theta[3]), HALF_PI)
-    return _penner(xd, yd, w, theta[0], theta[1], beta)
+@jit
+def penner_varying_kernel(xd, yd, w, r, mu, k_p, fade_xdot):
+    """beta = k_p s phi (capped at 90 degrees), faded below fade_xdot (0: no fade)."""
+    beta = min(k_p * speed_times_angle(xd, yd) * fade(xd, fade_xdot), HALF_PI)
+    return _penner(xd, yd, w, r, mu, beta)
 
 
 @jit(nogil=True)
@@ -206,18 +208,17 @@ def penner_error_sums(P0, PF, inv_norm, factor, r, mu, angle, start, stop):
 
 
 @jit(inline="always")
-def piecewise_kernel(x, y, w, t):
-    """theta = [normal(3), offset, A1 (9, row-major), b1 (3), A2 (9), b2 (3)]; side 1 where n . p < offset."""
-    if t[0] * x + t[1] * y + t[2] * w < t[3]:
-        o = 4
-        code = 0
-    else:
-        o = 16
-        code = 1
-    xf = t[o] * x + t[o + 1] * y + t[o + 2] * w + t[o + 9]
-    yf = t[o + 3] * x + t[o + 4] * y + t[o + 5] * w + t[o + 10]
-    wf = t[o + 6] * x + t[o + 7] * y + t[o + 8] * w + t[o + 11]
-    return xf, yf, wf, code
+def _affine(A, b, x, y, w, code):
+    return (A[0, 0] * x + A[0, 1] * y + A[0, 2] * w + b[0], A[1, 0] * x + A[1, 1] * y + A[1, 2] * w + b[1],
+            A[2, 0] * x + A[2, 1] * y + A[2, 2] * w + b[2], code)
+
+
+@jit
+def piecewise_kernel(x, y, w, normal, offset, A1, b1, A2, b2):
+    """Side 1 (code 0) where normal . p < offset: A1 p + b1; else side 2 (code 1): A2 p + b2."""
+    if normal[0] * x + normal[1] * y + normal[2] * w < offset:
+        return _affine(A1, b1, x, y, w, 0)
+    return _affine(A2, b2, x, y, w, 1)
 
 
 # Prediction loops of Penner's laws. The generic loops of CompiledLaw call the kernel per bounce with

@@ -8,10 +8,10 @@ same index and named columns).
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
 from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
@@ -71,7 +71,49 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
 
 def is_lazy(x: Any) -> bool:
     """True for a DataArray backed by a dask array (predicted lazily, chunk by chunk)."""
-    return isinstance(x, xr.DataArray) and x.chunks is not None
+    xr = sys.modules.get("xarray")  # a DataArray exists only if xarray was imported: never imported to ask
+    return xr is not None and isinstance(x, xr.DataArray) and x.chunks is not None
+
+
+def _lazy_input(da: Any) -> Any:
+    from bouncelab.core.units import COMPONENTS
+
+    if "component" not in da.dims or da.sizes["component"] != 3:
+        raise DataError(f"landing DataArray needs a 'component' dimension of size 3; its sizes are "
+                        f"{dict(da.sizes)}")
+    if "component" in da.coords:
+        labels = [str(v) for v in da["component"].values]
+        if sorted(labels) != sorted(COMPONENTS):
+            raise DataError(f"landing component labels must be {list(COMPONENTS)}; got {labels}")
+        da = da.sel(component=list(COMPONENTS))
+    return da.chunk({"component": -1})
+
+
+def lazy_predict(law: Any, da: Any, plausible: PlausibleRanges | None, radius_m: float | None) -> Any:
+    """``predict`` of a dask-backed DataArray: one task per chunk, nothing computed yet (guarded per chunk)."""
+    import xarray as xr
+
+    from bouncelab.core.units import COMPONENT_UNITS
+
+    out = xr.apply_ufunc(lambda block: law.predict(block, plausible=plausible, radius_m=radius_m),
+                         _lazy_input(da), input_core_dims=[["component"]], output_core_dims=[["component"]],
+                         dask="parallelized", output_dtypes=[np.float64])
+    return out.assign_coords(component=list(COMPONENTS), unit=("component", list(COMPONENT_UNITS)))
+
+
+def lazy_regime(law: Any, da: Any, codes: bool, plausible: PlausibleRanges | None, radius_m: float | None) -> Any:
+    """``regime`` of a dask-backed DataArray, lazily (codes or names)."""
+    import xarray as xr
+
+    names = np.asarray(law.regimes)
+    dtype = np.int8 if codes else names.dtype
+
+    def block_codes(block: np.ndarray) -> np.ndarray:
+        return law.regime(block, codes=True, plausible=plausible, radius_m=radius_m)
+
+    return xr.apply_ufunc(lambda block: block_codes(block) if codes else names[block_codes(block)],
+                          _lazy_input(da), input_core_dims=[["component"]], dask="parallelized",
+                          output_dtypes=[dtype])
 
 
 class PhysicalIO:
@@ -96,7 +138,8 @@ class PhysicalIO:
         """The landings as a scaled Cartesian (..., 3) float array."""
         import pandas as pd
 
-        if isinstance(landing, xr.DataArray):
+        xr = sys.modules.get("xarray")
+        if xr is not None and isinstance(landing, xr.DataArray):
             raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
                             "in scaled units (see bouncelab.core.units) or pass its .values")
         names = COMPONENTS if self.form_in == "cartesian" else POLAR_COMPONENTS

@@ -1,24 +1,23 @@
-r"""Compiled laws: write the bounce of one ball as a numba function, get fast arrays loops for free.
+r"""Compiled laws: write the bounce of one ball as a numba function, get fast array loops for free.
 
-A law whose mathematics is a scalar function of one landing subclasses
-:class:`CompiledLaw` and sets ``kernel``, a ``numba.njit`` function
+A law whose mathematics is a scalar function of one landing subclasses :class:`CompiledLaw` and sets
+``kernel``, a ``numba.njit`` function of one landing and the law's parameters, by name and in
+declaration order:
 
 .. code-block:: python
 
-    kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, regime_code)
+    kernel(xdot0, ydot0, omega0, r, mu) -> (xdotF, ydotF, omegaF, regime_code)
 
-where ``theta`` is the law's flat float64 parameter vector (every parameter in
-the order of ``parameter_specs``, arrays raveled in C order; override
-``_kernel_theta`` to convert it first, e.g. degrees to radians) and
-``regime_code`` an integer index into the law's ``regimes``. Any number of
-parameters, scalar or array, and of regimes.
+``regime_code`` is an integer index into the law's ``regimes``. Any number of parameters, scalar or
+array (an array parameter arrives as a read-only array of its shape), and of regimes. A law whose kernel
+needs more than its parameters (an option, a constant computed from a parameter) overrides
+:meth:`CompiledLaw._kernel_args`, which receives the parameters by name and returns what the kernel
+takes after the landing; the constants of a law are then computed once per law, not per call.
 
-From the kernel, :class:`CompiledLaw` builds three compiled loops (prediction,
-regimes, and the fitter's one-pass sums of the error terms,
-:meth:`~bouncelab.BounceModel._error_function`) and caches them on disk. The
-loops release the GIL and run serially over fixed chunks of
-:data:`CHUNK` bounces; from :data:`PARALLEL_MIN` bounces the chunks are shared
-by a small thread pool. Hence:
+From the kernel, :class:`CompiledLaw` builds three compiled loops (prediction, regimes, and the
+fitter's one-pass sums of the error terms, :meth:`~bouncelab.BounceModel._error_function`) and
+caches them on disk. The loops release the GIL and run serially over fixed chunks of :data:`CHUNK`
+bounces; from :data:`PARALLEL_MIN` bounces the chunks are shared by a small thread pool. Hence:
 
 * results are bit-identical whatever the batch size, a bounce's position in it and
   the number of threads, and on any x86-64 CPU (every bounce goes through the same
@@ -34,20 +33,16 @@ Examples
 --------
 A frictionless bounce with restitution ``e``:
 
->>> import numpy as np
 >>> from numba import njit
->>> from bouncelab.laws import CompiledLaw, Parameter
+>>> import bouncelab as bl
 >>> @njit
-... def frictionless(xd, yd, w, theta):
-...     return xd, -theta[0] * yd, w, 0
->>> class Frictionless(CompiledLaw):
+... def frictionless(xd, yd, w, e):
+...     return xd, -e * yd, w, 0
+>>> class Frictionless(bl.CompiledLaw):
 ...     '''pF = [xdot0, -e ydot0, omega0].'''
-...     parameter_specs = (Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution"),)
+...     e = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
 ...     regimes = ("bounce",)
 ...     kernel = frictionless
-...     def __init__(self, e=None):
-...         self.e = e
-...         super().__init__()
 >>> Frictionless(e=0.5).predict([[100.0, -200.0, 30.0]])
 array([[100., 100.,  30.]])
 """
@@ -56,7 +51,7 @@ from __future__ import annotations
 
 import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -64,14 +59,15 @@ import numpy as np
 from bouncelab.core._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
 from bouncelab.core.errors import LawDefinitionError
 from bouncelab.core.validation import STATE_LIMIT
-from bouncelab.laws.base import BounceModel, law_name
+from bouncelab.laws.base import BounceModel
+from bouncelab.laws.registry import law_name
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
 
 # ------------------------------------------------------------------------------ loops per kernel
 class _Loops:
-    """The compiled array loops built around one kernel."""
+    """The compiled array loops built around one kernel (its arguments after the landing come as a tuple)."""
 
     def __init__(self, kernel: Any) -> None:
         from bouncelab.core._jit import ROW_FLAGS, jit
@@ -83,34 +79,34 @@ class _Loops:
         # check reads the values' bits as integers (``bits`` is a view of P), which fast-math
         # assumptions about NaN and infinity cannot touch.
         @jit(nogil=True, fastmath=ROW_FLAGS)
-        def predict_rows(P, theta, out, bits, limit_bits, start, stop):
+        def predict_rows(P, args, out, bits, limit_bits, start, stop):
             ok = True
             for i in range(start, stop):
                 ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-                a, b, c, _ = kernel(P[i, 0], P[i, 1], P[i, 2], theta)
+                a, b, c, _ = kernel(P[i, 0], P[i, 1], P[i, 2], *args)
                 out[i, 0] = a
                 out[i, 1] = b
                 out[i, 2] = c
             return ok
 
         @jit(nogil=True, fastmath=ROW_FLAGS)
-        def regime_rows(P, theta, codes, bits, limit_bits, start, stop):
+        def regime_rows(P, args, codes, bits, limit_bits, start, stop):
             ok = True
             for i in range(start, stop):
                 ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-                codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], theta)[3]
+                codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], *args)[3]
             return ok
 
         # A plain sum in row order: with no "reassoc" the compiler keeps that order, so the sums (and so
         # every fit) are the same bits on any CPU, whatever its vector width.
         @jit(nogil=True, fastmath=ROW_FLAGS)
-        def error_sums(P0, PF, inv_norm, theta, start, stop):
+        def error_sums(P0, PF, inv_norm, args, start, stop):
             sd = 0.0
             sx = 0.0
             sy = 0.0
             sw = 0.0
             for i in range(start, stop):
-                a, b, c, _ = kernel(P0[i, 0], P0[i, 1], P0[i, 2], theta)
+                a, b, c, _ = kernel(P0[i, 0], P0[i, 1], P0[i, 2], *args)
                 ex = PF[i, 0] - a
                 ey = PF[i, 1] - b
                 ew = PF[i, 2] - c
@@ -149,14 +145,13 @@ def loops_for(kernel: Any) -> _Loops:
 class CompiledLaw(BounceModel):
     """A law evaluated by a compiled scalar ``kernel`` (see the module documentation).
 
-    Subclasses set the class attribute ``kernel`` and, like every law,
-    ``parameter_specs``, ``regimes`` and ``__init__``. They may override
-    :meth:`_kernel_theta` to convert the parameter vector for the kernel.
-    Prediction, regimes and the fitter's objective then run compiled; fitting,
-    comparison, reports and JSON work as for any law.
+    Subclasses set the class attribute ``kernel`` and, like every law, declare their parameters and
+    ``regimes``. They may override :meth:`_kernel_args` to give the kernel more than the parameters.
+    Prediction, regimes and the fitter's objective then run compiled; fitting, comparison, reports and
+    JSON work as for any law.
     """
 
-    #: ``numba.njit`` function ``(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, code)``.
+    #: ``numba.njit`` function ``(xdot0, ydot0, omega0, *parameters) -> (xdotF, ydotF, omegaF, code)``.
     kernel: ClassVar[Any] = None
     _fused_value_check = True  # the row loops check the landings (see _Loops)
     _abstract_law = True  # a base for laws, not a law: not registered
@@ -167,57 +162,72 @@ class CompiledLaw(BounceModel):
         # numba dispatchers keep the Python function; a property loads the kernel lazily (built-ins)
         if kernel is not None and not isinstance(kernel, property) and not hasattr(kernel, "py_func"):
             raise LawDefinitionError(
-                f"{cls.__name__}.kernel must be a numba.njit function (kernel(xdot0, ydot0, omega0, theta) -> "
-                f"(xdotF, ydotF, omegaF, code)); got {type(kernel).__name__}. Decorate it with @numba.njit")
+                f"{cls.__name__}.kernel must be a numba.njit function (kernel(xdot0, ydot0, omega0, "
+                f"{', '.join(s.name for s in cls.parameter_specs)}) -> (xdotF, ydotF, omegaF, code)); got "
+                f"{type(kernel).__name__}. Decorate it with @numba.njit", law=cls.__name__, method="kernel")
+        cls._plain_args = cls._kernel_args is CompiledLaw._kernel_args
 
-    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
-        """The vector the kernel receives, from the parameter vector (default: unchanged)."""
-        return theta
+    def _kernel_args(self, **parameters: Any) -> tuple:
+        """What the kernel takes after the landing, from the parameters by name (default: the parameters in
+        declaration order). Override to add options or constants computed from the parameters."""
+        return tuple(parameters.values())
+
+    def _args(self, values: Mapping[str, Any]) -> tuple:
+        """The kernel's arguments for ``values``: the law's own are computed once per law (it is immutable)."""
+        if values is self.__dict__["_values"]:
+            cached = self.__dict__.get("_args_cache")
+            if cached is None:
+                cached = self.__dict__["_args_cache"] = self._kernel_args(**values)
+            return cached
+        return self._kernel_args(**values)
 
     def _loops(self) -> _Loops:
         if self.kernel is None:
+            names = ", ".join(s.name for s in self.parameter_specs)
             raise LawDefinitionError(
                 f"{law_name(self)} sets no kernel: a CompiledLaw needs the class attribute kernel = a numba.njit "
-                "function kernel(xdot0, ydot0, omega0, theta) -> (xdotF, ydotF, omegaF, regime_code)")
+                f"function kernel(xdot0, ydot0, omega0, {names}) -> (xdotF, ydotF, omegaF, regime_code)",
+                law=law_name(self), method="kernel")
         return loops_for(self.kernel)
 
-    def _kt(self, theta: np.ndarray) -> np.ndarray:
-        return np.ascontiguousarray(self._kernel_theta(theta), dtype=np.float64)
+    def _predict(self, p: np.ndarray, **parameters: Any) -> np.ndarray:
+        return self._evaluate_checked(p, parameters)[0]
 
-    def _predict(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        return self._predict_checked(p, theta)[0]
+    def _regime(self, p: np.ndarray, **parameters: Any) -> np.ndarray:
+        return self._classify_checked(p, parameters)[0]
 
-    def _regime(self, p: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        return self._regime_checked(p, theta)[0]
-
-    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
         """Lift-off states, and whether every landing was valid (checked in the same pass)."""
         out = np.empty_like(p)
-        ok = run_rows(self._loops().predict_rows, len(p), p, self._kt(theta), out, *landing_bits(p))
+        ok = run_rows(self._loops().predict_rows, len(p), p, self._args(values), out, *landing_bits(p))
         return out, all(ok)
 
-    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
         codes = np.empty(len(p), dtype=np.int8)
-        ok = run_rows(self._loops().regime_rows, len(p), p, self._kt(theta), codes, *landing_bits(p))
+        ok = run_rows(self._loops().regime_rows, len(p), p, self._args(values), codes, *landing_bits(p))
         return codes, all(ok)
 
-
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
-                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+                        inv_norm: np.ndarray) -> Callable[[Sequence[Any]], Any]:
         """One compiled pass per call: the four sums of the error terms (see BounceModel)."""
         sums = self._loops().error_sums
         n = len(landing)
-        convert = type(self)._kernel_theta is not CompiledLaw._kernel_theta
-        if n < PARALLEL_MIN and not convert:
-            def f(theta: np.ndarray) -> tuple[float, float, float, float]:
-                return sums(landing, liftoff, inv_norm, theta, 0, n)
+        names = [s.name for s in self.parameter_specs]
+
+        def args_of(values: Sequence[Any]) -> tuple:
+            if self._plain_args:
+                return tuple(values)
+            return self._kernel_args(**dict(zip(names, values, strict=True)))
+
+        if n < PARALLEL_MIN:
+            def f(values: Sequence[Any]) -> tuple[float, float, float, float]:
+                return sums(landing, liftoff, inv_norm, args_of(values), 0, n)
             return f
 
-        def f_general(theta: np.ndarray) -> tuple[float, float, float, float]:
-            t = self._kt(theta) if convert else theta
-            parts = run_chunked(sums, n, landing, liftoff, inv_norm, t)
+        def f_chunked(values: Sequence[Any]) -> tuple[float, float, float, float]:
+            parts = run_chunked(sums, n, landing, liftoff, inv_norm, args_of(values))
             if len(parts) == 1:
                 return parts[0]
             return tuple(math.fsum(p[k] for p in parts) for k in range(4))
 
-        return f_general
+        return f_chunked

@@ -11,12 +11,13 @@ friction force reverses during contact.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
-from bouncelab.laws.rigid import MU_SPEC
+from bouncelab.laws.rigid import MU
 
 __all__ = ["R_MIN", "CompliantImpact", "contact_time", "restitution_of_damping"]
 
@@ -138,19 +139,11 @@ class CompliantImpact(CompiledLaw):
     (True, 'reversed')
     """
 
-    parameter_specs = (
-        Parameter("r", (R_MIN, 1.0), (R_MIN, 1.0), "1", "normal restitution of the spring-dashpot"),
-        MU_SPEC,
-        Parameter("kappa", (0.3, 6.0), (0.05, 100.0), "1",
-                  "tangential-to-normal frequency ratio sqrt(7 k_t / (2 k_n))"),
-    )
+    r = Parameter(bounds=(R_MIN, 1.0), physical=(R_MIN, 1.0), unit="1", doc="normal restitution of the spring-dashpot")
+    mu = MU
+    kappa = Parameter(bounds=(0.3, 6.0), physical=(0.05, 100.0), unit="1",
+                      doc="tangential-to-normal frequency ratio sqrt(7 k_t / (2 k_n))")
     regimes = ("slip", "grip", "reversed")
-
-    def __init__(self, r: float | None = None, mu: float | None = None, kappa: float | None = None) -> None:
-        self.r = r
-        self.mu = mu
-        self.kappa = kappa
-        super().__init__()
 
     @property
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
@@ -158,11 +151,17 @@ class CompliantImpact(CompiledLaw):
 
         return compliant_kernel
 
-    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
-        r, mu, kappa = (float(x) for x in theta)
-        z = _damping_of_restitution(r)
+    def _kernel_args(self, *, r: Any, mu: Any, kappa: Any) -> tuple:
+        """The kernel also takes the damping ratio, damped frequency and contact time of ``r``: found by
+        bisection, so once per law, not once per call (a law is immutable). ``r`` may be an array (a value
+        per bounce)."""
+        if np.ndim(r):
+            z = np.array([_damping_of_restitution(float(x)) for x in np.ravel(r)]).reshape(np.shape(r))
+            wd, tc = np.sqrt(1.0 - z * z), np.array([_lift_off(float(x))[1] for x in np.ravel(z)]).reshape(z.shape)
+            return r, mu, kappa, z, wd, tc
+        z = _damping_of_restitution(float(r))
         wd, tc, _ = _lift_off(z)
-        return np.array([r, mu, kappa, z, wd, tc])
+        return r, mu, kappa, z, wd, tc
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:

@@ -2,14 +2,13 @@ r"""CraterContact: a ball on the wall of its own crater, with velocity-weakening
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
 import numpy as np
 
 from bouncelab.core.errors import ParameterError
 from bouncelab.laws.compiled import CompiledLaw
-from bouncelab.laws.parameters import Parameter
+from bouncelab.laws.parameters import Option, Parameter
 
 __all__ = ["CRATER_FADE_XDOT", "CraterContact"]
 
@@ -17,15 +16,15 @@ __all__ = ["CRATER_FADE_XDOT", "CraterContact"]
 CRATER_FADE_XDOT = 50.0
 
 
-class _class_or_instance:
-    """A method that receives the class when called on it and the instance when called on one."""
-
-    def __init__(self, func: Any) -> None:
-        self.func = func
-        self.__doc__ = func.__doc__
-
-    def __get__(self, obj: Any, cls: type) -> Any:
-        return functools.partial(self.func, cls if obj is None else obj)
+def _check_fade(value: Any, law: str) -> float:
+    if isinstance(value, bool | str | bytes) or not isinstance(value, int | float | np.number):
+        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s; got {value!r}", law=law,
+                             parameter="fade_xdot", value=value)
+    fade = float(value)
+    if not (np.isfinite(fade) and fade > 0):
+        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s; got {value!r}",
+                             law=law, parameter="fade_xdot", value=value)
+    return fade
 
 
 def _kernels():
@@ -150,83 +149,39 @@ class CraterContact(CompiledLaw):
     ['grip', 'slip']
     """
 
-    parameter_specs = (
-        Parameter("r0", (0.0, 1.0), (0.0, 1.0), "1", "restitution of a slow impact"),
-        Parameter("v_r", (50.0, 20000.0), (1e-3, 1e9), "radius/s", "normal speed at which the restitution halves"),
-        Parameter("mu_k", (0.0, 1.0), (0.0, 10.0), "1", "friction of a fast slip"),
-        Parameter("mu_s", (0.0, 2.0), (0.0, 10.0), "1", "friction at zero slip"),
-        Parameter("v_s", (5.0, 1000.0), (1e-3, 1e7), "radius/s", "slip speed over which friction weakens"),
-        Parameter("lam", (0.0, 1.0), (0.0, 20.0), "1",
-                  "ploughing (with kappa 0 a spinless ball keeps exp(-lam (1+r)) of v_t)"),
-        Parameter("kappa", (0.0, 1.0), (0.0, 1.0), "radius", "depth below the centre of the ploughing force"),
-        Parameter("e_t", (0.0, 1.0), (0.0, 1.0), "1", "tangential restitution of a gripped contact"),
-        Parameter("beta0", (0.0, 30.0), (0.0, 60.0), "deg", "tilt of the crater wall at a slow landing"),
-        Parameter("beta_n", (0.0, 30.0), (0.0, 100.0), "deg per 1000 radius/s", "tilt growth with |ydot0|"),
-        Parameter("beta_t", (0.0, 30.0), (0.0, 100.0), "deg per 1000 radius/s", "tilt growth with |xdot0|"),
-    )
+    r0 = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="restitution of a slow impact")
+    v_r = Parameter(bounds=(50.0, 20000.0), physical=(1e-3, 1e9), unit="radius/s",
+                    doc="normal speed at which the restitution halves")
+    mu_k = Parameter(bounds=(0.0, 1.0), physical=(0.0, 10.0), unit="1", doc="friction of a fast slip")
+    mu_s = Parameter(bounds=(0.0, 2.0), physical=(0.0, 10.0), unit="1", doc="friction at zero slip")
+    v_s = Parameter(bounds=(5.0, 1000.0), physical=(1e-3, 1e7), unit="radius/s",
+                    doc="slip speed over which friction weakens")
+    lam = Parameter(bounds=(0.0, 1.0), physical=(0.0, 20.0), unit="1",
+                    doc="ploughing (with kappa 0 a spinless ball keeps exp(-lam (1+r)) of v_t)")
+    kappa = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="radius",
+                      doc="depth below the centre of the ploughing force")
+    e_t = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="tangential restitution of a gripped contact")
+    beta0 = Parameter(bounds=(0.0, 30.0), physical=(0.0, 60.0), unit="deg",
+                      doc="tilt of the crater wall at a slow landing")
+    beta_n = Parameter(bounds=(0.0, 30.0), physical=(0.0, 100.0), unit="deg per 1000 radius/s",
+                       doc="tilt growth with |ydot0|")
+    beta_t = Parameter(bounds=(0.0, 30.0), physical=(0.0, 100.0), unit="deg per 1000 radius/s",
+                       doc="tilt growth with |xdot0|")
+    fade_xdot = Option(default=CRATER_FADE_XDOT, check=_check_fade,
+                       doc="radii/s below which the crater wall's tilt fades linearly to zero (positive)")
     regimes = ("slip", "grip", "reversed")
-
-    def __init__(self, r0: float | None = None, v_r: float | None = None, mu_k: float | None = None,
-                 mu_s: float | None = None, v_s: float | None = None, lam: float | None = None,
-                 kappa: float | None = None, e_t: float | None = None, beta0: float | None = None,
-                 beta_n: float | None = None, beta_t: float | None = None,
-                 fade_xdot: float = CRATER_FADE_XDOT) -> None:
-        self.r0 = r0
-        self.v_r = v_r
-        self.mu_k = mu_k
-        self.mu_s = mu_s
-        self.v_s = v_s
-        self.lam = lam
-        self.kappa = kappa
-        self.e_t = e_t
-        self.beta0 = beta0
-        self.beta_n = beta_n
-        self.beta_t = beta_t
-        self.fade_xdot = fade_xdot
-        super().__init__()
-
-    def _validate_parameters(self) -> None:
-        super()._validate_parameters()
-        value = self.fade_xdot
-        if isinstance(value, (bool, str, bytes)) or not isinstance(value, (int, float, np.number)):
-            raise ParameterError(f"CraterContact option 'fade_xdot' must be a number of radii/s; got {value!r}")
-        fade = float(value)
-        if not (np.isfinite(fade) and fade > 0):
-            raise ParameterError(f"CraterContact option 'fade_xdot' must be a positive number of radii/s; "
-                                 f"got {self.fade_xdot!r}")
-        object.__setattr__(self, "fade_xdot", fade)
 
     @property
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
         return _kernels().crater_kernel
 
-    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
-        return np.append(theta, self.fade_xdot)
-
-    @_class_or_instance
-    def predict_varying(owner: Any, landing: Any, params: Any, *, codes: bool = False,
-                        fade_xdot: float | None = None) -> Any:
-        """Lift-off of ``n`` landings with a parameter vector per landing (spot-to-spot variation).
-
-        ``params`` is an ``(n, 11)`` array in the order of ``parameter_specs`` (a single row
-        broadcasts) or a mapping (dict, DataFrame) naming the eleven parameters; each row gives
-        what ``CraterContact(**row).predict(landing_row)`` gives. The option ``fade_xdot`` is the
-        argument's, else the instance's when called on one (``law.predict_varying``), else the
-        default :data:`CRATER_FADE_XDOT`.
-        """
-        from bouncelab.laws._contact import predict_per_bounce
-
-        if fade_xdot is None:
-            fade_xdot = owner.fade_xdot if isinstance(owner, CraterContact) else CRATER_FADE_XDOT
-        # an instance carries the option; its parameter values are placeholders, never used
-        law = CraterContact(**{s.name: 0.5 * sum(s.bounds) for s in CraterContact.parameter_specs},
-                            fade_xdot=fade_xdot)
-        return predict_per_bounce(law, landing, params, codes=codes, kernel=_kernels().crater_kernel)
+    def _kernel_args(self, **parameters: Any) -> tuple:
+        return (*parameters.values(), self.fade_xdot)
 
     def friction(self, slip_speed: Any) -> np.ndarray:
         """Friction coefficient mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s) at slip speeds ``v`` (radii/s)."""
-        theta = self._theta()  # NotFittedError if a parameter has no value
-        mu_k, mu_s, v_s = (float(theta[i]) for i in (2, 3, 4))
+        values = self._fitted_values()  # NotFittedError if a parameter has no value
+        mu_k, mu_s, v_s = values["mu_k"], values["mu_s"], values["v_s"]
         from bouncelab.laws._contact import check_speeds
 
         v = np.abs(check_speeds(slip_speed, "slip_speed", positive=False))

@@ -31,7 +31,12 @@ from bouncelab.core.errors import NonphysicalLiftoffWarning
 from bouncelab.core.units import INERTIA_FACTOR
 
 __all__ = [
-    "ENERGY_RTOL", "LiftoffFlags", "any_flagged", "liftoff_flags", "published_campaign",
+    "ENERGY_RTOL",
+    "LiftoffFlags",
+    "any_flagged",
+    "flags_of",
+    "liftoff_flags",
+    "published_campaign",
     "warn_if_published_nonphysical",
 ]
 
@@ -153,5 +158,17 @@ def warn_if_published_nonphysical(law: Any, landing: np.ndarray, liftoff: np.nda
         f"{type(law).__name__}.published({campaign!r}) predicts non-physical lift-offs: {'; '.join(parts)}. "
         "The paper fitted these values to its measured landings; predict(..., return_flags=True) marks each one "
         "(see the 'Simulators' page of the docs)",
-        NonphysicalLiftoffWarning, stacklevel=3,
+        NonphysicalLiftoffWarning, stacklevel=4,  # the caller of predict (via flags_of)
     )
+
+
+def flags_of(law: Any, landing: np.ndarray, liftoff: np.ndarray, *,
+             always: bool) -> tuple[np.ndarray, np.ndarray] | None:
+    """``predict``'s flag layer: the flags of the lift-offs when asked for (``always``), and the warning of a
+    law with the paper's published values that predicts non-physical lift-offs (checked in one compiled pass
+    first, so the usual call pays nothing more)."""
+    if not always and (published_campaign(law) is None or not any_flagged(landing, liftoff)):
+        return None
+    flags = liftoff_flags(landing, liftoff)
+    warn_if_published_nonphysical(law, landing, liftoff, flags)
+    return flags

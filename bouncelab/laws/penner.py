@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -11,9 +11,9 @@ import numpy as np
 from bouncelab.core import published as _published
 from bouncelab.core.errors import ParameterError
 from bouncelab.core.validation import as_states
-from bouncelab.laws.base import Parameter
 from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, landing_bits, run_chunked, run_rows
-from bouncelab.laws.rigid import MU_SPEC, R_SPEC
+from bouncelab.laws.parameters import Option, Parameter
+from bouncelab.laws.rigid import MU, R
 
 __all__ = ["K_P_MAX", "PennerFixed", "PennerVarying"]
 
@@ -67,43 +67,44 @@ def _check_fade(value: Any, law: str) -> float | None:
     try:
         v = float(value)
     except (TypeError, ValueError, OverflowError):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s or None; got {value!r}") from None
+        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s or None; got {value!r}",
+                             law=law, parameter="fade_xdot", value=value) from None
     if not (math.isfinite(v) and v > 0):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s or None; got {value!r}")
+        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s or None; got {value!r}",
+                             law=law, parameter="fade_xdot", value=value)
     return v
 
 
 class _Penner(CompiledLaw):
     """What the two Penner laws share: the tilted-surface kernel, the fade option, a fast objective."""
 
+    r = R
+    mu = MU
     regimes = ("slip_forward", "roll", "slip_backward")
     _varying = False
 
-    def _validate_parameters(self) -> None:
-        super()._validate_parameters()
-        object.__setattr__(self, "fade_xdot", _check_fade(self.fade_xdot, type(self).__name__))
+    def _kernel_args(self, *, r: float, mu: float, **angle: float) -> tuple:
+        (value,) = angle.values()  # beta_deg or k_p
+        return r, mu, value, self.fade_xdot or 0.0
 
-    def _kernel_theta(self, theta: np.ndarray) -> np.ndarray:
-        return np.append(theta, self.fade_xdot or 0.0)
-
-    def _scalars(self, theta: np.ndarray) -> tuple[float, float, float, bool, float]:
-        angle = float(theta[2]) * (1.0 if self._varying else _kernels().DEG)
-        return float(theta[0]), float(theta[1]), angle, self._varying, float(self.fade_xdot or 0.0)
+    def _scalars(self, values: Mapping[str, Any]) -> tuple[float, float, float, bool, float]:
+        r, mu, angle, fade = self._args(values)
+        return r, mu, angle * (1.0 if self._varying else _kernels().DEG), self._varying, fade
 
     # Dedicated loops (same scalar functions as the kernel): a fixed tilt's sine and cosine are
     # computed once per call, not once per bounce.
-    def _predict_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
         out = np.empty_like(p)
-        ok = run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(theta), out, *landing_bits(p))
+        ok = run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(values), out, *landing_bits(p))
         return out, all(ok)
 
-    def _regime_checked(self, p: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, bool]:
+    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
         codes = np.empty(len(p), dtype=np.int8)
-        ok = run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(theta), codes, *landing_bits(p))
+        ok = run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(values), codes, *landing_bits(p))
         return codes, all(ok)
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
-                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+                        inv_norm: np.ndarray) -> Callable[[Sequence[Any]], Any]:
         # Each landing's tilt factor (the fade, times s * phi for PennerVarying) is fixed for a
         # fit: computed once here, so an evaluation costs one pass without trigonometric inverses.
         k = _kernels()
@@ -111,15 +112,22 @@ class _Penner(CompiledLaw):
         sums, n = k.penner_error_sums, len(landing)
         scale = 1.0 if self._varying else k.DEG
         if n < PARALLEL_MIN:
-            def f(theta: np.ndarray) -> tuple[float, float, float, float]:
-                return sums(landing, liftoff, inv_norm, factor, theta[0], theta[1], theta[2] * scale, 0, n)
+            def f(values: Sequence[Any]) -> tuple[float, float, float, float]:
+                r, mu, angle = values
+                return sums(landing, liftoff, inv_norm, factor, r, mu, angle * scale, 0, n)
             return f
 
-        def f_chunked(theta: np.ndarray) -> tuple[float, float, float, float]:
-            parts = run_chunked(sums, n, landing, liftoff, inv_norm, factor, theta[0], theta[1], theta[2] * scale)
+        def f_chunked(values: Sequence[Any]) -> tuple[float, float, float, float]:
+            r, mu, angle = values
+            parts = run_chunked(sums, n, landing, liftoff, inv_norm, factor, r, mu, angle * scale)
             return tuple(math.fsum(p[i] for p in parts) for i in range(4))
 
         return f_chunked
+
+
+#: Penner's laws' option (declared on each law after its angle, as the constructor takes it).
+_FADE = dict(default=None, check=_check_fade,
+             doc="radii/s over which the tilt fades to zero as xdot0 -> 0 (None: the published law)")
 
 
 class PennerFixed(_Penner):
@@ -158,19 +166,8 @@ class PennerFixed(_Penner):
     """
     )
 
-    parameter_specs = (
-        R_SPEC,
-        MU_SPEC,
-        Parameter("beta_deg", (0.0, 45.0), (0.0, 89.999), "deg", "tilt of the effective surface"),
-    )
-
-    def __init__(self, r: float | None = None, mu: float | None = None, beta_deg: float | None = None,
-                 fade_xdot: float | None = None) -> None:
-        self.r = r
-        self.mu = mu
-        self.beta_deg = beta_deg
-        self.fade_xdot = fade_xdot
-        super().__init__()
+    beta_deg = Parameter(bounds=(0.0, 45.0), physical=(0.0, 89.999), unit="deg", doc="tilt of the effective surface")
+    fade_xdot = Option(**_FADE)
 
     @property
     def kernel(self):  # type: ignore[override]
@@ -207,20 +204,10 @@ class PennerVarying(_Penner):
     """
     )
 
-    parameter_specs = (
-        R_SPEC,
-        MU_SPEC,
-        Parameter("k_p", (0.0, K_P_MAX), (0.0, float("inf")), "s/radius", "Penner's angle per unit speed and angle"),
-    )
+    k_p = Parameter(bounds=(0.0, K_P_MAX), physical=(0.0, float("inf")), unit="s/radius",
+                    doc="Penner's angle per unit speed and angle")
+    fade_xdot = Option(**_FADE)
     _varying = True
-
-    def __init__(self, r: float | None = None, mu: float | None = None, k_p: float | None = None,
-                 fade_xdot: float | None = None) -> None:
-        self.r = r
-        self.mu = mu
-        self.k_p = k_p
-        self.fade_xdot = fade_xdot
-        super().__init__()
 
     @property
     def kernel(self):  # type: ignore[override]
@@ -228,10 +215,10 @@ class PennerVarying(_Penner):
 
     def beta_deg(self, landing) -> np.ndarray:
         """Penner's angle beta (degrees) for each landing, as the law uses it (capped at 90 degrees, faded)."""
-        theta = self._theta()
+        k_p = self._fitted_values()["k_p"]
         p, wrap = as_states(landing, "landing", landing=True)
         factor = _kernels().penner_tilt_factors(p, True, self.fade_xdot or 0.0)
-        return wrap(np.degrees(np.minimum(theta[2] * factor, np.pi / 2)))
+        return wrap(np.degrees(np.minimum(k_p * factor, np.pi / 2)))
 
     @classmethod
     def published(cls, campaign: str) -> PennerVarying:

@@ -7,16 +7,15 @@ bouncelab's search for the delta-optimal plane) are in
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from bouncelab.core import published as _published
 from bouncelab.core.errors import FitError, ParameterError
 from bouncelab.core.units import COMPONENTS
 from bouncelab.laws import plane_fitting as pf_
-from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
 from bouncelab.laws.compiled import CompiledLaw
+from bouncelab.laws.parameters import Parameter
+from bouncelab.laws.protocol import FitOutcome, FitProblem, fit_method
 
 __all__ = ["PAPER_FORM_MIN", "PiecewiseAffine"]
 
@@ -25,23 +24,6 @@ __all__ = ["PAPER_FORM_MIN", "PiecewiseAffine"]
 PAPER_FORM_MIN = 1e-3
 
 _INF = float("inf")
-_SPECS = (
-    # The plane n . p0 = offset has no scale of its own, so n and offset have no fixed unit (a fitted plane is
-    # stored with its largest coefficient +-1; in the paper's form, omega coefficient 1, a and b are in
-    # rad/radius and the offset in rad/s): reports print the plane as an equation, not these two numbers.
-    Parameter("normal", (-1.0, 1.0), (-_INF, _INF), "",
-              "coefficients of xdot0, ydot0, omega0 in the plane n . p0 = offset splitting landing space (any "
-              "non-zero scale, so no unit of their own: see plane_equation())", shape=(3,)),
-    Parameter("offset", (-3000.0, 3000.0), (-_INF, _INF), "",
-              "right-hand side of the plane n . p0 = offset (rad/s when n's omega coefficient is 1, the paper's form)"),
-    Parameter("A1", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map on side 1 (roll), rows xdotF ydotF omegaF",
-              shape=(3, 3)),
-    Parameter("b1", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset of the map on side 1",
-              shape=(3,)),
-    Parameter("A2", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map on side 2 (slip)", shape=(3, 3)),
-    Parameter("b2", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset of the map on side 2",
-              shape=(3,)),
-)
 
 
 def _kernel():
@@ -102,31 +84,29 @@ class PiecewiseAffine(CompiledLaw):
     array(['slip', 'roll'], dtype='<U4')
     """
 
-    parameter_specs = _SPECS
+    # The plane n . p0 = offset has no scale of its own, so n and offset have no fixed unit (a fitted plane is
+    # stored with its largest coefficient +-1; in the paper's form, omega coefficient 1, a and b are in
+    # rad/radius and the offset in rad/s): reports print the plane as an equation, not these two numbers.
+    normal = Parameter(bounds=(-1.0, 1.0), physical=(-_INF, _INF), shape=(3,), unit="",
+                       doc="coefficients of xdot0, ydot0, omega0 in the plane n . p0 = offset splitting landing space "
+                           "(any non-zero scale, so no unit of their own: see plane_equation())")
+    offset = Parameter(bounds=(-3000.0, 3000.0), physical=(-_INF, _INF), unit="",
+                       doc="right-hand side of the plane n . p0 = offset (rad/s when n's omega coefficient is 1, the "
+                           "paper's form)")
+    A1 = Parameter(bounds=(-3.0, 3.0), physical=(-1e6, 1e6), shape=(3, 3), unit="1",
+                   doc="linear map on side 1 (roll), rows xdotF ydotF omegaF")
+    b1 = Parameter(bounds=(-1000.0, 1000.0), physical=(-1e12, 1e12), shape=(3,), unit="radius/s, radius/s, rad/s",
+                   doc="offset of the map on side 1")
+    A2 = Parameter(bounds=(-3.0, 3.0), physical=(-1e6, 1e6), shape=(3, 3), unit="1", doc="linear map on side 2 (slip)")
+    b2 = Parameter(bounds=(-1000.0, 1000.0), physical=(-1e12, 1e12), shape=(3,), unit="radius/s, radius/s, rad/s",
+                   doc="offset of the map on side 2")
     regimes = ("roll", "slip")
     default_fit_method = "plane"
 
-    def __init__(
-        self,
-        normal: Any = None,
-        offset: float | None = None,
-        A1: Any = None,
-        b1: Any = None,
-        A2: Any = None,
-        b2: Any = None,
-    ) -> None:
-        self.normal = normal
-        self.offset = offset
-        self.A1 = A1
-        self.b1 = b1
-        self.A2 = A2
-        self.b2 = b2
-        super().__init__()
-
-    def _validate_parameters(self) -> None:
-        super()._validate_parameters()
+    def _check(self) -> None:
         if self.normal is not None and not np.any(self.normal):
-            raise ParameterError("PiecewiseAffine plane normal must not be zero")
+            raise ParameterError("PiecewiseAffine plane normal must not be zero", law="PiecewiseAffine",
+                                 parameter="normal", value=self.normal)
 
     @property
     def kernel(self):  # type: ignore[override]
@@ -228,8 +208,8 @@ class PiecewiseAffine(CompiledLaw):
 
     def _outcome(self, problem: FitProblem, model: PiecewiseAffine, algorithm: str, notes: list[str],
                  n_global: int = 0, n_local: int = 0, stop: str = "", extras: dict | None = None) -> FitOutcome:
-        value = float(model._error_function(problem.landing, problem.liftoff, problem.inv_norm)(model._theta())[0])
-        return FitOutcome(model=model, objective_value=value / problem.n, algorithm=algorithm, n_global=n_global,
+        value = problem.value(model)
+        return FitOutcome(model=model, objective_value=value, algorithm=algorithm, n_global=n_global,
                           n_local=n_local, stop_reason=stop, notes=notes, extras=extras or {})
 
     @fit_method("plane")

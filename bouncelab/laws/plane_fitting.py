@@ -220,7 +220,7 @@ def mismatched_fraction(model: Any, landing: Any, liftoff: Any) -> float:
 
 def _mismatched(model: Any, p0: np.ndarray, pf: np.ndarray) -> float:
     # regime codes of the piecewise law: 0 roll (side 1), 1 slip (side 2), as the slip/roll codes
-    return float(np.mean(model._regime(p0, model._theta()) != _slip_codes(p0, pf)))
+    return float(np.mean(model._classify(p0) != _slip_codes(p0, pf)))
 
 
 def _ols_omega_plane(points: np.ndarray, what: str) -> tuple[np.ndarray, float]:

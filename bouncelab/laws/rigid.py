@@ -6,13 +6,15 @@ import numpy as np
 
 from bouncelab.core import published as _published
 from bouncelab.core.errors import FitError
-from bouncelab.laws.base import FitOutcome, FitProblem, Parameter, fit_method
 from bouncelab.laws.compiled import CompiledLaw
+from bouncelab.laws.parameters import Parameter
+from bouncelab.laws.protocol import FitOutcome, FitProblem, fit_method
 
-__all__ = ["MU_SPEC", "R_SPEC", "Rigid"]
+__all__ = ["MU", "R", "Rigid"]
 
-R_SPEC = Parameter("r", (0.0, 1.0), (0.0, 1.0), "1", "normal coefficient of restitution |ydotF / ydot0|")
-MU_SPEC = Parameter("mu", (0.0, 1.5), (0.0, float("inf")), "1", "Coulomb friction coefficient")
+#: The rigid family's restitution and friction (Rigid, Penner's laws, TangentialRestitution share them).
+R = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="normal coefficient of restitution |ydotF / ydot0|")
+MU = Parameter(bounds=(0.0, 1.5), physical=(0.0, float("inf")), unit="1", doc="Coulomb friction coefficient")
 
 
 def _rigid_kernel():
@@ -63,13 +65,9 @@ class Rigid(CompiledLaw):
     array([[ 628.571,  400.   , -628.571]])
     """
 
-    parameter_specs = (R_SPEC, MU_SPEC)
+    r = R
+    mu = MU
     regimes = ("slip_forward", "roll", "slip_backward")
-
-    def __init__(self, r: float | None = None, mu: float | None = None) -> None:
-        self.r = r
-        self.mu = mu
-        super().__init__()
 
     @property
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
@@ -97,8 +95,8 @@ class Rigid(CompiledLaw):
             r = float(np.clip(-((w * pf[:, 1]) @ p0[:, 1]) / ((w * p0[:, 1]) @ p0[:, 1]), r_lo, r_hi))
         start = self.replace(r=r, mu=None)
 
-        def lstsq(theta: np.ndarray) -> float:
-            res = (pf - start._predict(p0, theta))[:, [0, 2]]
+        def lstsq(**values: float) -> float:
+            res = (pf - start._evaluate(p0, values))[:, [0, 2]]
             return float((res * res).sum(axis=1) @ w)
 
         outcome = problem.run_global(start, hold={"r": r}, algorithm="DIRECT_L", maxeval=200,

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from bouncelab.laws.base import Parameter
 from bouncelab.laws.compiled import CompiledLaw
-from bouncelab.laws.rigid import MU_SPEC, R_SPEC
+from bouncelab.laws.parameters import Parameter
+from bouncelab.laws.rigid import MU, R
 
 __all__ = ["TangentialRestitution"]
 
@@ -61,18 +61,10 @@ class TangentialRestitution(CompiledLaw):
     (-280.0, 'roll')
     """
 
-    parameter_specs = (
-        R_SPEC,
-        MU_SPEC,
-        Parameter("e_t", (0.0, 1.0), (0.0, 1.0), "1", "tangential restitution of the contact point"),
-    )
+    r = R
+    mu = MU
+    e_t = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), unit="1", doc="tangential restitution of the contact point")
     regimes = ("slip_forward", "roll", "slip_backward")
-
-    def __init__(self, r: float | None = None, mu: float | None = None, e_t: float | None = None) -> None:
-        self.r = r
-        self.mu = mu
-        self.e_t = e_t
-        super().__init__()
 
     @property
     def kernel(self):  # type: ignore[override]

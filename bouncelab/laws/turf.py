@@ -3,7 +3,7 @@ r"""TurfContact: a ball pressing into an elasto-plastic, rate-dependent turf bed
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -11,7 +11,7 @@ import numpy as np
 from bouncelab.core import _parallel
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
-from bouncelab.laws.rigid import MU_SPEC
+from bouncelab.laws.rigid import MU
 
 __all__ = ["DEFAULT_LOG10_K", "TURF_STEPS", "TurfContact"]
 
@@ -137,52 +137,26 @@ class TurfContact(CompiledLaw):
     array([[  65.5,  419.6, -345. ]])
     """
 
-    parameter_specs = (
-        Parameter("log10_k", (5.0, 8.0), (3.0, 10.0), "log10(radius^-1/2 s^-2)",
-                  "normal stiffness k of N = k e^1.5 (per unit mass); sets the scale, held in fits", vary=False),
-        Parameter("c", (0.0, 5.0), (0.0, 100.0), "ms/radius", "Hunt-Crossley damping of the indentation rate"),
-        Parameter("e_y", (0.05, 2.0), (0.01, 10.0), "radius", "yield compression (yield force k e_y^1.5)"),
-        MU_SPEC,
-        Parameter("log10_kt", (4.5, 9.0), (2.0, 11.0), "log10(s^-2)",
-                  "bristle (tangential) stiffness k_t per unit mass"),
-        Parameter("lam", (0.0, 20.0), (0.0, 1000.0), "1", "ploughing: horizontal-to-vertical damping ratio"),
-    )
+    log10_k = Parameter(bounds=(5.0, 8.0), physical=(3.0, 10.0), unit="log10(radius^-1/2 s^-2)", vary=False,
+                        default=DEFAULT_LOG10_K,
+                        doc="normal stiffness k of N = k e^1.5 (per unit mass); sets the scale, held in fits")
+    c = Parameter(bounds=(0.0, 5.0), physical=(0.0, 100.0), unit="ms/radius",
+                  doc="Hunt-Crossley damping of the indentation rate")
+    e_y = Parameter(bounds=(0.05, 2.0), physical=(0.01, 10.0), unit="radius",
+                    doc="yield compression (yield force k e_y^1.5)")
+    mu = MU
+    log10_kt = Parameter(bounds=(4.5, 9.0), physical=(2.0, 11.0), unit="log10(s^-2)",
+                         doc="bristle (tangential) stiffness k_t per unit mass")
+    lam = Parameter(bounds=(0.0, 20.0), physical=(0.0, 1000.0), unit="1",
+                    doc="ploughing: horizontal-to-vertical damping ratio")
     regimes = ("slip", "grip", "reversed")
-
-    def __init__(self, log10_k: float | None = DEFAULT_LOG10_K, c: float | None = None, e_y: float | None = None,
-                 mu: float | None = None, log10_kt: float | None = None, lam: float | None = None) -> None:
-        self.log10_k = log10_k
-        self.c = c
-        self.e_y = e_y
-        self.mu = mu
-        self.log10_kt = log10_kt
-        self.lam = lam
-        super().__init__()
 
     @property
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
         return _kernel()
 
-    @classmethod
-    def predict_varying(cls, landing: Any, params: Any, *, codes: bool = False) -> Any:
-        """Lift-off of ``n`` landings with a parameter vector per landing (spot-to-spot variation).
-
-        ``params`` is an ``(n, 6)`` array in the order ``log10_k, c, e_y, mu, log10_kt, lam``
-        (a single row broadcasts) or a mapping name -> length-n array. Each row gives what
-        ``TurfContact(**row).predict(landing_row)`` gives. Values are checked against the
-        physical ranges. ``codes=True`` also returns the regime codes (index into ``regimes``).
-
-        >>> import numpy as np
-        >>> rows = np.array([[6.8, 1.0, 0.3, 0.6, 6.0, 3.0], [6.8, 0.5, 0.3, 0.6, 6.0, 3.0]])
-        >>> TurfContact.predict_varying([[300.0, -800.0, 0.0]] * 2, rows)[:, 1].round(1)
-        array([419.6, 458.2])
-        """
-        from bouncelab.laws._contact import predict_per_bounce
-
-        return predict_per_bounce(cls, landing, params, codes=codes, kernel=_kernel())
-
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
-                        inv_norm: np.ndarray) -> Callable[[np.ndarray], Any]:
+                        inv_norm: np.ndarray) -> Callable[[Sequence[float]], Any]:
         """The fitter's error sums, shared between threads already for campaign-sized data.
 
         Each bounce costs microseconds here (against nanoseconds for the algebraic laws), so
@@ -196,8 +170,8 @@ class TurfContact(CompiledLaw):
         sums = self._loops().error_sums
         cuts = [(k * n) // FIT_PARTS for k in range(FIT_PARTS + 1)]
 
-        def f(theta: np.ndarray) -> tuple[float, ...]:
-            args = (landing, liftoff, inv_norm, np.ascontiguousarray(theta, dtype=np.float64))
+        def f(values: Sequence[float]) -> tuple[float, ...]:
+            args = (landing, liftoff, inv_norm, tuple(values))
             if _parallel.num_threads() == 1 or getattr(_parallel._local, "in_pool", False):
                 parts = [sums(*args, cuts[k], cuts[k + 1]) for k in range(FIT_PARTS)]
             else:

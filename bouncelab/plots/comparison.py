@@ -133,7 +133,7 @@ def _named_laws(laws: Any) -> dict[str, BounceModel]:
             raise TypeError(
                 f"laws must be bounce laws (e.g. bouncelab.Rigid(...)) or fit results; got {type(law).__name__}"
             )
-        model._theta()  # NotFittedError with the law's own message
+        model._fitted_values()  # NotFittedError with the law's own message
         key = name or type(model).__name__
         base, i = key, 2
         while key in out:

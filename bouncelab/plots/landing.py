@@ -175,7 +175,7 @@ def _plane_law(law: Any) -> PiecewiseAffine | None:
             f"the separating plane needs a PiecewiseAffine law (or a fit result of one); got {kind}. "
             "Fit one with bouncelab.fit(bouncelab.PiecewiseAffine, data)"
         )
-    model._theta()  # NotFittedError with the law's own message when it has no plane yet
+    model._fitted_values()  # NotFittedError with the law's own message when it has no plane yet
     return model
 
 

@@ -84,7 +84,7 @@ def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int =
             elif j > 0:
                 ax.set_yticklabels([])
             ax.tick_params(labelsize="x-small")
-    from bouncelab.laws.base import law_name
+    from bouncelab.laws import law_name
 
     if title is None:
         state = "" if posterior.converged else " (NOT converged)"

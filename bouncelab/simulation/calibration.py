@@ -114,12 +114,11 @@ def published_errors(data: Any, campaign: str | None = None) -> pd.Series:
     values: list[float] = []
     for cls in (Rigid, PennerVarying, PennerFixed):
         law = cls.published(key)
-        values += error_terms(p0, pf, law._predict(p0, law._theta())).mean(axis=0).tolist()
+        values += error_terms(p0, pf, law._evaluate(p0)).mean(axis=0).tolist()
     pw = PiecewiseAffine.published(key)
-    theta = pw._theta()
-    values.append(float(error_terms(p0, pf, pw._predict(p0, theta))[:, 0].mean()))
+    values.append(float(error_terms(p0, pf, pw._evaluate(p0))[:, 0].mean()))
     # Table 2's mismatched: plane side (0 roll side, 1 slip side) against the measured class (0 roll, 1 slip).
-    values.append(float(np.mean(pw._regime(p0, theta) != _slip_codes(p0, pf))))
+    values.append(float(np.mean(pw._classify(p0) != _slip_codes(p0, pf))))
     return pd.Series(values, index=_index(key), name="simulated")
 
 

@@ -247,7 +247,7 @@ TURF_CALIBRATION: dict[str, dict] = {
 
 def turf_for_campaign(campaign: str):
     """The calibrated turf (:class:`bouncelab.simulation.Turf`) of campaign "A" or "B" (:data:`TURF_CALIBRATION`)."""
-    from bouncelab.laws.base import law_class
+    from bouncelab.laws import law_class
     from bouncelab.simulation import LogNormal, Turf
 
     key = published.check_campaign(campaign)

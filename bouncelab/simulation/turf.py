@@ -44,7 +44,6 @@ import numpy as np
 
 from bouncelab.core.errors import ParameterError
 from bouncelab.laws.base import BounceModel
-from bouncelab.laws.compiled import CompiledLaw
 
 __all__ = ["ContactDuration", "LogNormal", "Normal", "Turf"]
 
@@ -216,8 +215,8 @@ class Turf:
 
     @property
     def nominal(self) -> np.ndarray:
-        """Nominal parameter vector (the law's values)."""
-        return self.law._theta()
+        """Nominal parameter numbers (the law's values, in declaration order, arrays by element)."""
+        return np.array(list(self.law.flat_parameters().values()), dtype=np.float64)
 
     def replace(self, **changes: Any) -> Turf:
         """A copy with some fields changed."""
@@ -248,9 +247,9 @@ class Turf:
     def liftoff(self, landing: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lift-off states (n, 3) and regime codes (n,) of landings (n, 3) on spots with parameters (n, k).
 
-        In order of preference: the law's own ``predict_per_bounce(landing, theta)``; for a
-        :class:`~bouncelab.CompiledLaw`, one compiled loop calling its kernel with each row's
-        parameters; otherwise one call per distinct parameter vector.
+        The law's own ``predict_per_bounce(landing, theta)`` if it has one, else
+        :func:`bouncelab.laws.predict_per_bounce` (for a compiled law one compiled loop calling its kernel
+        with each row's parameters; otherwise one evaluation per distinct row).
         """
         landing = np.ascontiguousarray(landing, dtype=np.float64)
         theta = np.ascontiguousarray(theta, dtype=np.float64)
@@ -264,19 +263,9 @@ class Turf:
         if per_bounce is not None:
             out, codes = per_bounce(landing, theta)
             return np.asarray(out, dtype=float), np.asarray(codes, dtype=np.int8)
-        if len(landing) and np.all(theta == theta[:1]):  # no scatter: one call
-            return law._predict(landing, theta[0]), np.asarray(law._regime(landing, theta[0]), dtype=np.int8)
-        if isinstance(law, CompiledLaw) and len(landing):
-            from bouncelab.laws._contact import kernel_rows, run_kernel_rows
+        from bouncelab.laws.varying import predict_per_bounce
 
-            return run_kernel_rows(law.kernel, landing, kernel_rows(law, theta))
-        out = np.empty_like(landing)
-        codes = np.empty(len(landing), dtype=np.int8)
-        for i in range(len(landing)):
-            row = landing[i : i + 1]
-            out[i] = law._predict(row, theta[i])[0]
-            codes[i] = law._regime(row, theta[i])[0]
-        return out, codes
+        return predict_per_bounce(law, landing, theta, codes=True)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe description: the nominal law, the scatter, the correlation and the contact duration."""

@@ -9,20 +9,16 @@ RIGID = bl.Rigid(r=0.5, mu=0.5)
 class RedundantRigid(BounceModel):
     """A rigid bounce whose restitution is r1 * r2: only the product can be found from bounces."""
 
-    parameter_specs = (Parameter("r1", (0.0, 1.0), (0.0, 1.0), "1", "restitution factor 1"),
-                       Parameter("r2", (0.0, 1.0), (0.0, 1.0), "1", "restitution factor 2"),
-                       Parameter("mu", (0.0, 1.5), (0.0, float("inf")), "1", "friction"))
+    r1 = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution factor 1")
+    r2 = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution factor 2")
+    mu = Parameter(bounds=(0.0, 1.5), physical=(0.0, float("inf")), doc="friction")
     regimes = bl.Rigid.regimes
 
-    def __init__(self, r1=None, r2=None, mu=None):
-        self.r1, self.r2, self.mu = r1, r2, mu
-        super().__init__()
+    def _predict(self, p, r1, r2, mu):
+        return RIGID._predict(p, r=r1 * r2, mu=mu)
 
-    def _predict(self, p, theta):
-        return RIGID._predict(p, np.array([theta[0] * theta[1], theta[2]]))
-
-    def _regime(self, p, theta):
-        return RIGID._regime(p, np.array([theta[0] * theta[1], theta[2]]))
+    def _regime(self, p, r1, r2, mu):
+        return RIGID._regime(p, r=r1 * r2, mu=mu)
 
 
 # 40 launcher settings x 6 repeats, lift-offs from r1 = 0.9, r2 = 0.6, mu = 0.35 plus noise

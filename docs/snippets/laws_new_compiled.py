@@ -8,28 +8,23 @@ from bouncelab.laws import CompiledLaw, FitOutcome, Parameter, fit_method
 
 
 @njit
-def affine_kernel(xd, yd, w, theta):
-    """theta = [A (3x3, row-major), b (3)]: pF = A p0 + b, one regime."""
-    return (theta[0] * xd + theta[1] * yd + theta[2] * w + theta[9],
-            theta[3] * xd + theta[4] * yd + theta[5] * w + theta[10],
-            theta[6] * xd + theta[7] * yd + theta[8] * w + theta[11], 0)
+def affine_kernel(xd, yd, w, A, b):
+    """pF = A p0 + b, one regime (the parameters by name: A a 3 x 3 array, b of length 3)."""
+    return (A[0, 0] * xd + A[0, 1] * yd + A[0, 2] * w + b[0],
+            A[1, 0] * xd + A[1, 1] * yd + A[1, 2] * w + b[1],
+            A[2, 0] * xd + A[2, 1] * yd + A[2, 2] * w + b[2], 0)
 
 
 class AffineMap(CompiledLaw):
     """pF = A p0 + b: the piecewise law without its plane (a baseline with 12 numbers)."""
 
-    parameter_specs = (
-        Parameter("A", (-3.0, 3.0), (-1e6, 1e6), "1", "linear map, rows xdotF ydotF omegaF", shape=(3, 3)),
-        Parameter("b", (-1000.0, 1000.0), (-1e12, 1e12), "radius/s, radius/s, rad/s", "offset", shape=(3,)),
-    )
+    A = Parameter(bounds=(-3.0, 3.0), physical=(-1e6, 1e6), shape=(3, 3), unit="1",
+                  doc="linear map, rows xdotF ydotF omegaF")
+    b = Parameter(bounds=(-1000.0, 1000.0), physical=(-1e12, 1e12), shape=(3,), unit="radius/s, radius/s, rad/s",
+                  doc="offset")
     regimes = ("affine",)
     kernel = affine_kernel
     default_fit_method = "lstsq"
-
-    def __init__(self, A=None, b=None):
-        self.A = A
-        self.b = b
-        super().__init__()
 
     @fit_method("lstsq")
     def _fit_lstsq(self, problem, *, weighted: bool = False) -> FitOutcome:
@@ -45,7 +40,7 @@ class AffineMap(CompiledLaw):
         cov = np.linalg.inv((X * w[:, None]).T @ (X * w[:, None]))  # (X^T X)^-1, one per component
         se = np.sqrt(np.outer(np.diag(cov), (resid**2).sum(axis=0) / (problem.n - 4)))
         law = self.replace(A=coef[:3].T, b=coef[3])
-        value = problem.objective(law)(law._theta())
+        value = problem.value(law)
         return FitOutcome(model=law, objective_value=value, algorithm="linear least squares",
                           stderr={"A": se[:3].T, "b": se[3]}, notes=["closed form; delta not minimised"])
 

@@ -1,0 +1,59 @@
+"""Reading a whole file safely: only regular files, of a bounded size, without hanging on a FIFO.
+
+Every file bouncelab reads that a person names (a campaign, a law) is read through
+:func:`read_regular_file`: a FIFO would hang a read, ``/dev/zero`` would never end, and a file of
+many gigabytes is not a bounce campaign. (Writing goes through :mod:`bouncelab.core.atomic`.)
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+from bouncelab.core.errors import DataError
+
+__all__ = ["MAX_FILE_BYTES", "check_regular_file", "read_regular_file"]
+
+#: Largest file bouncelab reads, in bytes (1 GiB: some ten million bounces as CSV).
+MAX_FILE_BYTES = 1 << 30
+
+_KINDS = (
+    (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+)
+
+
+def check_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -> os.stat_result:
+    """The file's status, or a DataError naming ``file`` for anything but a regular file of at most ``max_bytes``."""
+    try:
+        st = path.stat()  # follows symlinks: a link to /dev/zero is a device
+    except PermissionError:
+        raise DataError("permission denied: the file cannot be read", file=file) from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+        raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
+                        file=file)
+    if st.st_size > max_bytes:
+        raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {max_bytes / 2**30:g} GiB "
+                        "bouncelab reads (bouncelab.core.files.MAX_FILE_BYTES)", file=file)
+    return st
+
+
+def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -> bytes:
+    """The whole file, read without blocking on a FIFO that replaced it since a check (DataError naming ``file``)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except PermissionError:
+        raise DataError("permission denied: the file cannot be read", file=file) from None
+    with os.fdopen(fd, "rb") as fh:
+        st = os.fstat(fh.fileno())
+        if not stat.S_ISREG(st.st_mode):
+            raise DataError("it is not a regular file; bouncelab reads data only from regular files", file=file)
+        # read what the file holds (a read of max_bytes would reserve a GiB), then anything it grew by
+        data = fh.read(min(st.st_size, max_bytes) + 1)
+        if len(data) > st.st_size:
+            data += fh.read(max_bytes + 1 - len(data))
+    if len(data) > max_bytes:
+        raise DataError(f"the file is larger than the {max_bytes / 2**30:g} GiB bouncelab reads", file=file)
+    return data
