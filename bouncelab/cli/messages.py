@@ -26,7 +26,8 @@ class UsageError(Exception):
 # The library's options, as the command line's flags.
 _FLAGS = {"columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
           "intervals": "--intervals", "surrogate": "--surrogate", "fps": "--fps", "seed": "--seed",
-          "bounds": "--bounds", "method": "--method", "objective": "--objective"}
+          "bounds": "--bounds", "method": "--method", "objective": "--objective", "manifest": "--manifest",
+          "pattern": "--pattern"}
 _UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 
 

@@ -141,7 +141,7 @@ def fit(
     tst = None if test is None else campaign_arrays(test, name="test")[:2]
     for given, states in ((data, (p0, pf)), (test, tst)):
         if given is not None and not isinstance(given, xr.Dataset):
-            check_scaled(*states, ranges=plausible, accept=_ACCEPT_BARE)
+            check_scaled(*states, ranges=plausible)
     if tst is not None:
         _check_held_out(p0, pf, *tst)
     weights = objective_weights(objective)
@@ -181,10 +181,6 @@ def fit(
     if note is not None:
         result.notes.append(note)
     return result
-
-
-_ACCEPT_BARE = ("build a campaign that accepts them, bouncelab.make_campaign(landing, liftoff, "
-                "plausible=PLAUSIBLE_RANGES.widened({limit}=...)), and fit that, or pass plausible=None to fit")
 
 
 def check_seed(seed: Any) -> int:

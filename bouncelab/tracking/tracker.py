@@ -8,13 +8,14 @@ at ``y = 0``, time in seconds, spin in rad/s anticlockwise.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import FRAME_RATE_RANGE
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.tracking.detect import estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip
@@ -46,8 +47,9 @@ class FrameRateError(DataError):
         ``fps`` passed in, ``--fps`` on the command line).
     """
 
-    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None) -> None:
-        super().__init__(message, file=file)
+    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None,
+                 hints: Iterable[Hint] = (), **where: Any) -> None:
+        super().__init__(message, file=file, hints=hints, **where)
         self.fps = fps
         self.source = source
 
@@ -303,8 +305,9 @@ def check_fps(fps, label: str, source: str = "argument") -> float:
         raise ValueError(f"source must be one of {FPS_SOURCES}; got {source!r}")
     what = _SOURCE_TEXT[source]
     if fps is None:
-        raise FrameRateError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
-                             "manifest)", fps=None, source=source, file=label)
+        raise FrameRateError("the frame rate is missing", fps=None, source=source, file=label,
+                             hints=[Hint("fps", None, "the camera's recording rate, e.g. 5000"),
+                                    Hint("manifest", None, "with an fps column")])
     given = fps
     try:
         fps = float(fps)
