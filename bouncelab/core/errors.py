@@ -69,18 +69,18 @@ class Hint(NamedTuple):
 class Code(str):
     """A hint's value that is Python code rather than a value, shown as written: ``Hint("plausible",
     Code("PLAUSIBLE_RANGES.widened(max_spin=...)"))`` reads ``plausible=PLAUSIBLE_RANGES.widened(max_spin=...)``,
-    not a quoted string (:func:`python_hint`). It equals the plain string of its text."""
+    not a quoted string, also inside a mapping (``bounds={'mu': (low, high)}``). It equals the plain string of
+    its text."""
 
     __slots__ = ()
 
     def __repr__(self) -> str:
-        return f"Code({str.__repr__(self)})"
+        return str(self)
 
 
 def python_hint(hint: Hint) -> str:
     """A hint in Python's words: ``units={'spin': 'rpm'}``, or ``plausible=...`` when it has no value."""
-    value = hint.value
-    text = f"{hint.option}=" + ("..." if value is None else str(value) if isinstance(value, Code) else repr(value))
+    text = f"{hint.option}=..." if hint.value is None else f"{hint.option}={hint.value!r}"
     return text + (f" ({hint.note})" if hint.note else "")
 
 
