@@ -478,7 +478,8 @@ def reproduce(
     chosen = _resolve_laws(law_set, laws)  # unknown names fail here, before any work
     resamples = BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap
     if isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0:
-        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}")
+        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}",
+                       option="bootstrap")
     resamples = int(resamples)
     sources = [*campaigns, *data]
     if not sources:
