@@ -292,7 +292,7 @@ def test_no_fitting_method_returns_parameters_outside_the_search_box():
     ds = bl.load_campaign("A")
     with pytest.raises(FitError) as e:  # mu = 2, outside the law's search box 0..1.5
         bl.fit(Loose, ds, method="closed_form")
-    assert e.value.law.endswith(":Loose") and e.value.option == "bounds"
+    assert e.value.law.endswith(".Loose") and e.value.option == "bounds"
     assert "returned mu = 2, outside the law's search box 0..1.5" in e.value.message  # the value and the box
     assert [h.option for h in e.value.hints] == ["bounds", "method"] and e.value.hints[1].value == "global"
     assert e.value.hints[0].value == {"mu": "(low, high)"}
@@ -300,7 +300,7 @@ def test_no_fitting_method_returns_parameters_outside_the_search_box():
     assert bl.fit(Loose, ds, method="closed_form", mu=1.0).model.mu == 1.0
     with pytest.raises(FitError) as e:  # no value for mu
         bl.fit(Loose, ds, method="closed_form", mu=None)
-    assert e.value.law.endswith(":Loose") and e.value.option == "method" and "'mu'" in e.value.message
+    assert e.value.law.endswith(".Loose") and e.value.option == "method" and "'mu'" in e.value.message
 
 
 def test_fitted_planes_of_the_surrogates_are_inside_the_box():
