@@ -299,8 +299,9 @@ def inverse_norms(p0: np.ndarray, name: str = "landing", file: str | None = None
     return 1.0 / norm
 
 
-def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -> None:
-    """Raise DataError unless two (n, 3) arrays describe the same bounces."""
+def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str, *, option: str | None = None) -> None:
+    """Raise DataError unless two (n, 3) arrays describe the same bounces (``option``: the argument it names,
+    default ``name_b``)."""
     if a.shape != b.shape:
         raise DataError(f"{name_a} has shape {a.shape} but {name_b} has shape {b.shape}; one row per bounce in each",
-                        option=name_b)
+                        option=option or name_b)
