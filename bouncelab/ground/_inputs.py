@@ -42,7 +42,7 @@ class Units:
             return
         if not isinstance(units, Mapping):
             raise DataError(f"units must be None (scaled), 'scaled' or a mapping such as {{'velocity': 'm/s', "
-                            f"'spin': 'rpm'}}; got {units!r}")
+                            f"'spin': 'rpm'}}; got {units!r}", option="units")
         unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
         missing = [k for k in ("velocity", "spin") if k not in units]
         if unknown or missing:
@@ -112,11 +112,12 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
     try:
         arr = np.array(np.ma.getdata(value), dtype=float)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}") from None
+        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
     if np.iscomplexobj(np.asarray(np.ma.getdata(value))):
-        raise DataError(f"{name} must be real numbers; got complex values")
+        raise DataError(f"{name} must be real numbers; got complex values", option=name)
     if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
-        raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}")
+        raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}",
+                        option=name)
     lead = arr.shape[:-1]
     arr = arr.reshape(-1, 3)
     if len(arr) == 0:
@@ -183,7 +184,7 @@ def check_law(law: Any) -> BounceModel:
 
     if not isinstance(law, BounceModel):
         raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
-                             f"{type(law).__name__}")
+                             f"{type(law).__name__}", parameter="law")
     if not law.is_fitted:
         from bouncelab.core.errors import NotFittedError
 

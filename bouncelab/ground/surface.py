@@ -101,7 +101,7 @@ class Surface:
             raise ParameterError("give the green speed as exactly one of stimp_m= (metres) or stimp_ft= (feet)")
         stimp = positive(stimp_m, "stimp_m") if stimp_m is not None else positive(stimp_ft, "stimp_ft") * _FT
         if not isinstance(description, str):
-            raise ParameterError(f"description must be text; got {type(description).__name__}")
+            raise ParameterError(f"description must be text; got {type(description).__name__}", parameter="description")
         self.name = name
         self.law = check_law(law)
         self.sliding_friction = positive(sliding_friction, "sliding_friction")

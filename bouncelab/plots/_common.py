@@ -90,13 +90,13 @@ def figure_units(units: Any = None) -> FigureUnits:
         try:
             radius = float(radius)
         except (TypeError, ValueError):
-            raise DataError(f"radius_m must be a length in metres; got {radius!r}") from None
+            raise DataError(f"radius_m must be a length in metres; got {radius!r}", option="radius_m") from None
         fu = FigureUnits(_u.canonical_unit(units.get("velocity", "radius/s"), "velocity"),
                          _u.canonical_unit(units.get("spin", "rad/s"), "spin"), radius)
         fu.factors  # noqa: B018 - validates the radius now, not at the first plot call
         return fu
     raise DataError(f"units must be None, a preset name {sorted(UNIT_PRESETS)} or a mapping; "
-                    f"got {type(units).__name__}")
+                    f"got {type(units).__name__}", option="units")
 
 #: Marker and colour of each measured slip/roll class (the paper's Fig. 8: roll = triangles, slip = circles).
 CLASS_STYLE = {
@@ -174,7 +174,8 @@ def new_figure(fig: Any, *, nrows: int, ncols: int, figsize: tuple[float, float]
     else:
         _check_figure(fig)
         if fig.axes:
-            raise ParameterError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)")
+            raise ParameterError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)",
+                                 parameter="fig")
     axes = fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
     return fig, axes
 
@@ -191,7 +192,7 @@ def single_axes(ax: Any, *, figsize: tuple[float, float], projection: str | None
     if not isinstance(ax, Axes):
         raise TypeError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
     if projection == "3d" and getattr(ax, "name", "") != "3d":
-        raise ParameterError("ax must be a 3-D axes: fig.add_subplot(projection='3d')")
+        raise ParameterError("ax must be a 3-D axes: fig.add_subplot(projection='3d')", parameter="ax")
     return ax.figure, ax
 
 

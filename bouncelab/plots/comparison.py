@@ -182,7 +182,7 @@ def _with_test(p0: np.ndarray, pf: np.ndarray, test: Any):
         raise DataError(
             f"test must be a Dataset of held-out bounces or a boolean mask with one entry per bounce ({len(p0)}); "
             f"got {type(test).__name__} of dtype {m.dtype} and shape {m.shape}"
-        )
+        , option="test")
     return p0, pf, m
 
 
@@ -259,7 +259,8 @@ def _level_text(attrs: dict, level: float) -> str:
 def _rep_arrays(rep: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(setting, 2, 3) means and lower/upper error-bar lengths, states ordered landing, lift-off."""
     if not isinstance(rep, xr.Dataset):
-        raise DataError(f"rep must be the Dataset returned by repeatability(data); got {type(rep).__name__}")
+        raise DataError(f"rep must be the Dataset returned by repeatability(data); got {type(rep).__name__}",
+                        option="rep")
     dims = {"setting", "state", "component"}
     need = [v for v in ("mean",) if v not in rep.data_vars]
     has_ci = all(v in rep.data_vars for v in _REP_VARS[1:])
@@ -269,7 +270,7 @@ def _rep_arrays(rep: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise DataError(
             "rep must be a repeatability Dataset with dims (setting, state, component) and variables "
             f"'mean', 'ci_low', 'ci_high' (or 'half_width'); missing {need or sorted(dims - set(rep.dims))}"
-        )
+        , option="rep")
     try:
         sel = {"state": ["landing", "liftoff"], "component": list(COMPONENTS)}
         order = ("setting", "state", "component")

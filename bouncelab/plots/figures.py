@@ -108,9 +108,11 @@ def plot_tangential(
         try:
             tol = float(near_zero)
         except (TypeError, ValueError):
-            raise ParameterError(f"near_zero must be a number of {vunit}; got {near_zero!r}") from None
+            raise ParameterError(f"near_zero must be a number of {vunit}; got {near_zero!r}",
+                                 parameter="near_zero") from None
         if not (np.isfinite(tol) and tol >= 0):
-            raise ParameterError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}")
+            raise ParameterError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}",
+                                 parameter="near_zero")
     own = ax is None
     fig, ax = c.single_axes(ax, figsize=(7.0, 6.0))
     k = fu.velocity_factor()  # v_P in radii/s -> the figure's velocity unit

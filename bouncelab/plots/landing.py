@@ -192,7 +192,7 @@ def _support_mask(support: Any, n: int) -> np.ndarray | None:
             raise DataError(f"a boolean support mask needs one entry per bounce ({n}); got shape {s.shape}")
         return s
     if s.ndim != 1 or (s.size and s.dtype.kind not in "iu"):
-        raise DataError("support must be bounce indices (integers) or a boolean mask")
+        raise DataError("support must be bounce indices (integers) or a boolean mask", option="support")
     if s.size and (s.min() < -n or s.max() >= n):
         raise DataError(f"support indices must lie in [0, {n}); got {s.min()}..{s.max()}")
     mask = np.zeros(n, dtype=bool)

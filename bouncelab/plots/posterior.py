@@ -29,7 +29,7 @@ def _check_posterior(posterior: Any) -> None:
 
     if not isinstance(posterior, Posterior):
         raise ParameterError(f"posterior must be a bouncelab Posterior (from bouncelab.calibrate); got "
-                             f"{type(posterior).__name__}")
+                             f"{type(posterior).__name__}", parameter="posterior")
 
 
 def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int = 30, fig: Any = None,
@@ -57,7 +57,8 @@ def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int =
     cols = list(samples.columns) if columns is None else list(columns)
     unknown = [x for x in cols if x not in samples.columns]
     if unknown or not cols:
-        raise ParameterError(f"columns must name sampled numbers {list(samples.columns)}; got {columns!r}")
+        raise ParameterError(f"columns must name sampled numbers {list(samples.columns)}; got {columns!r}",
+                             parameter="columns")
     k = len(cols)
     size = max(4.0, 1.9 * k)
     fig, axes = c.new_figure(fig, nrows=k, ncols=k, figsize=(size, size))

@@ -482,5 +482,5 @@ def _number(value, name: str, clip: str, where: str) -> float | None:
     except (TypeError, ValueError):
         raise DataError(f"{said} is not a number: {value!r}", file=clip) from None
     if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{said} must be a positive finite number; got {value!r}", file=clip)
+        raise DataError(f"{said} must be a positive finite number; got {value!r}", file=clip, option=said)
     return v

@@ -89,7 +89,8 @@ def _budget(memory_budget: float | None) -> int:
     """The memory budget in bytes: ``memory_budget``, or :data:`MEMORY_BUDGET` read now."""
     value = MEMORY_BUDGET if memory_budget is None else memory_budget
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating) or not value > 0:
-        raise DataError(f"memory_budget must be a positive number of bytes (e.g. 4 << 30 for 4 GiB); got {value!r}")
+        raise DataError(f"memory_budget must be a positive number of bytes (e.g. 4 << 30 for 4 GiB); got {value!r}",
+                        option="memory_budget")
     return int(min(value, 2**62))
 
 
@@ -113,7 +114,7 @@ class _Source:
 
 def _check_dtype(dtype: np.dtype, label: str) -> None:
     if dtype.kind not in "uif" or dtype == np.bool_:
-        raise DataError(f"frames must be numbers; got dtype {dtype}", file=label)
+        raise DataError(f"frames must be numbers; got dtype {dtype}", file=label, option="frames")
 
 
 def _frame_layout(shape: tuple[int, ...], label: str) -> tuple[int, int, int, int | None]:
@@ -123,7 +124,8 @@ def _frame_layout(shape: tuple[int, ...], label: str) -> tuple[int, int, int, in
         channels = shape[-1]
         shape = shape[:3]
     if len(shape) != 3:
-        raise DataError(f"frames must be (t, h, w) or (t, h, w, 3); got shape {tuple(shape)}", file=label)
+        raise DataError(f"frames must be (t, h, w) or (t, h, w, 3); got shape {tuple(shape)}", file=label,
+                        option="frames")
     if shape[0] == 0 or shape[1] < 8 or shape[2] < 8:
         raise DataError(f"no frames, or frames smaller than 8 x 8 pixels: shape {tuple(shape)}", file=label)
     return int(shape[0]), int(shape[1]), int(shape[2]), channels

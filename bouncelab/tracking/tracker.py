@@ -128,9 +128,11 @@ def track_clip(
         label = "array" if isinstance(source, np.ndarray) else str(source)
     fps = check_fps(fps, label)
     if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
-        raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label)
+        raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label,
+                        option="ball_radius_m")
     if pixels_per_metre is not None and not (np.isfinite(pixels_per_metre) and pixels_per_metre > 0):
-        raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label)
+        raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label,
+                        option="pixels_per_metre")
     frames = open_clip(source, name=label, memory_budget=memory_budget)
     frames.check_working_memory()
     n, h, _w = frames.shape
