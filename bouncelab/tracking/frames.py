@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 from bouncelab.tracking._cv import cv2
 
 __all__ = [
@@ -67,6 +67,10 @@ _COUNTED_VIDEO = (".avi", ".mp4", ".mov", ".m4v", ".mkv")
 #: Memory, in bytes, that the frames of one clip may take in one process (1 GiB). Read at each call, so
 #: setting it (``bouncelab.tracking.frames.MEMORY_BUDGET = 4 << 30``) applies to later calls.
 MEMORY_BUDGET: int = 1 << 30
+
+#: The hint of an error that a larger memory budget puts right (if the machine has the memory).
+_MORE_MEMORY = Hint("memory_budget", None, "more bytes, if the machine has them (default: "
+                                           "bouncelab.tracking.frames.MEMORY_BUDGET)")
 
 #: Memory taken by tracking, per pixel of one frame (bytes): the background's 31 sampled frames (31), its
 #: running quantile and float images (about 15), and the working copies of the frame being searched (about 15).
@@ -516,8 +520,8 @@ class Clip:
         if self.nbytes > self.memory_budget:
             raise DataError(f"reading all {n} frames of {w} x {h} pixels would take {_size(self.nbytes)}, more than "
                             f"the memory budget of {_size(self.memory_budget)}; track_clip and measure_clips read "
-                            "a clip frame by frame (give them the file), or raise memory_budget= "
-                            "(bouncelab.tracking.frames.MEMORY_BUDGET)", file=self.name)
+                            "a clip frame by frame (give them the file)", file=self.name, option="memory_budget",
+                            hints=[_MORE_MEMORY])
         out = np.empty(self.shape, np.uint8)
         for k, frame in self.frames():
             out[k] = frame
@@ -530,9 +534,8 @@ class Clip:
         if need > self.memory_budget:
             raise DataError(f"tracking frames of {w} x {h} pixels takes about {_size(need)} of memory "
                             f"({WORKING_BYTES_PER_PIXEL} bytes a pixel: the background's sampled frames and working "
-                            f"copies of a frame), more than the memory budget of {_size(self.memory_budget)}; "
-                            "raise memory_budget= (bouncelab.tracking.frames.MEMORY_BUDGET) if the machine has "
-                            "the memory", file=self.name)
+                            f"copies of a frame), more than the memory budget of {_size(self.memory_budget)}",
+                            file=self.name, option="memory_budget", hints=[_MORE_MEMORY])
 
     # -------------------------------------------------------------- conversion to 8 bits
     def _index(self, k: int) -> int:

@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 
 __all__ = ["RenderedClip", "ball_pattern", "render_clip"]
 
@@ -223,7 +223,9 @@ def render_clip(
     if bad.any():
         k = int(np.argmax(bad))
         raise DataError(f"the ball leaves the {w} x {h} frame at frame {k} (centre column {col[k]:.1f}, "
-                        f"row {row[k]:.1f}); use a larger size, fewer frames or a smaller ball")
+                        f"row {row[k]:.1f})", option="size",
+                        hints=[Hint("size", None, "larger"), Hint("n_before", None, "fewer frames"),
+                               Hint("n_after", None, "fewer frames"), Hint("radius_px", None, "a smaller ball")])
 
     dots, seam = ball_pattern()
     cos_dot = np.cos(dot_radius)
