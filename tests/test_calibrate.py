@@ -265,17 +265,20 @@ def test_figures(quick_posterior) -> None:
     post, data = quick_posterior
     fig = plot_corner(post, columns=["r", "mu", "scale_r"])
     assert len([ax for ax in fig.axes if ax.get_visible()]) == 6
-    with pytest.raises(ParameterError, match="columns"):
+    with pytest.raises(ParameterError) as e:
         plot_corner(post, columns=["nope"])
+    assert e.value.parameter == "columns"
     table = spread_table(post, data, n=200)
     assert len(table) == 12 and (table["n"] == 5).all()
     assert (table.filter(like="predicted_") > 0).all().all()
     fig = plot_spread(post, data, n=100)
     assert len(fig.axes) == 3
-    with pytest.raises(DataError, match="setting"):
+    with pytest.raises(DataError) as e:
         plot_spread(post, data.drop_vars("setting"))
-    with pytest.raises(ParameterError, match="Posterior"):
+    assert e.value.column == "setting"
+    with pytest.raises(ParameterError) as e:  # not a Posterior
         plot_corner(object())
+    assert e.value.parameter == "posterior"
 
 
 def test_without_intervals_noise_is_fitted() -> None:

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.core import units as _u
-from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, Hint, ParameterError
 from bouncelab.core.units import COMPONENTS
 from bouncelab.data.inputs import campaign_arrays
 
@@ -79,13 +79,15 @@ def figure_units(units: Any = None) -> FigureUnits:
     if isinstance(units, str):
         preset = UNIT_PRESETS.get(units.strip().lower())
         if preset is None:
-            raise DataError(f"unknown figure units {units!r}; use one of {sorted(UNIT_PRESETS)} or a mapping "
-                            "such as {'velocity': 'm/s', 'spin': 'rpm'}")
+            raise DataError(f"unknown figure units {units!r}; use one of {sorted(UNIT_PRESETS)} or a mapping of a "
+                            "'velocity' and a 'spin' unit", option="units",
+                            hints=[Hint("units", {"velocity": "m/s", "spin": "rpm"})])
         return FigureUnits(*preset)
     if isinstance(units, Mapping):
         extra = set(units) - {"velocity", "spin", "radius_m"}
         if extra:
-            raise DataError(f"figure units take the keys 'velocity', 'spin' and 'radius_m'; got {sorted(extra)}")
+            raise DataError(f"figure units take the keys 'velocity', 'spin' and 'radius_m'; got {sorted(extra)}",
+                            option="units")
         radius = units.get("radius_m", _u.BALL_RADIUS_M)
         try:
             radius = float(radius)
@@ -161,7 +163,7 @@ def campaign_data(data: Any, *, name: str = "data") -> tuple[np.ndarray, np.ndar
     """Landing, lift-off (n, 3) and attrs of a campaign Dataset (or ``(landing, liftoff)`` pair)."""
     p0, pf, _ = campaign_arrays(data, name=name)
     if len(p0) == 0:
-        raise DataError(f"{name} holds no bounces; there is nothing to plot")
+        raise DataError(f"{name} holds no bounces; there is nothing to plot", option=name)
     attrs = dict(data.attrs) if isinstance(data, xr.Dataset) else {}
     return p0, pf, attrs
 
@@ -267,7 +269,8 @@ def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) ->
     _check_figure(fig)
     path = Path(path)
     if not path.suffix:
-        raise ParameterError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
+        raise ParameterError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}",
+                             parameter="path", value=str(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     kwargs.setdefault("format", path.suffix[1:].lower())
     with atomic_path(path) as tmp:

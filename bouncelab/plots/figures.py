@@ -34,7 +34,8 @@ def plot_pi_widths(data: Any, *, bins: int = 30, fig: Any = None, title: str | N
     if missing:
         raise DataError(
             f"the PI-width histograms need the prediction-interval half-widths {missing} in the campaign "
-            "Dataset; this one has none (see bouncelab.analysis.measurement to estimate them from tracked frames)"
+            "Dataset; this one has none (see bouncelab.analysis.measurement to estimate them from tracked frames)",
+            column=missing[0]
         )
     fig, axes = c.new_figure(fig, nrows=1, ncols=3, figsize=(12.0, 4.0))
     states = {"landing": (p0, data["landing_pi"]), "liftoff": (pf, data["liftoff_pi"])}

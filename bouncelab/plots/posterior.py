@@ -104,7 +104,8 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
     _check_posterior(posterior)
     p0, pf, setting = campaign_arrays(data)
     if setting is None:
-        raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)")
+        raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)",
+                        column="setting")
     land_sd, lift_sd = interval_sds(data, len(p0))
     sd = None
     if land_sd is not None or lift_sd is not None:
@@ -121,7 +122,8 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
         rows[s] = {"n": len(idx), **{f"observed_{k}": v for k, v in zip(COMPONENTS, obs, strict=True)},
                    **{f"predicted_{k}": v for k, v in zip(COMPONENTS, pred, strict=True)}}
     if not rows:
-        raise DataError("no launcher setting has two or more bounces: there is no spread of repeats to compare")
+        raise DataError("no launcher setting has two or more bounces: there is no spread of repeats to compare",
+                        column="setting")
     table = pd.DataFrame.from_dict(rows, orient="index")
     table.index.name = "setting"
     return table
