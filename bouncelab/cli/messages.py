@@ -27,7 +27,8 @@ class UsageError(Exception):
 _FLAGS = {"columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
           "intervals": "--intervals", "surrogate": "--surrogate", "fps": "--fps", "seed": "--seed",
           "bounds": "--bounds", "method": "--method", "objective": "--objective", "manifest": "--manifest",
-          "pattern": "--pattern"}
+          "pattern": "--pattern", "algorithm": "--algorithm", "law_set": "--laws", "bootstrap": "--bootstrap",
+          "figure_units": "--figure-units"}
 _UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 
 
@@ -48,7 +49,8 @@ def flag_hint(hint: Hint) -> str:
                                               else json.dumps(list(v))) for k, v in value.items())
         return "--bounds '{" + ", ".join(pairs) + "}'" + note
     if option in _FLAGS:
-        return _FLAGS[option] + ("" if value is None else f" {value}") + note
+        words = " ".join(map(str, value)) if isinstance(value, list | tuple) else str(value)  # nargs="+"
+        return _FLAGS[option] + ("" if value is None else f" {words}") + note
     return python_hint(hint) + " (in Python)"
 
 
