@@ -350,8 +350,10 @@ def _figure_units(text: str | None):
     spec = parts[0] if len(parts) == 1 else {"velocity": parts[0], "spin": parts[1]}
     try:
         return figure_units(spec)
-    except DataError as exc:
-        raise UsageError(f"--figure-units: {exc}") from None
+    except DataError as exc:  # its hints are units= mappings: the flag takes VELOCITY,SPIN
+        example = next((h.value for h in exc.hints if h.option == "units" and isinstance(h.value, dict)), None)
+        said = "" if example is None else f"; e.g. --figure-units {example['velocity']},{example['spin']}"
+        raise UsageError(f"--figure-units: {exc.message}{said}") from None
 
 
 def _reproduce(args: argparse.Namespace) -> int:
