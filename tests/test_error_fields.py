@@ -105,3 +105,23 @@ def test_no_library_module_words_its_errors_with_command_line_flags():
 @pytest.fixture(scope="module")
 def campaign_a():
     return bl.load_campaign("A")
+
+
+def test_bouncelab_track_words_a_failed_clips_hints_with_its_flags(tmp_path, capsys):
+    """A clip that fails in measure_clips is listed with its error in the command line's words."""
+    pytest.importorskip("cv2")
+    from bouncelab.cli.main import main
+    from bouncelab.tracking import render_clip
+
+    clip = render_clip((1063.0, -810.0, 219.0), (696.7, 440.6, -696.7), size=(144, 288), radius_px=18.0,
+                       n_before=14, n_after=14, contact_frames=6.0, seed=3)
+    for name in ("a.npy", "b.npy"):  # .npy frames store no frame rate
+        np.save(tmp_path / name, clip.frames)
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("clip,fps\na.npy,5000\nb.npy,\n")  # b has none
+    main(["track", str(tmp_path / "a.npy"), str(tmp_path / "b.npy"), "--manifest", str(manifest),
+          "--out", str(tmp_path / "c.nc"), "--quiet"])
+    err = capsys.readouterr().err
+    line = next(ln for ln in err.splitlines() if "b.npy:" in ln)
+    assert "the frame rate is missing; give --fps" in line and "--manifest (with an fps column)" in line
+    assert "fps=" not in line  # not Python's words
