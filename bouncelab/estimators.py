@@ -135,7 +135,7 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
 
         if y is None:
             raise DataError("BounceRegressor requires y to be passed, but the target y is None: give the lift-offs, "
-                            "an (n, 3) array [xdotF, ydotF, omegaF]")
+                            "an (n, 3) array [xdotF, ydotF, omegaF]", option="y")
         p0, pf = _pair(X, y, min_samples=2)
         result = fit(_law_instance(self.law), (p0, pf), method=self.method, objective=self.objective,
                      seed=self.seed, bounds=self.bounds, fixed=self.fixed, sample_weight=sample_weight,
@@ -179,7 +179,7 @@ class BounceRegressor(MultiOutputMixin, RegressorMixin, BaseEstimator):
         try:
             check_is_fitted(self, "law_")
         except _SklearnNotFittedError as exc:
-            raise EstimatorNotFittedError(str(exc)) from None
+            raise EstimatorNotFittedError(str(exc), missing=("law_",)) from None
 
 
 def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
@@ -206,10 +206,10 @@ def _states(x: Any, name: str, min_samples: int = 1) -> np.ndarray:
                     f"{np.shape(x)}" + (f" (one bounce is [{columns}])" if np.shape(x) == (3,) else ""))
         elif text.startswith("Complex data not supported"):
             text = f"Complex data not supported: {arg} holds real numbers {columns}"
-        raise DataError(f"{what}: {text}") from None
+        raise DataError(f"{what}: {text}", option=arg) from None
     if arr.shape[1] != 3:
         raise DataError(f"{what} needs 3 columns {columns} (3 features); got {arr.shape[1]} feature(s), "
-                        f"n_features = {arr.shape[1]}, shape {arr.shape}")
+                        f"n_features = {arr.shape[1]}, shape {arr.shape}", option=arg)
     return as_states(arr, name, landing=name == "landing")[0]
 
 
@@ -217,7 +217,7 @@ def _pair(X: Any, y: Any, min_samples: int = 1) -> tuple[np.ndarray, np.ndarray]
     from bouncelab.core.validation import check_same_length
 
     p0, pf = _states(X, "landing", min_samples), _states(y, "liftoff", min_samples)
-    check_same_length(p0, pf, "landing (X)", "liftoff (y)")
+    check_same_length(p0, pf, "landing (X)", "liftoff (y)", option="y")
     return p0, pf
 
 
@@ -228,4 +228,4 @@ def _law_instance(law: Any) -> BounceModel:
     try:
         return law_instance(law)
     except FitError as exc:
-        raise ParameterError(str(exc)) from None
+        raise ParameterError(exc.message, law=exc.law, parameter="law", value=law, hints=exc.hints) from None

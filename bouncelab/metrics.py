@@ -100,7 +100,8 @@ def error_table(
     if classes is not None:
         labels = np.asarray(classes)
         if labels.shape != (len(p0),):
-            raise DataError(f"classes must have one label per bounce ({len(p0)}); got shape {labels.shape}")
+            raise DataError(f"classes must have one label per bounce ({len(p0)}); got shape {labels.shape}",
+                            option="classes")
     return _error_table(error_terms(p0, pf, pp), classes)
 
 
@@ -138,9 +139,10 @@ def score(model: Any, data: Any, *, by: str | None = "slip_roll") -> pd.DataFram
     if not isinstance(model, BounceModel):
         from bouncelab.core.errors import ParameterError
 
-        raise ParameterError(f"model must be a bounce law (a BounceModel); got {type(model).__name__}")
+        raise ParameterError(f"model must be a bounce law (a BounceModel); got {type(model).__name__}",
+                             parameter="model")
     if by not in (None, "slip_roll", "regime"):
-        raise DataError(f"by must be 'slip_roll', 'regime' or None; got {by!r}")
+        raise DataError(f"by must be 'slip_roll', 'regime' or None; got {by!r}", option="by")
     p0, pf, _ = campaign_arrays(data)
     pred = model._evaluate(p0)  # a law's wrong shape: LawDefinitionError
     if by is None:

@@ -215,22 +215,15 @@ def test_synthetic_campaign_says_so() -> None:
     assert np.isnan(result.parameters.loc["r", "starts_spread"])
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"k": 1}, "k must be an integer of at least 2"),
-    ({"k": 500}, "need at least 500 launcher settings"),
-    ({"n_bootstrap": 1}, "n_bootstrap must be 0"),
-    ({"starts": -1}, "starts must be"),
-    ({"profile_points": 2}, "profile_points must be"),
-    ({"level": 1.5}, "level must be"),
-    ({"correlation": 0}, "correlation must be"),
-    ({"null_tol": 0}, "null_tol must be"),
-    ({"tol": -1}, "tol must be"),
-    ({"seed": -1}, "seed must be"),
-    ({"sample_weight": np.ones(100)}, "takes no sample_weight"),
+@pytest.mark.parametrize("kwargs", [
+    {"k": 1}, {"k": 500},  # too few folds; more folds than launcher settings
+    {"n_bootstrap": 1}, {"starts": -1}, {"profile_points": 2}, {"level": 1.5}, {"correlation": 0},
+    {"null_tol": 0}, {"tol": -1}, {"seed": -1}, {"sample_weight": np.ones(100)},
 ])
-def test_bad_options_are_refused(rigid_data, kwargs, match) -> None:
-    with pytest.raises(FitError, match=match):
+def test_bad_options_are_refused(rigid_data, kwargs) -> None:
+    with pytest.raises(FitError) as e:
         assess(bl.Rigid, rigid_data, **kwargs)
+    assert e.value.option == next(iter(kwargs))
 
 
 # ------------------------------------------------------------------------------ on a dask client

@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 import bouncelab as bl
-from bouncelab.core.errors import BouncelabWarning, DataError, FitError, ParameterError
+from bouncelab.core.errors import BouncelabWarning, DataError, FitError, Hint, ParameterError
 from bouncelab.fitting import hierarchical as H
 from bouncelab.fitting.hierarchical import ConvergenceWarning, Posterior, calibrate, load_posterior
 from bouncelab.laws import predict_per_bounce
@@ -208,12 +208,15 @@ def test_interval_shapes_and_levels(quick_posterior) -> None:
     assert lo.shape == hi.shape == (7, 3) and (lo < hi).all()
     lo50, hi50 = post.interval(land, 0.5, n=500)
     assert (lo50 >= lo).all() and (hi50 <= hi).all()
-    with pytest.raises(FitError, match="level"):
+    with pytest.raises(FitError) as e:
         post.interval(land, 1.0)
-    with pytest.raises(DataError, match="ydot"):
+    assert e.value.option == "level"
+    with pytest.raises(DataError) as e:
         post.predict([[100.0, 50.0, 0.0]])
-    with pytest.raises(DataError, match="measurement_sd"):
+    assert (e.value.column, e.value.row) == ("landing.ydot", 1)
+    with pytest.raises(DataError) as e:
         post.predict(land, measurement_error=True, measurement_sd=np.ones(3))
+    assert e.value.option == "measurement_sd"
 
 
 def test_check_by_slip_roll_class(quick_posterior) -> None:
@@ -239,16 +242,19 @@ def test_save_and_load(quick_posterior, tmp_path) -> None:
     np.testing.assert_array_equal(back.predict(land, n=50, seed=1), post.predict(land, n=50, seed=1))
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
-    with pytest.raises(ParameterError, match="not a JSON posterior"):
+    with pytest.raises(ParameterError) as e:
         load_posterior(bad)
+    assert "not a JSON posterior" in e.value.message and str(bad) in e.value.message  # names the file
     law_file = tmp_path / "law.json"
     bl.Rigid(r=0.5, mu=0.4).to_json(law_file)
-    with pytest.raises(ParameterError, match="not a saved bouncelab posterior"):
+    with pytest.raises(ParameterError) as e:  # a law file, not a posterior
         load_posterior(law_file)
+    assert (e.value.parameter, e.value.value) == ("format", "bouncelab law")
     d = post.to_dict()
     del d["samples"]["scale_r"]
-    with pytest.raises(ParameterError, match="do not fit together"):
+    with pytest.raises(ParameterError) as e:  # samples, parameters and transforms do not fit together
         Posterior.from_dict(d)
+    assert (e.value.law, e.value.parameter) == ("Rigid", "samples") and "scale_r" in e.value.message
 
 
 def test_figures(quick_posterior) -> None:
@@ -258,17 +264,20 @@ def test_figures(quick_posterior) -> None:
     post, data = quick_posterior
     fig = plot_corner(post, columns=["r", "mu", "scale_r"])
     assert len([ax for ax in fig.axes if ax.get_visible()]) == 6
-    with pytest.raises(ParameterError, match="columns"):
+    with pytest.raises(ParameterError) as e:
         plot_corner(post, columns=["nope"])
+    assert e.value.parameter == "columns"
     table = spread_table(post, data, n=200)
     assert len(table) == 12 and (table["n"] == 5).all()
     assert (table.filter(like="predicted_") > 0).all().all()
     fig = plot_spread(post, data, n=100)
     assert len(fig.axes) == 3
-    with pytest.raises(DataError, match="setting"):
+    with pytest.raises(DataError) as e:
         plot_spread(post, data.drop_vars("setting"))
-    with pytest.raises(ParameterError, match="Posterior"):
+    assert e.value.column == "setting"
+    with pytest.raises(ParameterError) as e:  # not a Posterior
         plot_corner(object())
+    assert e.value.parameter == "posterior"
 
 
 def test_without_intervals_noise_is_fitted() -> None:
@@ -287,26 +296,31 @@ def test_without_intervals_noise_is_fitted() -> None:
     assert noisy.std(axis=0).mean() > plain.std(axis=0).mean()
 
 
-@pytest.mark.parametrize("kwargs, error, match", [
-    ({"vary": ["nope"]}, FitError, "not a parameter of Rigid"),
-    ({"vary": ["r", "r"]}, FitError, "twice"),
-    ({"vary": ["r"], "fixed": ["r"]}, FitError, "held in the fit"),
-    ({"vary": ["r"], "steps": 0}, FitError, "steps must be"),
-    ({"vary": ["r"], "chains": 0}, FitError, "chains must be"),
-    ({"vary": ["r"], "walkers": 3}, FitError, "walkers must be"),
-    ({"vary": ["r"], "approximation": "exact"}, FitError, "approximation must be"),
-    ({"vary": ["r"], "sample_weight": np.ones(40)}, FitError, "sample_weight"),
+@pytest.mark.parametrize("kwargs, option", [
+    ({"vary": ["nope"]}, "vary"),  # not a parameter of Rigid
+    ({"vary": ["r", "r"]}, "vary"),  # twice
+    ({"vary": ["r"], "fixed": ["r"]}, "vary"),  # held in the fit
+    ({"vary": ["r"], "steps": 0}, "steps"),
+    ({"vary": ["r"], "chains": 0}, "chains"),
+    ({"vary": ["r"], "walkers": 3}, "walkers"),
+    ({"vary": ["r"], "approximation": "exact"}, "approximation"),
+    ({"vary": ["r"], "sample_weight": np.ones(40)}, "sample_weight"),
 ])
-def test_bad_options_are_refused(kwargs, error, match) -> None:
+def test_bad_options_are_refused(kwargs, option) -> None:
     data = varying_campaign(40, seed=9)
-    with pytest.raises(error, match=match):
+    with pytest.raises(FitError) as e:
         calibrate(bl.Rigid(r=0.5, mu=0.4), data, **kwargs)
+    assert e.value.option == option
+    if option == "vary":
+        assert e.value.law == "Rigid" and repr(kwargs["vary"][0]) in e.value.message  # the name at fault
 
 
 def test_array_parameters_must_be_held() -> None:
     data = varying_campaign(40, seed=9)
-    with pytest.raises(FitError, match="scalar parameters only"):
+    with pytest.raises(FitError) as e:  # scalar parameters only
         calibrate(bl.PiecewiseAffine, data, vary=["offset"], method="plane")
+    assert (e.value.law, e.value.option) == ("PiecewiseAffine", "fixed")
+    assert e.value.hints == (Hint("fixed", ["normal", "A1", "b1", "A2", "b2"]),)  # every array parameter
 
 
 def test_transforms_round_trip() -> None:

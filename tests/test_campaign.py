@@ -81,8 +81,9 @@ def test_attrs_cannot_replace_conventions():
 
 def test_data_kind_in_attrs_is_checked():
     assert _campaign(attrs={"data_kind": "synthetic surrogate"}).attrs["data_kind"] == "synthetic surrogate"
-    with pytest.raises(DataError, match="data_kind"):
+    with pytest.raises(DataError) as e:
         _campaign(attrs={"data_kind": "made up"})
+    assert e.value.option == "data_kind"
 
 
 @pytest.mark.parametrize("kind", ["measured", "synthetic surrogate", "unknown"])
@@ -92,8 +93,9 @@ def test_data_kinds(kind):
 
 @pytest.mark.parametrize("kind", ["synthetic", "Measured", ""])
 def test_bad_data_kind(kind):
-    with pytest.raises(DataError, match="data_kind"):
+    with pytest.raises(DataError) as e:
         _campaign(data_kind=kind)
+    assert e.value.option == "data_kind"
 
 
 def test_labelled_inputs_are_put_in_canonical_order():
@@ -135,30 +137,32 @@ def test_setting_strings():
 
 @pytest.mark.parametrize("bad", [[1.0, np.nan, 2.0, 2.0], [1.0, 1.0, 2.0, np.inf]])
 def test_setting_nan(bad):
-    with pytest.raises(DataError, match="missing") as info:
+    with pytest.raises(DataError) as info:
         _campaign(setting=bad)
-    assert info.value.column == "setting"
+    assert info.value.column == "setting" and "missing" in info.value.message
     assert info.value.row == 2 if np.isnan(bad[1]) else info.value.row == 4
 
 
 @pytest.mark.parametrize("bad", [["a", None, "b", "b"], np.array([1, 2, float("nan"), 3], dtype=object)])
 def test_setting_missing_in_object_array(bad):
-    with pytest.raises(DataError, match="missing") as info:
+    with pytest.raises(DataError) as info:
         _campaign(setting=bad)
+    assert info.value.column == "setting" and "missing" in info.value.message
     assert info.value.row == (2 if bad[1] is None else 3)
 
 
 @pytest.mark.parametrize("bad", [[1, 2, 3], [[1, 2], [3, 4]], 5])
 def test_setting_shape(bad):
-    with pytest.raises(DataError, match="one label per bounce"):
+    with pytest.raises(DataError) as e:
         _campaign(setting=bad)
+    assert (e.value.column, e.value.row) == ("setting", None)
 
 
 # prediction intervals
 def test_negative_pi():
     bad = PI0.copy()
     bad[2, 1] = -0.1
-    with pytest.raises(DataError, match=">= 0") as info:
+    with pytest.raises(DataError) as info:
         _campaign(landing_pi=bad)
     assert info.value.column == "landing_pi"
     assert info.value.row == 3
@@ -168,15 +172,16 @@ def test_negative_pi():
 def test_nan_pi():
     bad = PIF.copy()
     bad[1, 2] = np.nan
-    with pytest.raises(DataError, match="NaN") as info:
+    with pytest.raises(DataError) as info:
         _campaign(liftoff_pi=bad)
     assert info.value.column == "liftoff_pi.omega"
     assert info.value.row == 2
 
 
 def test_pi_shape_mismatch():
-    with pytest.raises(DataError, match="landing_pi"):
+    with pytest.raises(DataError) as e:
         _campaign(landing_pi=PI0[:3])
+    assert e.value.option == "landing_pi"
 
 
 def test_zero_pi_allowed():
@@ -185,8 +190,9 @@ def test_zero_pi_allowed():
 
 # states
 def test_length_mismatch():
-    with pytest.raises(DataError, match="shape"):
+    with pytest.raises(DataError) as e:
         make_campaign(P0, PF[:3])
+    assert e.value.option == "liftoff"
 
 
 def test_landing_moving_up():
@@ -259,31 +265,35 @@ def test_validate_restores_conventions():
 @pytest.mark.parametrize("var", ["landing", "liftoff"])
 def test_validate_missing_variable(var):
     ds = _campaign().drop_vars(var)
-    with pytest.raises(DataError, match=f"no '{var}' variable"):
+    with pytest.raises(DataError) as e:
         validate_campaign(ds, file="c.nc")
+    assert (e.value.file, e.value.column) == ("c.nc", var)
 
 
 def test_validate_not_a_dataset():
-    with pytest.raises(DataError, match=r"xarray\.Dataset"):
+    with pytest.raises(DataError) as e:
         validate_campaign(P0)
+    assert e.value.option == "ds"
 
 
 def test_validate_wrong_dims():
     ds = _campaign().rename({"bounce": "shot"})
-    with pytest.raises(DataError, match="dimensions"):
+    with pytest.raises(DataError) as e:
         validate_campaign(ds)
+    assert e.value.column == "landing"
 
 
 def test_validate_pi_with_wrong_dims():
     ds = _campaign()
     ds["landing_pi"] = xr.DataArray(np.ones(4), dims=("bounce",))
-    with pytest.raises(DataError, match="landing_pi"):
+    with pytest.raises(DataError) as e:
         validate_campaign(ds)
+    assert e.value.column == "landing_pi"
 
 
 def test_validate_rejects_physical_units():
     ds = _campaign().assign_coords(unit=("component", ["m/s", "m/s", "rpm"]))
-    with pytest.raises(DataError, match="scaled units") as info:
+    with pytest.raises(DataError) as info:
         validate_campaign(ds)
     assert info.value.column == "unit"
 
@@ -302,8 +312,9 @@ def test_validate_bad_values_and_kind():
     assert (info.value.file, info.value.row, info.value.column) == ("c.nc", 2, "landing.ydot")
     ds = _campaign()
     ds.attrs["data_kind"] = "guess"
-    with pytest.raises(DataError, match="data_kind"):
+    with pytest.raises(DataError) as e:
         validate_campaign(ds)
+    assert e.value.option == "data_kind"
 
 
 def test_validate_does_not_modify_its_input():
@@ -340,22 +351,27 @@ def test_arrays_from_pairs(pair):
 def test_arrays_from_triple():
     _, _, setting = campaign_arrays((P0, PF, ["a", "a", "b", "b"]))
     assert list(setting) == ["a", "a", "b", "b"]
-    with pytest.raises(DataError, match="one label per bounce"):
+    with pytest.raises(DataError) as e:
         campaign_arrays((P0, PF, [1, 2]))
+    assert (e.value.column, e.value.row) == ("setting", None)
 
 
 @pytest.mark.parametrize("bad", [P0, {"landing": P0, "liftoff": PF}, (P0,), (P0, PF, None, None), "A", None])
 def test_arrays_bad_types(bad):
-    with pytest.raises(DataError, match="campaign Dataset or a"):
+    with pytest.raises(DataError) as e:
         campaign_arrays(bad, name="data")
+    assert e.value.option == "data"
 
 
 def test_arrays_checks_values():
     bad = P0.copy()
     bad[0, 1] = 1.0
-    with pytest.raises(DataError, match="ydot"):
+    with pytest.raises(DataError) as e:
         campaign_arrays((bad, PF))
-    with pytest.raises(DataError, match="shape"):
+    assert (e.value.column, e.value.row) == ("landing.ydot", 1)
+    with pytest.raises(DataError) as e:
         campaign_arrays((P0, PF[:2]))
-    with pytest.raises(DataError, match="no 'liftoff'"):
+    assert e.value.option == "liftoff"
+    with pytest.raises(DataError) as e:
         campaign_arrays(_campaign().drop_vars("liftoff"))
+    assert e.value.column == "liftoff"

@@ -12,10 +12,10 @@ from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import (
     CANDIDATE_UNITS,
     PLAUSIBLE_RANGES,
-    declare_units_hint,
     implausibility,
     plausible_units,
 )
+from bouncelab.data.io.hints import declare_units_hint
 
 R = 0.02135
 RPM = 2 * math.pi / 60

@@ -58,16 +58,17 @@ def test_pi_weighting_in_a_mapping_and_with_bootstrap_and_cross_validation() -> 
 
 def test_refused_without_intervals() -> None:
     ds = bl.load_campaign("A")
-    with pytest.raises(FitError, match="carry them"):
-        bl.fit(bl.Rigid, (ds.landing.values, ds.liftoff.values), objective="delta_pi")
-    with pytest.raises(FitError, match="carry them"):
-        bl.fit(bl.Rigid, ds.drop_vars(["liftoff_pi", "landing_pi"]), objective="delta_pi")
+    for data in ((ds.landing.values, ds.liftoff.values), ds.drop_vars(["liftoff_pi", "landing_pi"])):
+        with pytest.raises(FitError) as e:  # the data do not carry intervals
+            bl.fit(bl.Rigid, data, objective="delta_pi")
+        assert e.value.option == "objective" and "liftoff_pi" in e.value.message
     zero = ds.copy(deep=True)
     zero["liftoff_pi"][4] = 0.0
     zero["landing_pi"][4] = 0.0
-    with pytest.raises(FitError, match="bounce 5 has prediction intervals of zero width"):
+    with pytest.raises(FitError) as e:
         bl.fit(bl.Rigid, zero, objective="delta_pi")
-    with pytest.raises(FitError, match="weighting"):
-        bl.fit(bl.Rigid, ds, objective={"delta": 1.0, "weighting": "variance"})
-    with pytest.raises(FitError, match="unknown objective"):
-        bl.fit(bl.Rigid, ds, objective="delta_sigma")
+    assert e.value.option == "objective" and e.value.message.startswith("bounce 5 ")  # the bounce is named
+    for objective in ({"delta": 1.0, "weighting": "variance"}, "delta_sigma"):
+        with pytest.raises(FitError) as e:
+            bl.fit(bl.Rigid, ds, objective=objective)
+        assert e.value.option == "objective"

@@ -215,12 +215,11 @@ def test_check_campaign(name, key):
 
 @pytest.mark.parametrize("bad", ["C", "", "AB", None, 1])
 def test_unknown_campaign(bad):
-    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):  # the library's own error type
-        published.check_campaign(bad)
-    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):
-        published.piecewise_parameters(bad)
-    with pytest.raises(DataError, match="campaigns 'A' and 'B'"):
-        published.rigid_family_parameters(bad, "Rigid")
+    for call in (lambda: published.check_campaign(bad), lambda: published.piecewise_parameters(bad),
+                 lambda: published.rigid_family_parameters(bad, "Rigid")):
+        with pytest.raises(DataError) as e:  # the library's own error type
+            call()
+        assert e.value.option == "campaign"
 
 
 def test_rigid_family_parameters():
@@ -232,8 +231,9 @@ def test_rigid_family_parameters():
 
 
 def test_rigid_family_parameters_unknown_law():
-    with pytest.raises(ParameterError, match="PennerFixed"):
+    with pytest.raises(ParameterError) as e:
         published.rigid_family_parameters("A", "Piecewise")
+    assert e.value.law == "Piecewise" and "PennerFixed" in e.value.message  # the laws it has are listed
 
 
 def test_piecewise_parameters():

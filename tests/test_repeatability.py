@@ -157,36 +157,42 @@ def test_inferred_settings_warn_and_say_so():
 
 
 def test_no_settings_and_infer_false_raises():
-    with pytest.raises(DataError, match="pass settings"):
-        repeatability(_campaign(with_setting=False), infer=False)
     ds = _campaign(with_setting=False)
-    with pytest.raises(DataError, match="pass settings"):
-        repeatability((ds["landing"].values, ds["liftoff"].values), infer=False)
+    for data in (ds, (ds["landing"].values, ds["liftoff"].values)):
+        with pytest.raises(DataError) as e:
+            repeatability(data, infer=False)
+        assert (e.value.column, e.value.option) == ("setting", "infer")
+        assert [h.option for h in e.value.hints] == ["settings", "infer"] and e.value.hints[1].value is True
 
 
 @pytest.mark.parametrize("level", [0.0, 1.0, 1.5, -0.1, float("nan"), "high"])
 def test_bad_level(level):
-    with pytest.raises(DataError, match="level"):
+    with pytest.raises(DataError) as e:
         repeatability(_campaign(), level=level)
+    assert e.value.option == "level"
 
 
-@pytest.mark.parametrize(("settings", "match"), [
-    (np.arange(5), "one label per bounce"),
-    (np.r_[np.ones(11), np.nan], "missing"),
-    (["a"] * 11 + [None], "missing"),
+@pytest.mark.parametrize(("settings", "row"), [
+    (np.arange(5), None),  # not one label per bounce
+    (np.r_[np.ones(11), np.nan], 12),  # missing
+    (["a"] * 11 + [None], 12),
 ])
-def test_bad_settings(settings, match):
-    with pytest.raises(DataError, match=match):
+def test_bad_settings(settings, row):
+    with pytest.raises(DataError) as e:
         repeatability(_campaign(), settings=settings)
+    assert (e.value.column, e.value.row) == ("setting", row)
 
 
 def test_bad_data():
-    with pytest.raises(DataError, match="campaign Dataset"):
+    with pytest.raises(DataError) as e:  # not a campaign Dataset
         repeatability({"landing": [[1.0, -1.0, 0.0]]})
-    with pytest.raises(DataError, match="ydot"):
+    assert e.value.option == "data"
+    with pytest.raises(DataError) as e:
         repeatability(([[1.0, 1.0, 0.0]], [[1.0, 1.0, 0.0]]), settings=[1])
-    with pytest.raises(DataError, match="liftoff"):
+    assert (e.value.column, e.value.row) == ("landing.ydot", 1)
+    with pytest.raises(DataError) as e:
         repeatability(_campaign().drop_vars("liftoff"))
+    assert e.value.column == "liftoff"
 
 
 def test_summary_by_hand():
@@ -212,11 +218,13 @@ def test_summary_by_hand():
 
 
 def test_summary_rejects_other_input():
-    with pytest.raises(DataError, match="repeatability"):
+    with pytest.raises(DataError) as e:  # not a repeatability() result
         repeatability_summary(_campaign())
+    assert (e.value.option, e.value.column) == ("rep", None)
     rep = repeatability(_campaign())
-    with pytest.raises(DataError, match="state"):
+    with pytest.raises(DataError) as e:
         repeatability_summary(rep.assign_coords(state=["in", "out"]))
+    assert (e.value.option, e.value.column) == ("rep", "state")
 
 
 _TURF_B_NARROW = pytest.mark.xfail(strict=True, reason=(

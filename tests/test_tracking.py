@@ -9,8 +9,9 @@ import pytest
 
 cv2 = pytest.importorskip("cv2")
 
-from bouncelab.core.errors import DataError  # noqa: E402
+from bouncelab.core.errors import DataError, Hint  # noqa: E402
 from bouncelab.tracking import (  # noqa: E402
+    FrameRateError,
     clip_settings,
     estimate_background,
     find_ball,
@@ -56,8 +57,10 @@ def test_renderer_truth_and_scene(small_clip):
 
 
 def test_renderer_refuses_a_ball_leaving_the_frame():
-    with pytest.raises(DataError, match="leaves the"):
+    with pytest.raises(DataError) as e:  # the ball leaves the frame
         render_clip(LANDING, LIFTOFF, size=(64, 64), radius_px=10, n_before=40, n_after=40)
+    assert e.value.option == "size"
+    assert [h.option for h in e.value.hints] == ["size", "n_before", "n_after", "radius_px"]
 
 
 def test_detection_is_sub_pixel_in_flight_and_behind_the_turf(small_clip):
@@ -178,44 +181,50 @@ def test_frames_from_arrays_folders_and_videos(tmp_path, small_clip):
 
 
 def test_bad_frame_sources_name_the_file(tmp_path):
-    with pytest.raises(DataError, match="no such file") as e:
+    with pytest.raises(DataError) as e:
         read_frames(tmp_path / "missing.avi")
-    assert "missing.avi" in str(e.value)
+    assert e.value.file.endswith("missing.avi") and "no such file" in e.value.message
     bad = tmp_path / "broken.avi"
     bad.write_bytes(b"not a video at all")
-    with pytest.raises(DataError, match=r"broken\.avi"):
+    with pytest.raises(DataError) as e:
         read_frames(bad)
+    assert e.value.file.endswith("broken.avi")
     folder = tmp_path / "imgs"
     folder.mkdir()
     cv2.imwrite(str(folder / "f1.png"), np.zeros((16, 16), np.uint8))
     (folder / "f2.png").write_bytes(b"damaged")
-    with pytest.raises(DataError, match=r"f2\.png"):
+    with pytest.raises(DataError) as e:
         read_frames(folder)
+    assert e.value.file.endswith("f2.png")
     empty = tmp_path / "empty"
     empty.mkdir()
-    with pytest.raises(DataError, match="no images"):
+    with pytest.raises(DataError) as e:
         read_frames(empty)
-    with pytest.raises(DataError, match="shape"):
+    assert e.value.file.endswith("empty") and "no images" in e.value.message
+    with pytest.raises(DataError) as e:  # not (t, h, w) frames
         read_frames(np.zeros((4, 16), np.uint8))
+    assert e.value.option == "frames"
 
 
 def test_bad_clips_get_data_errors_naming_file_and_frames(small_clip):
-    with pytest.raises(DataError, match="frame rate is missing") as e:
+    with pytest.raises(FrameRateError) as e:  # missing
         track_clip(small_clip.frames, fps=None, name="c1.avi")
-    assert "c1.avi" in str(e.value)
-    with pytest.raises(DataError, match="positive"):
+    assert (e.value.file, e.value.fps, e.value.source) == ("c1.avi", None, "argument")
+    assert e.value.hints[0] == Hint("fps", None, "the camera's recording rate, e.g. 5000")
+    with pytest.raises(FrameRateError) as e:  # not positive
         track_clip(small_clip.frames, fps=-5, name="c1.avi")
-    with pytest.raises(DataError, match="not found in any") as e:
+    assert (e.value.file, e.value.fps) == ("c1.avi", -5)
+    with pytest.raises(DataError) as e:  # the ball is not found in any frame
         track_clip(np.full((10, 64, 64), 3, np.uint8), fps=5000, name="dark.avi")
-    assert "dark.avi" in str(e.value)
+    assert e.value.file == "dark.avi" and "not found" in e.value.message
     short = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_before": 3}, seed=2)
-    with pytest.raises(DataError, match=r"frames .*before touch-down|frames") as e:
+    with pytest.raises(DataError) as e:  # too few frames before touch-down
         measure_clip(track_clip(short.frames, fps=5000, name="short.avi"))
-    assert "short.avi" in str(e.value) and "frames 0.." in str(e.value)
+    assert e.value.file == "short.avi" and "frames 0.." in e.value.message  # the frames are named
     tail = render_clip(LANDING, LIFTOFF, **{**SMALL, "n_after": 2}, seed=2)
     with pytest.raises(DataError) as e:
         measure_clip(track_clip(tail.frames, fps=5000, name="tail.avi"))
-    assert "tail.avi" in str(e.value)
+    assert e.value.file == "tail.avi"
 
 
 def test_measure_clips_goes_on_past_failures_and_reads_settings(tmp_path, small_clip):
@@ -246,13 +255,16 @@ def test_measure_clips_goes_on_past_failures_and_reads_settings(tmp_path, small_
 def test_settings_errors(tmp_path):
     m = tmp_path / "m.csv"
     m.write_text("name,fps\na.avi,5000\n")
-    with pytest.raises(DataError, match="'clip' column"):
+    with pytest.raises(DataError) as e:  # no 'clip' column
         clip_settings(["a.avi"], manifest=m)
+    assert (e.value.file, e.value.column) == (str(m), "clip")
     m.write_text("clip,fps\na.avi,fast\n")
-    with pytest.raises(DataError, match="not a number"):
+    with pytest.raises(FrameRateError) as e:  # fps is not a number
         clip_settings(["a.avi"], manifest=m)
-    with pytest.raises(DataError, match="regular expression"):
+    assert (e.value.file, e.value.fps, e.value.source) == ("a.avi", "fast", "manifest")
+    with pytest.raises(DataError) as e:  # not a regular expression
         clip_settings(["a.avi"], pattern="(?P<fps")
+    assert e.value.option == "pattern"
 
 
 def _write_clips(folder, n, seed0=10):
@@ -403,9 +415,9 @@ def test_frames_without_the_ball_are_dropped_and_reported(small_clip):
     assert abs(m.attrs["touchdown_index"] - np.flatnonzero(small_clip.truth.phase.values == "contact")[0]) <= 1
     # Lost frames that leave too few before the bounce: the error names them.
     frames[4:12] = frames[2]
-    with pytest.raises(DataError, match=r"ball lost in frames 2-11") as e:
+    with pytest.raises(DataError) as e:
         measure_clip(track_clip(frames, fps=5000, name="gaps.avi"))
-    assert "gaps.avi" in str(e.value)
+    assert e.value.file == "gaps.avi" and "ball lost in frames 2-11" in e.value.message  # the frames are named
 
 
 def test_mp4_video(tmp_path, small_clip):

@@ -10,6 +10,7 @@ import bouncelab as bl
 from bouncelab.cli.main import main
 from bouncelab.cli.messages import EXIT_DATA, EXIT_OK
 from bouncelab.core import units
+from bouncelab.core.errors import Hint
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, check_scaled
 
 RPM = 60 / (2 * np.pi)  # rpm per rad/s
@@ -47,7 +48,8 @@ def test_make_campaign_refuses_rpm_spins_naming_column_and_bounce(campaign_a):
     err = exc.value
     first = int(np.argmax(np.abs(landing[:, 2]) / RPM > 20_000))
     assert err.column == "omega0" and err.row == first + 1
-    assert "look like rpm" in err.message and "widened(max_spin=" in err.message
+    assert "look like rpm" in err.message
+    assert err.hints == (Hint("plausible", "PLAUSIBLE_RANGES.widened(max_spin=...)"), Hint("plausible", "None"))
 
 
 def test_make_campaign_refuses_rpm_lift_off_spins(campaign_a):
@@ -104,8 +106,8 @@ def test_embedded_campaigns_pass_the_guard(name, surrogate):
 def test_fit_refuses_bare_arrays_in_lab_units(lab_sheet):
     with pytest.raises(bl.DataError) as exc:
         bl.fit(bl.Rigid, lab_sheet)
-    msg = str(exc.value)
-    assert "look like m/s" in msg and "bouncelab.make_campaign(landing, liftoff, plausible=" in msg
+    assert "look like m/s" in exc.value.message and exc.value.column == "ydot0"
+    assert {h.option for h in exc.value.hints} == {"plausible"}  # fit(..., plausible=) accepts them on purpose
 
 
 def test_fit_refuses_bare_rpm_spins_and_held_out_arrays(campaign_a):
@@ -271,8 +273,10 @@ def test_m_per_s_given_as_scaled_units_are_refused_naming_the_unit():
         msg = str(exc.value)
         assert exc.value.row == 1 and exc.value.column is None
         assert "25 radii/s = 0.5338 m/s is slower than any golf landing (min_landing_speed 1 m/s" in msg
-        assert "if they are m/s, pass units={'velocity': 'm/s', 'spin': 'rad/s'}" in msg
-        assert "PLAUSIBLE_RANGES.widened(min_landing_speed=...) or plausible=None" in msg
+        assert "the numbers look like m/s" in msg
+        assert exc.value.hints == (Hint("units", {"velocity": "m/s", "spin": "rad/s"}),
+                                   Hint("plausible", "PLAUSIBLE_RANGES.widened(min_landing_speed=...)"),
+                                   Hint("plausible", "None"))
     # ... and declaring the unit, as the message says, predicts the landing
     out = LAW.predict([[20.0, -15.0, 200.0]], units={"velocity": "m/s", "spin": "rad/s"})
     np.testing.assert_allclose(out, units.from_scaled(LAW.predict(units.to_scaled(

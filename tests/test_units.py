@@ -153,25 +153,29 @@ def test_vertical_landing_allowed():
 
 @pytest.mark.parametrize("angle", [0.0, -10.0, 90.01, 120.0, float("nan"), float("inf")])
 def test_landing_angle_out_of_range(angle):
-    with pytest.raises(DataError, match="angle of incidence"):
+    with pytest.raises(DataError) as e:
         units.landing_from_speed_angle_spin(10.0, angle, 1000.0)
+    assert e.value.column == "angle"
 
 
 def test_landing_angle_out_of_range_in_an_array():
-    with pytest.raises(DataError, match="angle"):
+    with pytest.raises(DataError) as e:
         units.landing_from_speed_angle_spin([10.0, 10.0], [30.0, 95.0], 1000.0)
+    assert e.value.column == "angle" and "(element (1,))" in e.value.message
 
 
 @pytest.mark.parametrize("speed", [0.0, -5.0, float("nan"), float("inf")])
 def test_landing_speed_must_be_positive_and_finite(speed):
-    with pytest.raises(DataError, match="speed"):
+    with pytest.raises(DataError) as e:
         units.landing_from_speed_angle_spin(speed, 30.0, 1000.0)
+    assert e.value.column == "speed"
 
 
 @pytest.mark.parametrize("spin", [float("nan"), float("inf")])
 def test_landing_spin_must_be_finite(spin):
-    with pytest.raises(DataError, match="spin"):
+    with pytest.raises(DataError) as e:
         units.landing_from_speed_angle_spin(10.0, 30.0, spin)
+    assert e.value.column == "spin"
 
 
 def test_speed_angle_spin_of_liftoff_has_negative_angle():
@@ -221,10 +225,11 @@ def test_radius_is_settable():
 
 @pytest.mark.parametrize("radius", [0.0, -0.02, float("nan"), float("inf")])
 def test_bad_radius(radius):
-    with pytest.raises(DataError, match="radius"):
-        units.velocity_to_scaled(1.0, radius_m=radius)
-    with pytest.raises(DataError, match="radius"):
-        units.to_scaled([1.0, -1.0, 0.0], radius_m=radius)
+    for call in (lambda: units.velocity_to_scaled(1.0, radius_m=radius),
+                 lambda: units.to_scaled([1.0, -1.0, 0.0], radius_m=radius)):
+        with pytest.raises(DataError) as e:
+            call()
+        assert e.value.option == "radius_m"
 
 
 def test_scaled_velocity_is_a_copy():
@@ -260,25 +265,29 @@ def test_spin_aliases(alias, canon):
 
 @pytest.mark.parametrize("unit", ["furlong/fortnight", "", "m", "knots"])
 def test_unknown_velocity_unit(unit):
-    with pytest.raises(DataError, match="unknown velocity unit"):
+    with pytest.raises(DataError) as e:
         units.velocity_to_scaled(1.0, unit)
+    assert e.value.option == "velocity"
     with pytest.raises(DataError):
         units.to_scaled([1.0, -1.0, 1.0], velocity=unit)
 
 
 @pytest.mark.parametrize("unit", ["rad", "rpms", "cycles", ""])
 def test_unknown_spin_unit(unit):
-    with pytest.raises(DataError, match="unknown spin unit"):
+    with pytest.raises(DataError) as e:
         units.spin_to_scaled(1.0, unit)
+    assert e.value.option == "spin"
     with pytest.raises(DataError):
         units.from_scaled([1.0, -1.0, 1.0], spin=unit)
 
 
 def test_unit_of_the_wrong_kind():
-    with pytest.raises(DataError, match="velocity"):
+    with pytest.raises(DataError) as e:
         units.velocity_to_scaled(1.0, "rpm")
-    with pytest.raises(DataError, match="spin"):
+    assert e.value.option == "velocity"
+    with pytest.raises(DataError) as e:
         units.spin_to_scaled(1.0, "m/s")
+    assert e.value.option == "spin"
     with pytest.raises(DataError):
         units.spin_to_scaled(1.0, "radius/s")
 
@@ -294,14 +303,14 @@ def test_unknown_unit_error_lists_the_known_units():
 @pytest.mark.parametrize("bad", [[1.0, 2.0], np.zeros((5, 2)), np.zeros((2, 4)), 3.0, np.zeros((3, 3, 1))])
 def test_wrong_shape(bad):
     for fn in (units.to_scaled, units.from_scaled, units.tangential_velocity, units.speed_angle_spin):
-        with pytest.raises(DataError, match="3 components"):
+        with pytest.raises(DataError):  # numpy would raise IndexError or broadcast the shape
             fn(bad)
 
 
 def test_non_numeric_state():
-    with pytest.raises(DataError, match="numeric"):
+    with pytest.raises(DataError):  # numpy's own ValueError before
         units.to_scaled(["a", "b", "c"])
-    with pytest.raises(DataError, match="numeric"):
+    with pytest.raises(DataError):
         units.velocity_to_scaled("fast")
 
 
@@ -371,39 +380,42 @@ def test_polar_halfwidths_units_broadcasting_and_degrees():
     assert got.shape == (2, 3)
 
 
-@pytest.mark.parametrize(("polar", "hw", "kind", "needle"), [
-    ([25.0, 40.0, 3000.0], [-0.5, 1.0, 100.0], "landing", "half-widths must be finite and >= 0; got -0.5"),
-    ([25.0, 40.0, 3000.0], [0.5, np.nan, 100.0], "landing", "half-widths must be finite and >= 0; got nan"),
-    ([25.0, 40.0, 3000.0], [0.5, 1.0, np.inf], "landing", "half-widths must be finite and >= 0; got inf"),
-    ([25.0, -40.0, 3000.0], [0.5, 1.0, 100.0], "landing", "landing angle must be in (0, 180)"),
-    ([-2.0, 40.0, 3000.0], [0.5, 1.0, 100.0], "liftoff", "liftoff speed must be non-negative"),
-    ([25.0, 40.0, 3000.0], [0.5, 1.0], "landing", "half-widths need 3 components"),
-    ([25.0, 40.0, 3000.0], [0.5, "x", 1.0], "landing", "must be numeric"),
+@pytest.mark.parametrize(("polar", "hw", "kind", "field"), [
+    ([25.0, 40.0, 3000.0], [-0.5, 1.0, 100.0], "landing", {"option": "halfwidths"}),
+    ([25.0, 40.0, 3000.0], [0.5, np.nan, 100.0], "landing", {"option": "halfwidths"}),
+    ([25.0, 40.0, 3000.0], [0.5, 1.0, np.inf], "landing", {"option": "halfwidths"}),
+    ([25.0, -40.0, 3000.0], [0.5, 1.0, 100.0], "landing", {"column": "angle"}),
+    ([-2.0, 40.0, 3000.0], [0.5, 1.0, 100.0], "liftoff", {"column": "speed"}),
+    ([25.0, 40.0, 3000.0], [0.5, 1.0], "landing", {"option": "halfwidths"}),
+    ([25.0, 40.0, 3000.0], [0.5, "x", 1.0], "landing", {"option": "halfwidths"}),
 ])
-def test_polar_halfwidths_refuse_bad_input(polar, hw, kind, needle):
+def test_polar_halfwidths_refuse_bad_input(polar, hw, kind, field):
     with pytest.raises(DataError) as exc:
         units.polar_halfwidths_to_cartesian(polar, hw, kind=kind)
-    assert needle in str(exc.value)
+    assert {k: getattr(exc.value, k) for k in field} == field
 
 
 def test_polar_halfwidths_refuse_shapes_overflow_and_booleans():
     # Before: shapes that do not broadcast raised numpy's ValueError (the docstring promises DataError), an
     # overflow came back as inf, and True was a half-width of 1.
     polar = np.array([[25.0, 40.0, 3000.0], [18.0, 55.0, -1200.0]])
-    with pytest.raises(DataError, match=r"the half-widths' shape \(3, 3\) does not broadcast against the polar "
-                       r"values' shape \(2, 3\)"):
+    with pytest.raises(DataError) as e:
         units.polar_halfwidths_to_cartesian(polar, np.ones((3, 3)))
+    assert e.value.option == "halfwidths"
     assert units.polar_halfwidths_to_cartesian(polar, np.ones((1, 3))).shape == (2, 3)  # broadcasts: fine
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # and no NumPy RuntimeWarning on the way
-        with pytest.raises(DataError, match=r"the propagated half-width xdot overflows \(element \(0,\)\)"):
+        with pytest.raises(DataError) as e:
             units.polar_halfwidths_to_cartesian([25.0, 40.0, 3000.0], [1e308, 1.0, 1.0])
-        with pytest.raises(DataError, match=r"the propagated half-width ydot overflows \(element \(1, 1\)\)"):
+        assert (e.value.column, e.value.row) == ("xdot", None)
+        with pytest.raises(DataError) as e:
             units.polar_halfwidths_to_cartesian([[25.0, 40.0, 3000.0], [1e300, 0.0, 0.0]], [0.5, 1e10, 1.0],
                                               kind="liftoff")
+        assert (e.value.column, e.value.row) == ("ydot", 2)
     for hw in (np.array([True, True, True]), [0.5, True, 100.0], [[0.5, 1.0, 100.0], [False, 1.0, 1.0]]):
-        with pytest.raises(DataError, match=r"half-widths \[speed, angle, spin\] must be numeric: real numbers; "
-                           r"got (a boolean|boolean values)"):
+        with pytest.raises(DataError) as e:
             units.polar_halfwidths_to_cartesian([25.0, 40.0, 3000.0], hw)
-    with pytest.raises(DataError, match=r"polar values .* must be numeric"):
+        assert e.value.option == "halfwidths" and "boolean" in e.value.message
+    with pytest.raises(DataError) as e:
         units.polar_halfwidths_to_cartesian(np.array([True, True, True]), [0.5, 1.0, 100.0])
+    assert e.value.option == "polar"

@@ -112,20 +112,23 @@ def test_dataarray_without_labels_is_positional():
 
 def test_dataarray_without_component_dim():
     da = xr.DataArray(P0, dims=("bounce", "comp"))
-    with pytest.raises(DataError, match="'component' dimension"):
+    with pytest.raises(DataError) as e:
         as_states(da)
+    assert e.value.option == "landing" and "component" in e.value.message
 
 
 def test_dataarray_wrong_component_size():
     da = xr.DataArray(np.zeros((4, 2)), dims=("bounce", "component"))
-    with pytest.raises(DataError, match="3 components"):
+    with pytest.raises(DataError) as e:
         as_states(da)
+    assert e.value.option == "landing"
 
 
 @pytest.mark.parametrize("labels", [("xdot", "ydot", "spin"), ("xdot", "xdot", "omega"), ("x", "y", "w")])
 def test_dataarray_bad_component_labels(labels):
-    with pytest.raises(DataError, match="component labels"):
+    with pytest.raises(DataError) as e:
         as_states(_labelled(P0, labels))
+    assert e.value.option == "landing"
 
 
 def test_dataarray_extra_component_label():
@@ -160,12 +163,12 @@ def test_nonfinite_names_row_and_column(row, col, value, what):
     bad = P0.copy()
     bad[row, col] = value
     before = bad.copy()
-    with pytest.raises(DataError, match=what) as info:
+    with pytest.raises(DataError) as info:
         as_states(bad, "liftoff")
     err = info.value
     assert err.row == row + 1  # 1-based
     assert err.column == f"liftoff.{('xdot', 'ydot', 'omega')[col]}"
-    assert f"row {row + 1}" in str(err)
+    assert what in err.message
     np.testing.assert_array_equal(bad, before)  # nothing changed
 
 
@@ -173,9 +176,10 @@ def test_nonfinite_first_bad_row_reported_and_count():
     bad = P0.copy()
     bad[1, 2] = np.nan
     bad[3, 0] = np.nan
-    with pytest.raises(DataError, match=r"2 bounce\(s\)") as info:
+    with pytest.raises(DataError) as info:
         as_states(bad)
     assert info.value.row == 2
+    assert "(2 bounce(s) affected)" in info.value.message  # the count is said, and only in words
 
 
 def test_nonfinite_row_in_nd_input_is_the_flattened_row():
@@ -191,7 +195,7 @@ def test_nonfinite_row_in_nd_input_is_the_flattened_row():
 def test_landing_moving_up_is_rejected(ydot):
     bad = P0.copy()
     bad[2, 1] = ydot
-    with pytest.raises(DataError, match="ydot must be negative") as info:
+    with pytest.raises(DataError) as info:
         as_states(bad, "landing", landing=True)
     assert info.value.row == 3
     assert info.value.column == "landing.ydot"
@@ -215,20 +219,23 @@ def test_empty(bad):
 
 
 def test_empty_message():
-    with pytest.raises(DataError, match="no bounces"):
+    with pytest.raises(DataError) as e:
         as_states(np.zeros((0, 3)), "landing")
+    assert e.value.option == "landing" and (e.value.row, e.value.column) == (None, None)
 
 
 @pytest.mark.parametrize("bad", [5.0, [1.0, 2.0], np.zeros((4, 2)), np.zeros((4, 4)), np.zeros((3, 1))])
 def test_wrong_shape(bad):
-    with pytest.raises(DataError, match=r"shape \(n, 3\)"):
+    with pytest.raises(DataError) as e:
         as_states(bad)
+    assert e.value.option == "landing"
 
 
 @pytest.mark.parametrize("bad", [[["a", "b", "c"]], [[1.0, 2.0, 3.0], [1.0, 2.0]], [[1 + 2j, -1, 0]]])
 def test_non_numeric(bad):
-    with pytest.raises(DataError, match="numeric"):
+    with pytest.raises(DataError) as e:
         as_states(bad)
+    assert e.value.option == "landing" and "numeric" in e.value.message
 
 
 def test_file_is_named():
@@ -242,8 +249,9 @@ def test_file_is_named():
 
 def test_check_same_length():
     check_same_length(P0, P0 + 1, "a", "b")
-    with pytest.raises(DataError, match="a has shape"):
+    with pytest.raises(DataError) as e:
         check_same_length(P0, P0[:3], "a", "b")
+    assert e.value.option == "b"
 
 
 # --------------------------------------------------------------------------- errors
@@ -283,8 +291,9 @@ def test_dataframe_columns_are_read_by_name():
     np.testing.assert_array_equal(law.predict(df), law.predict(P0))
     np.testing.assert_array_equal(as_states(pd.DataFrame(P0, columns=["xdot0", "ydot0", "omega0"]))[0], P0)
     np.testing.assert_array_equal(as_states(pd.DataFrame(P0))[0], P0)  # unnamed (0, 1, 2): by position
-    with pytest.raises(DataError, match="named"):
+    with pytest.raises(DataError) as e:
         law.predict(pd.DataFrame(P0, columns=["vx", "vy", "w"]))
+    assert e.value.option == "landing" and "['vx', 'vy', 'w']" in e.value.message
     series = pd.Series(P0[0, [2, 0, 1]], index=["omega", "xdot", "ydot"])
     np.testing.assert_array_equal(as_states(series)[0], P0[:1])
 
@@ -293,7 +302,7 @@ def test_masked_values_are_refused():
     """bouncelab 0.1 predicted from the data under a mask."""
     masked = np.ma.masked_array(P0, mask=np.zeros_like(P0, dtype=bool))
     masked[2, 1] = np.ma.masked
-    with pytest.raises(DataError, match="masked") as err:
+    with pytest.raises(DataError) as err:
         as_states(masked, landing=True)
     assert err.value.row == 3 and err.value.column == "landing.ydot"
     np.testing.assert_array_equal(as_states(np.ma.masked_array(P0), landing=True)[0], P0)  # nothing masked
@@ -306,8 +315,9 @@ def test_non_real_values_are_refused(values, what):
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        with pytest.raises(DataError, match=what):
+        with pytest.raises(DataError) as e:
             as_states(values, landing=True)
+        assert e.value.option == "landing" and what in e.value.message
 
 
 @pytest.mark.parametrize("value", [1e308, -1e308, 1.5e8, 1e20])
@@ -318,13 +328,14 @@ def test_magnitudes_beyond_any_bounce_are_refused(value):
 
     bad = P0.copy()
     bad[1, 0] = value
-    with pytest.raises(DataError, match="another unit") as err:
+    with pytest.raises(DataError) as err:
         bl.Rigid.published("A").predict(bad)
     assert err.value.row == 2 and err.value.column == "landing.xdot"
     big = np.tile(P0, (20_000, 1))  # the compiled check of large arrays too
     big[-1, 2] = value
-    with pytest.raises(DataError, match="another unit"):
+    with pytest.raises(DataError) as err:
         as_states(big)
+    assert (err.value.row, err.value.column) == (len(big), "landing.omega")
     edge = P0.copy()
     edge[0, 2] = STATE_LIMIT
     assert as_states(edge)[0][0, 2] == STATE_LIMIT
@@ -357,16 +368,18 @@ def test_dataframe_errors_name_its_own_row_label_and_column():
     law = bl.Rigid.published("A")
     df = pd.DataFrame(P0, columns=["xdot0", "ydot0", "omega0"], index=[10 * i + 7 for i in range(len(P0))])
     df.iloc[1, 1] = 5.0  # a landing moving up
-    with pytest.raises(DataError, match=r"column 'landing.ydot0', row 2 \(row label 17\)") as err:
+    with pytest.raises(DataError) as err:
         law.predict(df)
     assert (err.value.row, err.value.row_label, err.value.column) == (2, 17, "landing.ydot0")
     labels = [f"s{i}" for i in range(len(P0))]
     shuffled = pd.DataFrame(P0[:, [2, 1, 0]], columns=["omega", "ydot", "xdot"], index=labels)
     shuffled.iloc[2, 0] = np.nan  # omega of row 3
-    with pytest.raises(DataError, match=r"column 'landing.omega', row 3 \(row label 's2'\)"):
+    with pytest.raises(DataError) as err:
         law.predict(shuffled)
-    with pytest.raises(DataError, match=r"row 3 \(row label 's2'\)"):
+    assert (err.value.row, err.value.row_label, err.value.column) == (3, "s2", "landing.omega")
+    with pytest.raises(DataError) as err:
         bl.make_campaign(shuffled, P0)
+    assert (err.value.row, err.value.row_label) == (3, "s2")
     with pytest.raises(DataError) as err:  # plain arrays keep their position only
         law.predict(np.where(np.isnan(shuffled.to_numpy()[:, [2, 1, 0]]), np.nan, P0))
     assert err.value.row == 3 and err.value.row_label is None and "label" not in str(err.value)

@@ -252,9 +252,10 @@ def tangential_summary(data: Any, *, near_zero: float | None = None) -> pd.DataF
         try:
             threshold = float(near_zero)
         except (TypeError, ValueError):
-            raise DataError(f"near_zero must be a non-negative speed in radii/s; got {near_zero!r}") from None
+            raise DataError(f"near_zero must be a non-negative speed in radii/s; got {near_zero!r}",
+                            option="near_zero") from None
         if not (np.isfinite(threshold) and threshold >= 0):
-            raise DataError(f"near_zero must be a non-negative speed in radii/s; got {near_zero!r}")
+            raise DataError(f"near_zero must be a non-negative speed in radii/s; got {near_zero!r}", option="near_zero")
         rule = "given"
     slip = tv["slip_roll"].values == "slip"
     rev = tv["vp_reversal"].values

@@ -73,7 +73,7 @@ def impulse_lever_arm(data: Any, *, min_fraction: float = MIN_DXDOT_FRACTION) ->
     2.5
     """
     if not (np.isfinite(min_fraction) and 0 <= min_fraction < 1):
-        raise DataError(f"min_fraction must be in [0, 1); got {min_fraction!r}")
+        raise DataError(f"min_fraction must be in [0, 1); got {min_fraction!r}", option="min_fraction")
     p0, pf, _ = campaign_arrays(data, name="data")
     dx, dw, lever = _lever(p0, pf, min_fraction)
     ds = xr.Dataset(

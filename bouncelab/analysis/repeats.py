@@ -27,7 +27,7 @@ import pandas as pd
 import xarray as xr
 from scipy import stats
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.units import COMPONENTS
 from bouncelab.data.campaign import setting_labels
 from bouncelab.data.inputs import campaign_arrays
@@ -131,7 +131,7 @@ def repeatability(
     p0, pf, setting = campaign_arrays(data)
     n_bounces = p0.shape[0]
     if n_bounces == 0:
-        raise DataError("the data hold no bounces")
+        raise DataError("the data hold no bounces", option="data")
     if settings is not None:
         labels = setting_labels(settings, n_bounces)
         source = "argument"
@@ -151,8 +151,9 @@ def repeatability(
         )
     else:
         raise DataError(
-            "the data have no 'setting' coordinate (launcher setting of each bounce) and infer=False: "
-            "pass settings=[one label per bounce], add the coordinate, or allow infer=True to cluster them"
+            "the data have no 'setting' coordinate (launcher setting of each bounce) and infer=False: add the "
+            "coordinate", column="setting", option="infer",
+            hints=[Hint("settings", None, "one label per bounce"), Hint("infer", True, "to cluster them")]
         )
 
     uniq = _setting_order(labels)
@@ -241,13 +242,16 @@ def repeatability_summary(rep: xr.Dataset) -> pd.DataFrame:
         If ``rep`` is not a :func:`repeatability` result.
     """
     if not isinstance(rep, xr.Dataset) or "half_width" not in rep.data_vars:
-        raise DataError("repeatability_summary needs the Dataset returned by repeatability() (with 'half_width')")
+        raise DataError("repeatability_summary needs the Dataset returned by repeatability() (with 'half_width')",
+                        option="rep")
     hw = rep["half_width"]
     if set(hw.dims) != {"setting", "state", "component"}:
-        raise DataError(f"'half_width' must have dimensions (setting, state, component); got {hw.dims}")
+        raise DataError(f"'half_width' must have dimensions (setting, state, component); got {hw.dims}",
+                        column="half_width", option="rep")
     have_states = [str(s) for s in rep["state"].values]
     if not set(STATES) <= set(have_states):
-        raise DataError(f"the 'state' coordinate must hold {list(STATES)}; got {have_states}")
+        raise DataError(f"the 'state' coordinate must hold {list(STATES)}; got {have_states}", column="state",
+                        option="rep")
     comps = [str(c) for c in rep["component"].values]
     land = hw.sel(state="landing").transpose("setting", "component").values
     lift = hw.sel(state="liftoff").transpose("setting", "component").values
@@ -287,9 +291,9 @@ def _check_level(level: float) -> float:
     try:
         value = float(level)
     except (TypeError, ValueError):
-        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}") from None
+        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}", option="level") from None
     if not 0.0 < value < 1.0:
-        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}")
+        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}", option="level")
     return value
 
 

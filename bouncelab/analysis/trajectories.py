@@ -76,9 +76,9 @@ def drag_scaled(
     """
     for name, value in (("rho", rho), ("cd", cd), ("radius_m", radius_m), ("mass_kg", mass_kg)):
         if not (np.isfinite(value) and value >= 0):
-            raise DataError(f"{name} must be a finite non-negative number; got {value!r}")
+            raise DataError(f"{name} must be a finite non-negative number; got {value!r}", option=name)
     if mass_kg <= 0:
-        raise DataError(f"mass_kg must be positive; got {mass_kg!r}")
+        raise DataError(f"mass_kg must be positive; got {mass_kg!r}", option="mass_kg")
     return 0.5 * rho * cd * math.pi * radius_m**3 / mass_kg
 
 
@@ -219,7 +219,7 @@ def simulate_tracked_bounce(
     contact_frames = _positive("contact_frames", contact_frames)
     for name, value in (("n_before", n_before), ("n_after", n_after)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise DataError(f"{name} must be a positive integer number of frames; got {value!r}")
+            raise DataError(f"{name} must be a positive integer number of frames; got {value!r}", option=name)
     for name, value in (
         ("position_noise", position_noise),
         ("angle_noise", angle_noise),
@@ -227,12 +227,12 @@ def simulate_tracked_bounce(
         ("gravity", gravity),
     ):
         if not (np.isfinite(value) and value >= 0):
-            raise DataError(f"{name} must be a finite non-negative number; got {value!r}")
+            raise DataError(f"{name} must be a finite non-negative number; got {value!r}", option=name)
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     if frame_offset is None:
         frame_offset = float(rng.uniform(0.0, 1.0))
     elif not (np.isfinite(frame_offset) and 0.0 <= frame_offset < 1.0):
-        raise DataError(f"frame_offset must be in [0, 1); got {frame_offset!r}")
+        raise DataError(f"frame_offset must be in [0, 1); got {frame_offset!r}", option="frame_offset")
 
     dt = 1.0 / fps
     t_c = contact_frames * dt
@@ -353,9 +353,10 @@ def _state(value, name: str) -> np.ndarray:
     try:
         s = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got {value!r}", column=name) from exc
+        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got {value!r}", column=name,
+                        option=name) from exc
     if s.shape != (3,):
-        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got shape {s.shape}", column=name)
+        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got shape {s.shape}", column=name, option=name)
     if not np.isfinite(s).all():
         raise DataError(f"{name} has a NaN or infinite component: {s.tolist()}", column=name)
     return s
@@ -365,7 +366,7 @@ def _positive(name: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be a positive number; got {value!r}") from exc
+        raise DataError(f"{name} must be a positive number; got {value!r}", option=name) from exc
     if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{name} must be a positive number; got {value!r}")
+        raise DataError(f"{name} must be a positive number; got {value!r}", option=name)
     return v

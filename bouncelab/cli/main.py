@@ -350,8 +350,10 @@ def _figure_units(text: str | None):
     spec = parts[0] if len(parts) == 1 else {"velocity": parts[0], "spin": parts[1]}
     try:
         return figure_units(spec)
-    except DataError as exc:
-        raise UsageError(f"--figure-units: {exc}") from None
+    except DataError as exc:  # its hints are units= mappings: the flag takes VELOCITY,SPIN
+        example = next((h.value for h in exc.hints if h.option == "units" and isinstance(h.value, dict)), None)
+        said = "" if example is None else f"; e.g. --figure-units {example['velocity']},{example['spin']}"
+        raise UsageError(f"--figure-units: {exc.message}{said}") from None
 
 
 def _reproduce(args: argparse.Namespace) -> int:
@@ -679,7 +681,7 @@ def _predict(args: argparse.Namespace) -> int:
 def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float) -> None:
     """The unit guard of typed landings, in flags: each landing must be one a golf ball can make (the guard of
     the law's predict, bouncelab.core.plausibility.landing_error), else it is refused naming the landing, the
-    limit and the --velocity-unit/--spin-unit the numbers look like."""
+    limit and, from the error's hints, the --velocity-unit/--spin-unit the numbers look like."""
     from bouncelab.core.errors import DataError
     from bouncelab.core.plausibility import PLAUSIBLE_RANGES, landing_angle_error, landing_error
     from bouncelab.core.units import canonical_unit
@@ -690,24 +692,21 @@ def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float
         if angle is not None:
             raise DataError(f"--speed-angle-spin: {angle[1]}")
     landing, _ = as_states(landing, "landing", landing=True)  # shape and sign first: their own messages
-
-    def declare(units: dict[str, str]) -> str:
-        flags = {kind: canonical_unit(unit, kind) for kind, unit in (("velocity", args.velocity_unit),
-                                                                     ("spin", args.spin_unit))}
-        changed = [f"--{kind}-unit {unit}" for kind, unit in units.items() if unit != flags[kind]]
-        return "give the unit with " + " ".join(changed)
-
-    def widen(limit: str) -> str:
-        return ("predict in Python with the law's predict(..., plausible=PLAUSIBLE_RANGES.widened("
-                f"{limit}=...)) (the command line keeps bouncelab's plausible ranges, "
-                "bouncelab.core.plausibility.PLAUSIBLE_RANGES)")
-
-    error = landing_error(landing, radius_m=radius, ranges=PLAUSIBLE_RANGES,
-                          units={"velocity": args.velocity_unit, "spin": args.spin_unit},
-                          declare=declare, widen=widen)
-    if error is not None:
-        where = f"landing {error.row}" + (f", {error.column}" if error.column else "")
-        raise DataError(f"{where}: {error.message}")
+    given = {"velocity": args.velocity_unit, "spin": args.spin_unit}
+    error = landing_error(landing, radius_m=radius, ranges=PLAUSIBLE_RANGES, units=given)
+    if error is None:
+        return
+    text = f"landing {error.row}" + (f", {error.column}" if error.column else "") + f": {error.message}"
+    for hint in error.hints:
+        if hint.option == "units":  # the flags of the units that change
+            changed = {kind: unit for kind, unit in hint.value.items() if unit != canonical_unit(given[kind], kind)}
+            text += (f": if they are {' and '.join(changed.values())}, give the unit with "
+                     + " ".join(f"--{kind}-unit {unit}" for kind, unit in changed.items()))
+    widen = next((h.value for h in error.hints if h.option == "plausible" and h.value != "None"), None)
+    if widen is not None:  # the command line keeps the ranges: widening them is for Python
+        text += (f"; if they are right, predict in Python with the law's predict(..., plausible={widen}) (the "
+                 "command line keeps bouncelab's plausible ranges, bouncelab.core.plausibility.PLAUSIBLE_RANGES)")
+    raise DataError(text)
 
 
 def _info(args: argparse.Namespace) -> int:

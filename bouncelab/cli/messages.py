@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 
-from bouncelab.core.errors import BouncelabError, Hint, python_hint
+from bouncelab.core.errors import BouncelabError, Code, Hint, python_hint
 
 __all__ = ["EXIT_DATA", "EXIT_FIT", "EXIT_OK", "EXIT_PARTIAL", "EXIT_UNEXPECTED", "EXIT_USAGE", "UsageError",
            "flag_hint", "message"]
@@ -26,7 +26,9 @@ class UsageError(Exception):
 # The library's options, as the command line's flags.
 _FLAGS = {"columns": "--columns", "sheet": "--sheet", "missing": "--missing", "header_row": "--header-row",
           "intervals": "--intervals", "surrogate": "--surrogate", "fps": "--fps", "seed": "--seed",
-          "bounds": "--bounds", "method": "--method", "objective": "--objective"}
+          "bounds": "--bounds", "method": "--method", "objective": "--objective", "manifest": "--manifest",
+          "pattern": "--pattern", "algorithm": "--algorithm", "law_set": "--laws", "bootstrap": "--bootstrap",
+          "figure_units": "--figure-units"}
 _UNIT_FLAGS = {"velocity": "--velocity-unit", "spin": "--spin-unit", "angle": "--angle-unit"}
 
 
@@ -42,8 +44,13 @@ def flag_hint(hint: Hint) -> str:
         return " ".join(f"{_UNIT_FLAGS[kind]} {unit}" for kind, unit in value.items()) + note
     if option == "columns" and value is not None:
         return "--columns '" + json.dumps(value) + "'" + note
+    if option == "bounds" and isinstance(value, dict):  # JSON pairs; a placeholder "(low, high)" as [low, high]
+        pairs = (f"{json.dumps(str(k))}: " + ("[" + str(v).strip("()") + "]" if isinstance(v, Code)
+                                              else json.dumps(list(v))) for k, v in value.items())
+        return "--bounds '{" + ", ".join(pairs) + "}'" + note
     if option in _FLAGS:
-        return _FLAGS[option] + ("" if value is None else f" {value}") + note
+        words = " ".join(map(str, value)) if isinstance(value, list | tuple) else str(value)  # nargs="+"
+        return _FLAGS[option] + ("" if value is None else f" {words}") + note
     return python_hint(hint) + " (in Python)"
 
 

@@ -55,7 +55,7 @@ import xarray as xr
 
 from bouncelab.cli.report import frame_markdown, index_html, table2_markdown
 from bouncelab.core.atomic import atomic_write_text
-from bouncelab.core.errors import DataError, FitError, OutputError
+from bouncelab.core.errors import DataError, FitError, Hint, OutputError
 from bouncelab.data.campaign import synthetic_warning
 
 __all__ = ["BOOTSTRAP_RESAMPLES", "MANIFEST", "OutputError", "Report", "campaign_file_name", "default_laws",
@@ -70,11 +70,14 @@ def check_output_file(path: str, flag: str, example: str, suffix: str | None = N
     ``flag``): a folder, a missing parent folder, or (when ``suffix`` is given) another file type."""
     p = Path(path).expanduser()
     if p.is_dir():
-        raise OutputError(f"{flag} {path!r} is a folder; give a file name such as {example}")
+        raise OutputError(f"{flag} {path!r} is a folder; give a file name such as {example}", path=path,
+                          reason="a folder")
     if suffix is not None and p.suffix.lower() != suffix:
-        raise OutputError(f"{flag} {path!r}: give the file a {suffix} suffix, e.g. {example}")
+        raise OutputError(f"{flag} {path!r}: give the file a {suffix} suffix, e.g. {example}", path=path,
+                          reason=f"not a {suffix} file")
     if not p.parent.is_dir():
-        raise OutputError(f"{flag} {path!r}: the folder {str(p.parent)!r} does not exist")
+        raise OutputError(f"{flag} {path!r}: the folder {str(p.parent)!r} does not exist", path=path,
+                          reason="no such folder")
 
 #: Resamples of the parameter bootstrap in the report (3 to 4 s per campaign here; the refits run one after another).
 BOOTSTRAP_RESAMPLES = 100
@@ -300,20 +303,22 @@ def _previous_report_files(out: Path) -> set[str] | None:
 def _check_out(out: Path) -> None:
     """Refuse, before any work, an ``out`` that the swap at the end could not replace safely."""
     if out.exists() and not out.is_dir():
-        raise OutputError(f"--out {str(out)!r} exists and is not a folder")
+        raise OutputError(f"--out {str(out)!r} exists and is not a folder", path=out, reason="not a folder")
     parent = out.parent
     if not parent.is_dir():
-        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} does not exist")
+        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} does not exist",
+                          path=out, reason="no such folder")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} is not writable")
+        raise OutputError(f"cannot write the report to {str(out)!r}: the folder {str(parent)!r} is not writable",
+                          path=out, reason="not writable")
     if not out.exists():
         return
     cwd = Path.cwd()
     if cwd == out or out in cwd.parents:
         raise OutputError(f"--out {str(out)!r} holds the current folder; the report replaces --out as a whole, "
-                          "so give a folder below it (e.g. --out report)")
+                          "so give a folder below it (e.g. --out report)", path=out, reason="holds the current folder")
     if not os.access(out, os.W_OK | os.X_OK):
-        raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable")
+        raise OutputError(f"cannot replace {str(out)!r}: the folder is not writable", path=out, reason="not writable")
     # Files and links (a link to a folder counts as the user's: it is never walked into).
     present = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_symlink() or not p.is_dir()}
     if not present:
@@ -321,12 +326,14 @@ def _check_out(out: Path) -> None:
     ours = _previous_report_files(out)
     if ours is None:
         raise OutputError(f"--out {str(out)!r} is a non-empty folder that is not a bouncelab report; "
-                          "give a new or empty folder (a previous report there is replaced as a whole)")
+                          "give a new or empty folder (a previous report there is replaced as a whole)", path=out,
+                          reason="not a bouncelab report")
     foreign = sorted(present - ours)
     if foreign:
         shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
         raise OutputError(f"--out {str(out)!r} holds files that are not part of its previous report ({shown}); "
-                          "move them or give another folder (the report is replaced as a whole)")
+                          "move them or give another folder (the report is replaced as a whole)", path=out,
+                          reason="holds files that are not the report's")
 
 
 def _swap_in(staging: Path, out: Path) -> None:
@@ -384,7 +391,8 @@ def _resolve_laws(law_set: Sequence[Any] | None, laws: Sequence[Any]) -> list[An
 
     chosen = list(default_laws() if law_set is None else law_set) + list(laws)
     if not chosen:
-        raise FitError("no laws to fit: give at least one law (e.g. --laws Rigid PennerFixed)")
+        raise FitError("no laws to fit: give at least one law", option="law_set",
+                       hints=[Hint("law_set", ["Rigid", "PennerFixed"])])
     out: dict[str, Any] = {}
     for law in chosen:
         model = law_instance(law)
@@ -478,11 +486,12 @@ def reproduce(
     chosen = _resolve_laws(law_set, laws)  # unknown names fail here, before any work
     resamples = BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap
     if isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0:
-        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}")
+        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}",
+                       option="bootstrap")
     resamples = int(resamples)
     sources = [*campaigns, *data]
     if not sources:
-        raise DataError("nothing to reproduce: give campaigns (A, B) or data files")
+        raise DataError("nothing to reproduce: give campaigns (A, B) or data files", option="campaigns")
     labels = dict(labels or {})
     names: list[str] = []
     for src in sources:
@@ -502,7 +511,8 @@ def reproduce(
         units = resolve_units(figure_units)  # and on bad units
     if load is None:
         if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:  # before any work
-            raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
+            raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}",
+                            option="surrogate")
 
         def load(src: str) -> xr.Dataset:
             return load_campaign(src, surrogate=surrogate) if src in campaigns else load_campaign(src)
@@ -513,7 +523,8 @@ def reproduce(
         out = Path(os.path.realpath(out))  # replace the folder the link points to, keep the link
     out = Path(os.path.abspath(out))  # "." and ".." resolved: the swap renames the folder itself
     if out.parent == out:
-        raise OutputError(f"--out {str(out)!r} is the root folder; give a folder for the report")
+        raise OutputError(f"--out {str(out)!r} is the root folder; give a folder for the report", path=out,
+                          reason="the root folder")
     _check_out(out)
     step = _Progress(len(sources) * _steps_per_campaign(figures) + 1, progress)  # + index.html
     loaded = []
@@ -534,9 +545,11 @@ def reproduce(
             _remove(staging)
             where = f" ({exc.filename})" if exc.filename else ""
             if staging is None:
-                raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}") from None
+                raise OutputError(f"cannot write the report beside {str(out)!r}: {exc.strerror or exc}", path=out,
+                                  reason=exc.strerror, errno=exc.errno) from None
             raise OutputError(f"cannot write the report to {str(out)!r}{where}: {exc.strerror or exc}; "
-                              "the previous report, if any, is unchanged") from None
+                              "the previous report, if any, is unchanged", path=exc.filename or out,
+                              reason=exc.strerror, errno=exc.errno) from None
         except BaseException:
             _remove(staging)
             raise

@@ -30,7 +30,7 @@ import threading
 import time
 from pathlib import Path
 
-from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE, UsageError
+from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE, UsageError, message
 from bouncelab.core.errors import DataError
 
 #: Frame rates ``--fps`` accepts, frames/s. Below 100 no camera films a golf bounce (a ball at 25 m/s moves
@@ -360,8 +360,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"{n_ok} of {len(clips)} clip(s) measured", file=sys.stderr)
     if res.failures:
         print(f"{len(res.failures)} clip(s) failed:", file=sys.stderr)
-        for f in res.failures:
-            print(f"  {f.clip}: {f.reason}", file=sys.stderr)
+        for f in res.failures:  # the error in the command line's words (its hints as flags)
+            print(f"  {f.clip}: {f.reason if f.error is None else message(f.error)}", file=sys.stderr)
     if res.campaign is None:
         raise DataError(f"no clip could be measured (reasons above); nothing written to {args.out}")
     _check_states(res, settings, args)

@@ -14,6 +14,7 @@ from typing import Any, NamedTuple
 __all__ = [
     "BouncelabError",
     "BouncelabWarning",
+    "Code",
     "DataError",
     "DroppedRowsWarning",
     "FitError",
@@ -63,6 +64,18 @@ class Hint(NamedTuple):
     option: str
     value: Any = None
     note: str = ""
+
+
+class Code(str):
+    """A hint's value that is Python code rather than a value, shown as written: ``Hint("plausible",
+    Code("PLAUSIBLE_RANGES.widened(max_spin=...)"))`` reads ``plausible=PLAUSIBLE_RANGES.widened(max_spin=...)``,
+    not a quoted string, also inside a mapping (``bounds={'mu': (low, high)}``). It equals the plain string of
+    its text."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return str(self)
 
 
 def python_hint(hint: Hint) -> str:
@@ -123,6 +136,9 @@ class DataError(BouncelabError, ValueError):
     row_label
         The row's label in the caller's pandas index, when the data came as a
         DataFrame (``row`` is still its 1-based position).
+    option
+        The argument of the call at fault (``"kind"``, ``"units"``, ``"tol"``, ``"settings"``...), when the
+        problem is an argument rather than a place in the data; the message names it too.
     hints
         The options of the call that would put it right (:class:`Hint`).
     """
@@ -135,6 +151,7 @@ class DataError(BouncelabError, ValueError):
         column: str | None = None,
         row: int | None = None,
         row_label: object = None,
+        option: str | None = None,
         hints: Iterable[Hint] = (),
     ) -> None:
         super().__init__(message, hints=hints)
@@ -142,6 +159,7 @@ class DataError(BouncelabError, ValueError):
         self.column = column
         self.row = row
         self.row_label = None if row_label is None else plain_label(row_label)
+        self.option = option
 
     def where(self) -> str:
         where = []

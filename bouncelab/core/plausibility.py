@@ -43,12 +43,12 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.errors import Code, DataError, Hint, ParameterError
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
 from bouncelab.core.validation import STATE_LIMIT, check_values
 
@@ -59,7 +59,6 @@ __all__ = [
     "LandingFaults",
     "PlausibleRanges",
     "check_scaled",
-    "declare_units_hint",
     "implausibility",
     "landing_angle_error",
     "landing_error",
@@ -67,6 +66,7 @@ __all__ = [
     "landing_limits",
     "plausible_units",
     "scaled_units_error",
+    "widen_hints",
 ]
 
 _RPM = 2.0 * math.pi / 60.0  # rad/s per rpm
@@ -120,7 +120,7 @@ class PlausibleRanges:
                 what = "a positive number" if f.name.startswith("max_") else "a finite number >= 0"
                 drop = "math.inf" if f.name.startswith("max_") else "0"
                 raise ParameterError(f"PlausibleRanges.{f.name} must be {what} in {_UNITS[f.name]} "
-                                     f"({drop} drops the limit); got {value!r}")
+                                     f"({drop} drops the limit); got {value!r}", parameter=f.name, value=value)
 
     def widened(self, **changes: float) -> PlausibleRanges:
         """A copy with some limits changed (``PLAUSIBLE_RANGES.widened(max_spin=40_000)``).
@@ -134,7 +134,8 @@ class PlausibleRanges:
         known = [f.name for f in dataclasses.fields(self)]
         unknown = sorted(set(changes) - set(known))
         if unknown:
-            raise ParameterError(f"PlausibleRanges has no limit {unknown}; its limits are {known}")
+            raise ParameterError(f"PlausibleRanges has no limit {unknown}; its limits are {known}",
+                                 parameter=unknown[0], value=changes[unknown[0]])
         return dataclasses.replace(self, **changes)
 
 
@@ -272,20 +273,10 @@ def scale_factor(unit: str, kind: str, radius_m: float = BALL_RADIUS_M) -> float
     return 1.0 if factor is None else factor / radius_m
 
 
-def declare_units_hint(kind: str, units: tuple[str, ...] | list[str], *, style: str = "python") -> str:
-    """How to declare the unit of ``kind``: ``"units={'spin': 'rpm'}"`` (or a choice of several).
-
-    Every loader message that asks for a unit goes through here, so that it speaks the caller's
-    language: ``style="python"`` names the keyword, ``style="cli"`` the ``bouncelab`` flag
-    (``--spin-unit rpm``).
-    """
-    if style == "cli":
-        flag = "--velocity-unit" if kind == "velocity" else "--spin-unit"
-        options = " or ".join(f"{flag} {u}" for u in units)
-    else:
-        options = " or ".join(f"units={{{kind!r}: {u!r}}}" for u in units)
-    example = "[m/s]" if kind == "velocity" else "[rpm]"
-    return f"pass {options}, or put the unit in the column header (e.g. 'name {example}')"
+def widen_hints(limit: str) -> tuple[Hint, Hint]:
+    """How to accept numbers beyond the limit ``limit`` of :class:`PlausibleRanges` on purpose: the hints
+    ``plausible=PLAUSIBLE_RANGES.widened(limit=...)`` and ``plausible=None`` (which checks nothing)."""
+    return (Hint("plausible", Code(f"PLAUSIBLE_RANGES.widened({limit}=...)")), Hint("plausible", Code("None")))
 
 
 #: Column names of the states' components, as in the paper (``xdot0`` ... ``omegaF``).
@@ -304,8 +295,6 @@ def scaled_units_error(
     units: Mapping[str, str] | None = None,
     lower: bool = True,
     landing_columns: tuple[str, str, str] = ("xdot0", "ydot0", "omega0"),
-    declare: Callable[[dict[str, list[str]]], str],
-    widen: Callable[[str], str],
 ) -> DataError | None:
     """The error for states that a wrong unit made, or ``None`` when they are plausible golf bounces.
 
@@ -336,18 +325,13 @@ def scaled_units_error(
     landing_columns
         How the error names the landing's three columns (e.g. ``("speed", "speed", "spin")`` for
         a check of the speeds of landings given as speed, angle and spin, put in the first column).
-    declare
-        ``declare({kind: likely_units})``: how to give the numbers in the units they look like
-        (``{"spin": ["rpm"]}``), e.g. ``"convert them with bouncelab.core.units.to_scaled(...)"``.
-    widen
-        ``widen(limit)``: how to accept the numbers on purpose, given the name of the limit
-        (``"max_spin"``, ...) of :class:`PlausibleRanges` they break.
 
     Returns
     -------
     DataError or None
         Naming the column (``xdot0`` ... ``omegaF``), the bounce (row, 1-based) when one bounce
-        is at fault, the units the numbers would be plausible in, how to declare and how to widen.
+        is at fault, the units the numbers would be plausible in and how to convert them; its
+        hints (:func:`widen_hints`) say how to accept the numbers on purpose.
     """
     p0 = np.asarray(landing, dtype=float)
     pf = np.empty((0, 3)) if liftoff is None else np.asarray(liftoff, dtype=float)
@@ -396,10 +380,15 @@ def scaled_units_error(
         msg += (f" (and the spins too: {faults['spin'].reason}"
                 + (f"; they look like {' or '.join(likely['spin'])})" if likely["spin"] else ")"))
     found = {k: units_ for k, units_ in likely.items() if units_}
-    msg += f": {declare(found)}" if found else ": check them"
-    msg += f"; if they are right, {widen(limit)}"
+    if found:
+        pair = {k: CANDIDATE_UNITS[k][0] for k in ("velocity", "spin")} | {k: u[0] for k, u in found.items()}
+        msg += (": states are in scaled units (radii/s, rad/s): convert them first, e.g. "
+                f"bouncelab.core.units.to_scaled(states, velocity={pair['velocity']!r}, spin={pair['spin']!r})")
+    else:
+        msg += ": check them"
     names = landing_columns if why.state == "landing" else STATE_COLUMNS["liftoff"]
-    return DataError(msg, column=names[COMPONENTS.index(why.component)], row=None if why.row is None else why.row + 1)
+    return DataError(msg, column=names[COMPONENTS.index(why.component)], row=None if why.row is None else why.row + 1,
+                     hints=widen_hints(limit))
 
 
 def landing_angle_error(angles_deg, ranges: PlausibleRanges = PLAUSIBLE_RANGES) -> tuple[int, str] | None:
@@ -533,8 +522,6 @@ def landing_error(
     ranges: PlausibleRanges = PLAUSIBLE_RANGES,
     units: Mapping[str, str] | None = None,
     form: str = "cartesian",
-    declare: Callable[[dict[str, str]], str],
-    widen: Callable[[str], str],
     row_labels=None,
 ) -> DataError | None:
     """The unit guard of landings given to a law: the error for the first landing no golf bounce has, or None.
@@ -559,12 +546,6 @@ def landing_error(
     form
         The form they were given in, ``"cartesian"`` or ``"polar"``: it names the columns
         (``omega0`` or ``spin``, ``speed``).
-    declare
-        ``declare({"velocity": unit, "spin": unit})``: how to give the numbers in the units they
-        look like, e.g. ``"pass units={'velocity': 'm/s', 'spin': 'rad/s'}"``.
-    widen
-        ``widen(limit)``: how to accept the numbers on purpose, given the name of the limit of
-        :class:`PlausibleRanges` they break.
     row_labels
         The caller's row labels (a pandas index), if any: the error names the label too.
 
@@ -573,8 +554,11 @@ def landing_error(
     DataError or None
         Naming the row (1-based), the column where one is at fault (``omega0``/``spin``,
         ``speed`` for polar landings; a Cartesian speed or angle involves two columns, named in
-        the message), the limit, the units the numbers look like and how to widen. Rows that
-        are not valid landings give the value check's error (NaN, ``ydot >= 0``...).
+        the message), the limit and the units the numbers look like. Its hints: the ``units``
+        the numbers look like (``{"velocity": "m/s", "spin": "rad/s"}``, both kinds, as ``predict``
+        takes them), when some are plausible, then how to accept them on purpose
+        (:func:`widen_hints`). Rows that are not valid landings give the value check's error
+        (NaN, ``ydot >= 0``...).
     """
     p = np.ascontiguousarray(landing, dtype=np.float64)
     faults = landing_faults(p, radius_m=radius_m, ranges=ranges)
@@ -644,6 +628,7 @@ def landing_error(
         kind = None
         column = "angle" if polar else None
     msg = reason
+    hints: list[Hint] = []
     found: dict[str, str] = {}
     if kind is not None:
         units_ = likely(kind)
@@ -661,14 +646,14 @@ def landing_error(
             if spin_units:
                 found["spin"] = spin_units[0]
         if found:
-            msg += f": if they are {' and '.join(found.values())}, {declare(dict(given) | found)}"
+            hints.append(Hint("units", dict(given) | found))
         else:
             msg += ": check them"
     elif not polar:
         msg += ": check that xdot0 and ydot0 are the landing's horizontal and vertical velocities, in one unit"
-    msg += f"; if they are right, {widen(_FAULT_LIMITS[fault])}"
+    hints.extend(widen_hints(_FAULT_LIMITS[fault]))
     label = None if row_labels is None else row_labels[row]
-    return DataError(msg, column=column, row=row + 1, row_label=label)
+    return DataError(msg, column=column, row=row + 1, row_label=label, hints=hints)
 
 
 def check_scaled(
@@ -677,19 +662,17 @@ def check_scaled(
     *,
     radius_m: float = BALL_RADIUS_M,
     ranges: PlausibleRanges | None = PLAUSIBLE_RANGES,
-    accept: str = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None",
 ) -> None:
     """Refuse scaled states that only a unit mistake makes (m/s or rpm given as radii/s or rad/s).
 
     The guard of :func:`~bouncelab.data.campaign.make_campaign` and :func:`bouncelab.fit`; see
-    :func:`scaled_units_error`. ``ranges=None`` checks nothing. ``accept`` says how to accept the
-    numbers on purpose (``{limit}`` is replaced by the limit they break).
+    :func:`scaled_units_error`. ``ranges=None`` checks nothing.
 
     Raises
     ------
     DataError
-        Naming the column (``xdot0`` ... ``omegaF``), the bounce, the likely unit, how to
-        convert and how to widen the ranges.
+        Naming the column (``xdot0`` ... ``omegaF``), the bounce, the likely unit and how to
+        convert; its hints say how to widen the ranges (:func:`widen_hints`).
 
     Examples
     --------
@@ -703,14 +686,7 @@ def check_scaled(
     """
     if ranges is None:
         return
-
-    def declare(likely: dict[str, list[str]]) -> str:
-        pair = {k: CANDIDATE_UNITS[k][0] for k in ("velocity", "spin")} | {k: u[0] for k, u in likely.items()}
-        return ("states are in scaled units (radii/s, rad/s): convert them first, e.g. "
-                f"bouncelab.core.units.to_scaled(states, velocity={pair['velocity']!r}, spin={pair['spin']!r})")
-
-    error = scaled_units_error(landing, liftoff, radius_m=radius_m, ranges=ranges, declare=declare,
-                               widen=lambda limit: accept.format(limit=limit))
+    error = scaled_units_error(landing, liftoff, radius_m=radius_m, ranges=ranges)
     if error is not None:
         raise error
 

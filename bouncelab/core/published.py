@@ -140,7 +140,7 @@ def check_campaign(campaign: str) -> str:
     """Return ``"A"`` or ``"B"`` for a campaign name, or raise :class:`~bouncelab.DataError`."""
     key = str(campaign).strip().upper() if isinstance(campaign, str) else None
     if key not in CAMPAIGNS:
-        raise DataError(f"the paper has campaigns 'A' and 'B'; got {campaign!r}")
+        raise DataError(f"the paper has campaigns 'A' and 'B'; got {campaign!r}", option="campaign")
     return key
 
 
@@ -149,7 +149,7 @@ def rigid_family_parameters(campaign: str, law: str) -> dict[str, float]:
     names = {"Rigid": ("r", "mu"), "PennerVarying": ("r", "mu", "k_p"), "PennerFixed": ("r", "mu", "beta_deg")}
     key = check_campaign(campaign)
     if law not in names:
-        raise ParameterError(f"Table 3 has the laws {list(names)}; got {law!r}")
+        raise ParameterError(f"Table 3 has the laws {list(names)}; got {law!r}", law=law)
     row = _table("TABLE3").loc[(key, law)]
     return {name: float(row[name]) for name in names[law]}
 

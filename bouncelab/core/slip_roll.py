@@ -44,7 +44,7 @@ def classify_slip_roll(landing: States, liftoff: States, *, tol: float = 0.0, co
     except TypeError:
         ok = False
     if not ok:
-        raise DataError(f"tol must be a non-negative number of radii/s; got {tol!r}")
+        raise DataError(f"tol must be a non-negative number of radii/s; got {tol!r}", option="tol")
     c = _slip_codes(p0, pf, tol)
     return c if codes else np.asarray(SLIP_ROLL_CLASSES)[c]
 

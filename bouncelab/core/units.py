@@ -23,7 +23,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 
 __all__ = [
     "BALL_RADIUS_M",
@@ -152,7 +152,7 @@ def canonical_unit(unit: str, kind: str) -> str:
     table = SPEED_UNITS if kind == "velocity" else SPIN_UNITS
     if canon is None or canon not in table:
         known = ", ".join(table)
-        raise DataError(f"unknown {kind} unit {unit!r}; known {kind} units: {known}")
+        raise DataError(f"unknown {kind} unit {unit!r}; known {kind} units: {known}", option=kind)
     return canon
 
 
@@ -230,12 +230,13 @@ def landing_from_speed_angle_spin(
     array([1063. , -809.8,  219.3])
     """
     s = velocity_to_scaled(speed, speed_unit, radius_m=radius_m)
-    _require(np.isfinite(s) & (s > 0), speed, "landing speed must be positive and finite")
+    _require(np.isfinite(s) & (s > 0), speed, "landing speed must be positive and finite", column="speed")
     angle = _numeric(angle_deg, "angle of incidence")
     a = np.deg2rad(angle)
-    _require((a > 0) & (a <= np.pi / 2), angle, "angle of incidence must be in (0, 90] degrees for a landing")
+    _require((a > 0) & (a <= np.pi / 2), angle, "angle of incidence must be in (0, 90] degrees for a landing",
+             column="angle")
     w = spin_to_scaled(spin, spin_unit)
-    _require(np.isfinite(w), spin, "spin must be finite")
+    _require(np.isfinite(w), spin, "spin must be finite", column="spin")
     s, a, w = np.broadcast_arrays(s, a, w)
     return np.stack([s * np.cos(a), -s * np.sin(a), w], axis=-1)
 
@@ -259,7 +260,7 @@ def speed_angle_spin(
     :func:`polar_from_state` keeps the direction of travel too.
     """
     if kind not in ("landing", "liftoff"):
-        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}", option="kind")
     s = _state_array(state)
     speed = np.hypot(s[..., 0], s[..., 1])
     sign = -1.0 if kind == "landing" else 1.0
@@ -299,20 +300,20 @@ def state_from_polar(polar, *, kind: str = "landing", speed_unit: str = "m/s", s
     """
     s = _state_array(polar)
     if kind not in ("landing", "liftoff"):
-        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}", option="kind")
     speed = velocity_to_scaled(s[..., 0], speed_unit, radius_m=radius_m)
     angle = s[..., 1]
     _require(np.isfinite(speed) & (speed > 0 if kind == "landing" else speed >= 0), s[..., 0],
-             f"{kind} speed must be {'positive' if kind == 'landing' else 'non-negative'} and finite")
+             f"{kind} speed must be {'positive' if kind == 'landing' else 'non-negative'} and finite", column="speed")
     if kind == "landing":
         _require((angle > 0) & (angle < 180), angle,
                  "landing angle must be in (0, 180) degrees below the horizontal (positive downward; "
-                 "above 90 the ball moves in -x)")
+                 "above 90 the ball moves in -x)", column="angle")
     else:
         _require((angle > -180) & (angle <= 180), angle,
-                 "lift-off angle must be in (-180, 180] degrees above the horizontal (positive upward)")
+                 "lift-off angle must be in (-180, 180] degrees above the horizontal (positive upward)", column="angle")
     spin = spin_to_scaled(s[..., 2], spin_unit)
-    _require(np.isfinite(spin), s[..., 2], "spin must be finite")
+    _require(np.isfinite(spin), s[..., 2], "spin must be finite", column="spin")
     a = np.deg2rad(angle)
     sign = -1.0 if kind == "landing" else 1.0
     return np.stack([speed * np.cos(a), sign * speed * np.sin(a), spin], axis=-1)
@@ -326,7 +327,7 @@ def polar_from_state(state, *, kind: str = "liftoff", speed_unit: str = "m/s", s
     (-180, 180]); a landing angle positive below it (``atan2(-ydot0, xdot0)``).
     """
     if kind not in ("landing", "liftoff"):
-        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}")
+        raise DataError(f"kind must be 'landing' or 'liftoff'; got {kind!r}", option="kind")
     s = _state_array(state)
     y = -s[..., 1] if kind == "landing" else s[..., 1]
     return np.stack([
@@ -400,20 +401,23 @@ def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", s
     >>> polar_halfwidths_to_cartesian([25.0, 40.0, 3000], [0.5, 1.0, 100]).round(2)
     array([22.24, 21.72, 10.47])
     """
-    _refuse_bools(polar, "polar values [speed, angle, spin]")
-    _refuse_bools(halfwidths, "half-widths [speed, angle, spin]")
+    _refuse_bools(polar, "polar values [speed, angle, spin]", "polar")
+    _refuse_bools(halfwidths, "half-widths [speed, angle, spin]", "halfwidths")
     s = _state_array(polar)
-    h = _numeric(halfwidths, "half-widths [speed, angle, spin]")
+    h = _numeric(halfwidths, "half-widths [speed, angle, spin]", "halfwidths")
     if h.shape[-1:] != (3,):
-        raise DataError(f"half-widths need 3 components (speed, angle, spin) in their last axis; got shape {h.shape}")
+        raise DataError(f"half-widths need 3 components (speed, angle, spin) in their last axis; got shape {h.shape}",
+                        option="halfwidths")
     try:
         np.broadcast_shapes(s.shape, h.shape)
     except ValueError:
         raise DataError(f"the half-widths' shape {h.shape} does not broadcast against the polar values' shape "
-                        f"{s.shape}; give one row of half-widths per row of values, or one for all") from None
+                        f"{s.shape}; give one row of half-widths per row of values, or one for all",
+                        option="halfwidths") from None
     state_from_polar(s, kind=kind, speed_unit=speed_unit, spin_unit=spin_unit, radius_m=radius_m)  # validates
     # A negative half-width would be squared away below: refuse it (and NaN, inf) first.
-    _require(np.isfinite(h) & (h >= 0), h, "prediction-interval half-widths must be finite and >= 0")
+    _require(np.isfinite(h) & (h >= 0), h, "prediction-interval half-widths must be finite and >= 0",
+             option="halfwidths")
     v = velocity_to_scaled(s[..., 0], speed_unit, radius_m=radius_m)
     h_v = velocity_to_scaled(h[..., 0], speed_unit, radius_m=radius_m)
     a, h_a = np.deg2rad(s[..., 1]), np.deg2rad(h[..., 1])  # d(v cos a)/da needs radians
@@ -424,25 +428,31 @@ def polar_halfwidths_to_cartesian(polar, halfwidths, *, kind: str = "landing", s
                                            h_s), axis=-1)
     if not np.isfinite(out).all():
         first = tuple(int(i) for i in np.argwhere(~np.isfinite(out))[0])
-        raise DataError(f"the propagated half-width {('xdot', 'ydot', 'omega')[first[-1]]} overflows (element "
-                        f"{first}): the speeds or half-widths are too large to be measurements")
+        raise DataError(f"the propagated half-width {COMPONENTS[first[-1]]} overflows (element "
+                        f"{first}): the speeds or half-widths are too large to be measurements",
+                        column=COMPONENTS[first[-1]], row=first[0] + 1 if len(first) > 1 else None)
     return out
 
 
-def _refuse_bools(value, what: str) -> None:
-    """DataError if ``value`` holds booleans (True is not a speed of 1): numpy would read them as 0 and 1."""
+def _refuse_bools(value, what: str, option: str) -> None:
+    """DataError if ``value`` (the argument ``option``) holds booleans (True is not a speed of 1): numpy would
+    read them as 0 and 1."""
     if isinstance(value, bool | np.bool_):
-        raise DataError(f"{what} must be numeric: real numbers; got a boolean")
+        raise DataError(f"{what} must be numeric: real numbers; got a boolean", option=option)
     if isinstance(value, list | tuple):
         for v in value:
-            _refuse_bools(v, what)
+            _refuse_bools(v, what, option)
         return
     try:
         kind = np.asarray(value).dtype.kind
     except Exception:
         return
     if kind == "b" or (kind == "O" and any(isinstance(v, bool | np.bool_) for v in np.asarray(value).flat)):
-        raise DataError(f"{what} must be numeric: real numbers; got boolean values")
+        raise DataError(f"{what} must be numeric: real numbers; got boolean values", option=option)
+
+
+#: The example of a ``units=`` argument that errors about it give.
+_UNITS_EXAMPLE = Hint("units", {"velocity": "m/s", "spin": "rpm"})
 
 
 def _unit_pair(units) -> tuple[str, str] | None:
@@ -450,13 +460,13 @@ def _unit_pair(units) -> tuple[str, str] | None:
     if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
         return None
     if not isinstance(units, Mapping):
-        raise DataError(f"units must be None (scaled), 'scaled' or a mapping such as {{'velocity': 'm/s', "
-                        f"'spin': 'rpm'}}; got {units!r}")
+        raise DataError(f"units must be None (scaled), 'scaled' or a mapping of a 'velocity' and a 'spin' unit; "
+                        f"got {units!r}", option="units", hints=[_UNITS_EXAMPLE])
     unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
     missing = [k for k in ("velocity", "spin") if k not in units]
     if unknown or missing:
-        raise DataError(f"units needs exactly the keys 'velocity' and 'spin' (e.g. {{'velocity': 'm/s', 'spin': "
-                        f"'rpm'}}); missing {missing}, unknown {unknown}")
+        raise DataError(f"units needs exactly the keys 'velocity' and 'spin'; missing {missing}, unknown {unknown}",
+                        option="units", hints=[_UNITS_EXAMPLE])
     return canonical_unit(units["velocity"], "velocity"), canonical_unit(units["spin"], "spin")
 
 
@@ -464,7 +474,7 @@ def _form_pair(form) -> tuple[str, str]:
     pair = (form, form) if isinstance(form, str) else tuple(form) if isinstance(form, tuple | list) else ()
     if len(pair) != 2 or any(f not in FORMS for f in pair):
         raise DataError(f"form must be 'cartesian', 'polar' or a pair (landing form, lift-off form) of them; "
-                        f"got {form!r}")
+                        f"got {form!r}", option="form")
     return pair
 
 
@@ -482,7 +492,7 @@ def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str
     if form == "polar":
         return state_from_polar(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
     if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}")
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
     return to_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
 
 
@@ -495,7 +505,7 @@ def scaled_to_physical(states, *, units=None, form: str = "cartesian", kind: str
     if form == "polar":
         return polar_from_state(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
     if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}")
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
     return from_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
 
 
@@ -522,36 +532,39 @@ def ball_radius(value: object, *, file: str | None = None) -> float:
         except (TypeError, ValueError):
             pass
     if not (math.isfinite(radius) and radius > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {value!r}", file=file)
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {value!r}", file=file,
+                        option="ball_radius_m")
     low, high = BALL_RADIUS_RANGE_M
     if not low <= radius <= high:
         raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "
                         f"accepted: {low:g} to {high:g} m); give the radius in metres, e.g. {radius:g} mm is "
-                        f"{radius / 1000:g}", file=file)
+                        f"{radius / 1000:g}", file=file, option="ball_radius_m")
     return radius
 
 
 def _check_radius(radius_m: float) -> None:
     if not (np.isfinite(radius_m) and radius_m > 0):
-        raise DataError(f"ball radius must be a positive length in metres; got {radius_m!r}")
+        raise DataError(f"ball radius must be a positive length in metres; got {radius_m!r}", option="radius_m")
 
 
-def _require(ok: np.ndarray, value, message: str) -> None:
-    """Raise DataError naming the first value where ``ok`` is false (NaN compares false, so fails)."""
+def _require(ok: np.ndarray, value, message: str, *, column: str | None = None, option: str | None = None) -> None:
+    """Raise DataError naming the first value where ``ok`` is false (NaN compares false, so fails), and the
+    quantity (``column``: ``"speed"``, ``"angle"``, ``"spin"``) or argument (``option``) it belongs to."""
     ok = np.asarray(ok)
     if not ok.all():
         vals = np.broadcast_to(np.asarray(value, dtype=float), ok.shape)
         first = np.argwhere(~ok)[0] if ok.ndim else ()
         where = f" (element {tuple(int(i) for i in first)})" if ok.ndim else ""
-        raise DataError(f"{message}; got {float(vals[tuple(first)])!r}{where}")
+        raise DataError(f"{message}; got {float(vals[tuple(first)])!r}{where}", column=column, option=option)
 
 
-def _numeric(value, what: str) -> np.ndarray:
-    """``value`` as a new float array (never the caller's own array), or DataError."""
+def _numeric(value, what: str, option: str | None = None) -> np.ndarray:
+    """``value`` as a new float array (never the caller's own array), or DataError (naming the argument
+    ``option`` when it is one)."""
     try:
         return np.array(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{what} must be numeric; {exc}") from None
+        raise DataError(f"{what} must be numeric; {exc}", option=option) from None
 
 
 def _state_array(state) -> np.ndarray:

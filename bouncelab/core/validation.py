@@ -86,19 +86,20 @@ def as_states(
     try:
         raw = np.asarray(states)
     except (TypeError, ValueError, OverflowError, RecursionError) as exc:
-        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file) from None
+        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file, option=name) from None
     if raw.dtype.kind in "cbUSVMm":
         what = {"c": "complex", "b": "boolean", "U": "text", "S": "bytes", "V": "structured", "M": "dates",
                 "m": "time spans"}[raw.dtype.kind]
-        raise DataError(f"{name} must be numeric: real numbers (xdot, ydot, omega); got {what} values", file=file)
+        raise DataError(f"{name} must be numeric: real numbers (xdot, ydot, omega); got {what} values", file=file,
+                        option=name)
     try:
         arr = raw.astype(np.float64) if raw.dtype != np.float64 else raw
     except (TypeError, ValueError, OverflowError) as exc:
-        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file) from None
+        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file, option=name) from None
     if arr.ndim == 0 or arr.shape[-1] != 3:
         raise DataError(
             f"{name} must have shape (n, 3) with columns [xdot, ydot, omega]; got shape {arr.shape}",
-            file=file,
+            file=file, option=name,
         )
     lead = arr.shape[:-1]
     flat = np.ascontiguousarray(arr.reshape(-1, 3))
@@ -141,7 +142,7 @@ def _from_labelled(states: Any, name: str, file: str | None) -> Any:
         order = _component_order(labels)
         if order is None:
             raise DataError(f"{name} DataFrame columns must be named {list(COMPONENTS)} (any order; a suffix 0 or "
-                            f"F is allowed); got {labels}", file=file)
+                            f"F is allowed); got {labels}", file=file, option=name)
         return states.iloc[:, order].to_numpy()
     if isinstance(states, pd.Series):
         labels = [str(c) for c in states.index]
@@ -149,7 +150,7 @@ def _from_labelled(states: Any, name: str, file: str | None) -> Any:
             return states.to_numpy()
         order = _component_order(labels)
         if order is None:
-            raise DataError(f"{name} Series index must be {list(COMPONENTS)}; got {labels}", file=file)
+            raise DataError(f"{name} Series index must be {list(COMPONENTS)}; got {labels}", file=file, option=name)
         return states.iloc[order].to_numpy()
     return states
 
@@ -167,7 +168,8 @@ def _in_pandas_terms(exc: DataError, frame: Any, name: str) -> DataError:
         component = column[len(name) + 1:]
         if order is not None and component in COMPONENTS:
             column = f"{name}.{labels[order[COMPONENTS.index(component)]]}"
-    return DataError(exc.message, file=exc.file, column=column, row=exc.row, row_label=frame.index[exc.row - 1])
+    return DataError(exc.message, file=exc.file, column=column, row=exc.row, row_label=frame.index[exc.row - 1],
+                     option=exc.option, hints=exc.hints)
 
 
 def _component_order(labels: list[str]) -> list[int] | None:
@@ -189,17 +191,18 @@ def _from_dataarray(da: xr.DataArray, name: str, *, landing: bool, file: str | N
         raise DataError(
             f"{name} DataArray needs a 'component' dimension (xdot, ydot, omega); "
             f"its dimensions are {da.dims}",
-            file=file,
+            file=file, option=name,
         )
     if da.sizes["component"] != 3:
-        raise DataError(f"{name} needs 3 components; 'component' has size {da.sizes['component']}", file=file)
+        raise DataError(f"{name} needs 3 components; 'component' has size {da.sizes['component']}", file=file,
+                        option=name)
     values = da.values
     axis = da.dims.index("component")
     if "component" in da.coords:
         labels = [str(v) for v in da["component"].values]
         if sorted(labels) != sorted(COMPONENTS):
             raise DataError(
-                f"{name} component labels must be {list(COMPONENTS)}; got {labels}", file=file
+                f"{name} component labels must be {list(COMPONENTS)}; got {labels}", file=file, option=name
             )
         if labels != list(COMPONENTS):  # reorder with numpy: xarray's .sel costs milliseconds
             values = np.take(values, [labels.index(c) for c in COMPONENTS], axis=axis)
@@ -235,7 +238,7 @@ def check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None 
 
 def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None) -> None:
     if arr.shape[0] == 0:
-        raise DataError(f"{name} holds no bounces", file=file)
+        raise DataError(f"{name} holds no bounces", file=file, option=name)
     if arr.shape[0] >= FAST_CHECK_MIN:
         from bouncelab.core._fast_checks import all_valid
         from bouncelab.core._parallel import run_chunked
@@ -296,7 +299,9 @@ def inverse_norms(p0: np.ndarray, name: str = "landing", file: str | None = None
     return 1.0 / norm
 
 
-def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -> None:
-    """Raise DataError unless two (n, 3) arrays describe the same bounces."""
+def check_same_length(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str, *, option: str | None = None) -> None:
+    """Raise DataError unless two (n, 3) arrays describe the same bounces (``option``: the argument it names,
+    default ``name_b``)."""
     if a.shape != b.shape:
-        raise DataError(f"{name_a} has shape {a.shape} but {name_b} has shape {b.shape}; one row per bounce in each")
+        raise DataError(f"{name_a} has shape {a.shape} but {name_b} has shape {b.shape}; one row per bounce in each",
+                        option=option or name_b)

@@ -114,7 +114,7 @@ def make_campaign(
     p0, pf = p0.copy(), pf.copy()
     data_kind = (attrs or {}).get("data_kind", data_kind)
     if data_kind not in DATA_KINDS:
-        raise DataError(f"data_kind must be one of {DATA_KINDS}; got {data_kind!r}")
+        raise DataError(f"data_kind must be one of {DATA_KINDS}; got {data_kind!r}", option="data_kind")
     n = p0.shape[0]
     dims = ("bounce", "component")
     data_vars: dict[str, Any] = {
@@ -204,17 +204,19 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
         Missing ``landing``/``liftoff`` variables or dimensions, bad values.
     """
     if not isinstance(ds, xr.Dataset):
-        raise DataError(f"a campaign must be an xarray.Dataset; got {type(ds).__name__}", file=file)
+        raise DataError(f"a campaign must be an xarray.Dataset; got {type(ds).__name__}", file=file, option="ds")
     for var in ("landing", "liftoff"):
         if var not in ds.data_vars:
             raise DataError(
-                f"campaign has no {var!r} variable; it has {sorted(map(str, ds.data_vars))}", file=file
+                f"campaign has no {var!r} variable; it has {sorted(map(str, ds.data_vars))}", file=file, column=var
             )
         if set(ds[var].dims) != {"bounce", "component"}:
-            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file)
+            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file,
+                            column=var)
     for var in ("landing_pi", "liftoff_pi"):
         if var in ds.data_vars and set(ds[var].dims) != {"bounce", "component"}:
-            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file)
+            raise DataError(f"{var!r} must have dimensions (bounce, component); got {ds[var].dims}", file=file,
+                            column=var)
     _check_unit_coord(ds, file)
     setting = ds["setting"].values if "setting" in ds.coords else None
     pis = {k: ds[k] for k in ("landing_pi", "liftoff_pi") if k in ds.data_vars}

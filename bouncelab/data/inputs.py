@@ -29,7 +29,8 @@ def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray
     if isinstance(data, xr.Dataset):
         for var in ("landing", "liftoff"):
             if var not in data.data_vars:
-                raise DataError(f"{name} has no {var!r} variable; it has {sorted(map(str, data.data_vars))}")
+                raise DataError(f"{name} has no {var!r} variable; it has {sorted(map(str, data.data_vars))}",
+                                column=var, option=name)
         p0, _ = as_states(data["landing"], "landing", landing=True)
         pf, _ = as_states(data["liftoff"], "liftoff")
         check_same_length(p0, pf, "landing", "liftoff")
@@ -45,7 +46,7 @@ def campaign_arrays(data, *, name: str = "data") -> tuple[np.ndarray, np.ndarray
         return campaign_arrays(load_campaign(data), name=name)
     raise DataError(
         f"{name} must be a campaign Dataset or a (landing, liftoff) pair of (n, 3) arrays; "
-        f"got {type(data).__name__}"
+        f"got {type(data).__name__}", option=name
     )
 
 

@@ -44,9 +44,11 @@ def infer_settings(data: Any, *, n_settings: int | None = None, threshold: float
 
     p0, _, _ = campaign_arrays(data)
     if n_settings is not None and not 1 <= int(n_settings) <= len(p0):
-        raise DataError(f"n_settings must be between 1 and the number of bounces ({len(p0)}); got {n_settings}")
+        raise DataError(f"n_settings must be between 1 and the number of bounces ({len(p0)}); got {n_settings}",
+                        option="n_settings")
     if n_settings is None and not (np.isfinite(threshold) and threshold > 0):
-        raise DataError(f"threshold must be a positive number of standard deviations; got {threshold!r}")
+        raise DataError(f"threshold must be a positive number of standard deviations; got {threshold!r}",
+                        option="threshold")
     if len(p0) < 2:
         return np.ones(len(p0), dtype=np.int64)
     z = StandardScaler().fit_transform(p0)

@@ -354,7 +354,7 @@ def assess(
     k = _count(k, "k", minimum=2)
     n_bootstrap = _count(n_bootstrap, "n_bootstrap", minimum=0)
     if n_bootstrap == 1:
-        raise FitError("n_bootstrap must be 0 (no bootstrap) or at least 2 resamples; got 1")
+        raise FitError("n_bootstrap must be 0 (no bootstrap) or at least 2 resamples; got 1", option="n_bootstrap")
     starts = _count(starts, "starts", minimum=0)
     profile_points = _count(profile_points, "profile_points", minimum=3)
     local_points = _count(local_points, "local_points", minimum=0)
@@ -363,7 +363,7 @@ def assess(
     null_tol = _positive(null_tol, "null_tol")
     tol = _positive(tol, "tol", zero=True)
     if not law.parameter_specs:
-        raise FitError(f"assess needs a law with parameters; {law_name(law)} has none")
+        raise FitError(f"assess needs a law with parameters; {law_name(law)} has none", law=law_name(law))
 
     p0, pf, setting = campaign_arrays(data)
     n = len(p0)
@@ -371,7 +371,8 @@ def assess(
     groups = np.asarray(setting) if setting is not None else np.arange(n)
     n_groups = len(pd.unique(groups))
     if k > n_groups:
-        raise FitError(f"k = {k} folds need at least {k} launcher settings (or bounces); the data have {n_groups}")
+        raise FitError(f"k = {k} folds need at least {k} launcher settings (or bounces); the data have {n_groups}",
+                       option="k")
 
     fit_level = {key: fit_kwargs[key] for key in _FIT_KEYS if key in fit_kwargs}
     method_options = {key: v for key, v in fit_kwargs.items() if key not in _FIT_KEYS}
@@ -742,7 +743,7 @@ def _judge(e: _Element, prof: pd.DataFrame, in_null: Mapping[str, set[str]],
 
 def _count(value: Any, name: str, *, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}")
+        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
     return int(value)
 
 
@@ -752,7 +753,7 @@ def _fraction(value: Any, name: str) -> float:
     except (TypeError, ValueError):
         ok = False
     if not ok or isinstance(value, bool):
-        raise FitError(f"{name} must be a number in (0, 1); got {value!r}")
+        raise FitError(f"{name} must be a number in (0, 1); got {value!r}", option=name)
     return float(value)
 
 
@@ -763,7 +764,8 @@ def _positive(value: Any, name: str, *, zero: bool = False) -> float:
     except (TypeError, ValueError):
         ok = False
     if not ok or isinstance(value, bool):
-        raise FitError(f"{name} must be a {'non-negative' if zero else 'positive'} number; got {value!r}")
+        raise FitError(f"{name} must be a {'non-negative' if zero else 'positive'} number; got {value!r}",
+                       option=name)
     return v
 
 

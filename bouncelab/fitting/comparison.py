@@ -161,7 +161,7 @@ class Comparison:
         On the held-out bounces with a split, else on the fitted ones.
         """
         if law not in self.results:
-            raise FitError(f"no law {law!r} in this comparison; it has {list(self.results)}")
+            raise FitError(f"no law {law!r} in this comparison; it has {list(self.results)}", law=law)
         res = self.results[law]
         which = self._which()
         t = res.errors.loc[which].loc[:, ["n", *ERROR_COLUMNS]].rename(index={"all": "overall"})
@@ -356,18 +356,18 @@ def compare(
     >>> print(cmp.to_markdown())  # doctest: +SKIP
     """
     if split not in (None, "setting"):
-        raise FitError(f"split must be None or 'setting'; got {split!r}")
+        raise FitError(f"split must be None or 'setting'; got {split!r}", option="split")
     if errors not in ("raise", "skip"):
-        raise FitError(f"errors must be 'raise' or 'skip'; got {errors!r}")
+        raise FitError(f"errors must be 'raise' or 'skip'; got {errors!r}", option="errors")
     seed = check_seed(seed)
     if isinstance(laws, str | BounceModel) or isinstance(laws, type):
         laws = [laws]
     models = [law_instance(law) for law in laws]
     if not models:
-        raise FitError("give at least one law to compare")
+        raise FitError("give at least one law to compare", option="laws")
     names = [law_name(m) for m in models]
     if len(set(names)) != len(names):
-        raise FitError(f"each law may appear once; got {names}")
+        raise FitError(f"each law may appear once; got {names}", option="laws")
     if split is not None:
         refuse_sample_weight(fit_kwargs, "compare(split='setting')")
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))

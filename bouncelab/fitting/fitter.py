@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.errors import Code, FitError, Hint, ParameterError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.data.campaign import synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
@@ -143,7 +143,7 @@ def fit(
     tst = None if test is None else campaign_arrays(test, name="test")[:2]
     for given, states in ((data, (p0, pf)), (test, tst)):
         if given is not None and not isinstance(given, xr.Dataset):
-            check_scaled(*states, ranges=plausible, accept=_ACCEPT_BARE)
+            check_scaled(*states, ranges=plausible)
     if tst is not None:
         _check_held_out(p0, pf, *tst)
     weights = objective_weights(objective)
@@ -162,7 +162,7 @@ def fit(
     name, func = _method(law, method)
     _check_options(law, name, func, method_options)
     if not law.parameter_specs:
-        raise FitError(f"{law_name(law)} declares no parameter_specs, so there is nothing to fit")
+        raise FitError(f"{law_name(law)} declares no parameter_specs, so there is nothing to fit", law=law_name(law))
     box = resolve_bounds(type(law), bounds)
     held = resolve_fixed(law, fixed, free)
     problem = Problem(law, p0, pf, setting=setting, weights=weights, seed=seed, box=box, fixed=held, test=tst,
@@ -170,7 +170,7 @@ def fit(
     outcome = func(law, problem, **method_options)
     if not isinstance(outcome, FitOutcome) or type(outcome.model) is not type(law):
         raise FitError(f"fitting method {name!r} of {law_name(law)} returned {type(outcome).__name__}, "
-                       f"not a FitOutcome holding a {type(law).__name__}")
+                       f"not a FitOutcome holding a {type(law).__name__}", law=law_name(law), option="method")
     _check_contract(outcome.model, name, box, held, explicit_bounds=set(bounds or {}))
     label = objective_label(weights, weighting) + ("" if user_weights is None else ", sample-weighted")
     # what the law was fitted to travels with it (law.provenance, law files), beside its value
@@ -185,14 +185,10 @@ def fit(
     return result
 
 
-_ACCEPT_BARE = ("build a campaign that accepts them, bouncelab.make_campaign(landing, liftoff, "
-                "plausible=PLAUSIBLE_RANGES.widened({limit}=...)), and fit that, or pass plausible=None to fit")
-
-
 def check_seed(seed: Any) -> int:
     """``seed`` as an int in [0, 2**63), or FitError."""
     if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= int(seed) <= SEED_MAX:
-        raise FitError(f"seed must be an integer in [0, 2**63); got {seed!r}")
+        raise FitError(f"seed must be an integer in [0, 2**63); got {seed!r}", option="seed")
     return int(seed)
 
 
@@ -202,7 +198,7 @@ def refuse_sample_weight(fit_kwargs: Mapping[str, Any], where: str,
     if "sample_weight" in fit_kwargs:
         raise FitError(f"{where} takes no sample_weight: {why}; fit with bouncelab.fit(..., sample_weight=...), "
                        "or use bouncelab.BounceRegressor with scikit-learn's cross-validation, which splits the "
-                       "weights with the bounces")
+                       "weights with the bounces", option="sample_weight")
 
 
 def law_instance(law: Any) -> BounceModel:
@@ -219,12 +215,12 @@ def law_instance(law: Any) -> BounceModel:
         try:
             return law_class(law, case_sensitive=False)()
         except ParameterError as exc:
-            raise FitError(str(exc)) from None
+            raise FitError(exc.message, law=law, option="model", hints=exc.hints) from None
     if isinstance(law, type) and issubclass(law, BounceModel):
         return law()
     if isinstance(law, BounceModel):
         return law
-    raise FitError(f"a law must be a law name, a BounceModel class or instance; got {law!r}")
+    raise FitError(f"a law must be a law name, a BounceModel class or instance; got {law!r}", option="model")
 
 
 def _method(law: BounceModel, method: str | None):
@@ -234,7 +230,8 @@ def _method(law: BounceModel, method: str | None):
         others = sorted({law_name(c) for c in registered_laws().values() if isinstance(name, str)
                          and name in c.fit_methods()})
         hint = f"; {name!r} is a method of {', '.join(others)}" if others else ""
-        raise FitError(f"unknown method {name!r} for {law_name(law)}: its methods are {list(methods)}{hint}")
+        raise FitError(f"unknown method {name!r} for {law_name(law)}: its methods are {list(methods)}{hint}",
+                       law=law_name(law), option="method")
     return name, methods[name]
 
 
@@ -243,7 +240,8 @@ def _check_options(law: BounceModel, name: str, func: Any, options: dict[str, An
     allowed = [p for p, v in params.items() if v.kind is inspect.Parameter.KEYWORD_ONLY]
     unknown = sorted(set(options) - set(allowed))
     if unknown:
-        raise FitError(f"method {name!r} of {law_name(law)} has no option(s) {unknown}; its options are {allowed}")
+        raise FitError(f"method {name!r} of {law_name(law)} has no option(s) {unknown}; its options are {allowed}",
+                       law=law_name(law), option=unknown[0])
 
 
 def _check_contract(fitted: BounceModel, method: str, box: dict, held: dict, *, explicit_bounds: set[str]) -> None:
@@ -252,17 +250,19 @@ def _check_contract(fitted: BounceModel, method: str, box: dict, held: dict, *, 
     that cannot honour them (a closed form, least squares, a plane search whose result has no bounds of
     its own) fails here, naming the parameter, instead of returning a law outside its own bounds."""
     who = f"fitting method {method!r} of {law_name(fitted)}"
+    law = law_name(fitted)
+    use_global = Hint("method", "global", "which searches within the bounds")
     for name, value in held.items():
         got = getattr(fitted, name)
         if got is None or not np.array_equal(np.asarray(got, dtype=float), np.asarray(value, dtype=float)):
             raise FitError(f"{who} does not hold parameter {name!r}: it was fixed at {value!r} but the method "
-                           f"returned {got!r}; this method cannot hold it (use method='global')")
+                           f"returned {got!r}; this method cannot hold it", law=law, option="fixed", hints=[use_global])
     specs = {p.name: p for p in fitted.parameter_specs}
     for name in [n for n in box if n not in held]:
         lo, hi = box[name]
         value = getattr(fitted, name)
         if value is None:
-            raise FitError(f"{who} returned no value for parameter {name!r}")
+            raise FitError(f"{who} returned no value for parameter {name!r}", law=law, option="method")
         got = np.ravel(np.asarray(value, dtype=float))
         lo_a, hi_a = np.broadcast_to(lo, got.shape), np.broadcast_to(hi, got.shape)
         tol = 1e-9 * np.maximum(1.0, np.abs(got))
@@ -274,11 +274,13 @@ def _check_contract(fitted: BounceModel, method: str, box: dict, held: dict, *, 
         where = "" if element == name else f" ({element} = {got[i]:.6g}, outside {lo_a[i]:g}..{hi_a[i]:g})"
         if name in explicit_bounds:
             raise FitError(f"{who} returned {name} = {value!r}{where}, outside the bounds {_bound_text(lo)}.."
-                           f"{_bound_text(hi)} given; this method does not search within bounds (use method='global')")
+                           f"{_bound_text(hi)} given; this method does not search within bounds", law=law,
+                           option="bounds", hints=[use_global])
         raise FitError(f"{who} returned {name} = {_value_text(value)}{where}, outside the law's search box "
                        f"{_bound_text(lo)}..{_bound_text(hi)}; the data do not determine {name} within it by this "
-                       f"method. If such values are plausible, widen the box (bounds={{{name!r}: (low, high)}}, "
-                       "within the physical range), or fit with method='global', which searches inside it")
+                       "method", law=law, option="bounds",
+                       hints=[Hint("bounds", {name: Code("(low, high)")}, "a wider box, within the physical range"),
+                              use_global])
 
 
 def _bound_text(bound: Any) -> str:
@@ -300,7 +302,8 @@ def _check_held_out(p0: np.ndarray, pf: np.ndarray, t0: np.ndarray, tf: np.ndarr
     both = np.isin(tested, fitted)
     if both.any():
         raise FitError(f"{int(both.sum())} of the {len(t0)} held-out bounces are also among the fitted bounces "
-                       f"(first: test row {int(np.argmax(both)) + 1}); held-out bounces must not be fitted")
+                       f"(first: test row {int(np.argmax(both)) + 1}); held-out bounces must not be fitted",
+                       option="test")
 
 
 def _result(outcome: FitOutcome, method: str, label: str, problem: Problem, box: dict, held: dict,

@@ -97,7 +97,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.core.errors import BouncelabWarning, DataError, FitError, ParameterError
+from bouncelab.core.errors import BouncelabWarning, DataError, FitError, Hint, ParameterError
 from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
 from bouncelab.core.units import COMPONENTS
 from bouncelab.core.validation import as_states
@@ -223,7 +223,8 @@ class _LogPosterior:
         self.jitter = 1e-10 * (1.0 + np.mean(self.y ** 2, axis=0))
         self.n = n
         if approximation not in APPROXIMATIONS:
-            raise FitError(f"approximation must be one of {APPROXIMATIONS}; got {approximation!r}")
+            raise FitError(f"approximation must be one of {APPROXIMATIONS}; got {approximation!r}",
+                           option="approximation")
         self.approximation = approximation
         if self.landing_sd is not None:
             moved = [self.p0.copy() for _ in range(3)]
@@ -455,7 +456,7 @@ def calibrate(
     if steps is not None:
         steps = _count(steps, "steps", 10)
     if not (isinstance(tau_multiple, int | float) and not isinstance(tau_multiple, bool) and tau_multiple > 0):
-        raise FitError(f"tau_multiple must be a positive number; got {tau_multiple!r}")
+        raise FitError(f"tau_multiple must be a positive number; got {tau_multiple!r}", option="tau_multiple")
     p0, pf, _ = campaign_arrays(data)
     point = fit(law, data, method=method, seed=seed, **fit_kwargs)
     fitted = point.model
@@ -465,17 +466,19 @@ def calibrate(
     for name in vary:
         if name not in specs:
             raise FitError(f"vary names {name!r}, which is not a parameter of {law_name(fitted)}; its parameters "
-                           f"are {list(specs)}")
+                           f"are {list(specs)}", law=law_name(fitted), option="vary")
         if not specs[name].is_scalar:
-            raise FitError(f"vary names {name!r}, an array parameter; only scalar parameters can vary per bounce")
+            raise FitError(f"vary names {name!r}, an array parameter; only scalar parameters can vary per bounce",
+                           law=law_name(fitted), option="vary")
         if name not in free:
-            raise FitError(f"vary names {name!r}, which is held in the fit; a varying parameter must be free")
+            raise FitError(f"vary names {name!r}, which is held in the fit; a varying parameter must be free",
+                           law=law_name(fitted), option="vary")
     if len(set(vary)) != len(vary):
-        raise FitError(f"vary names a parameter twice: {vary}")
+        raise FitError(f"vary names a parameter twice: {vary}", law=law_name(fitted), option="vary")
     if any(not s.is_scalar and s.name not in point.fixed for s in specs.values()):
         arrays = [s.name for s in specs.values() if not s.is_scalar]
-        raise FitError(f"calibrate samples scalar parameters only; hold the array parameter(s) {arrays} with "
-                       "fixed=[...]")
+        raise FitError(f"calibrate samples scalar parameters only; the array parameter(s) {arrays} must be held",
+                       law=law_name(fitted), option="fixed", hints=[Hint("fixed", arrays)])
     landing_sd, liftoff_sd = interval_sds(data, len(p0))
     with_tau = discrepancy or liftoff_sd is None
     tau_prior = np.maximum(pf.std(axis=0), 1e-6)
@@ -541,7 +544,7 @@ def _data_kind(data: Any) -> str:
 
 def _count(value: Any, name: str, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}")
+        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
     return int(value)
 
 
@@ -556,7 +559,8 @@ def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
     x = np.asarray(x0, dtype=float)
     if not math.isfinite(post(x)):
         raise FitError("the calibration cannot start: the point fit has zero posterior density (a parameter on "
-                       "the edge of its physical range, or a degenerate covariance); widen or move the bounds")
+                       "the edge of its physical range, or a degenerate covariance)", option="bounds",
+                       hints=[Hint("bounds", None, "wider, or away from the edge of the physical range")])
     for _ in range(2):
         res = minimize(neg, x, method="Nelder-Mead",
                        options={"maxiter": 400 * len(x), "maxfev": 600 * len(x), "xatol": 1e-7, "fatol": 1e-7,
@@ -825,7 +829,7 @@ class Posterior:
                 land, lift = measurement_sd
             except (TypeError, ValueError):
                 raise DataError("measurement_sd must be a pair (landing_sd, liftoff_sd) of arrays broadcastable to "
-                                f"({m}, 3)") from None
+                                f"({m}, 3)", option="measurement_sd") from None
         out = []
         for name, v in (("landing_sd", land), ("liftoff_sd", lift)):
             if v is None:
@@ -834,9 +838,10 @@ class Posterior:
             try:
                 arr = np.broadcast_to(np.asarray(v, dtype=float), (m, 3))
             except ValueError:
-                raise DataError(f"{name} must be broadcastable to ({m}, 3); got shape {np.shape(v)}") from None
+                raise DataError(f"{name} must be broadcastable to ({m}, 3); got shape {np.shape(v)}",
+                                option="measurement_sd") from None
             if not np.isfinite(arr).all() or (arr < 0).any():
-                raise DataError(f"{name} must hold finite standard deviations >= 0")
+                raise DataError(f"{name} must hold finite standard deviations >= 0", option="measurement_sd")
             out.append(arr)
         return out[0], out[1]
 
@@ -850,7 +855,7 @@ class Posterior:
             Each of shape (m, 3).
         """
         if not (isinstance(level, float | int) and 0 < level < 1):
-            raise FitError(f"level must be a number in (0, 1); got {level!r}")
+            raise FitError(f"level must be a number in (0, 1); got {level!r}", option="level")
         draws = self.predict(landing, n, measurement_error=measurement_error, measurement_sd=measurement_sd,
                              seed=seed)
         lo, hi = np.quantile(draws, [(1 - level) / 2, (1 + level) / 2], axis=0)
@@ -922,10 +927,11 @@ class Posterior:
             Not a saved posterior, or one whose parts do not fit together (naming the part).
         """
         if not isinstance(d, Mapping) or d.get("format") != FORMAT:
-            raise ParameterError(f"not a saved bouncelab posterior (no 'format': {FORMAT!r})")
+            raise ParameterError(f"not a saved bouncelab posterior (no 'format': {FORMAT!r})", parameter="format",
+                                 value=d.get("format") if isinstance(d, Mapping) else None)
         if d.get("format_version") != FORMAT_VERSION:
             raise ParameterError(f"saved posterior has format_version {d.get('format_version')!r}; this bouncelab "
-                                 f"reads {FORMAT_VERSION}")
+                                 f"reads {FORMAT_VERSION}", parameter="format_version", value=d.get("format_version"))
         try:
             law = law_from_dict(d["law"])
             free, vary = [str(x) for x in d["free"]], [str(x) for x in d["vary"]]
@@ -939,14 +945,15 @@ class Posterior:
         except ParameterError:
             raise
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
-            raise ParameterError(f"saved posterior is incomplete or malformed ({type(exc).__name__}: {exc})") from None
+            raise ParameterError(f"saved posterior is incomplete or malformed ({type(exc).__name__}: {exc})",
+                                 parameter=str(exc.args[0]) if isinstance(exc, KeyError) else None) from None
         names = [s.name for s in law.parameter_specs]
         missing = [c for c in [*free, *(f"scale_{v}" for v in vary)] if c not in samples.columns]
         if missing or any(f not in names for f in free) or any(v not in free or v not in transforms for v in vary):
             raise ParameterError(f"saved posterior's samples, parameters and transforms do not fit together "
-                                 f"(missing columns {missing})")
+                                 f"(missing columns {missing})", law=law_name(law), parameter="samples")
         if len(samples) == 0 or not np.isfinite(samples.to_numpy()).all():
-            raise ParameterError("saved posterior has no samples, or non-finite ones")
+            raise ParameterError("saved posterior has no samples, or non-finite ones", parameter="samples")
         return out
 
 

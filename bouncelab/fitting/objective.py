@@ -63,7 +63,7 @@ def objective_weights(objective: str | Mapping[str, float]) -> np.ndarray:
         name = objective[:-3] if objective.endswith("_pi") else objective
         if name not in _NAMES:
             raise FitError(f"unknown objective {objective!r}; use 'delta', 'xdot', 'ydot', 'omega' (with '_pi' to "
-                           "weight by prediction intervals) or a mapping")
+                           "weight by prediction intervals) or a mapping", option="objective")
         w[_NAMES[name]] = 1.0
         return w
     if isinstance(objective, Mapping) and objective:
@@ -71,15 +71,17 @@ def objective_weights(objective: str | Mapping[str, float]) -> np.ndarray:
             if key == "weighting":
                 continue
             if key not in _NAMES:
-                raise FitError(f"unknown objective term {key!r}; terms are 'delta', 'xdot', 'ydot', 'omega'")
+                raise FitError(f"unknown objective term {key!r}; terms are 'delta', 'xdot', 'ydot', 'omega'",
+                               option="objective")
             v = float(value)
             if not np.isfinite(v) or v < 0:
-                raise FitError(f"objective weight of {key!r} must be a non-negative number; got {value!r}")
+                raise FitError(f"objective weight of {key!r} must be a non-negative number; got {value!r}",
+                               option="objective")
             w[_NAMES[key]] += v
         if not w.any():
-            raise FitError("objective weights are all zero")
+            raise FitError("objective weights are all zero", option="objective")
         return w
-    raise FitError(f"objective must be a name or a non-empty mapping of weights; got {objective!r}")
+    raise FitError(f"objective must be a name or a non-empty mapping of weights; got {objective!r}", option="objective")
 
 
 def objective_weighting(objective: str | Mapping[str, Any]) -> str:
@@ -89,7 +91,7 @@ def objective_weighting(objective: str | Mapping[str, Any]) -> str:
     if isinstance(objective, Mapping):
         weighting = objective.get("weighting", "landing")
         if weighting not in WEIGHTINGS:
-            raise FitError(f"objective 'weighting' must be one of {WEIGHTINGS}; got {weighting!r}")
+            raise FitError(f"objective 'weighting' must be one of {WEIGHTINGS}; got {weighting!r}", option="objective")
         return weighting
     return "landing"
 
@@ -108,7 +110,7 @@ def bounce_weights(data: Any, landing: np.ndarray) -> np.ndarray:
     if not isinstance(data, xr.Dataset) or "liftoff_pi" not in data.data_vars:
         raise FitError("a prediction-interval weighted objective needs data that carry them: a campaign Dataset with "
                        "'liftoff_pi' (and optionally 'landing_pi'), e.g. make_campaign(..., liftoff_pi=..., "
-                       "landing_pi=...); these data have none")
+                       "landing_pi=...); these data have none", option="objective")
     h2 = np.zeros(len(landing))
     for var in ("liftoff_pi", "landing_pi"):
         if var in data.data_vars:
@@ -118,7 +120,7 @@ def bounce_weights(data: Any, landing: np.ndarray) -> np.ndarray:
     if bad.any():
         row = int(np.argmax(bad))
         raise FitError(f"bounce {row + 1} has prediction intervals of zero width ({int(bad.sum())} bounce(s)); a "
-                       "prediction-interval weighted objective cannot weigh it")
+                       "prediction-interval weighted objective cannot weigh it", option="objective")
     return 1.0 / np.sqrt(h2)
 
 
@@ -138,15 +140,16 @@ def sample_weights(sample_weight: Any, n: int) -> np.ndarray | None:
     w = np.asarray(sample_weight)
     if w.dtype.kind not in "iuf" or w.shape != (n,):
         raise DataError(f"sample_weight must be {n} real numbers, one per bounce; got {w.dtype} values of shape "
-                        f"{w.shape}", column="sample_weight")
+                        f"{w.shape}", column="sample_weight", option="sample_weight")
     w = w.astype(np.float64)
     bad = ~np.isfinite(w) | (w < 0)
     if bad.any():
         row = int(np.argmax(bad))
         raise DataError(f"a weight must be a finite number >= 0; got {w[row]!r} ({int(bad.sum())} bounce(s))",
-                        column="sample_weight", row=row + 1)
+                        column="sample_weight", row=row + 1, option="sample_weight")
     if not (w > 0).any():
-        raise DataError("sample_weight is zero for every bounce; nothing would be fitted", column="sample_weight")
+        raise DataError("sample_weight is zero for every bounce; nothing would be fitted", column="sample_weight",
+                        option="sample_weight")
     return np.ascontiguousarray(w)
 
 

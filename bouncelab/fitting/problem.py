@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.errors import Code, FitError, Hint, ParameterError
 from bouncelab.core.validation import inverse_norms
 from bouncelab.fitting.search import SearchOutcome, global_search
 from bouncelab.fitting.vector import ParameterVector
@@ -55,30 +55,36 @@ def resolve_bounds(cls: type[BounceModel], bounds: Mapping[str, Any] | None) -> 
     """
     specs = {s.name: s for s in cls.parameter_specs}
     if bounds is not None and not isinstance(bounds, Mapping):
-        raise ParameterError(f"bounds must be a mapping name -> (low, high); got {type(bounds).__name__}")
+        raise ParameterError(f"bounds must be a mapping name -> (low, high); got {type(bounds).__name__}",
+                             law=law_name(cls), parameter="bounds", value=bounds)
     box: dict[str, tuple[Any, Any]] = {}
     for name, spec in specs.items():
         lo, hi = spec.bound_arrays()
         box[name] = (float(lo[0]), float(hi[0])) if spec.is_scalar else (lo, hi)
     for name, value in (bounds or {}).items():
         if name not in specs:
-            raise ParameterError(f"{law_name(cls)} has no parameter {name!r}; its parameters are {list(specs)}")
+            raise ParameterError(f"{law_name(cls)} has no parameter {name!r}; its parameters are {list(specs)}",
+                                 law=law_name(cls), parameter=name)
         spec = specs[name]
         if isinstance(value, str | bytes):
-            raise ParameterError(f"bounds of {name!r} must be a (low, high) pair of numbers; got {value!r}")
+            raise ParameterError(f"bounds of {name!r} must be a (low, high) pair of numbers; got {value!r}",
+                                 law=law_name(cls), parameter=name, value=value)
         try:
             lo, hi = spec.replace(bounds=tuple(value)).bound_arrays()
         except (ParameterError, TypeError, ValueError):
-            raise ParameterError(f"bounds of {name!r} must be a (low, high) pair of numbers; got {value!r}") from None
+            raise ParameterError(f"bounds of {name!r} must be a (low, high) pair of numbers; got {value!r}",
+                                 law=law_name(cls), parameter=name, value=value) from None
         plo, phi = spec.physical_arrays()
         if not (np.isfinite(lo).all() and np.isfinite(hi).all()):
-            raise ParameterError(f"bounds of {name!r} must be finite; got ({value[0]}, {value[1]})")
+            raise ParameterError(f"bounds of {name!r} must be finite; got ({value[0]}, {value[1]})",
+                                 law=law_name(cls), parameter=name, value=value)
         if (lo > hi).any():
-            raise ParameterError(f"bounds of {name!r} are reversed: low {value[0]} > high {value[1]}")
+            raise ParameterError(f"bounds of {name!r} are reversed: low {value[0]} > high {value[1]}",
+                                 law=law_name(cls), parameter=name, value=value)
         if (lo < plo).any() or (hi > phi).any():
             raise ParameterError(
                 f"bounds of {name!r} = ({value[0]}, {value[1]}) leave its physical range [{plo.min():g}, "
-                f"{phi.max():g}] ({spec.description})"
+                f"{phi.max():g}] ({spec.description})", law=law_name(cls), parameter=name, value=value
             )
         box[name] = (float(lo[0]), float(hi[0])) if spec.is_scalar else (lo, hi)
     return box
@@ -101,10 +107,12 @@ def resolve_fixed(law: BounceModel, fixed: Any, free: Any) -> dict[str, Any]:
         try:
             out = list(arg)
         except TypeError:
-            raise FitError(f"{what} must be parameter names or a mapping name -> value; got {arg!r}") from None
+            raise FitError(f"{what} must be parameter names or a mapping name -> value; got {arg!r}", law=name_of,
+                           option=what) from None
         unknown = [n for n in out if n not in specs]
         if unknown:
-            raise ParameterError(f"{name_of} has no parameter(s) {unknown}; its parameters are {list(specs)}")
+            raise ParameterError(f"{name_of} has no parameter(s) {unknown}; its parameters are {list(specs)}",
+                                 law=name_of, parameter=unknown[0])
         return out
 
     held: dict[str, Any] = {}
@@ -112,7 +120,7 @@ def resolve_fixed(law: BounceModel, fixed: Any, free: Any) -> dict[str, Any]:
     explicit = names(list(fixed) if isinstance(fixed, Mapping) else fixed, "fixed")
     both = freed & set(explicit)
     if both:
-        raise FitError(f"parameter(s) {sorted(both)} are both fixed and free")
+        raise FitError(f"parameter(s) {sorted(both)} are both fixed and free", law=name_of, option="free")
     for spec in law.parameter_specs:
         if not spec.vary and spec.name not in freed:
             held[spec.name] = None
@@ -122,8 +130,9 @@ def resolve_fixed(law: BounceModel, fixed: Any, free: Any) -> dict[str, Any]:
         if value is None:
             own = getattr(law, name)
             if own is None:
-                raise FitError(f"{name_of} parameter {name!r} is held in this fit but has no value; give one with "
-                               f"fixed={{'{name}': value}} or in the law")
+                raise FitError(f"{name_of} parameter {name!r} is held in this fit but has no value (give one in the "
+                               "law or here)", law=name_of, option="fixed",
+                               hints=[Hint("fixed", {name: Code("value")})])
             held[name] = own
     return held
 
@@ -194,7 +203,7 @@ class Problem:
         if self.n <= space.d:
             raise FitError(
                 f"{self.n} bounce(s) are too few to fit {space.d} parameter(s) of {law_name(law)}; "
-                f"need at least {space.d + 1}"
+                f"need at least {space.d + 1}", law=law_name(law)
             )
         if maxeval is not None:
             try:
@@ -202,7 +211,8 @@ class Problem:
             except (TypeError, ValueError):
                 maxeval = 0
             if maxeval < 1:
-                raise FitError(f"maxeval must be a positive integer; got {maxeval!r}")
+                raise FitError(f"maxeval must be a positive integer; got {maxeval!r}", law=law_name(law),
+                               option="maxeval")
         obj = self.objective(law)
         f = space.unit_function(obj)
         if criterion is None:
@@ -254,7 +264,8 @@ class _Space:
                 if outside.any():
                     i = int(np.argmax(outside))
                     raise ParameterError(
-                        f"start value {enames[i]}={v[i]} lies outside the bounds [{blo[i]}, {bhi[i]}]"
+                        f"start value {enames[i]}={v[i]} lies outside the bounds [{blo[i]}, {bhi[i]}]",
+                        law=law_name(law), parameter=enames[i], value=float(v[i])
                     )
                 s = np.where(bhi > blo, v, blo)
             names += enames

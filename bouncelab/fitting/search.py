@@ -43,14 +43,16 @@ _STOP = {
 def _global_code(name: str) -> int:
     key = name.upper().removeprefix("GN_")
     if key not in GLOBAL_ALGORITHMS:
-        raise FitError(f"unknown global algorithm {name!r}; choose from {', '.join(GLOBAL_ALGORITHMS)}")
+        raise FitError(f"unknown global algorithm {name!r}; choose from {', '.join(GLOBAL_ALGORITHMS)}",
+                       option="algorithm")
     return getattr(nlopt, "GN_" + key)
 
 
 def _local_code(name: str) -> int:
     key = name.upper().removeprefix("LN_")
     if key not in LOCAL_ALGORITHMS:
-        raise FitError(f"unknown local algorithm {name!r}; choose from {', '.join(LOCAL_ALGORITHMS)}")
+        raise FitError(f"unknown local algorithm {name!r}; choose from {', '.join(LOCAL_ALGORITHMS)}",
+                       option="local_algorithm")
     return getattr(nlopt, "LN_" + key)
 
 

@@ -20,7 +20,8 @@ def _settings_of(data: Any) -> np.ndarray:
     if setting is None:
         raise DataError(
             "the data have no 'setting' coordinate (launcher setting of each bounce); infer one with "
-            "ds.assign_coords(setting=('bounce', bouncelab.infer_settings(ds))) or pass a setting per bounce"
+            "ds.assign_coords(setting=('bounce', bouncelab.infer_settings(ds))) or pass a setting per bounce",
+            column="setting"
         )
     return np.asarray(setting)
 
@@ -45,7 +46,7 @@ def split_by_setting(data: xr.Dataset, seed: int = 0) -> tuple[xr.Dataset, xr.Da
         Two campaign Datasets (``bounce`` coordinates keep the original indices).
     """
     if not isinstance(data, xr.Dataset):
-        raise DataError("split_by_setting needs a campaign Dataset (with a 'setting' coordinate)")
+        raise DataError("split_by_setting needs a campaign Dataset (with a 'setting' coordinate)", option="data")
     from bouncelab.fitting.fitter import check_seed
 
     setting = _settings_of(data)
@@ -59,7 +60,7 @@ def split_by_setting(data: xr.Dataset, seed: int = 0) -> tuple[xr.Dataset, xr.Da
     test = np.zeros(len(setting), dtype=bool)
     test[test_idx] = True
     if not test.any():
-        raise DataError("no launcher setting has two or more bounces, so none can be held out")
+        raise DataError("no launcher setting has two or more bounces, so none can be held out", column="setting")
     return data.isel(bounce=np.flatnonzero(~test)), data.isel(bounce=np.flatnonzero(test))
 
 
@@ -117,6 +118,7 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
 
     from bouncelab.fitting.fitter import check_seed, law_instance, refuse_sample_weight
     from bouncelab.fitting.tasks import map_tasks
+    from bouncelab.laws import law_name
 
     law = law_instance(model)
     refuse_sample_weight(fit_kwargs, "cross_validate")
@@ -124,7 +126,8 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     setting = _settings_of(data)
     n_groups = len(pd.unique(setting))
     if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 2 <= k <= n_groups:
-        raise FitError(f"k must be an integer between 2 and the number of settings ({n_groups}); got {k!r}")
+        raise FitError(f"k must be an integer between 2 and the number of settings ({n_groups}); got {k!r}",
+                       law=law_name(law), option="k")
     try:
         splitter = GroupKFold(n_splits=k, shuffle=True, random_state=seed % 2**32)
     except TypeError:  # scikit-learn < 1.6 has no shuffling GroupKFold: shuffle the group labels instead
@@ -136,8 +139,6 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     tasks = [(i + 1, law, data.isel(bounce=tr), data.isel(bounce=te), seed, fit_kwargs)
              for i, (tr, te) in enumerate(folds)]
     rows = map_tasks(_fold, tasks, executor)
-    from bouncelab.laws import law_name
-
     return CrossValidation(folds=pd.DataFrame(rows).set_index("fold"), law=law_name(law))
 
 

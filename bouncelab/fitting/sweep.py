@@ -82,7 +82,7 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
         unknown = sorted(set(point) - params - options)
         if unknown:
             raise FitError(f"{law_name(law)} has no parameter or option {unknown}; parameters {sorted(params)}, "
-                           f"options {sorted(options)}")
+                           f"options {sorted(options)}", law=law_name(law), option="grid")
     # Validate every point before any work (a bad value fails here, not on a worker).
     for point in points:
         _law_at(law, point, params)
@@ -99,19 +99,20 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
 def _points(grid: Any) -> list[dict[str, Any]]:
     if isinstance(grid, Mapping):
         if not grid:
-            raise FitError("the grid is empty; give name -> values")
+            raise FitError("the grid is empty; give name -> values", option="grid")
         names = list(grid)
         values = []
         for name in names:
             v = grid[name]
             v = [v] if isinstance(v, str) or np.ndim(v) == 0 else list(v)
             if not v:
-                raise FitError(f"the grid gives no values for {name!r}")
+                raise FitError(f"the grid gives no values for {name!r}", option="grid")
             values.append(v)
         return [dict(zip(names, combo, strict=True)) for combo in itertools.product(*values)]
     if isinstance(grid, Sequence) and not isinstance(grid, str) and grid and all(isinstance(p, Mapping) for p in grid):
         return [dict(p) for p in grid]
-    raise FitError(f"grid must be a mapping name -> values or a non-empty sequence of points; got {grid!r}")
+    raise FitError(f"grid must be a mapping name -> values or a non-empty sequence of points; got {grid!r}",
+                   option="grid")
 
 
 def _law_at(law: BounceModel, point: Mapping[str, Any], params: set[str]) -> tuple[BounceModel, dict[str, Any]]:

@@ -72,5 +72,5 @@ def map_tasks(function: Callable[[Any], Any], tasks: Iterable[Any], executor: An
         return [r for batch in executor.gather(futures) for r in batch]
     if not callable(getattr(executor, "map", None)):
         raise FitError(f"executor must be None, a dask.distributed.Client or have a map(function, tasks) method; "
-                       f"got {type(executor).__name__}")
+                       f"got {type(executor).__name__}", option="executor")
     return list(executor.map(function, tasks))

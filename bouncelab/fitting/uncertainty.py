@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.core.errors import FitError
+from bouncelab.core.errors import FitError, Hint
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
@@ -113,21 +113,21 @@ def bootstrap(
     refuse_sample_weight(fit_kwargs, "bootstrap")
     seed = check_seed(seed)
     if not law.parameter_specs:
-        raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none")
+        raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none", law=law_name(law))
     if by not in ("setting", "bounce"):
-        raise FitError(f"by must be 'setting' or 'bounce'; got {by!r}")
+        raise FitError(f"by must be 'setting' or 'bounce'; got {by!r}", option="by")
     if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n >= 2):
-        raise FitError(f"n must be an integer of at least 2 resamples; got {n!r}")
+        raise FitError(f"n must be an integer of at least 2 resamples; got {n!r}", option="n")
     try:
         ok = 0 < level < 1
     except TypeError:
         ok = False
     if not ok:
-        raise FitError(f"level must be in (0, 1); got {level!r}")
+        raise FitError(f"level must be in (0, 1); got {level!r}", option="level")
     p0, pf, setting = campaign_arrays(data)
     if by == "setting" and setting is None:
-        raise FitError("by='setting' needs the launcher setting of each bounce; the data have none "
-                       "(add one with bouncelab.infer_settings, or use by='bounce')")
+        raise FitError("by='setting' needs the launcher setting of each bounce; the data have none (add one with "
+                       "bouncelab.infer_settings)", option="by", hints=[Hint("by", "bounce")])
     # Prediction-interval weighted objectives read the intervals from the Dataset: resample it whole then.
     with_pis = objective_weighting(fit_kwargs.get("objective", "delta")) == "pi"
     # The unit guard checks bare data once, in the full fit; resamples are cut from checked data.

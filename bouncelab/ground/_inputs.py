@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, Hint, ParameterError
 from bouncelab.core.units import (
     BALL_RADIUS_M,
     SPEED_UNITS,
@@ -28,6 +28,9 @@ __all__ = ["Units", "as_vectors", "unit_normals"]
 
 _AXES = ("x", "y", "z")
 
+#: The example of a ``units=`` argument that errors about it give.
+_UNITS_EXAMPLE = Hint("units", {"velocity": "m/s", "spin": "rpm"})
+
 
 class Units:
     """The caller's units: None (scaled: radii, radii/s, rad/s) or ``{"velocity": ..., "spin": ...}``.
@@ -41,13 +44,13 @@ class Units:
             self.velocity = self.spin = None
             return
         if not isinstance(units, Mapping):
-            raise DataError(f"units must be None (scaled), 'scaled' or a mapping such as {{'velocity': 'm/s', "
-                            f"'spin': 'rpm'}}; got {units!r}")
+            raise DataError(f"units must be None (scaled), 'scaled' or a mapping of a 'velocity' and a 'spin' unit; "
+                            f"got {units!r}", option="units", hints=[_UNITS_EXAMPLE])
         unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
         missing = [k for k in ("velocity", "spin") if k not in units]
         if unknown or missing:
-            raise DataError(f"units needs exactly the keys 'velocity' and 'spin' (e.g. {{'velocity': 'm/s', "
-                            f"'spin': 'rpm'}}); missing {missing}, unknown {unknown}")
+            raise DataError(f"units needs exactly the keys 'velocity' and 'spin'; missing {missing}, unknown {unknown}",
+                            option="units", hints=[_UNITS_EXAMPLE])
         velocity = canonical_unit(units["velocity"], "velocity")
         spin = canonical_unit(units["spin"], "spin")
         self.velocity = None if velocity == "radius/s" else velocity
@@ -108,19 +111,20 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
         Not real numbers, not of shape (3,) or (n, 3), no rows, or NaN/infinite (naming row and column).
     """
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
-        raise DataError(f"{name} has masked (missing) values; remove or fill them first")
+        raise DataError(f"{name} has masked (missing) values; remove or fill them first", option=name)
     try:
         arr = np.array(np.ma.getdata(value), dtype=float)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}") from None
+        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
     if np.iscomplexobj(np.asarray(np.ma.getdata(value))):
-        raise DataError(f"{name} must be real numbers; got complex values")
+        raise DataError(f"{name} must be real numbers; got complex values", option=name)
     if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
-        raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}")
+        raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}",
+                        option=name)
     lead = arr.shape[:-1]
     arr = arr.reshape(-1, 3)
     if len(arr) == 0:
-        raise DataError(f"{name} has no rows: give at least one (3,) vector")
+        raise DataError(f"{name} has no rows: give at least one (3,) vector", option=name)
     bad = ~np.isfinite(arr)
     if bad.any():
         row, col = np.argwhere(bad)[0]
@@ -140,7 +144,7 @@ def unit_normals(normal: Any, *, upward: bool) -> tuple[np.ndarray, tuple[int, .
     if (length == 0).any():
         row = int(np.flatnonzero(length == 0)[0])
         raise DataError(f"normal row {row + 1} is the zero vector; give the ground's normal, e.g. (0, 0, 1)",
-                        column="normal", row=row + 1)
+                        column="normal", row=row + 1, option="normal")
     n = n / length[:, None]
     if upward and (n[:, 2] <= 0).any():
         row = int(np.flatnonzero(n[:, 2] <= 0)[0])
@@ -159,7 +163,9 @@ def broadcast_rows(name_arrays: list[tuple[str, np.ndarray]]) -> int:
     sizes = {len(a) for _, a in name_arrays if len(a) != 1}
     if len(sizes) > 1:
         text = ", ".join(f"{name} {len(a)}" for name, a in name_arrays)
-        raise DataError(f"the rows do not match: {text} (one row is repeated for every shot)")
+        first = next(len(a) for _, a in name_arrays if len(a) != 1)
+        raise DataError(f"the rows do not match: {text} (one row is repeated for every shot)",
+                        option=next(name for name, a in name_arrays if len(a) not in (1, first)))
     return sizes.pop() if sizes else 1
 
 
@@ -173,7 +179,8 @@ def positive(value: Any, name: str, *, allow_zero: bool = False, error: type = P
             pass
     if not (math.isfinite(x) and (x >= 0 if allow_zero else x > 0)):
         want = "a finite number >= 0" if allow_zero else "a finite number > 0"
-        raise error(f"{name} must be {want}; got {value!r}")
+        fields = {"parameter": name, "value": value} if issubclass(error, ParameterError) else {"option": name}
+        raise error(f"{name} must be {want}; got {value!r}", **fields)
     return x
 
 
@@ -183,12 +190,13 @@ def check_law(law: Any) -> BounceModel:
 
     if not isinstance(law, BounceModel):
         raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
-                             f"{type(law).__name__}")
+                             f"{type(law).__name__}", parameter="law")
     if not law.is_fitted:
         from bouncelab.core.errors import NotFittedError
 
         missing = [k for k, v in law.parameters.items() if v is None]
-        raise NotFittedError(f"{type(law).__name__} has no value for {missing}: fit it or give the values")
+        raise NotFittedError(f"{type(law).__name__} has no value for {missing}: fit it or give the values",
+                             law=type(law).__name__, missing=missing, parameter="law")
     return law
 
 
@@ -197,5 +205,5 @@ def retention(value: Any) -> float:
     x = positive(value, "pivot_retention", allow_zero=True)
     if x > 1:
         raise ParameterError(f"pivot_retention is the fraction of the spin about the normal kept by a bounce, in "
-                             f"[0, 1]; got {value!r}")
+                             f"[0, 1]; got {value!r}", parameter="pivot_retention", value=value)
     return x

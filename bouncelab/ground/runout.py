@@ -258,13 +258,13 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
         surface = preset(surface)
     if not isinstance(surface, Surface):
         raise ParameterError(f"surface must be a bouncelab.ground.Surface or a preset name; got "
-                             f"{type(surface).__name__}")
+                             f"{type(surface).__name__}", parameter="surface")
     rate = positive(rate, "rate")
     hmin_m = positive(min_apex_m, "min_apex_m")
     if isinstance(max_bounces, bool) or not isinstance(max_bounces, int | np.integer) or max_bounces < 1:
-        raise ParameterError(f"max_bounces must be a whole number >= 1; got {max_bounces!r}")
+        raise ParameterError(f"max_bounces must be a whole number >= 1; got {max_bounces!r}", parameter="max_bounces")
     if air is not None and not isinstance(air, Air):
-        raise ParameterError(f"air must be a bouncelab.ground.Air or None; got {type(air).__name__}")
+        raise ParameterError(f"air must be a bouncelab.ground.Air or None; got {type(air).__name__}", parameter="air")
     u = Units(units, radius_m)
     radius = u.radius_m
     v, _ = as_vectors(velocity, "velocity")

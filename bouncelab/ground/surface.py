@@ -31,7 +31,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from bouncelab.core.errors import ParameterError
+from bouncelab.core.errors import Hint, ParameterError
 from bouncelab.ground._inputs import check_law, positive, retention
 
 __all__ = [
@@ -96,12 +96,14 @@ class Surface:
     def __init__(self, name: str, law: Any, sliding_friction: float, stimp_m: float | None = None, *,
                  stimp_ft: float | None = None, pivot_retention: float = 1.0, description: str = "") -> None:
         if not isinstance(name, str) or not name.strip():
-            raise ParameterError(f"a surface needs a name (non-empty text); got {name!r}")
+            raise ParameterError(f"a surface needs a name (non-empty text); got {name!r}", parameter="name", value=name)
         if (stimp_m is None) == (stimp_ft is None):
-            raise ParameterError("give the green speed as exactly one of stimp_m= (metres) or stimp_ft= (feet)")
+            raise ParameterError("give the green speed as exactly one of stimp_m (metres) or stimp_ft (feet)",
+                                 parameter="stimp_m",
+                                 hints=[Hint("stimp_m", None, "metres"), Hint("stimp_ft", None, "feet")])
         stimp = positive(stimp_m, "stimp_m") if stimp_m is not None else positive(stimp_ft, "stimp_ft") * _FT
         if not isinstance(description, str):
-            raise ParameterError(f"description must be text; got {type(description).__name__}")
+            raise ParameterError(f"description must be text; got {type(description).__name__}", parameter="description")
         self.name = name
         self.law = check_law(law)
         self.sliding_friction = positive(sliding_friction, "sliding_friction")
@@ -142,7 +144,7 @@ class Surface:
             fields.pop("stimp_m")
         unknown = set(changes) - set(fields) - {"stimp_ft", "stimp_m"}
         if unknown:
-            raise ParameterError(f"Surface has no field(s) {sorted(unknown)}")
+            raise ParameterError(f"Surface has no field(s) {sorted(unknown)}", parameter=sorted(unknown)[0])
         fields.update(changes)
         return Surface(**fields)
 
@@ -167,13 +169,14 @@ class Surface:
         from bouncelab.laws import law_from_dict
 
         if not isinstance(d, Mapping):
-            raise ParameterError(f"a surface description is a mapping; got {type(d).__name__}")
+            raise ParameterError(f"a surface description is a mapping; got {type(d).__name__}", parameter="d")
         required = ("surface", "law", "sliding_friction", "stimp_m")
         missing = [k for k in required if k not in d]
         unknown = sorted(set(d) - {*required, "pivot_retention", "description", "bouncelab_version"})
         if missing or unknown:
             raise ParameterError(f"a surface description needs the keys {list(required)} (optional: "
-                                 f"pivot_retention, description); missing {missing}, unknown {unknown}")
+                                 f"pivot_retention, description); missing {missing}, unknown {unknown}",
+                                 parameter=(missing or unknown)[0])
         return cls(name=d["surface"], law=law_from_dict(d["law"]), sliding_friction=d["sliding_friction"],
                    stimp_m=d["stimp_m"], pivot_retention=d.get("pivot_retention", 1.0),
                    description=d.get("description", ""))
@@ -193,7 +196,8 @@ class Surface:
         try:
             d = json.loads(text)
         except (TypeError, json.JSONDecodeError, RecursionError) as exc:
-            raise ParameterError(f"not a JSON surface description ({type(exc).__name__}: {exc})") from None
+            raise ParameterError(f"not a JSON surface description ({type(exc).__name__}: {exc})",
+                                 parameter="text") from None
         return cls.from_dict(d)
 
     # ------------------------------------------------------------------ dunder
@@ -217,11 +221,13 @@ def load_surface(path: str | Path) -> Surface:
     try:
         text = Path(path).read_text()
     except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(f"{path}: cannot read the surface file ({type(exc).__name__}: {exc})") from None
+        raise ParameterError(f"{path}: cannot read the surface file ({type(exc).__name__}: {exc})",
+                             parameter="path", value=str(path)) from None
     try:
         return Surface.from_json(text)
     except ParameterError as exc:
-        raise ParameterError(f"{path}: {exc}") from None
+        raise ParameterError(f"{path}: {exc}", law=exc.law, parameter=exc.parameter, value=exc.value,
+                             hints=exc.hints) from None
 
 
 # ------------------------------------------------------------------------------ presets
@@ -261,7 +267,8 @@ def preset(name: str) -> Surface:
     from bouncelab import laws
 
     if name not in _PRESETS:
-        raise ParameterError(f"no preset surface {name!r}; presets: {list(PRESET_NAMES)}")
+        raise ParameterError(f"no preset surface {name!r}; presets: {list(PRESET_NAMES)}", parameter="surface",
+                             value=name)
     law_name, campaign, stimp, text = _PRESETS[name]
     law = getattr(laws, law_name).published(campaign)
     return Surface(name=name, law=law, sliding_friction=ASSUMED_SLIDING_FRICTION, stimp_m=stimp, description=text)

@@ -29,10 +29,6 @@ from bouncelab.core.validation import check_downward
 
 __all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
 
-#: How a Python caller accepts landings beyond the plausible ranges on purpose.
-WIDEN = "pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) or plausible=None"
-
-
 def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
     """``plausible=`` as given, if it is a :class:`PlausibleRanges` or None (DataError otherwise)."""
     if plausible is not None and not isinstance(plausible, PlausibleRanges):
@@ -57,13 +53,8 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
         return
     pair = None if io is None else _unit_pair(io.units)
     units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
-
-    def declare(likely: dict[str, str]) -> str:
-        return f"pass units={dict(likely)}"
-
     error = landing_error(p, radius_m=radius_m, ranges=plausible, units=units,
-                          form="cartesian" if io is None else io.form_in, declare=declare,
-                          widen=lambda limit: WIDEN.format(limit=limit),
+                          form="cartesian" if io is None else io.form_in,
                           row_labels=row_labels if io is None else io.index)
     if error is not None:
         raise error

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.core import units as _u
-from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, Hint, ParameterError
 from bouncelab.core.units import COMPONENTS
 from bouncelab.data.inputs import campaign_arrays
 
@@ -79,24 +79,26 @@ def figure_units(units: Any = None) -> FigureUnits:
     if isinstance(units, str):
         preset = UNIT_PRESETS.get(units.strip().lower())
         if preset is None:
-            raise DataError(f"unknown figure units {units!r}; use one of {sorted(UNIT_PRESETS)} or a mapping "
-                            "such as {'velocity': 'm/s', 'spin': 'rpm'}")
+            raise DataError(f"unknown figure units {units!r}; use one of {sorted(UNIT_PRESETS)} or a mapping of a "
+                            "'velocity' and a 'spin' unit", option="units",
+                            hints=[Hint("units", {"velocity": "m/s", "spin": "rpm"})])
         return FigureUnits(*preset)
     if isinstance(units, Mapping):
         extra = set(units) - {"velocity", "spin", "radius_m"}
         if extra:
-            raise DataError(f"figure units take the keys 'velocity', 'spin' and 'radius_m'; got {sorted(extra)}")
+            raise DataError(f"figure units take the keys 'velocity', 'spin' and 'radius_m'; got {sorted(extra)}",
+                            option="units")
         radius = units.get("radius_m", _u.BALL_RADIUS_M)
         try:
             radius = float(radius)
         except (TypeError, ValueError):
-            raise DataError(f"radius_m must be a length in metres; got {radius!r}") from None
+            raise DataError(f"radius_m must be a length in metres; got {radius!r}", option="radius_m") from None
         fu = FigureUnits(_u.canonical_unit(units.get("velocity", "radius/s"), "velocity"),
                          _u.canonical_unit(units.get("spin", "rad/s"), "spin"), radius)
         fu.factors  # noqa: B018 - validates the radius now, not at the first plot call
         return fu
     raise DataError(f"units must be None, a preset name {sorted(UNIT_PRESETS)} or a mapping; "
-                    f"got {type(units).__name__}")
+                    f"got {type(units).__name__}", option="units")
 
 #: Marker and colour of each measured slip/roll class (the paper's Fig. 8: roll = triangles, slip = circles).
 CLASS_STYLE = {
@@ -161,7 +163,7 @@ def campaign_data(data: Any, *, name: str = "data") -> tuple[np.ndarray, np.ndar
     """Landing, lift-off (n, 3) and attrs of a campaign Dataset (or ``(landing, liftoff)`` pair)."""
     p0, pf, _ = campaign_arrays(data, name=name)
     if len(p0) == 0:
-        raise DataError(f"{name} holds no bounces; there is nothing to plot")
+        raise DataError(f"{name} holds no bounces; there is nothing to plot", option=name)
     attrs = dict(data.attrs) if isinstance(data, xr.Dataset) else {}
     return p0, pf, attrs
 
@@ -174,7 +176,8 @@ def new_figure(fig: Any, *, nrows: int, ncols: int, figsize: tuple[float, float]
     else:
         _check_figure(fig)
         if fig.axes:
-            raise ParameterError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)")
+            raise ParameterError("fig must be an empty matplotlib Figure (this plot adds its own grid of axes)",
+                                 parameter="fig")
     axes = fig.subplots(nrows, ncols, squeeze=False, **subplot_kw)
     return fig, axes
 
@@ -191,7 +194,7 @@ def single_axes(ax: Any, *, figsize: tuple[float, float], projection: str | None
     if not isinstance(ax, Axes):
         raise TypeError(f"ax must be a matplotlib Axes; got {type(ax).__name__}")
     if projection == "3d" and getattr(ax, "name", "") != "3d":
-        raise ParameterError("ax must be a 3-D axes: fig.add_subplot(projection='3d')")
+        raise ParameterError("ax must be a 3-D axes: fig.add_subplot(projection='3d')", parameter="ax")
     return ax.figure, ax
 
 
@@ -266,7 +269,8 @@ def save_figure(fig: Any, path: str | Path, *, dpi: int = 150, **kwargs: Any) ->
     _check_figure(fig)
     path = Path(path)
     if not path.suffix:
-        raise ParameterError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}")
+        raise ParameterError(f"path needs a file suffix naming the format (.png, .pdf, .svg); got {str(path)!r}",
+                             parameter="path", value=str(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     kwargs.setdefault("format", path.suffix[1:].lower())
     with atomic_path(path) as tmp:

@@ -125,7 +125,7 @@ def _named_laws(laws: Any) -> dict[str, BounceModel]:
     else:
         items = [(None, laws)]
     if not items:
-        raise ParameterError("laws is empty: give at least one fitted bounce law")
+        raise ParameterError("laws is empty: give at least one fitted bounce law", parameter="laws")
     out: dict[str, BounceModel] = {}
     for name, law in items:
         model = getattr(law, "model", law)
@@ -155,7 +155,8 @@ def _check_held_out(laws: Any, p0: np.ndarray, pf: np.ndarray, is_test: np.ndarr
         fitted = sum(np.concatenate([a, b]).tobytes() in ringed for a, b in zip(*train, strict=True))
         if fitted:
             raise DataError(f"{fitted} of the bounces ringed as held out were fitted by {res.model!r}; "
-                            "fit the law without them (bouncelab.split_by_setting) to show held-out bounces")
+                            "fit the law without them (bouncelab.split_by_setting) to show held-out bounces",
+                            option="test")
 
 
 def _with_test(p0: np.ndarray, pf: np.ndarray, test: Any):
@@ -181,8 +182,7 @@ def _with_test(p0: np.ndarray, pf: np.ndarray, test: Any):
     if m.dtype != bool or m.shape != (len(p0),):
         raise DataError(
             f"test must be a Dataset of held-out bounces or a boolean mask with one entry per bounce ({len(p0)}); "
-            f"got {type(test).__name__} of dtype {m.dtype} and shape {m.shape}"
-        )
+            f"got {type(test).__name__} of dtype {m.dtype} and shape {m.shape}", option="test")
     return p0, pf, m
 
 
@@ -259,7 +259,8 @@ def _level_text(attrs: dict, level: float) -> str:
 def _rep_arrays(rep: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(setting, 2, 3) means and lower/upper error-bar lengths, states ordered landing, lift-off."""
     if not isinstance(rep, xr.Dataset):
-        raise DataError(f"rep must be the Dataset returned by repeatability(data); got {type(rep).__name__}")
+        raise DataError(f"rep must be the Dataset returned by repeatability(data); got {type(rep).__name__}",
+                        option="rep")
     dims = {"setting", "state", "component"}
     need = [v for v in ("mean",) if v not in rep.data_vars]
     has_ci = all(v in rep.data_vars for v in _REP_VARS[1:])
@@ -268,8 +269,8 @@ def _rep_arrays(rep: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if need or not dims <= set(rep.dims):
         raise DataError(
             "rep must be a repeatability Dataset with dims (setting, state, component) and variables "
-            f"'mean', 'ci_low', 'ci_high' (or 'half_width'); missing {need or sorted(dims - set(rep.dims))}"
-        )
+            f"'mean', 'ci_low', 'ci_high' (or 'half_width'); missing {need or sorted(dims - set(rep.dims))}",
+            option="rep")
     try:
         sel = {"state": ["landing", "liftoff"], "component": list(COMPONENTS)}
         order = ("setting", "state", "component")
@@ -281,8 +282,8 @@ def _rep_arrays(rep: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             lo = hi = np.abs(rep["half_width"].sel(sel).transpose(*order).values.astype(float))
     except KeyError as exc:
         raise DataError(
-            "rep needs state coordinates 'landing', 'liftoff' and component coordinates 'xdot', 'ydot', 'omega'"
-        ) from exc
+            "rep needs state coordinates 'landing', 'liftoff' and component coordinates 'xdot', 'ydot', 'omega'",
+            option="rep") from exc
     if mean.shape[0] == 0:
-        raise DataError("rep has no settings; there is nothing to plot")
+        raise DataError("rep has no settings; there is nothing to plot", option="rep")
     return mean, np.clip(lo, 0.0, None), np.clip(hi, 0.0, None)

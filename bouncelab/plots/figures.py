@@ -34,7 +34,8 @@ def plot_pi_widths(data: Any, *, bins: int = 30, fig: Any = None, title: str | N
     if missing:
         raise DataError(
             f"the PI-width histograms need the prediction-interval half-widths {missing} in the campaign "
-            "Dataset; this one has none (see bouncelab.analysis.measurement to estimate them from tracked frames)"
+            "Dataset; this one has none (see bouncelab.analysis.measurement to estimate them from tracked frames)",
+            column=missing[0]
         )
     fig, axes = c.new_figure(fig, nrows=1, ncols=3, figsize=(12.0, 4.0))
     states = {"landing": (p0, data["landing_pi"]), "liftoff": (pf, data["liftoff_pi"])}
@@ -108,9 +109,11 @@ def plot_tangential(
         try:
             tol = float(near_zero)
         except (TypeError, ValueError):
-            raise ParameterError(f"near_zero must be a number of {vunit}; got {near_zero!r}") from None
+            raise ParameterError(f"near_zero must be a number of {vunit}; got {near_zero!r}",
+                                 parameter="near_zero") from None
         if not (np.isfinite(tol) and tol >= 0):
-            raise ParameterError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}")
+            raise ParameterError(f"near_zero must be a non-negative number of {vunit}; got {near_zero!r}",
+                                 parameter="near_zero")
     own = ax is None
     fig, ax = c.single_axes(ax, figsize=(7.0, 6.0))
     k = fu.velocity_factor()  # v_P in radii/s -> the figure's velocity unit

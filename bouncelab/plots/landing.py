@@ -189,12 +189,13 @@ def _support_mask(support: Any, n: int) -> np.ndarray | None:
     s = np.asarray(support)
     if s.dtype == bool:
         if s.shape != (n,):
-            raise DataError(f"a boolean support mask needs one entry per bounce ({n}); got shape {s.shape}")
+            raise DataError(f"a boolean support mask needs one entry per bounce ({n}); got shape {s.shape}",
+                            option="support")
         return s
     if s.ndim != 1 or (s.size and s.dtype.kind not in "iu"):
-        raise DataError("support must be bounce indices (integers) or a boolean mask")
+        raise DataError("support must be bounce indices (integers) or a boolean mask", option="support")
     if s.size and (s.min() < -n or s.max() >= n):
-        raise DataError(f"support indices must lie in [0, {n}); got {s.min()}..{s.max()}")
+        raise DataError(f"support indices must lie in [0, {n}); got {s.min()}..{s.max()}", option="support")
     mask = np.zeros(n, dtype=bool)
     mask[s.astype(np.int64)] = True
     return mask

@@ -29,7 +29,7 @@ def _check_posterior(posterior: Any) -> None:
 
     if not isinstance(posterior, Posterior):
         raise ParameterError(f"posterior must be a bouncelab Posterior (from bouncelab.calibrate); got "
-                             f"{type(posterior).__name__}")
+                             f"{type(posterior).__name__}", parameter="posterior")
 
 
 def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int = 30, fig: Any = None,
@@ -57,7 +57,8 @@ def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int =
     cols = list(samples.columns) if columns is None else list(columns)
     unknown = [x for x in cols if x not in samples.columns]
     if unknown or not cols:
-        raise ParameterError(f"columns must name sampled numbers {list(samples.columns)}; got {columns!r}")
+        raise ParameterError(f"columns must name sampled numbers {list(samples.columns)}; got {columns!r}",
+                             parameter="columns")
     k = len(cols)
     size = max(4.0, 1.9 * k)
     fig, axes = c.new_figure(fig, nrows=k, ncols=k, figsize=(size, size))
@@ -103,7 +104,8 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
     _check_posterior(posterior)
     p0, pf, setting = campaign_arrays(data)
     if setting is None:
-        raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)")
+        raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)",
+                        column="setting")
     land_sd, lift_sd = interval_sds(data, len(p0))
     sd = None
     if land_sd is not None or lift_sd is not None:
@@ -120,7 +122,8 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
         rows[s] = {"n": len(idx), **{f"observed_{k}": v for k, v in zip(COMPONENTS, obs, strict=True)},
                    **{f"predicted_{k}": v for k, v in zip(COMPONENTS, pred, strict=True)}}
     if not rows:
-        raise DataError("no launcher setting has two or more bounces: there is no spread of repeats to compare")
+        raise DataError("no launcher setting has two or more bounces: there is no spread of repeats to compare",
+                        column="setting")
     table = pd.DataFrame.from_dict(rows, orient="index")
     table.index.name = "setting"
     return table

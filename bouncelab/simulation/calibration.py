@@ -93,7 +93,8 @@ def _campaign_key(data: Any, campaign: str | None) -> str:
     if campaign is None:
         campaign = getattr(data, "attrs", {}).get("campaign")
         if not campaign:
-            raise DataError("name the campaign ('A' or 'B') whose published laws to use; the data do not say")
+            raise DataError("name the campaign ('A' or 'B') whose published laws to use; the data do not say",
+                            option="campaign")
     return published.check_campaign(campaign)
 
 
@@ -148,11 +149,11 @@ def calibration_table(data: Any, campaign: str | None = None) -> pd.DataFrame:
 def _combine(tables: pd.DataFrame | Iterable[pd.DataFrame]) -> tuple[pd.DataFrame, dict[str, float]]:
     tables = [tables] if isinstance(tables, pd.DataFrame) else list(tables)
     if not tables:
-        raise DataError("no calibration tables given")
+        raise DataError("no calibration tables given", option="tables")
     rolling: dict[str, float] = {}
     for t in tables:
         if not {"paper", "simulated"} <= set(t.columns):
-            raise DataError("expected tables from calibration_table()")
+            raise DataError("expected tables from calibration_table()", option="tables")
         rolling.update(t.attrs.get("rolling_liftoff_fraction", {}))
     return pd.concat(tables), rolling
 
@@ -203,7 +204,7 @@ def relative_interval_widths(data: Any) -> pd.DataFrame:
     for state in ("landing", "liftoff"):
         key = f"{state}_pi"
         if key not in getattr(data, "data_vars", {}):
-            raise DataError(f"the campaign has no {key!r}: no intervals to compare")
+            raise DataError(f"the campaign has no {key!r}: no intervals to compare", column=key)
         values = np.abs(data[state].transpose("bounce", "component").values)
         half = data[key].transpose("bounce", "component").values
         mean = values.mean(axis=0)

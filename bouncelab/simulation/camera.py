@@ -128,15 +128,15 @@ class Camera:
         for name in ("fps", "pixels_per_radius"):
             value = getattr(self, name)
             if not (isinstance(value, int | float | np.number) and np.isfinite(value) and value > 0):
-                raise ParameterError(f"Camera {name} must be a positive number; got {value!r}")
+                raise ParameterError(f"Camera {name} must be a positive number; got {value!r}", parameter=name)
         for name in ("pixel_noise", "angle_noise_deg", "occluded_factor", "drag", "gravity"):
             value = getattr(self, name)
             if not (isinstance(value, int | float | np.number) and np.isfinite(value) and value >= 0):
-                raise ParameterError(f"Camera {name} must be a finite number >= 0; got {value!r}")
+                raise ParameterError(f"Camera {name} must be a finite number >= 0; got {value!r}", parameter=name)
         for name in ("frames_before", "frames_after"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 8:
-                raise ParameterError(f"Camera {name} must be an integer >= 8 frames; got {value!r}")
+                raise ParameterError(f"Camera {name} must be an integer >= 8 frames; got {value!r}", parameter=name)
 
     @property
     def dt(self) -> float:

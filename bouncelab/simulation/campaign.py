@@ -91,14 +91,16 @@ def simulate_campaign(
     if isinstance(design, str):
         design = LauncherDesign.for_campaign(design)
     if not isinstance(design, LauncherDesign):
-        raise ParameterError(f"design must be a LauncherDesign or 'A'/'B'; got {type(design).__name__}")
+        raise ParameterError(f"design must be a LauncherDesign or 'A'/'B'; got {type(design).__name__}",
+                             parameter="design")
     if not isinstance(turf, Turf):
-        raise ParameterError(f"turf must be a bouncelab.simulation.Turf; got {type(turf).__name__}")
+        raise ParameterError(f"turf must be a bouncelab.simulation.Turf; got {type(turf).__name__}", parameter="turf")
     camera = Camera() if camera is None else camera
     if not isinstance(camera, Camera):
-        raise ParameterError(f"camera must be a bouncelab.simulation.Camera; got {type(camera).__name__}")
+        raise ParameterError(f"camera must be a bouncelab.simulation.Camera; got {type(camera).__name__}",
+                             parameter="camera")
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ParameterError(f"seed must be a non-negative integer; got {seed!r}")
+        raise ParameterError(f"seed must be a non-negative integer; got {seed!r}", parameter="seed")
     streams = [np.random.default_rng(s) for s in np.random.SeedSequence(int(seed)).spawn(5)]
     rng_plan, rng_launch, rng_spot, rng_contact, rng_camera = streams
 
@@ -147,7 +149,8 @@ def simulate_campaign(
         raise DataError(
             f"{todo.size} bounce(s) could not be measured after {MAX_REFIRES} refires (no lift-off or no "
             f"detectable contact), e.g. at setting {int(plan.setting[todo[0]])}: dials "
-            f"{plan.dials[plan.setting[todo[0]] - 1].tolist()} (speed m/s, angle deg, spin rpm)"
+            f"{plan.dials[plan.setting[todo[0]] - 1].tolist()} (speed m/s, angle deg, spin rpm)",
+            column="setting", row=int(todo[0]) + 1
         )
 
     keep = ~plan.lost

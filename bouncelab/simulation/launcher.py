@@ -142,31 +142,36 @@ class LauncherDesign:
         try:
             key = published.check_campaign(self.campaign)
         except DataError as exc:
-            raise ParameterError(f"LauncherDesign campaign: {exc}") from None
+            raise ParameterError(f"LauncherDesign campaign: {exc.message}", parameter="campaign",
+                                 value=self.campaign) from None
         object.__setattr__(self, "campaign", key)
         try:
             settings = tuple((int(n), int(k)) for n, k in self.settings)
         except (TypeError, ValueError):
             raise ParameterError(
-                f"LauncherDesign settings must be ((n_settings, repeats), ...); got {self.settings!r}"
-            ) from None
+                f"LauncherDesign settings must be ((n_settings, repeats), ...); got {self.settings!r}",
+                parameter="settings") from None
         if not settings or any(n < 1 or k < 2 for n, k in settings):
             raise ParameterError(
-                f"LauncherDesign settings need at least one setting and 2 or more repeats each; got {settings}"
+                f"LauncherDesign settings need at least one setting and 2 or more repeats each; got {settings}",
+                parameter="settings", value=settings
             )
         object.__setattr__(self, "settings", settings)
         for name in ("speed_levels", "angle_levels", "spin_levels"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 2:
-                raise ParameterError(f"LauncherDesign {name} must be an integer >= 2; got {value!r}")
+                raise ParameterError(f"LauncherDesign {name} must be an integer >= 2; got {value!r}", parameter=name)
         if isinstance(self.lost, bool) or not isinstance(self.lost, int | np.integer) or self.lost < 0:
-            raise ParameterError(f"LauncherDesign lost must be a non-negative integer; got {self.lost!r}")
+            raise ParameterError(f"LauncherDesign lost must be a non-negative integer; got {self.lost!r}",
+                                 parameter="lost")
         if self.lost >= self.n_planned:
-            raise ParameterError(f"LauncherDesign loses {self.lost} of only {self.n_planned} planned bounces")
+            raise ParameterError(f"LauncherDesign loses {self.lost} of only {self.n_planned} planned bounces",
+                                 parameter="lost", value=self.lost)
         for name in ("speed_scatter", "angle_scatter_deg", "spin_scatter", "spin_scatter_abs_rpm"):
             value = getattr(self, name)
             if not (isinstance(value, int | float | np.floating) and np.isfinite(value) and value >= 0):
-                raise ParameterError(f"LauncherDesign {name} must be a finite number >= 0; got {value!r}")
+                raise ParameterError(f"LauncherDesign {name} must be a finite number >= 0; got {value!r}",
+                                     parameter=name)
 
     @classmethod
     def for_campaign(cls, campaign: str, **changes) -> LauncherDesign:
@@ -177,7 +182,7 @@ class LauncherDesign:
         try:
             key = published.check_campaign(campaign)
         except DataError as exc:
-            raise ParameterError(str(exc)) from None
+            raise ParameterError(exc.message, parameter="campaign", value=campaign) from None
         base = {"A": {"settings": ((55, 6),), "lost": 0}, "B": {"settings": ((35, 12), (47, 6)), "lost": 9}}[key]
         return cls(campaign=key, **{**base, **changes})
 
@@ -239,7 +244,8 @@ class LauncherDesign:
             raise ParameterError(
                 f"campaign {self.campaign}'s dial grid has {len(grid)} reachable settings (dial combinations "
                 f"whose landing lies within Table 1's xdot0 and ydot0 ranges, up to {GRID_TOLERANCE_SD:g} sd of the "
-                f"paper-like launcher scatter); the design asks for {n_settings}: use more levels"
+                f"paper-like launcher scatter); the design asks for {n_settings}: use more levels",
+                parameter="settings", value=n_settings
             )
         chosen: list[int] = []
         for col in range(3):
@@ -251,7 +257,8 @@ class LauncherDesign:
         if n_settings < len(chosen):
             raise ParameterError(
                 f"the design asks for {n_settings} settings; using the lowest and highest level of every dial "
-                f"(so that the settings span Table 1) takes {len(chosen)} here: ask for more settings"
+                f"(so that the settings span Table 1) takes {len(chosen)} here: ask for more settings",
+                parameter="settings", value=n_settings
             )
         rest = np.setdiff1d(np.arange(len(grid)), chosen)
         chosen += rng.choice(rest, size=n_settings - len(chosen), replace=False).tolist()
@@ -292,7 +299,8 @@ def _scatter_sd(dials: np.ndarray, speed_scatter: float, angle_scatter_deg: floa
     """(n, 2) first-order sd of ``xdot0``, ``ydot0`` at ``dials`` (see :meth:`LauncherDesign.landing_scatter_sd`)."""
     dials = np.asarray(dials, dtype=float)
     if dials.ndim != 2 or dials.shape[1] != 3:
-        raise ParameterError(f"dials must have shape (n, 3) (speed m/s, angle deg, spin rpm); got {dials.shape}")
+        raise ParameterError(f"dials must have shape (n, 3) (speed m/s, angle deg, spin rpm); got {dials.shape}",
+                             parameter="dials")
     p0 = landing_from_speed_angle_spin(dials[:, 0], dials[:, 1], dials[:, 2])
     v = np.hypot(p0[:, 0], p0[:, 1])
     alpha = np.radians(dials[:, 1])

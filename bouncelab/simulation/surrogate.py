@@ -153,14 +153,15 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     key = published.check_campaign(campaign)
     spec = spec or SurrogateSpec.for_campaign(key)
     if spec.campaign != key:
-        raise ParameterError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}")
+        raise ParameterError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}", parameter="spec")
     seed = DEFAULT_SEEDS[key] if seed is None else int(seed)
     rng = np.random.default_rng(seed)
 
     grid = _setting_grid(spec)
     n_settings = sum(n for n, _ in spec.settings)
     if n_settings > len(grid):
-        raise ParameterError(f"the grid has {len(grid)} reachable settings; {n_settings} were asked for")
+        raise ParameterError(f"the grid has {len(grid)} reachable settings; {n_settings} were asked for",
+                             parameter="settings", value=n_settings)
     chosen = grid[rng.choice(len(grid), size=n_settings, replace=False)]
     repeats = np.concatenate([np.full(n, k) for n, k in spec.settings])
     setting = np.repeat(np.arange(1, n_settings + 1), repeats)

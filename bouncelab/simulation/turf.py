@@ -52,9 +52,9 @@ def _check_nonneg(owner: str, name: str, value: Any) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{owner} {name} must be a number; got {value!r}") from None
+        raise ParameterError(f"{owner} {name} must be a number; got {value!r}", parameter=name) from None
     if not (np.isfinite(v) and v >= 0):
-        raise ParameterError(f"{owner} {name} must be a finite number >= 0; got {value!r}")
+        raise ParameterError(f"{owner} {name} must be a finite number >= 0; got {value!r}", parameter=name)
     return v
 
 
@@ -128,7 +128,8 @@ class ContactDuration:
         for name in ("t_ref", "v_ref", "exponent", "sigma"):
             object.__setattr__(self, name, _check_nonneg("ContactDuration", name, getattr(self, name)))
         if self.t_ref <= 0 or self.v_ref <= 0:
-            raise ParameterError(f"ContactDuration t_ref and v_ref must be > 0; got {self.t_ref!r}, {self.v_ref!r}")
+            raise ParameterError(f"ContactDuration t_ref and v_ref must be > 0; got {self.t_ref!r}, {self.v_ref!r}",
+                                 parameter="t_ref" if self.t_ref <= 0 else "v_ref")
 
     def duration(self, landing: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Contact times (s) of landings (n, 3) with standard normal draws ``z`` (n,)."""
@@ -177,35 +178,41 @@ class Turf:
 
     def __post_init__(self) -> None:
         if not isinstance(self.law, BounceModel):
-            raise ParameterError(f"Turf law must be a bouncelab BounceModel; got {type(self.law).__name__}")
+            raise ParameterError(f"Turf law must be a bouncelab BounceModel; got {type(self.law).__name__}",
+                                 parameter="law")
         if not self.law.is_fitted:
             missing = [k for k, v in self.law.parameters.items() if v is None]
-            raise ParameterError(f"Turf law {type(self.law).__name__} has no value for {missing}")
+            raise ParameterError(f"Turf law {type(self.law).__name__} has no value for {missing}", parameter="law",
+                                 law=type(self.law).__name__)
         if not isinstance(self.scatter, Mapping):
-            raise ParameterError(f"Turf scatter must be a mapping name -> LogNormal/Normal; got {self.scatter!r}")
+            raise ParameterError(f"Turf scatter must be a mapping name -> LogNormal/Normal; got {self.scatter!r}",
+                                 parameter="scatter")
         names = self.parameter_names
         for key, value in self.scatter.items():
             if key not in names:
                 raise ParameterError(
-                    f"Turf scatter names {key!r}, which is not a parameter of {type(self.law).__name__} {names}"
+                    f"Turf scatter names {key!r}, which is not a parameter of {type(self.law).__name__} {names}",
+                    parameter="scatter", value=key, law=type(self.law).__name__
                 )
             if not isinstance(value, LogNormal | Normal):
-                raise ParameterError(f"Turf scatter of {key!r} must be LogNormal or Normal; got {value!r}")
+                raise ParameterError(f"Turf scatter of {key!r} must be LogNormal or Normal; got {value!r}",
+                                     parameter="scatter", value=value)
         object.__setattr__(self, "scatter", dict(self.scatter))
         if self.correlation is not None:
             c = np.asarray(self.correlation, dtype=float)
             k = len(names)
             if c.shape != (k, k) or not np.allclose(c, c.T) or not np.allclose(np.diag(c), 1.0):
                 raise ParameterError(
-                    f"Turf correlation must be a symmetric {k}x{k} matrix with unit diagonal; got {c.tolist()}"
-                )
+                    f"Turf correlation must be a symmetric {k}x{k} matrix with unit diagonal; got {c.tolist()}",
+                    parameter="correlation")
             try:
                 np.linalg.cholesky(c)
             except np.linalg.LinAlgError:
                 raise ParameterError("Turf correlation matrix is not positive definite") from None
             object.__setattr__(self, "correlation", tuple(map(tuple, c.tolist())))
         if not isinstance(self.contact, ContactDuration):
-            raise ParameterError(f"Turf contact must be a ContactDuration; got {type(self.contact).__name__}")
+            raise ParameterError(f"Turf contact must be a ContactDuration; got {type(self.contact).__name__}",
+                                 parameter="contact")
 
     @property
     def parameter_names(self) -> tuple[str, ...]:

@@ -230,7 +230,8 @@ def clip_settings(
         try:
             regex = re.compile(pattern)
         except re.error as exc:
-            raise DataError(f"the file-name pattern {pattern!r} is not a regular expression: {exc}") from None
+            raise DataError(f"the file-name pattern {pattern!r} is not a regular expression: {exc}",
+                            option="pattern") from None
     out = {}
     for clip in clips:
         p = Path(clip)
@@ -363,7 +364,8 @@ def measure_clips(
                 progress(k + 1, len(items), names[k])
     if rows:
         if len(radii) > 1:
-            raise DataError(f"the clips use different ball radii {sorted(radii)}; a campaign has one ball")
+            raise DataError(f"the clips use different ball radii {sorted(radii)}; a campaign has one ball",
+                            option="ball_radius_m")
         names = [r[0] for r in rows]
         settings_col = [r[1].setting if r[1].setting is not None else Path(r[0]).stem for r in rows]
         ds = make_campaign(
@@ -462,13 +464,21 @@ def _read_manifest(path: Path) -> dict[str, dict[str, Any]]:
         raise DataError(f"cannot read the manifest: {exc}", file=str(path)) from None
     df.columns = [str(c).strip().lower() for c in df.columns]
     if "clip" not in df.columns:
-        raise DataError(f"the manifest needs a 'clip' column; it has {list(df.columns)}", file=str(path))
+        raise DataError(f"the manifest needs a 'clip' column; it has {list(df.columns)}", file=str(path),
+                        column="clip")
     known = {"fps", "setting", "ball_radius_mm", "pixels_per_metre"}
     rows = {}
     for _, r in df.iterrows():
         rows[str(r["clip"]).strip()] = {k: (None if pd.isna(r[k]) else str(r[k]).strip())
                                         for k in df.columns if k in known}
     return rows
+
+
+def _source(name: str, where: str) -> dict[str, str]:
+    """Where a clip's number came from, as DataError fields: the argument ``name``, or the manifest's column."""
+    if where == "argument":
+        return {"option": name}
+    return {"column": name} if where.startswith("manifest") else {}
 
 
 def _number(value, name: str, clip: str, where: str) -> float | None:
@@ -480,7 +490,7 @@ def _number(value, name: str, clip: str, where: str) -> float | None:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise DataError(f"{said} is not a number: {value!r}", file=clip) from None
+        raise DataError(f"{said} is not a number: {value!r}", file=clip, **_source(name, where)) from None
     if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{said} must be a positive finite number; got {value!r}", file=clip)
+        raise DataError(f"{said} must be a positive finite number; got {value!r}", file=clip, **_source(name, where))
     return v

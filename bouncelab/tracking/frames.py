@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 from bouncelab.tracking._cv import cv2
 
 __all__ = [
@@ -68,6 +68,10 @@ _COUNTED_VIDEO = (".avi", ".mp4", ".mov", ".m4v", ".mkv")
 #: setting it (``bouncelab.tracking.frames.MEMORY_BUDGET = 4 << 30``) applies to later calls.
 MEMORY_BUDGET: int = 1 << 30
 
+#: The hint of an error that a larger memory budget puts right (if the machine has the memory).
+_MORE_MEMORY = Hint("memory_budget", None, "more bytes, if the machine has them (default: "
+                                           "bouncelab.tracking.frames.MEMORY_BUDGET)")
+
 #: Memory taken by tracking, per pixel of one frame (bytes): the background's 31 sampled frames (31), its
 #: running quantile and float images (about 15), and the working copies of the frame being searched (about 15).
 #: Measured: tracking a 1920 x 1080 clip peaks about 130 MB above the interpreter (benchmarks/bench_tracking_memory.py).
@@ -89,7 +93,8 @@ def _budget(memory_budget: float | None) -> int:
     """The memory budget in bytes: ``memory_budget``, or :data:`MEMORY_BUDGET` read now."""
     value = MEMORY_BUDGET if memory_budget is None else memory_budget
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating) or not value > 0:
-        raise DataError(f"memory_budget must be a positive number of bytes (e.g. 4 << 30 for 4 GiB); got {value!r}")
+        raise DataError(f"memory_budget must be a positive number of bytes (e.g. 4 << 30 for 4 GiB); got {value!r}",
+                        option="memory_budget")
     return int(min(value, 2**62))
 
 
@@ -113,7 +118,7 @@ class _Source:
 
 def _check_dtype(dtype: np.dtype, label: str) -> None:
     if dtype.kind not in "uif" or dtype == np.bool_:
-        raise DataError(f"frames must be numbers; got dtype {dtype}", file=label)
+        raise DataError(f"frames must be numbers; got dtype {dtype}", file=label, option="frames")
 
 
 def _frame_layout(shape: tuple[int, ...], label: str) -> tuple[int, int, int, int | None]:
@@ -123,7 +128,8 @@ def _frame_layout(shape: tuple[int, ...], label: str) -> tuple[int, int, int, in
         channels = shape[-1]
         shape = shape[:3]
     if len(shape) != 3:
-        raise DataError(f"frames must be (t, h, w) or (t, h, w, 3); got shape {tuple(shape)}", file=label)
+        raise DataError(f"frames must be (t, h, w) or (t, h, w, 3); got shape {tuple(shape)}", file=label,
+                        option="frames")
     if shape[0] == 0 or shape[1] < 8 or shape[2] < 8:
         raise DataError(f"no frames, or frames smaller than 8 x 8 pixels: shape {tuple(shape)}", file=label)
     return int(shape[0]), int(shape[1]), int(shape[2]), channels
@@ -514,8 +520,8 @@ class Clip:
         if self.nbytes > self.memory_budget:
             raise DataError(f"reading all {n} frames of {w} x {h} pixels would take {_size(self.nbytes)}, more than "
                             f"the memory budget of {_size(self.memory_budget)}; track_clip and measure_clips read "
-                            "a clip frame by frame (give them the file), or raise memory_budget= "
-                            "(bouncelab.tracking.frames.MEMORY_BUDGET)", file=self.name)
+                            "a clip frame by frame (give them the file)", file=self.name, option="memory_budget",
+                            hints=[_MORE_MEMORY])
         out = np.empty(self.shape, np.uint8)
         for k, frame in self.frames():
             out[k] = frame
@@ -528,9 +534,8 @@ class Clip:
         if need > self.memory_budget:
             raise DataError(f"tracking frames of {w} x {h} pixels takes about {_size(need)} of memory "
                             f"({WORKING_BYTES_PER_PIXEL} bytes a pixel: the background's sampled frames and working "
-                            f"copies of a frame), more than the memory budget of {_size(self.memory_budget)}; "
-                            "raise memory_budget= (bouncelab.tracking.frames.MEMORY_BUDGET) if the machine has "
-                            "the memory", file=self.name)
+                            f"copies of a frame), more than the memory budget of {_size(self.memory_budget)}",
+                            file=self.name, option="memory_budget", hints=[_MORE_MEMORY])
 
     # -------------------------------------------------------------- conversion to 8 bits
     def _index(self, k: int) -> int:

@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 
 __all__ = ["RenderedClip", "ball_pattern", "render_clip"]
 
@@ -197,13 +197,13 @@ def render_clip(
                              dtype=float)[0]
     h, w = (int(v) for v in size)
     if h < 16 or w < 16:
-        raise DataError(f"size must be at least 16 x 16 pixels; got {size!r}")
+        raise DataError(f"size must be at least 16 x 16 pixels; got {size!r}", option="size")
     if not (np.isfinite(radius_px) and 2.0 <= radius_px < min(h, w) / 2):
-        raise DataError(f"radius_px must be in [2, {min(h, w) / 2}); got {radius_px!r}")
+        raise DataError(f"radius_px must be in [2, {min(h, w) / 2}); got {radius_px!r}", option="radius_px")
     if not (np.isfinite(noise) and noise >= 0):
-        raise DataError(f"noise must be a non-negative number of grey levels; got {noise!r}")
+        raise DataError(f"noise must be a non-negative number of grey levels; got {noise!r}", option="noise")
     if not (np.isfinite(motion_blur) and 0 <= motion_blur <= 1):
-        raise DataError(f"motion_blur must be in [0, 1]; got {motion_blur!r}")
+        raise DataError(f"motion_blur must be in [0, 1]; got {motion_blur!r}", option="motion_blur")
     track = simulate_tracked_bounce(
         landing, liftoff, fps=fps, n_before=n_before, n_after=n_after, contact_frames=contact_frames,
         position_noise=0.0, angle_noise=0.0, frame_offset=frame_offset, seed=rng,
@@ -223,7 +223,9 @@ def render_clip(
     if bad.any():
         k = int(np.argmax(bad))
         raise DataError(f"the ball leaves the {w} x {h} frame at frame {k} (centre column {col[k]:.1f}, "
-                        f"row {row[k]:.1f}); use a larger size, fewer frames or a smaller ball")
+                        f"row {row[k]:.1f})", option="size",
+                        hints=[Hint("size", None, "larger"), Hint("n_before", None, "fewer frames"),
+                               Hint("n_after", None, "fewer frames"), Hint("radius_px", None, "a smaller ball")])
 
     dots, seam = ball_pattern()
     cos_dot = np.cos(dot_radius)

@@ -8,13 +8,14 @@ at ``y = 0``, time in seconds, spin in rad/s anticlockwise.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import FRAME_RATE_RANGE
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.tracking.detect import estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip
@@ -46,8 +47,9 @@ class FrameRateError(DataError):
         ``fps`` passed in, ``--fps`` on the command line).
     """
 
-    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None) -> None:
-        super().__init__(message, file=file)
+    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None,
+                 hints: Iterable[Hint] = (), **where: Any) -> None:
+        super().__init__(message, file=file, hints=hints, **where)
         self.fps = fps
         self.source = source
 
@@ -126,9 +128,11 @@ def track_clip(
         label = "array" if isinstance(source, np.ndarray) else str(source)
     fps = check_fps(fps, label)
     if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
-        raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label)
+        raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label,
+                        option="ball_radius_m")
     if pixels_per_metre is not None and not (np.isfinite(pixels_per_metre) and pixels_per_metre > 0):
-        raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label)
+        raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label,
+                        option="pixels_per_metre")
     frames = open_clip(source, name=label, memory_budget=memory_budget)
     frames.check_working_memory()
     n, h, _w = frames.shape
@@ -303,8 +307,9 @@ def check_fps(fps, label: str, source: str = "argument") -> float:
         raise ValueError(f"source must be one of {FPS_SOURCES}; got {source!r}")
     what = _SOURCE_TEXT[source]
     if fps is None:
-        raise FrameRateError("the frame rate is missing: give fps (e.g. --fps 5000 or an fps column in the "
-                             "manifest)", fps=None, source=source, file=label)
+        raise FrameRateError("the frame rate is missing", fps=None, source=source, file=label,
+                             hints=[Hint("fps", None, "the camera's recording rate, e.g. 5000"),
+                                    Hint("manifest", None, "with an fps column")])
     given = fps
     try:
         fps = float(fps)

@@ -108,9 +108,10 @@ def measure_bounce(
     if window is not None and (
         isinstance(window, bool) or not isinstance(window, int | np.integer) or window < min_frames
     ):
-        raise DataError(f"window must be None or an integer >= min_frames ({min_frames}); got {window!r}")
+        raise DataError(f"window must be None or an integer >= min_frames ({min_frames}); got {window!r}",
+                        option="window")
     if contact is not None and not isinstance(contact, ContactDetection):
-        raise DataError(f"contact must be a ContactDetection or None; got {type(contact).__name__}")
+        raise DataError(f"contact must be a ContactDetection or None; got {type(contact).__name__}", option="contact")
 
     names = ("t", "x", "y", "spin") + (("lowest",) if contact is None else ())
     arrays = _track_arrays(track, names)
@@ -121,7 +122,7 @@ def measure_bounce(
         contact = detect_contact(t, arrays["lowest"], jitter_rtol=jitter_rtol)
     i, j = contact.touchdown_index, contact.liftoff_index
     if not (0 <= i <= j < n):
-        raise DataError(f"contact frames ({i}, {j}) are not ordered frames of this {n}-frame track")
+        raise DataError(f"contact frames ({i}, {j}) are not ordered frames of this {n}-frame track", option="contact")
 
     stop_b = max(i - guard, 0)
     start_b = 0 if window is None else max(stop_b - window, 0)
@@ -139,7 +140,7 @@ def measure_bounce(
         if count < min_frames:
             raise DataError(
                 f"only {count} usable frames {where} (frames {sl.start}..{sl.stop - 1}, after leaving "
-                f"{guard} guard frame(s)); need at least {min_frames}"
+                f"{guard} guard frame(s)); need at least {min_frames}", option="track"
             )
         for name in ("x", "y", "spin"):
             bad = ~np.isfinite(arrays[name][sl])
@@ -190,19 +191,21 @@ def _track_arrays(track, names: tuple[str, ...]) -> dict[str, np.ndarray]:
         have = set(map(str, track))
     else:
         raise DataError(
-            f"a track must be an xarray.Dataset or a mapping of arrays; got {type(track).__name__}"
+            f"a track must be an xarray.Dataset or a mapping of arrays; got {type(track).__name__}", option="track"
         )
     missing = [name for name in names if name not in have]
     if missing:
-        raise DataError(f"track has no {missing} variable(s); it has {sorted(have)}")
+        raise DataError(f"track has no {missing} variable(s); it has {sorted(have)}", column=missing[0],
+                        option="track")
     out = {}
     for name in names:
         value = track[name]
         if isinstance(value, xr.DataArray) and value.ndim != 1:
-            raise DataError(f"{name} must be 1-D (one value per frame); got dims {value.dims}", column=name)
+            raise DataError(f"{name} must be 1-D (one value per frame); got dims {value.dims}", column=name,
+                            option=name)
         out[name] = _as_1d(value.values if isinstance(value, xr.DataArray) else value, name)
     lengths = {name: arr.size for name, arr in out.items()}
     if len(set(lengths.values())) > 1:
-        raise DataError(f"track variables must have one value per frame; got lengths {lengths}")
+        raise DataError(f"track variables must have one value per frame; got lengths {lengths}", option="track")
     _check_finite(out["t"], "t")
     return out

@@ -98,9 +98,10 @@ def detect_contact(
     tt = _as_1d(t, "t")
     h = _as_1d(lowest, "lowest")
     if tt.size != h.size:
-        raise DataError(f"t and lowest must have the same length; got {tt.size} and {h.size}")
+        raise DataError(f"t and lowest must have the same length; got {tt.size} and {h.size}", column="lowest",
+                        option="lowest")
     if contact_model not in ("flat", "linear"):
-        raise DataError(f"contact_model must be 'flat' or 'linear'; got {contact_model!r}")
+        raise DataError(f"contact_model must be 'flat' or 'linear'; got {contact_model!r}", option="contact_model")
     contact_degree = 0 if contact_model == "flat" else 1
     for name, value, low in (("min_flight", min_flight, 3), ("min_contact", min_contact, 2)):
         _check_int_at_least(name, value, low)
@@ -109,7 +110,7 @@ def detect_contact(
     if n < need:
         raise DataError(
             f"need at least {need} frames to detect a contact ({min_flight} before, {min_contact} "
-            f"in contact, {min_flight} after); got {n}"
+            f"in contact, {min_flight} after); got {n}", column="t"
         )
     _check_finite(h, "lowest")
     dt = _frame_interval(tt, jitter_rtol=jitter_rtol)
@@ -150,7 +151,7 @@ def detect_contact(
             best = (float(total.flat[k]), int(ii[k // n, 0]), k % n)
     sse3, i, j = best
     if not np.isfinite(sse3):  # pragma: no cover - n >= need guarantees a candidate
-        raise DataError("no detectable contact: no admissible pair of contact frames")
+        raise DataError("no detectable contact: no admissible pair of contact frames", column="lowest")
 
     # Model selection: three pieces (3 + 1|2 + 3 coefficients + 2 breakpoints) against one quadratic.
     sse1 = float(_prefix_quadratic_sse(z, hc)[n])

@@ -100,7 +100,7 @@ def interval_coverage(
     from bouncelab.analysis.trajectories import simulate_tracked_bounce
 
     if isinstance(n_bounces, bool) or not isinstance(n_bounces, int | np.integer) or n_bounces < 1:
-        raise DataError(f"n_bounces must be a positive integer; got {n_bounces!r}")
+        raise DataError(f"n_bounces must be a positive integer; got {n_bounces!r}", option="n_bounces")
     rng = np.random.default_rng(seed)
     estimators = {
         "paper PI": ("differences", "prediction"),

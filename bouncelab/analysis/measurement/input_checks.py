@@ -23,9 +23,9 @@ def _as_1d(value, name: str) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be numeric; got {type(value).__name__}", column=name) from exc
+        raise DataError(f"{name} must be numeric; got {type(value).__name__}", column=name, option=name) from exc
     if arr.ndim != 1:
-        raise DataError(f"{name} must be 1-D (one value per frame); got shape {arr.shape}", column=name)
+        raise DataError(f"{name} must be 1-D (one value per frame); got shape {arr.shape}", column=name, option=name)
     return arr
 
 
@@ -68,13 +68,13 @@ def _check_level(level: float) -> float:
     try:
         lv = float(level)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"level must be a number in (0, 1); got {level!r}") from exc
+        raise DataError(f"level must be a number in (0, 1); got {level!r}", option="level") from exc
     if not (0.0 < lv < 1.0):
-        raise DataError(f"level must be in (0, 1); got {level!r}")
+        raise DataError(f"level must be in (0, 1); got {level!r}", option="level")
     return lv
 
 
 def _check_int_at_least(name: str, value, low: int) -> None:
     """DataError unless ``value`` is an integer (not a bool) of at least ``low``."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
-        raise DataError(f"{name} must be an integer >= {low}; got {value!r}")
+        raise DataError(f"{name} must be an integer >= {low}; got {value!r}", option=name)

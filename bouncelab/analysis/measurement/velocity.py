@@ -29,9 +29,9 @@ def _check_velocity_options(level: float, interval: str, method: str) -> float:
     """The checked ``level``; DataError for an unknown ``interval`` or ``method``."""
     level = _check_level(level)
     if interval not in _INTERVALS:
-        raise DataError(f"interval must be one of {_INTERVALS}; got {interval!r}")
+        raise DataError(f"interval must be one of {_INTERVALS}; got {interval!r}", option="interval")
     if method not in _METHODS:
-        raise DataError(f"method must be one of {_METHODS}; got {method!r}")
+        raise DataError(f"method must be one of {_METHODS}; got {method!r}", option="method")
     return level
 
 
@@ -131,17 +131,17 @@ def estimate_velocity(
     tt = _as_1d(t, "t")
     xx = _as_1d(pos, "pos")
     if tt.size != xx.size:
-        raise DataError(f"t and pos must have the same length; got {tt.size} and {xx.size}")
+        raise DataError(f"t and pos must have the same length; got {tt.size} and {xx.size}", column="pos", option="pos")
     if tt.size < 4:
-        raise DataError(f"need at least 4 frames to estimate a velocity with an interval; got {tt.size}")
+        raise DataError(f"need at least 4 frames to estimate a velocity with an interval; got {tt.size}", column="t")
     _check_finite(xx, "pos")
     dt = _frame_interval(tt, jitter_rtol=jitter_rtol)
     try:
         t_e = float(t_eval)
     except (TypeError, ValueError) as exc:
-        raise DataError(f"t_eval must be a time in s; got {t_eval!r}") from exc
+        raise DataError(f"t_eval must be a time in s; got {t_eval!r}", option="t_eval") from exc
     if not np.isfinite(t_e):
-        raise DataError(f"t_eval must be finite; got {t_eval!r}")
+        raise DataError(f"t_eval must be finite; got {t_eval!r}", option="t_eval")
 
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # inf and NaN are refused below

@@ -63,3 +63,20 @@ def columns_entry(key: str, names: Any, style: str) -> str:
     if style == "cli":
         return "--columns '" + json.dumps({key: names}) + "'"
     return f"columns={{{key!r}: {names!r}}}"
+
+
+def declare_units_hint(kind: str, units: tuple[str, ...] | list[str], *, style: str = "python") -> str:
+    """How to declare the unit of ``kind``: ``"units={'spin': 'rpm'}"`` (or a choice of several).
+
+    Every loader message that asks for a unit goes through here, so that it speaks the caller's
+    language: ``style="python"`` names the keyword, ``style="cli"`` the ``bouncelab`` flag
+    (``--spin-unit rpm``). (Moved here from ``bouncelab.core.plausibility``, whose errors carry hints
+    as data; the loader's own wording goes with this module.)
+    """
+    if style == "cli":
+        flag = "--velocity-unit" if kind == "velocity" else "--spin-unit"
+        options = " or ".join(f"{flag} {u}" for u in units)
+    else:
+        options = " or ".join(f"units={{{kind!r}: {u!r}}}" for u in units)
+    example = "[m/s]" if kind == "velocity" else "[rpm]"
+    return f"pass {options}, or put the unit in the column header (e.g. 'name {example}')"

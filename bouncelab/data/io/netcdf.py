@@ -121,8 +121,7 @@ def _campaign_from_netcdf(
                         row=None if why.row is None else why.row + 1)
     try:  # and the lower limits: all spins tiny, landings far too slow (a damaged file, or m/s and rpm)
         check_scaled(out["landing"].values, out["liftoff"].values,
-                     radius_m=float(out.attrs.get("ball_radius_m", BALL_RADIUS_M)), ranges=plausible,
-                     accept="pass plausible=PLAUSIBLE_RANGES.widened({limit}=...) to load_campaign")
+                     radius_m=float(out.attrs.get("ball_radius_m", BALL_RADIUS_M)), ranges=plausible)
     except DataError as exc:
         raise DataError(f"{exc}; a campaign file holds scaled units (radii/s, rad/s)", file=file) from None
     if campaign is not None:

@@ -21,7 +21,6 @@ from bouncelab.core.plausibility import (
     CANDIDATE_UNITS,
     PLAUSIBLE_RANGES,
     PlausibleRanges,
-    declare_units_hint,
     implausibility,
     plausible_units,
 )
@@ -805,14 +804,14 @@ def _check_plausible(
         if len(fits) > 1:
             msg = (f"{said}, and its numbers are plausible in {', '.join(fits[:-1])} and in {fits[-1]}"
                    + (f" (not in {default}: {why.reason})" if why is not None else "")
-                   + f"; bouncelab does not guess: {declare_units_hint(kind, fits, style=table.hint_style)}")
+                   + f"; bouncelab does not guess: {hints.declare_units_hint(kind, fits, style=table.hint_style)}")
         elif fits:
             msg = (f"{said}; read as {default}, {why.reason}; the numbers look like {fits[0]}: "
-                   f"{declare_units_hint(kind, fits, style=table.hint_style)}")
+                   f"{hints.declare_units_hint(kind, fits, style=table.hint_style)}")
         else:
             msg = (f"{said}; read as {default}, {why.reason}, and they are not plausible in "
                    f"{', '.join(CANDIDATE_UNITS[kind])} either: check the column, or "
-                   f"{declare_units_hint(kind, [default], style=table.hint_style)} and widen the plausible "
+                   f"{hints.declare_units_hint(kind, [default], style=table.hint_style)} and widen the plausible "
                    f"ranges ({_widen_hint(table)})")
         if why is not None and why.row is not None:
             raise _err(table, msg, cols[f"{why.state}.{why.component}"].name, why.row)
@@ -827,7 +826,7 @@ def _check_plausible(
     said = _cell(cols[role], why.row, unit) if why.row is not None else f"in {unit}"  # as written in the file
     others = [u for u in CANDIDATE_UNITS[why.kind] if u != unit]
     msg = (f"{said} (unit from {origin}): {why.reason}; the {why.kind} unit is wrong: "
-           f"{declare_units_hint(why.kind, others, style=table.hint_style)}, or if the values are right "
+           f"{hints.declare_units_hint(why.kind, others, style=table.hint_style)}, or if the values are right "
            f"widen the plausible ranges ({_widen_hint(table)})")
     raise _err(table, msg, cols[role].name, why.row)
 
