@@ -56,7 +56,7 @@ def test_a_fit_method_outside_its_box_hints_the_box_and_the_global_method(campai
     class Loose(bl.Rigid):
         @bl.laws.base.fit_method("closed_form")
         def _fit_closed(self, problem):
-            from bouncelab.laws.base import FitOutcome
+            from bouncelab.laws import FitOutcome
 
             return FitOutcome(model=self.replace(r=0.5, mu=2.0), objective_value=0.0, algorithm="closed form")
 
