@@ -16,7 +16,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-import bouncelab as bl  # noqa: E402
+import bouncelab as bl
 
 LANDING = (1000.0, -800.0, 300.0)
 
