@@ -330,8 +330,10 @@ class BounceModel:
         plausible = edge.check_plausible_argument(plausible)
         if edge.is_lazy(landing):
             if edge.PhysicalIO.needed(units, form) or return_flags or warn_outside_fitted:
-                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only; "
-                                "drop units=, form=, return_flags= and warn_outside_fitted=")
+                at = edge.io_option(units, form) if edge.PhysicalIO.needed(units, form) else \
+                    "return_flags" if return_flags else "warn_outside_fitted"
+                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only, without "
+                                "units=, form=, return_flags= or warn_outside_fitted=", option=at)
             return edge.lazy_predict(self, landing, plausible, radius_m)
         io = edge.PhysicalIO(units, form, radius_m, plausible) if edge.PhysicalIO.needed(units, form) else None
         p, wrap = self._argcheck(landing, io, plausible, radius_m)
@@ -407,7 +409,8 @@ class BounceModel:
         plausible = edge.check_plausible_argument(plausible)
         if edge.is_lazy(landing):
             if edge.PhysicalIO.needed(units, form):
-                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only")
+                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only, without "
+                                "units= or form=", option=edge.io_option(units, form))
             return edge.lazy_regime(self, landing, codes, plausible, radius_m)
         io = edge.PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m, plausible) \
             if edge.PhysicalIO.needed(units, form) else None
