@@ -135,7 +135,7 @@ def test_setting_strings():
 
 @pytest.mark.parametrize("bad", [[1.0, np.nan, 2.0, 2.0], [1.0, 1.0, 2.0, np.inf]])
 def test_setting_nan(bad):
-    with pytest.raises(DataError, match="missing") as info:
+    with pytest.raises(DataError) as info:
         _campaign(setting=bad)
     assert info.value.column == "setting"
     assert info.value.row == 2 if np.isnan(bad[1]) else info.value.row == 4
@@ -143,9 +143,9 @@ def test_setting_nan(bad):
 
 @pytest.mark.parametrize("bad", [["a", None, "b", "b"], np.array([1, 2, float("nan"), 3], dtype=object)])
 def test_setting_missing_in_object_array(bad):
-    with pytest.raises(DataError, match="missing") as info:
+    with pytest.raises(DataError) as info:
         _campaign(setting=bad)
-    assert info.value.row == (2 if bad[1] is None else 3)
+    assert (info.value.column, info.value.row) == ("setting", 2 if bad[1] is None else 3)
 
 
 @pytest.mark.parametrize("bad", [[1, 2, 3], [[1, 2], [3, 4]], 5])
@@ -158,7 +158,7 @@ def test_setting_shape(bad):
 def test_negative_pi():
     bad = PI0.copy()
     bad[2, 1] = -0.1
-    with pytest.raises(DataError, match=">= 0") as info:
+    with pytest.raises(DataError) as info:
         _campaign(landing_pi=bad)
     assert info.value.column == "landing_pi"
     assert info.value.row == 3
@@ -168,7 +168,7 @@ def test_negative_pi():
 def test_nan_pi():
     bad = PIF.copy()
     bad[1, 2] = np.nan
-    with pytest.raises(DataError, match="NaN") as info:
+    with pytest.raises(DataError) as info:
         _campaign(liftoff_pi=bad)
     assert info.value.column == "liftoff_pi.omega"
     assert info.value.row == 2
@@ -283,7 +283,7 @@ def test_validate_pi_with_wrong_dims():
 
 def test_validate_rejects_physical_units():
     ds = _campaign().assign_coords(unit=("component", ["m/s", "m/s", "rpm"]))
-    with pytest.raises(DataError, match="scaled units") as info:
+    with pytest.raises(DataError) as info:
         validate_campaign(ds)
     assert info.value.column == "unit"
 
@@ -353,8 +353,9 @@ def test_arrays_bad_types(bad):
 def test_arrays_checks_values():
     bad = P0.copy()
     bad[0, 1] = 1.0
-    with pytest.raises(DataError, match="ydot"):
+    with pytest.raises(DataError) as info:
         campaign_arrays((bad, PF))
+    assert (info.value.column, info.value.row) == ("landing.ydot", 1)
     with pytest.raises(DataError, match="shape"):
         campaign_arrays((P0, PF[:2]))
     with pytest.raises(DataError, match="no 'liftoff'"):

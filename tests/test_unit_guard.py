@@ -86,8 +86,9 @@ def test_widened_or_no_ranges_accept_on_purpose(campaign_a):
 def test_guard_uses_the_ball_radius(campaign_a):
     # a median landing of 26 radii/s is 0.56 m/s for a 21.35 mm ball, 5.2 m/s for a 0.2 m one
     slow, slow_f = campaign_a.landing.values * [0.02, 0.02, 1], campaign_a.liftoff.values * [0.02, 0.02, 1]
-    with pytest.raises(bl.DataError, match="median landing speed"):
+    with pytest.raises(bl.DataError) as exc:
         bl.make_campaign(slow, slow_f)
+    assert (exc.value.column, exc.value.row) == ("ydot0", None)  # the median landing speed
     assert bl.make_campaign(slow, slow_f, ball_radius_m=0.2).sizes["bounce"] == len(slow)
     with pytest.raises(bl.DataError, match="ball_radius_m"):
         bl.make_campaign(slow, slow_f, ball_radius_m=-1)
@@ -316,9 +317,9 @@ def test_a_dataframe_landing_is_named_by_its_row_label():
 
     frame = pd.DataFrame([[1000.0, -800.0, 300.0], [20.0, -15.0, 200.0]], columns=["xdot", "ydot", "omega"],
                          index=["shot-1", "shot-2"])
-    with pytest.raises(bl.DataError, match=r"^row 2 \(row label 'shot-2'\)") as exc:
+    with pytest.raises(bl.DataError) as exc:
         LAW.predict(frame)
-    assert exc.value.row_label == "shot-2"
+    assert (exc.value.row, exc.value.row_label) == (2, "shot-2")
 
 
 @pytest.mark.parametrize("n", [1, 8, 9, 500, 3 * 4096])  # plain Python, NumPy and the compiled pass

@@ -17,13 +17,6 @@ from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, ball_radius
 from bouncelab.data.embedded import DEFAULT_SURROGATE, EMBEDDED_CAMPAIGNS, SURROGATES, embedded_file_name
-from bouncelab.data.io import hints
-from bouncelab.data.io.columns import INTERVAL_KINDS, _check_units_arg
-from bouncelab.data.io.excel import _EXCEL_SUFFIXES, _read_excel
-from bouncelab.data.io.matlab import _read_mat
-from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES, _campaign_from_netcdf, _open_netcdf, _table_from_dataset
-from bouncelab.data.io.table import MISSING_POLICIES, _campaign_from_table, _table_from_dataframe
-from bouncelab.data.io.text import _read_text
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -94,20 +87,22 @@ def _embedded_file(name: str, surrogate: str):
     return path
 
 
+#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
+DATAFRAME_NAME = "<DataFrame>"
+
+
 def _is_dataframe(obj: Any) -> bool:
     """A pandas DataFrame, without importing pandas for anything else."""
     pd = sys.modules.get("pandas")
     return pd is not None and isinstance(obj, pd.DataFrame)
 
 
-def _check_header_row(header_row: Any, file: str, style: str) -> int | None:
-    if header_row is None:
-        return None
-    opt = hints.option("header_row", style)
-    if isinstance(header_row, bool) or not isinstance(header_row, int | np.integer) or header_row < 1:
-        raise DataError(f"{opt} is the 1-based line (text file) or row (spreadsheet) of the header, a whole "
-                        f"number >= 1; got {header_row!r}", file=file)
-    return int(header_row)
+def _not_for(what: str, where: str, file: str | None = None, **given: Any) -> None:
+    """Refuse options that do not apply to a source (``sheet`` to a CSV file...)."""
+    for option, value in given.items():
+        if value is not None:
+            raise DataError(f"{option.replace('_', ' ')} {value!r} was given, but it does not apply to {where}"
+                            f"{what}", file=file)
 
 
 def load_campaign(
@@ -124,9 +119,11 @@ def load_campaign(
     header_row: int | None = None,
     missing: str = "raise",
     intervals: str | None = None,
-    hint_style: str = "python",
 ) -> xr.Dataset:
     """Load a bounce campaign from a file, a pandas DataFrame, or one of the embedded campaigns.
+
+    docs/data.md ("Loading your own files") describes the formats, the column names recognised, the
+    units and every refusal in full.
 
     Parameters
     ----------
@@ -140,214 +137,161 @@ def load_campaign(
         Which file columns hold what: ``{"landing": [xdot0, ydot0, omega0],
         "liftoff": [xdotF, ydotF, omegaF]}`` plus optional ``"setting"`` (one
         name), ``"landing_pi"`` and ``"liftoff_pi"`` (three names each). Names
-        match case-, space-, punctuation- and unit-suffix-insensitively.
-        A landing or lift-off given as speed, angle and spin is a mapping,
-        ``{"speed": ..., "angle": ..., "spin": ...}`` (the landing angle
-        positive below the horizontal, the lift-off angle above it; degrees
-        unless the header or ``units={"angle": "rad"}`` says otherwise); its
-        intervals may be such a mapping too (half-widths of the speed, angle
-        and spin, propagated to first order to xdot, ydot, omega ones, see
-        :func:`~bouncelab.core.units.polar_halfwidths_to_cartesian`).
-        ``None`` detects them from :data:`~bouncelab.data.io.COLUMN_SYNONYMS`.
+        match case-, space-, punctuation- and unit-suffix-insensitively. A
+        state given as speed, angle and spin is a mapping ``{"speed": ...,
+        "angle": ..., "spin": ...}`` (the landing angle positive below the
+        horizontal, the lift-off angle above it); so may its intervals be
+        (propagated to first order, :func:`~bouncelab.core.units.polar_halfwidths_to_cartesian`).
+        ``None`` finds them from :data:`~bouncelab.data.io.COLUMN_SYNONYMS`.
     units
         Units of the file's values, ``{"velocity": "m/s", "spin": "rpm"}``
-        (either key optional; ``"angle"``: ``"deg"`` or ``"rad"`` for polar
-        columns). Without it a unit in a column's header is used,
-        else scaled units (radii/s, rad/s) are assumed.
+        (either key optional; ``"angle"``: ``"deg"`` or ``"rad"``). Without it a
+        unit in a column's header or a units row under the header is used;
+        numbers without a unit are read in scaled units only if plausible in no other.
     campaign, surface
         Names stored in the attrs; default: the file stem and ``""`` (for a
         campaign netCDF file, the stored ones).
     sheet
-        Excel sheet name or 0-based index (default: the first sheet).
+        Excel sheet name or 0-based index (default: the first visible sheet).
     ball_radius_m
-        Ball radius in metres used to scale velocities (a number in
-        :data:`~bouncelab.core.units.BALL_RADIUS_RANGE_M`, 5 mm to 20 cm: 21.35 is refused as millimetres).
+        Ball radius in metres used to scale velocities (within
+        :data:`~bouncelab.core.units.BALL_RADIUS_RANGE_M`: 21.35 is refused as millimetres).
     plausible
-        The magnitudes a golf bounce can have
-        (:data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`); numbers beyond them are refused
-        as a unit mistake. Widen them on purpose with
+        The magnitudes a golf bounce can have (:data:`~bouncelab.core.plausibility.PLAUSIBLE_RANGES`);
+        numbers beyond them are refused as a unit mistake. Widen them on purpose with
         ``PLAUSIBLE_RANGES.widened(max_spin=...)``.
     surrogate
-        Which embedded campaign ``"A"``/``"B"`` loads (embedded campaigns only):
-        ``"turf"`` the campaign simulated from a calibrated physical turf law
-        (:data:`bouncelab.simulation.surrogate.TURF_CALIBRATION`) and measured through
-        camera frames (:func:`bouncelab.simulate_campaign`; ``docs/simulation.md``),
-        ``"published"`` the synthetic surrogate made from the paper's published
-        piecewise-affine laws (:func:`bouncelab.generate_surrogate`; comparisons of
-        the paper's laws on it are circular). ``None`` (default):
-        :data:`bouncelab.simulation.surrogate.DEFAULT_SURROGATE`, ``"turf"``, the one the
-        calibration measures closer to the paper. The name is stored in attrs
-        ``surrogate``.
+        Which embedded campaign ``"A"``/``"B"`` loads (embedded campaigns only): ``"turf"``
+        (default, :data:`bouncelab.simulation.surrogate.DEFAULT_SURROGATE`), simulated with a
+        calibrated physical turf law and measured through camera frames, or ``"published"``,
+        generated from the paper's published laws (comparisons of those laws on it are
+        circular). Stored in attrs ``surrogate``.
     header_row
-        The 1-based line of a text file (or row of a spreadsheet) that holds
-        the header, counting every line; the lines above it are ignored.
-        Default: the first line that is not a comment nor a title line (a
-        line above the header with fewer cells than it and no number).
+        The 1-based line of a text file (or row of a spreadsheet) that holds the header, every
+        line counted; the lines above it are ignored. Default: the first line that is not a
+        comment nor a title line.
     missing
-        ``"raise"`` (default): a missing value (an empty cell, ``NA``,
-        ``NaN``...) in a column that is read is an error naming the cell.
-        ``"drop"``: such rows are left out, with a
-        :class:`~bouncelab.core.errors.DroppedRowsWarning` that lists them, and
-        their data rows (1-based) are stored in attrs ``dropped_rows``.
+        ``"raise"`` (default): a missing value (an empty cell, ``NA``, ``NaN``...) in a column
+        that is read is an error naming the cell. ``"drop"``: such rows are left out, with a
+        :class:`~bouncelab.core.errors.DroppedRowsWarning`; attrs ``dropped_rows`` lists them (1-based).
     intervals
-        What the file's interval columns hold (a campaign stores the
-        half-widths of 95 % prediction intervals): ``"pi95"`` such
-        half-widths, ``"sd"`` one standard deviation (multiplied by
-        :data:`~bouncelab.core.units.Z95`, 1.96, on loading). ``None``
-        (default) lets the names say: ``pi``, ``pi95``, ``hw``, ``halfwidth``,
-        ``ci``, ``ci95`` (and names without a marker given in ``columns=``)
-        are 95 % half-widths; ``sd``, ``std``, ``stdev``, ``stddev``,
-        ``sigma`` standard deviations; ``err``, ``error``, ``unc``,
-        ``uncertainty`` could be either, so a file with such columns needs
-        ``intervals=`` (a DataError says so). A name that contradicts
-        ``intervals=`` is a DataError. Files and DataFrames only. What was
-        read is stored in attrs ``interval_source``.
-    hint_style
-        How messages name the options to change: ``"python"`` (keywords such
-        as ``units={'spin': 'rpm'}``, default) or ``"cli"`` (the ``bouncelab``
-        command's flags such as ``--spin-unit rpm``; the command line passes it).
+        What the file's interval columns hold: ``"pi95"`` 95 % half-widths (what a campaign
+        stores), ``"sd"`` one standard deviation (multiplied by :data:`~bouncelab.core.units.Z95`).
+        ``None`` (default) lets the names say (``pi``, ``hw``, ``ci``: half-widths; ``sd``,
+        ``std``, ``sigma``: standard deviations); ``err``, ``unc`` could be either and need it.
 
     Returns
     -------
     xarray.Dataset
-        A campaign (see :func:`bouncelab.data.campaign.make_campaign`) in scaled
-        units, with attrs ``campaign``, ``surface``, ``source`` (absolute path),
-        ``data_kind`` (``"measured"`` unless a netCDF file says otherwise),
-        ``source_units`` and ``ball_radius_m``; with polar columns also
-        ``source_form`` (which states were polar) and, when intervals were
-        propagated from polar half-widths, ``interval_form``; with intervals,
-        ``interval_source`` (95 % half-widths or standard deviations x 1.96).
+        A campaign (:func:`bouncelab.data.campaign.make_campaign`) in scaled units, with attrs
+        ``campaign``, ``surface``, ``source`` (absolute path), ``data_kind``, ``source_units`` and
+        ``ball_radius_m``; with polar columns ``source_form`` (and ``interval_form`` when intervals
+        were propagated); with intervals ``interval_source``.
 
     Raises
     ------
     FileNotFoundError
         The file, or the embedded campaign's data file, does not exist.
     DataError
-        Any problem with the contents; the message names the file, the column
-        (as spelled in the file) and the data row (first row under the header = 1).
-        Also a folder given as the file, and an Excel file whose reader is not
-        installed (``openpyxl`` for ``.xlsx``, ``xlrd`` for ``.xls``: both come
-        with ``pip install 'bouncelab[excel]'``).
+        Any problem with the contents or the options: ``err.file``, ``err.column`` (as spelled in
+        the file) and ``err.row`` (the first row under the header is 1; ``err.row_label`` for a
+        DataFrame) say where, ``err.hints`` the options that would put it right. Also a folder,
+        and an Excel file whose reader is not installed (``pip install 'bouncelab[excel]'``).
 
     Examples
     --------
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     >>> ds = load_campaign("B")  # doctest: +SKIP
     """
-    style = hints.check_style(hint_style)
+    from bouncelab.data.io.interpret import INTERVAL_KINDS, MISSING_POLICIES, campaign_from_netcdf, campaign_from_table
+    from bouncelab.data.io.interpret import check_units_arg as _units
+    from bouncelab.data.io.read import (
+        EXCEL_SUFFIXES,
+        NETCDF_SUFFIXES,
+        open_netcdf,
+        read_excel,
+        read_mat,
+        read_text,
+        table_from_dataframe,
+        table_from_dataset,
+    )
+
+    frame = _is_dataframe(source)
+    where = DATAFRAME_NAME if frame else str(source)
     if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
-    where = DATAFRAME_NAME if _is_dataframe(source) else str(source)
     radius = ball_radius(ball_radius_m, file=where)
     if not isinstance(plausible, PlausibleRanges):
         raise ParameterError(f"plausible must be a PlausibleRanges, e.g. PLAUSIBLE_RANGES.widened(max_spin=40_000) "
                              f"to accept data beyond the default ranges on purpose; got {plausible!r}")
     if missing not in MISSING_POLICIES:
-        raise DataError(f"{hints.option('missing', style)} must be one of {', '.join(map(repr, MISSING_POLICIES))}; "
-                        f"got {missing!r}")
+        raise DataError(f"missing must be one of {', '.join(map(repr, MISSING_POLICIES))}; got {missing!r}")
     if intervals is not None and intervals not in INTERVAL_KINDS:
-        raise DataError(f"{hints.option('intervals', style)} must be None or one of "
-                        f"{', '.join(map(repr, INTERVAL_KINDS))} (95 % half-widths or one standard deviation); "
-                        f"got {intervals!r}")
-    if _is_dataframe(source):
-        if surrogate is not None:
-            raise DataError(f"{hints.setting('surrogate', surrogate, style)} applies only to the embedded campaigns "
-                            f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a DataFrame", file=where)
-        return _load_dataframe(source, columns=columns, units=units, campaign=campaign, surface=surface,
-                               sheet=sheet, ball_radius_m=radius, plausible=plausible,
-                               header_row=header_row, missing=missing, intervals=intervals, style=style)
+        raise DataError(f"intervals must be None or one of {', '.join(map(repr, INTERVAL_KINDS))} (95 % half-widths "
+                        f"or one standard deviation); got {intervals!r}")
+    if header_row is not None and (isinstance(header_row, bool) or not isinstance(header_row, int | np.integer)
+                                   or header_row < 1):
+        raise DataError(f"the header row is the 1-based line (text file) or row (spreadsheet) of the header, a whole "
+                        f"number >= 1; got {header_row!r}", file=None if frame else where)
+    embedded = f"the embedded campaigns {' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}"
+    if frame:
+        _not_for("", "a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
+        return campaign_from_table(table_from_dataframe(source, where), columns=columns, units=_units(units, where),
+                                   campaign="DataFrame" if campaign is None else str(campaign),
+                                   surface="" if surface is None else str(surface), source="pandas.DataFrame",
+                                   ball_radius_m=radius, plausible=plausible, missing=missing, intervals=intervals)
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name = source.strip().upper()
-        for option, value in (("header_row", header_row), ("intervals", intervals)):
-            if value is not None:
-                raise DataError(f"{hints.option(option, style)} does not apply to an embedded campaign")
+        _not_for("", "an embedded campaign", header_row=header_row, intervals=intervals)
         surrogate = DEFAULT_SURROGATE if surrogate is None else surrogate
-        res = _embedded_file(name, surrogate)
-        with resources.as_file(res) as path:
+        with resources.as_file(_embedded_file(name, surrogate)) as path:
             file = f"embedded campaign {name} ({path.name})"
-            ds = _open_netcdf(Path(path), file)
-            out = _campaign_from_netcdf(
-                ds, file=file, source=str(path), columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
-            )
-            if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
-                out.attrs["surrogate"] = surrogate
-                tag = f"surrogate {surrogate!r}"
-                if tag not in out.attrs["warning"]:
-                    out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
-            return out
+            out = campaign_from_netcdf(open_netcdf(Path(path), file), file=file, source=str(path), columns=columns,
+                                       units=units, campaign=campaign, surface=surface, ball_radius_m=radius,
+                                       plausible=plausible)
+        if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
+            out.attrs["surrogate"] = surrogate
+            if (tag := f"surrogate {surrogate!r}") not in out.attrs["warning"]:
+                out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
+        return out
 
-    if surrogate is not None:  # a file is what it is: no surrogate to choose
-        raise DataError(f"{hints.setting('surrogate', surrogate, style)} applies only to the embedded campaigns "
-                        f"{' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}, not to a file", file=os.fspath(source))
     file = os.fspath(source)
+    if surrogate is not None:  # a file is what it is: no surrogate to choose
+        raise DataError(f"the surrogate {surrogate!r} names which of {embedded} to load; {file!r} is a file",
+                        file=file)
     path = Path(file).expanduser()
     if not path.exists():
         hint = ""
         if isinstance(source, str) and not Path(file).suffix and os.sep not in file and len(file) <= 2:
-            hint = f" (the embedded campaigns are {' and '.join(map(repr, EMBEDDED_CAMPAIGNS))})"
+            hint = f" ({embedded.replace('campaigns', 'campaigns are')})"
         raise FileNotFoundError(f"no such file: {file!r}{hint}")
     if path.is_dir():
-        raise DataError("it is a directory, not a data file; give the path of a file in it "
+        raise DataError(f"it is a directory, not a data file; give the path of a file in it "
                         f"({', '.join(SUPPORTED_SUFFIXES)})", file=file)
     suffix = path.suffix.lower()
     if suffix not in SUPPORTED_SUFFIXES:
-        raise DataError(
-            f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
-            f"{', '.join(SUPPORTED_SUFFIXES)}", file=file,
-        )
-    if sheet is not None and suffix not in _EXCEL_SUFFIXES:
-        raise DataError(f"{hints.option('sheet', style)} only applies to Excel files", file=file)
-    header_line = _check_header_row(header_row, file, style)
-    if header_line is not None and suffix not in (*_EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
-        raise DataError(f"{hints.option('header_row', style)} only applies to text and Excel files", file=file)
+        raise DataError(f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
+                        f"{', '.join(SUPPORTED_SUFFIXES)}", file=file)
+    if suffix not in EXCEL_SUFFIXES:
+        _not_for(" (only Excel files have sheets)", "this file", file, sheet=sheet)
+    if suffix not in (*EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
+        _not_for(" (only text and Excel files have one)", "this file", file, header_row=header_row)
     absolute = str(path.resolve())
     _check_regular_file(path, file)
-
-    if suffix in _NETCDF_SUFFIXES:
-        ds = _open_netcdf(path, file)
+    if suffix in NETCDF_SUFFIXES:
+        ds = open_netcdf(path, file)
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
-            if intervals is not None:
-                raise DataError(f"{hints.option('intervals', style)} does not apply to a bouncelab campaign file: "
-                                f"its landing_pi and liftoff_pi are 95 % half-widths", file=file)
-            return _campaign_from_netcdf(
-                ds, file=file, source=absolute, columns=columns, units=units,
-                campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
-            )
-        table = _table_from_dataset(ds, file)
-    elif suffix in _EXCEL_SUFFIXES:
-        table = _read_excel(path, file, sheet, header_row=header_line, style=style)
+            return campaign_from_netcdf(ds, file=file, source=absolute, columns=columns, units=units,
+                                        campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
+                                        intervals=intervals)
+        table = table_from_dataset(ds, file)
+    elif suffix in EXCEL_SUFFIXES:
+        table = read_excel(path, file, sheet, header_row=header_row)
     elif suffix == ".mat":
-        table = _read_mat(path, file)
+        table = read_mat(path, file)
     else:
-        table = _read_text(path, file, _read_bytes(path, file), header_row=header_line, style=style)
-    table.hint_style = style
-    return _campaign_from_table(
-        table, columns=columns, units=_check_units_arg(units, file, style),
-        campaign=path.stem if campaign is None else str(campaign),
-        surface="" if surface is None else str(surface),
-        source=absolute, ball_radius_m=radius, plausible=plausible, missing=missing, intervals=intervals,
-    )
-
-
-#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
-DATAFRAME_NAME = "<DataFrame>"
-
-
-def _load_dataframe(df: pd.DataFrame, *, columns: Any, units: Any, campaign: str | None, surface: str | None,
-                    sheet: Any, ball_radius_m: float, plausible: PlausibleRanges, header_row: Any, missing: str,
-                    intervals: str | None, style: str) -> xr.Dataset:
-    """A DataFrame read as a table: its column names are the header, its rows the data."""
-    file = DATAFRAME_NAME
-    for name, value in (("sheet", sheet), ("header_row", header_row)):
-        if value is not None:
-            raise DataError(f"{hints.option(name, style)} does not apply to a DataFrame", file=file)
-    table = _table_from_dataframe(df, file)
-    table.hint_style = style
-    return _campaign_from_table(
-        table, columns=columns, units=_check_units_arg(units, file, style),
-        campaign="DataFrame" if campaign is None else str(campaign),
-        surface="" if surface is None else str(surface),
-        source="pandas.DataFrame", ball_radius_m=ball_radius_m, plausible=plausible, missing=missing,
-        intervals=intervals, warn_depth=1,
-    )
+        table = read_text(file, _read_bytes(path, file), header_row=header_row)
+    return campaign_from_table(table, columns=columns, units=_units(units, file),
+                               campaign=path.stem if campaign is None else str(campaign),
+                               surface="" if surface is None else str(surface), source=absolute, ball_radius_m=radius,
+                               plausible=plausible, missing=missing, intervals=intervals)

@@ -13,16 +13,11 @@ import xarray as xr
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError, OutputError
 from bouncelab.data.campaign import validate_campaign
-from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
-from bouncelab.data.io.table import _module_available
+from bouncelab.data.io.read import NETCDF_SUFFIXES, module_available
 
 
 def _netcdf_engine() -> str:
-    if _module_available("netCDF4"):
-        return "netcdf4"
-    if _module_available("h5netcdf"):
-        return "h5netcdf"
-    return "scipy"
+    return next((e.lower() for e in ("netCDF4", "h5netcdf") if module_available(e)), "scipy")
 
 
 def _check_attr(key: str, value: Any, file: str) -> None:
@@ -79,7 +74,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     """
     path = Path(path).expanduser()
     file = os.fspath(path)
-    if path.suffix.lower() not in _NETCDF_SUFFIXES:
+    if path.suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(
             f"save_campaign writes netCDF; give the file a .nc suffix (got {path.suffix or 'none'!r})",
             file=file,
@@ -87,7 +82,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     parent = path.parent
     if not parent.is_dir():
         raise OutputError(f"cannot save {file!r}: the folder {os.fspath(parent)!r} does not exist", path=file,
-                          errno=errno.ENOENT)
+                          reason="the folder does not exist", errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
@@ -100,7 +95,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
         raise
     except OSError as exc:  # read-only folder, a folder in the way, disk full: say which path
         reason = exc.strerror or str(exc)
-        raise OutputError(f"cannot save {file!r}: {reason}; nothing was written", path=file,
+        raise OutputError(f"cannot save {file!r}: {reason}; nothing was written", path=file, reason=reason,
                           errno=exc.errno) from exc
     return path
 
