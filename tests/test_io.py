@@ -494,7 +494,7 @@ def test_missing_requested_column(tmp_path):
 def test_bad_columns_argument(tmp_path):
     path = write_standard_csv(tmp_path / "arg.csv")
     for columns, said in (({"landing": ["vx0", "vy0", "w0"]}, "liftoff"),
-                          ({"landing": ["vx0", "vy0", "w0"], "lift": ["vxF", "vyF", "wF"]}, "['lift']"),
+                          ({"landing": ["vx0", "vy0", "w0"], "lift": ["vxF", "vyF", "wF"]}, "'lift'"),
                           ({"landing": "vx0", "liftoff": ["vxF", "vyF", "wF"]}, "'vx0'")):
         with pytest.raises(DataError) as exc:
             load_campaign(path, columns=columns)
@@ -681,7 +681,7 @@ def test_unknown_units(tmp_path):
     with pytest.raises(DataError) as exc:
         load_campaign(path, units={"speed": "m/s"})
     assert_located(exc, path, None, None)
-    assert "['speed']" in exc.value.message
+    assert "{'speed': 'm/s'}" in exc.value.message
     names = ["vx0 [px/frame]", "vy0 [m/s]", "w0 [rpm]", "vxF [m/s]", "vyF [m/s]", "wF [rpm]"]
     path2 = write_table(tmp_path / "u2.csv", names, list(COLS.values()))
     with pytest.raises(DataError) as exc:

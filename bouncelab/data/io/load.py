@@ -236,7 +236,7 @@ def load_campaign(
     embedded = f"the embedded campaigns {' and '.join(map(repr, EMBEDDED_CAMPAIGNS))}"
     if frame:
         _not_for("", "a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
-        return campaign_from_table(table_from_dataframe(source, where), columns=columns, units=_units(units, where),
+        return campaign_from_table(table_from_dataframe(source, where), columns=columns, given=_units(units, where),
                                    campaign="DataFrame" if campaign is None else str(campaign),
                                    surface="" if surface is None else str(surface), source="pandas.DataFrame",
                                    ball_radius_m=radius, plausible=plausible, missing=missing, intervals=intervals)
@@ -247,7 +247,7 @@ def load_campaign(
         with resources.as_file(_embedded_file(name, surrogate)) as path:
             file = f"embedded campaign {name} ({path.name})"
             out = campaign_from_netcdf(open_netcdf(Path(path), file), file=file, source=str(path), columns=columns,
-                                       units=units, campaign=campaign, surface=surface, ball_radius_m=radius,
+                                       given=units, campaign=campaign, surface=surface, ball_radius_m=radius,
                                        plausible=plausible)
         if "warning" in out.attrs:  # a generated surrogate: reports print its warning, name the surrogate
             out.attrs["surrogate"] = surrogate
@@ -281,7 +281,7 @@ def load_campaign(
     if suffix in NETCDF_SUFFIXES:
         ds = open_netcdf(path, file)
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
-            return campaign_from_netcdf(ds, file=file, source=absolute, columns=columns, units=units,
+            return campaign_from_netcdf(ds, file=file, source=absolute, columns=columns, given=units,
                                         campaign=campaign, surface=surface, ball_radius_m=radius, plausible=plausible,
                                         intervals=intervals)
         table = table_from_dataset(ds, file)
@@ -291,7 +291,7 @@ def load_campaign(
         table = read_mat(path, file)
     else:
         table = read_text(file, _read_bytes(path, file), header_row=header_row)
-    return campaign_from_table(table, columns=columns, units=_units(units, file),
+    return campaign_from_table(table, columns=columns, given=_units(units, file),
                                campaign=path.stem if campaign is None else str(campaign),
                                surface="" if surface is None else str(surface), source=absolute, ball_radius_m=radius,
                                plausible=plausible, missing=missing, intervals=intervals)
