@@ -1,16 +1,10 @@
-"""Landings alone (no lift-offs): a table of landing states read by column name, or rows of three numbers.
+"""Landings alone (no lift-offs), as ``bouncelab predict --input`` reads them.
 
-This is what ``bouncelab predict --input`` reads. A file with a header is read as the campaign
-loader reads a text table (:func:`bouncelab.data.io.read.read_text`: title lines, a units row under
-the header, ``#`` comments, the delimiter sniffed, a decimal comma, every error located by line) and
-interpreted by its interpreter (:class:`bouncelab.data.io.interpret.Reading`): columns recognised by
-the loader's synonym table: a landing given as ``xdot0, ydot0, omega0`` (any of the loader's
-Cartesian names, ``vx_in``, ``w0``...) or as ``speed, angle, spin`` (the angle of incidence below
-the horizontal), in any order. Since these columns can only be landings, names without a phase
-marker count too (``xdot``, ``vx``, ``speed``, ``spin``...). Other columns (lift-offs, intervals,
-settings, notes) are left alone. Units come from the header or the units row (``m/s,deg,rpm``),
-else from ``units=``, else the scaled ones (radii/s, rad/s) and degrees. A file without a header
-is read as before: three numbers a line, ``xdot0 ydot0 omega0``.
+A file with a header is read as the loader reads a text table (:func:`bouncelab.data.io.read.read_text`)
+and interpreted by its interpreter (:class:`bouncelab.data.io.interpret.Reading`): a landing as ``xdot0,
+ydot0, omega0`` or ``speed, angle, spin`` (any of the loader's names, and names without a phase marker:
+``vx``, ``speed``...), in any order, other columns left alone; units from the header or a units row, else
+``units=``, else the scaled ones and degrees. A file without a header is three numbers a line.
 """
 
 from __future__ import annotations
@@ -48,25 +42,11 @@ _NAMING = ("name the columns xdot0, ydot0, omega0, or speed, angle, spin (the an
 
 @dataclass(frozen=True)
 class LandingTable:
-    """Landings read by :func:`read_landings`.
-
-    Attributes
-    ----------
-    states
-        (n, 3) landings ``[xdot0, ydot0, omega0]`` in scaled units (radii/s, rad/s).
-    form
-        ``"cartesian"`` or ``"polar"`` (columns read by name), or ``"rows"`` (no header: three
-        numbers a line, ``xdot0 ydot0 omega0``).
-    values
-        (n, 3) the numbers as the file gives them: ``xdot, ydot, omega`` or ``speed, angle, spin``.
-    units
-        The unit of each kind read (``velocity``, ``spin``; ``angle`` for a polar file).
-    unit_origins
-        Where each unit came from: ``"header"`` (the header or the units row), ``"units="`` (the
-        caller) or ``"default"``.
-    columns
-        The file's columns read, in the order of ``values`` (empty for a file without header).
-    """
+    """Landings read by :func:`read_landings`: ``states`` (n, 3) ``[xdot0, ydot0, omega0]`` in scaled units;
+    ``form`` ``"cartesian"``, ``"polar"`` (read by name) or ``"rows"`` (no header); ``values`` the numbers as
+    the file gives them (``xdot, ydot, omega`` or ``speed, angle, spin``); ``units`` the unit of each kind read
+    and ``unit_origins`` where it came from (``"header"``, ``"units="`` or ``"default"``); ``columns`` the file's
+    columns read, in the order of ``values``."""
 
     states: np.ndarray
     form: str
@@ -81,30 +61,17 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
                   radius_m: float = BALL_RADIUS_M) -> LandingTable:
     """Read a text file of landing states (no lift-offs) by column name.
 
-    Parameters
-    ----------
-    file
-        The file's path; with ``data``, only its name in messages (e.g. ``"<stdin>"``).
-    data
-        The file's bytes, when they do not come from ``file`` (standard input).
-    units
-        ``{"velocity": ..., "spin": ..., "angle": "deg" | "rad"}``, each optional: the units of
-        columns whose header (or units row) gives none. A header unit that differs is an error.
-    radius_m
-        Ball radius of the scaling, in metres.
-
-    Returns
-    -------
-    LandingTable
+    ``file`` is the file's path, or with ``data`` (its bytes, e.g. standard input) only its name in messages;
+    ``units`` ``{"velocity": ..., "spin": ..., "angle": "deg" | "rad"}`` gives the units of columns whose
+    header (or units row) gives none; ``radius_m`` is the ball radius of the scaling, in metres.
 
     Raises
     ------
     FileNotFoundError
         ``file`` does not exist (and no ``data`` is given).
     DataError
-        Naming the file, the column and the line: columns that cannot be told apart or are
-        missing, an empty or non-numeric cell, an unknown or conflicting unit, a landing that
-        does not come down (``ydot0 >= 0``, a landing angle outside (0, 90] degrees).
+        Naming the file, the column and the line: columns that cannot be told apart or are missing, an empty
+        or non-numeric cell, an unknown or conflicting unit, a landing that does not come down.
     """
     from bouncelab.data.io.load import _check_regular_file, _read_bytes
 

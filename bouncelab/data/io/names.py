@@ -48,17 +48,15 @@ _NOT_SYNONYMS = frozenset({"indx"})  # a common column name the rules would read
 
 
 def _build_state_keys() -> dict[str, str]:
-    table: dict[str, str] = {}
+    """Every Cartesian state name (``vx0``, ``in_vx``, ``in_vx_0``...) and its role."""
+    table = {}
     for state, phases in _PHASES.items():
-        prefixes = [ph for ph in phases if len(ph) > 1]  # "in_vx", not "i_vx" or "ivy"; "w_in", not "low"
+        words = [ph for ph in phases if len(ph) > 1]  # a phase before the stem is a word: "in_vx", not "i_vx", "ivy"
         for comp, stems in _STEMS.items():
-            for stem in stems:
-                keys = {stem + ph for ph in phases}
-                if len(stem) > 1:
-                    keys |= {pre + stem for pre in prefixes} | {pre + stem + ph for pre in prefixes for ph in phases}
-                for key in keys - _NOT_SYNONYMS:
-                    if table.setdefault(key, f"{state}.{comp}") != f"{state}.{comp}":  # pragma: no cover
-                        raise AssertionError(f"synonym {key!r} is two roles")
+            for stem in stems:  # and a one-letter stem takes a phase only after it: "w_in", not "low"
+                pre = words if len(stem) > 1 else []
+                keys = [stem + ph for ph in phases] + [p + stem for p in pre] + [p + stem + q for p in pre for q in phases]
+                table.update({k: f"{state}.{comp}" for k in keys if k not in _NOT_SYNONYMS})
     return table
 
 

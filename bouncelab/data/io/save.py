@@ -37,24 +37,18 @@ def _check_attr(key: str, value: Any, file: str) -> None:
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
     """Write a campaign to a netCDF file that :func:`~bouncelab.data.io.load_campaign` reads back exactly.
 
-    Values, the ``setting`` coordinate (numbers or strings), the prediction
-    intervals and the attrs all survive the round trip bit for bit. The file
-    is written to a temporary name and renamed, so a failed save leaves no
-    file (and an existing file untouched); an existing file keeps its
-    permission bits, a new one gets the usual ones (the umask's), and a
-    symlink stays a symlink to the file it names, which is replaced.
+    Values, the ``setting`` coordinate (numbers or strings), the prediction intervals and the attrs survive
+    the round trip bit for bit. The file is written to a temporary name and renamed: a failed save leaves no
+    file and an existing one untouched; an existing file keeps its permission bits, a symlink stays a symlink.
 
     Parameters
     ----------
     ds
-        A campaign Dataset (it is checked with
-        :func:`~bouncelab.data.campaign.validate_campaign`; only the campaign
-        variables, coordinates and attrs are written).
+        A campaign Dataset (checked with :func:`~bouncelab.data.campaign.validate_campaign`).
     path
-        Destination, ending in ``.nc`` or ``.netcdf``. Its directory must exist.
+        Destination, ending in ``.nc`` or ``.netcdf``, in an existing folder.
     engine
-        xarray netCDF engine; default ``"netcdf4"`` or ``"h5netcdf"`` if
-        installed, else ``"scipy"`` (netCDF-3, always available).
+        xarray netCDF engine; default ``"netcdf4"`` or ``"h5netcdf"`` if installed, else ``"scipy"`` (netCDF-3).
 
     Returns
     -------
@@ -64,13 +58,10 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     Raises
     ------
     DataError
-        ``ds`` is not a valid campaign, an attr cannot be stored, or the
-        suffix is not a netCDF one; no file is created.
+        ``ds`` is not a valid campaign, an attr cannot be stored, or the suffix is not a netCDF one.
     OutputError
-        The file cannot be written (its folder does not exist or is read-only,
-        ``path`` is a folder, the disk is full...): a
-        :class:`~bouncelab.core.errors.OutputError` (an ``OSError``) naming the path
-        (``err.path``); no file is created and an existing one is unchanged.
+        The file cannot be written (a missing or read-only folder, a folder in the way, a full disk): an
+        ``OSError`` naming the path (``err.path``), its ``reason`` and ``errno``; nothing is written.
     """
     path = Path(path).expanduser()
     file = os.fspath(path)
