@@ -19,6 +19,7 @@ from bouncelab.data import io as bio
 from bouncelab.data.campaign import make_campaign
 from bouncelab.data.io import load as io_load
 from bouncelab.data.io import load_campaign, save_campaign
+from bouncelab.data.io import names as syn
 from bouncelab.data.io import read as io_read
 
 R = 0.02135  # default ball radius, metres
@@ -545,19 +546,19 @@ def test_spec_synonyms_are_recognised():
     }
     for role, names in expect.items():
         for name in names:
-            assert bio._role_of(bio._normalize(name)) == role, name
+            assert syn.role_of(syn.normalize(name)) == role, name
 
 
 def test_synonym_table_has_no_collisions():
     seen: dict[str, str] = {}
-    for state, phases in bio._PHASES.items():
-        for comp, stems in bio._STEMS.items():
+    for state, phases in syn._PHASES.items():
+        for comp, stems in syn._STEMS.items():
             for stem in stems:
                 for ph in phases:
                     for key in (stem + ph, ph + stem):
                         assert seen.setdefault(key, f"{state}.{comp}") == f"{state}.{comp}", key
-    assert not set(bio._SETTING_NAMES) & set(seen)
-    assert bio._build_state_keys() == bio._STATE_KEYS
+    assert not set(syn._SETTING_NAMES) & set(seen)
+    assert syn._build_state_keys() == syn._STATE_KEYS
 
 
 @pytest.mark.parametrize(
@@ -566,7 +567,7 @@ def test_synonym_table_has_no_collisions():
      "ivy", "iv", "speed0", "notes", "x0", "y0", "frame rate", "wheel speed", "vx", "spin", "in", "out"],
 )
 def test_common_column_names_are_not_bounce_data(name):
-    assert bio._role_of(bio._normalize(name)) is None
+    assert syn.role_of(syn.normalize(name)) is None
 
 
 def test_auto_detection_failure_shows_columns_argument(tmp_path):

@@ -58,7 +58,8 @@ def test_an_excel_file_without_its_reader_says_what_to_install(tmp_path, monkeyp
     monkeypatch.setattr(io_read, "module_available", lambda name: name != package)
     with pytest.raises(DataError) as e:
         load_campaign(path)  # was an ImportError
-    assert e.value.file == str(path) and f"needs the package {package}: pip install 'bouncelab[excel]'" in e.value.message
+    assert e.value.file == str(path)
+    assert f"needs the package {package}: pip install 'bouncelab[excel]'" in e.value.message
 
 
 def test_the_excel_extra_installs_both_readers():

@@ -353,8 +353,8 @@ def test_a_header_unit_of_another_kind_is_named_with_its_article(tmp_path):
     path = write(tmp_path / "units.csv", table)
     polar = {"landing": {"speed": "a", "angle": "b", "spin": "c"}}
     for columns, column, said in (
-            ({"landing": ["a", "b", "c"], "liftoff": ["d", "e", "f"]}, "b (deg)", "'deg', an angle unit, not a velocity"),
-            ({**polar, "liftoff": {"speed": "d", "angle": "e", "spin": "f"}}, "e (m/s)", "'m/s', a velocity unit, not an"),
+            ({"landing": ["a", "b", "c"], "liftoff": ["d", "e", "f"]}, "b (deg)", "'deg', an angle unit, not a"),
+            ({**polar, "liftoff": {"speed": "d", "angle": "e", "spin": "f"}}, "e (m/s)", "'m/s', a velocity unit, not"),
             ({**polar, "liftoff": {"speed": "d", "angle": "f", "spin": "e"}}, "f (rpm)", "'rpm', a spin unit, not an")):
         with pytest.raises(DataError) as exc:
             load_campaign(path, columns=columns)

@@ -190,7 +190,8 @@ def test_netcdf_table_honours_cf_units(tmp_path):
     ds.to_netcdf(tmp_path / "bad.nc", engine="scipy")
     with pytest.raises(DataError) as e:
         bl.load_campaign(tmp_path / "bad.nc")
-    assert located(e, "w0", None) and e.value.message.startswith("the units attribute gives the unit 'furlong/fortnight'")
+    assert located(e, "w0", None)
+    assert e.value.message.startswith("the units attribute gives the unit 'furlong/fortnight'")
 
 
 def test_netcdf_campaign_in_physical_units_is_refused_and_its_setting_variable_kept(tmp_path):

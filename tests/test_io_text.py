@@ -214,5 +214,6 @@ def test_random_files_load_the_numbers_written_or_raise_a_data_error(tmp_path_fa
     except DataError as exc:
         assert exc.file == str(path)
         return
-    np.testing.assert_array_equal(states(ds), [[float(c) for c in r] for r in cells[: len(rows)]])
-    np.testing.assert_array_equal(np.signbit(states(ds)), np.signbit([[float(c) for c in r] for r in cells[: len(rows)]]))
+    want = np.array([[float(c) for c in r] for r in cells[: len(rows)]])
+    np.testing.assert_array_equal(states(ds), want)
+    np.testing.assert_array_equal(np.signbit(states(ds)), np.signbit(want))

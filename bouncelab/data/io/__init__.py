@@ -24,14 +24,7 @@ every refusal in full.
 """
 
 from bouncelab.data.io.load import EMBEDDED_CAMPAIGNS, SUPPORTED_SUFFIXES, load_campaign
-from bouncelab.data.io.names import _PHASES as _PHASES
-from bouncelab.data.io.names import _SETTING_NAMES as _SETTING_NAMES
-from bouncelab.data.io.names import _STATE_KEYS as _STATE_KEYS
-from bouncelab.data.io.names import _STEMS as _STEMS
 from bouncelab.data.io.names import COLUMN_SYNONYMS
-from bouncelab.data.io.names import _build_state_keys as _build_state_keys
-from bouncelab.data.io.names import normalize as _normalize
-from bouncelab.data.io.names import role_of as _role_of
 from bouncelab.data.io.save import save_campaign
 
 __all__ = ["COLUMN_SYNONYMS", "EMBEDDED_CAMPAIGNS", "SUPPORTED_SUFFIXES", "load_campaign", "save_campaign"]

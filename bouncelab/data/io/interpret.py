@@ -52,14 +52,15 @@ def check_units_arg(given: Any, file: str) -> dict[str, str]:
     """``units=`` as canonical units; unknown keys and units, and relative ones, refused."""
     if given is None:
         return {}
-    if not isinstance(given, Mapping) or (bad := [k for k in given if k not in ("velocity", "spin", "angle")]):
+    if not isinstance(given, Mapping) or [k for k in given if k not in ("velocity", "spin", "angle")]:
         raise DataError(f"units must be a mapping with the keys 'velocity', 'spin' and/or 'angle', e.g. {{'velocity': "
                         f"'m/s', 'spin': 'rpm'}}; got {given!r}", file=file)
     out = {}
     for kind, unit in ((k, u) for k, u in given.items() if u is not None):
         if isinstance(unit, str) and syn.relative_word(unit) is not None:
-            raise DataError(f"the {kind} unit given, {unit!r}, is a relative unit: values and half-widths are read only "
-                            "in absolute units (convert a half-width in per cent first: times its value / 100)", file=file)
+            raise DataError(f"the {kind} unit given, {unit!r}, is a relative unit: values and half-widths are read "
+                            "only in absolute units (convert a half-width in per cent first: times its value / 100)",
+                            file=file)
         try:
             out[kind] = units.canonical_unit(unit, kind)
         except DataError as exc:
@@ -151,8 +152,8 @@ class Reading:
                             f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}", file=self.file)
         for key in (k for k in keys if columns.get(k) is not None or k in STATES):
             if (roles := _state_roles(columns.get(key))) is None:
-                raise DataError(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) or a "
-                                f"mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}",
+                raise DataError(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) "
+                                f"or a mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}",
                                 file=self.file)
             self.chosen.update({f"{key}.{c}": self.find(n, f"{key} {c}") for c, n in roles.items()})
         if columns.get("setting") is not None:
@@ -161,11 +162,11 @@ class Reading:
         # A half-width named as a state's column or the reverse is refused; so is a column named as a speed or angle in
         # a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40). A mapping says what each column is.
         for r in (r for r, t in said.items() if "." in t and ("_pi." in t) != ("_pi." in r)):
-            key, comp = r.split(".")
-            raise DataError(f"the columns given for {key!r} include one of the wrong kind: {self.col(r)!r} says it holds "
-                            f"{_what(said[r])}, not {_what(r, f'{key}.speed' in self.chosen, asked=True)}; a state's own "
-                            f"columns go under {key.removesuffix('_pi')!r}, their half-widths under "
-                            f"{key.removesuffix('_pi') + '_pi'!r} (or rename the column if it holds what is asked)",
+            key, polar = r.split(".")[0], f"{r.split('.')[0]}.speed" in self.chosen
+            raise DataError(f"the columns given for {key!r} include one of the wrong kind: {self.col(r)!r} says it "
+                            f"holds {_what(said[r])}, not {_what(r, polar, asked=True)}; a state's own columns go under"
+                            f" {key.removesuffix('_pi')!r}, their half-widths under"
+                            f" {key.removesuffix('_pi') + '_pi'!r} (or rename the column if it holds what is asked)",
                             file=self.file, column=self.col(r), hints=[Hint("columns")])
         for key in keys:
             if key in PI_STATES and f"{key}.speed" in self.chosen and f"{key[:-3]}.speed" not in self.chosen:
@@ -185,8 +186,9 @@ class Reading:
                 r = f"{key}.{wrong[0]}"
                 raise DataError(
                     f"the column name {self.col(r)!r} says it holds {_what(said[r])}, but the list given for {key!r} "
-                    f"reads it as {_what(r, asked=True)}: speed, angle and spin{' half-widths' if key in PI_STATES else ''} "
-                    "are named by a mapping (a list is read as xdot, ydot, omega), or rename the column if it holds "
+                    f"reads it as {_what(r, asked=True)}: speed, angle and spin"
+                    f"{' half-widths' if key in PI_STATES else ''} are named by a mapping (a list is read as "
+                    "xdot, ydot, omega), or rename the column if it holds "
                     "what is asked", file=self.file, column=self.col(r), hints=[Hint("columns", {key: {
                         k: pick(c) for k, c in zip(("speed", "angle", "spin"), POLAR, strict=True)}})])
 
@@ -199,9 +201,11 @@ class Reading:
                 forms[s] = forms[other]  # nothing found: suggest the form the other state has
             if forms[s] == "cartesian" and any(len(found[f"{s}.{c}"]) != 1 for c in ("xdot", "ydot")) and any(
                     found[f"{s}.{c}"] for c in ("speed", "angle")):
-                problems.append(f"{s}: both Cartesian columns {[c.name for r in ('xdot', 'ydot') for c in found[f'{s}.{r}']]}"
-                                f" and polar ones {[c.name for r in ('speed', 'angle') for c in found[f'{s}.{r}']]}")
-        for role in (*(f"{s}.{c}" for s in STATES for c in (COMPONENTS if forms[s] == "cartesian" else POLAR)), "setting"):
+                cart = [c.name for r in ("xdot", "ydot") for c in found[f"{s}.{r}"]]
+                problems.append(f"{s}: both Cartesian columns {cart} "
+                                f"and polar ones {[c.name for r in ('speed', 'angle') for c in found[f'{s}.{r}']]}")
+        roles = [f"{s}.{c}" for s in STATES for c in (COMPONENTS if forms[s] == "cartesian" else POLAR)]
+        for role in (*roles, "setting"):
             if len(found[role]) == 1:
                 self.chosen[role] = found[role][0]
             elif found[role] or role != "setting":
@@ -239,17 +243,19 @@ class Reading:
             self.chosen.update({f"{pi}.{c}": found[f"{pi}.{c}"][0] for c in COMPONENTS})
         elif polar and form == "cartesian":  # ignoring them loses the intervals, never gives a wrong number
             warn(f"{self.file}: ignoring the {pi} columns {names((*polar, *cartesian))}: the {said} is read from its "
-                 f"Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle ({', '.join(names(polar))}) "
-                 f"are propagated only through a polar state; loaded without {said} intervals. To use them, name the "
+                 f"Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle "
+                 f"({', '.join(names(polar))}) are propagated only through a polar state; loaded without {said} "
+                 "intervals. To use them, name the "
                  f"{said} as speed, angle and spin and {pi!r} as a mapping, or its xdot, ydot, omega half-widths as a "
                  f"list, {where}")
         elif polar and {"xdot", "ydot"} & set(cartesian):
-            return (f"the {said} has both Cartesian half-widths {names(('xdot', 'ydot'))} and polar ones {names(polar)}; "
-                    f"say which to read ({pi!r} as a list of xdot, ydot, omega or a mapping of speed, angle, spin)")
+            return (f"the {said} has both Cartesian half-widths {names(('xdot', 'ydot'))} and polar ones "
+                    f"{names(polar)}; say which to read ({pi!r} as a list of xdot, ydot, omega or a mapping of "
+                    "speed, angle, spin)")
         elif polar and missing:
-            return (f"the {said} has polar half-widths {names(POLAR)} but none for its {' and '.join(missing)}: all three "
-                    "(speed, angle, spin) are needed to propagate them to xdot, ydot, omega; add the missing column, or "
-                    f"name it (or leave {pi!r} out to load without intervals)")
+            return (f"the {said} has polar half-widths {names(POLAR)} but none for its {' and '.join(missing)}: all "
+                    "three (speed, angle, spin) are needed to propagate them to xdot, ydot, omega; add the missing "
+                    f"column, or name it (or leave {pi!r} out to load without intervals)")
         elif polar:
             self.chosen.update({f"{pi}.{c}": found[f"{pi}.{c}"][0] for c in POLAR})
         elif cartesian:
@@ -266,14 +272,17 @@ class Reading:
             if role == "setting" or (unit := syn.relative_unit(ch.name, row_unit[0])) is None:
                 continue
             state, comp = role.split(".")
-            what = f"{_SAID[state.removesuffix('_pi')]} {'spin' if comp == 'omega' and f'{state}.speed' in self.chosen else comp}"
+            what = _what(f"{state}.{comp}", f"{state}.speed" in self.chosen, asked=True).removeprefix("the ")
+            what = what.removesuffix(" half-width")
             where = "header" if syn.split_header(ch.name)[1] is not None else row_unit[1]
             raise DataError(
-                f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads half-widths only "
-                "in an absolute unit (that of the value or one of its kind); convert the column first, multiplying each "
-                "half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), and give it the value's unit"
+                f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads half-widths "
+                "only in an absolute unit (that of the value or one of its kind); convert the column first, "
+                "multiplying each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), and give it "
+                "the value's unit"
                 if state in PI_STATES else f"the {where} gives the {what} in {unit!r}, a relative unit: a measured "
-                f"{what} needs an absolute unit (m/s, rpm, deg...); convert the column, or name the one holding the value",
+                f"{what} needs an absolute unit (m/s, rpm, deg...); convert the column, or name the one holding the "
+                "value",
                 file=self.file, column=ch.name)
 
     def interval_scales(self, intervals: str | None) -> dict[str, float]:
@@ -286,8 +295,9 @@ class Reading:
             marker = syn.interval_marker(ch.name)
             says = "pi95" if marker in syn.PI95_MARKERS else "sd" if marker in syn.SD_MARKERS else None
             if intervals is not None and says is not None and says != intervals:
-                raise DataError(f"the interval columns are said to hold {meaning[intervals]}, but the name of {ch.name!r} "
-                                f"({marker!r}) says it holds {meaning[says]} (rename the column if it does not)",
+                raise DataError(f"the interval columns are said to hold {meaning[intervals]}, but the name of "
+                                f"{ch.name!r} ({marker!r}) says it holds {meaning[says]} (rename the column if it "
+                                "does not)",
                                 file=self.file, column=ch.name, hints=[Hint("intervals", says, "as the name says")])
             if intervals is None and marker in syn.AMBIGUOUS_MARKERS:
                 unsure.append(ch.name)
@@ -355,7 +365,7 @@ class Reading:
                            f"{int(self.rows[first[0]]) + 1}); write every number with the same decimal mark", name, i)
         self.t.decimal_comma = comma is not None
         for i, name, t in sorted(grouped):
-            if comma is not None and "." in t or dot is not None and "," in t:
+            if (comma is not None and "." in t) or (dot is not None and "," in t):
                 why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
                        f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
             elif comma is None and dot is None and ("," in t or self.t.delimiter == ";"):  # a semicolon file: a
@@ -406,7 +416,8 @@ class Reading:
         labels: list[Any] = []
         for i, v in enumerate([self.t.text(name)[r] for r in self.rows] if self.t.text is not None else s.tolist()):
             if is_empty(v) or str(v).strip().lower() in MISSING or (isinstance(v, float) and not math.isfinite(v)):
-                shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str) else v)
+                shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(
+                    v.strip() if isinstance(v, str) else v)
                 raise self.err(f"missing setting label ({shown}); every bounce needs one", name, i, [_DROP])
             if isinstance(v, str) and (x := syn.parse_number(v)) is not None and not math.isfinite(x):
                 raise self.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a "
@@ -455,12 +466,14 @@ class Reading:
         if (infinite := ~np.isfinite(np.column_stack([speed, self.parsed[an], self.parsed[om]]))).any():
             i, k = (int(v) for v in np.argwhere(infinite)[0])
             role = (sp, an, om)[k]
-            raise self.err(f"{said} {('speed', 'angle', 'spin')[k]} {self.cell(self.col(role), i, self.unit_of[role][0])} "
-                           "is not a finite number; every bounce needs a finite speed, angle and spin", self.col(role), i)
+            cell = self.cell(self.col(role), i, self.unit_of[role][0])
+            raise self.err(f"{said} {('speed', 'angle', 'spin')[k]} {cell} is not a finite number; every bounce "
+                           "needs a finite speed, angle and spin", self.col(role), i)
         if self.unit_of[an][1] == "assumed" and len(angle) and np.max(np.abs(angle)) <= _RADIAN_LIKE:
-            raise DataError(f"the file gives no unit for the {said} angles and every one is within +-{_RADIAN_LIKE:.2f}: "
-                            "read as degrees (the default) they are implausibly flat, they look like radians; say which "
-                            f"(a unit in the header says it too: '{self.col(an)} (rad)' or '(deg)')", file=self.file,
+            raise DataError(f"the file gives no unit for the {said} angles and every one is within "
+                            f"+-{_RADIAN_LIKE:.2f}: read as degrees (the default) they are implausibly flat, they look "
+                            f"like radians; say which (a unit in the header says it too: '{self.col(an)} (rad)' "
+                            "or '(deg)')", file=self.file,
                             column=self.col(an), hints=[Hint("units", {"angle": "rad"})])
         landing = state == "landing"
         bad_speed = ~(speed > 0) if landing else ~(speed >= 0)
@@ -469,15 +482,16 @@ class Reading:
             i = int(rows[0])
             if bad_speed[i]:
                 raise self.err(f"{said} speed {self.cell(self.col(sp), i, self.unit_of[sp][0])}: a speed must be "
-                               f"{'positive' if landing else 'zero or positive'}; polar files give speeds >= 0 with the "
-                               "ball moving in +x (the angle gives the direction)", self.col(sp), i)
+                               f"{'positive' if landing else 'zero or positive'}; polar files give speeds >= 0 with "
+                               "the ball moving in +x (the angle gives the direction)", self.col(sp), i)
             raise self.err(f"{said} angle {self.cell(self.col(an), i, self.unit_of[an][0])} is not plausible: " + (
                 "a landing angle is positive below the horizontal, in (0, 90] degrees for a ball coming down in +x (a "
                 "file that measures it the other way needs the column negated)" if landing else "a lift-off angle is "
                 "positive above the horizontal, in [0, 180) degrees (0 to 90 going on in +x, above 90 going back; a "
                 "negative one would send the ball into the ground)"), self.col(an), i)
         cart = units.state_from_polar(np.column_stack([speed, angle, self.parsed[om]]), kind=state,
-                                      speed_unit=self.unit_of[sp][0], spin_unit=self.unit_of[om][0], radius_m=self.radius)
+                                      speed_unit=self.unit_of[sp][0], spin_unit=self.unit_of[om][0],
+                                      radius_m=self.radius)
         a = np.deg2rad(angle)  # the components in the file's speed unit, for the unit checks and their messages
         for comp, scaled, parsed in (("xdot", cart[:, 0], speed * np.cos(a)),
                                      ("ydot", cart[:, 1], (-1.0 if landing else 1.0) * speed * np.sin(a))):
@@ -518,7 +532,8 @@ class Reading:
         for k, comp in enumerate(COMPONENTS):
             self.scaled[f"{pi}.{comp}"] = hw[:, k]
         for comp in ("xdot", "ydot"):  # so that a later message about them names a column of the file
-            self.chosen[f"{pi}.{comp}"], self.unit_of[f"{pi}.{comp}"] = self.chosen[f"{pi}.speed"], self.unit_of[f"{pi}.speed"]
+            self.chosen[f"{pi}.{comp}"] = self.chosen[f"{pi}.speed"]
+            self.unit_of[f"{pi}.{comp}"] = self.unit_of[f"{pi}.speed"]
 
     def interval_cell(self, role: str, i: int, scales: Mapping[str, float]) -> str:
         """An interval cell for messages, quoting the number that was checked (a standard deviation x 1.96)."""
@@ -533,7 +548,8 @@ class Reading:
         if "landing.speed" in self.chosen:
             return  # a polar landing is checked by its angle
         up = np.flatnonzero(self.scaled["landing.ydot"] >= 0)
-        if up.size and np.isfinite(np.column_stack([self.scaled[f"landing.{c}"] for c in COMPONENTS])[: up[0] + 1]).all():
+        landing = np.column_stack([self.scaled[f"landing.{c}"] for c in COMPONENTS])
+        if up.size and np.isfinite(landing[: up[0] + 1]).all():  # a non-finite value first: as_states reports it
             i, name = int(up[0]), self.col("landing.ydot")
             raise self.err("landing ydot must be negative (y points up, a landing moves down); the file gives "
                            f"{self.cell(name, i, self.unit_of['landing.ydot'][0])} (a file whose y points down needs "
@@ -553,7 +569,8 @@ class Reading:
         """Refuse numbers whose unit is not given and not certain, and numbers only a wrong unit makes."""
         roles = [f"{s}.{c}" for s in STATES for c in COMPONENTS]
         for kind in ("velocity", "spin"):
-            if not (assumed := [r for r in roles if KINDS[r.split(".")[1]] == kind and self.unit_of[r][1] == "assumed"]):
+            assumed = [r for r in roles if KINDS[r.split(".")[1]] == kind and self.unit_of[r][1] == "assumed"]
+            if not assumed:
                 continue
 
             def convert(factor: float, assumed: list[str] = assumed) -> tuple[np.ndarray, np.ndarray]:
@@ -567,7 +584,8 @@ class Reading:
             names = list(dict.fromkeys(self.col(r) for r in assumed))  # a polar speed backs xdot and ydot
             why = verdicts[default]
             said = f"the file gives no {kind} unit for {', '.join(map(repr, names))}"
-            header = f"a unit in the column header says it too, e.g. '{names[0]} [{'m/s' if kind == 'velocity' else 'rpm'}]'"
+            unit = "m/s" if kind == "velocity" else "rpm"
+            header = f"a unit in the column header says it too, e.g. '{names[0]} [{unit}]'"
             msg = (f"{said}, and its numbers are plausible in {', '.join(fits[:-1])} and in {fits[-1]}"
                    + (f" (not in {default}: {why.reason})" if why is not None else "")
                    + f"; bouncelab does not guess ({header})" if len(fits) > 1 else
@@ -601,7 +619,7 @@ def _what(role: str, polar: bool = False, asked: bool = False) -> str:
 
 
 def _same_unit(a: str, b: str) -> bool:
-    return a.strip().lower() == b.strip().lower() or bool(syn.unit_of(a)) and syn.unit_of(a) == syn.unit_of(b)
+    return a.strip().lower() == b.strip().lower() or (bool(syn.unit_of(a)) and syn.unit_of(a) == syn.unit_of(b))
 
 
 def _a(word: str) -> str:
@@ -612,7 +630,8 @@ def _state_roles(names: Any) -> dict[str, str] | None:
     """Component -> requested name for one entry of columns=: a list (xdot, ydot, omega), or a mapping with the keys
     xdot, ydot, omega or speed, angle, spin (or omega)."""
     if isinstance(names, Mapping):
-        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"}, {"speed", "angle", "omega"})
+        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"},
+                                      {"speed", "angle", "omega"})
         return {("omega" if k == "spin" else str(k)): str(v) for k, v in names.items()} if ok else None
     if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
         return None
@@ -650,8 +669,9 @@ def _label_number(v: Any) -> int | float | None:
     """A setting label as an exact int, a float (non-whole, up to 15 significant digits), or None."""
     if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.number | str):
         return None
-    if isinstance(v, int | np.integer) or isinstance(v, str) and re.fullmatch(r"[+-]?\d+", v.strip().replace("−", "-")):
-        return int(v.strip().replace("−", "-") if isinstance(v, str) else v)  # exact, however long ("01" is 1)
+    text = v.strip().replace("\u2212", "-") if isinstance(v, str) else ""
+    if isinstance(v, int | np.integer) or re.fullmatch(r"[+-]?\d+", text):
+        return int(text or v)  # exact, however long ("01" is 1)
     x = float(v) if not isinstance(v, str) else syn.parse_number(v)
     if x is None or not math.isfinite(x):
         return None
@@ -690,7 +710,8 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
     used: dict[str, str] = {}
     for role, ch in r.chosen.items():
         if used.setdefault(ch.name, role) != role:
-            raise DataError(f"the same column is asked for as {used[ch.name]} and as {role}", file=t.file, column=ch.name)
+            raise DataError(f"the same column is asked for as {used[ch.name]} and as {role}", file=t.file,
+                            column=ch.name)
     lengths = {n: t.lengths[n] for n in used} if t.lengths is not None else {}
     if len(set(lengths.values())) > 1:
         raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each", file=t.file,
@@ -720,7 +741,8 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
     attrs: dict[str, Any] = {"source_units": _describe_units(r.unit_of, r.chosen)}
     read: dict[str, set[str]] = {}
     for role, factor in scales.items():
-        read.setdefault(role.split("_pi.")[0], set()).add("95 % half-widths" if factor == 1 else "standard deviations x 1.96")
+        read.setdefault(role.split("_pi.")[0], set()).add("95 % half-widths" if factor == 1 else
+                                                          "standard deviations x 1.96")
     if read:
         attrs["interval_source"] = ", ".join(f"{s} " + " and ".join(sorted(read[s])) for s in STATES if s in read)
     if polar := [s for s in STATES if f"{s}.speed" in r.chosen]:
@@ -770,8 +792,8 @@ def _propagated_too_wide(r: Reading, pi: str, comp: str, i: int, limit: str) -> 
                                                                           f"{state}.speed", f"{state}.angle")}
     return r.err(f"the {_SAID[state]} {comp} half-width propagated from the speed half-width {cell[f'{pi}.speed']} and "
                  f"the angle half-width {cell[f'{pi}.angle']} (at speed {cell[f'{state}.speed']}, angle "
-                 f"{cell[f'{state}.angle']}) is {value:.4g} {unit}, wider than any plausible value ({limit}): check the "
-                 f"unit of {culprit!r}", culprit, i)
+                 f"{cell[f'{state}.angle']}) is {value:.4g} {unit}, wider than any plausible value ({limit}): check "
+                 f"the unit of {culprit!r}", culprit, i)
 
 
 def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any, given: Any, campaign: str | None,
@@ -797,7 +819,8 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
         try:  # save_campaign's netCDF-3 spelling of int64 settings
             labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
         except (ValueError, OverflowError):
-            raise DataError("the setting labels marked int64 are not all integers", file=file, column="setting") from None
+            raise DataError("the setting labels marked int64 are not all integers", file=file,
+                            column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
     out = validate_campaign(ds.assign_attrs({"data_kind": "measured", "source": source, **ds.attrs}), file=file)

@@ -197,11 +197,12 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
         return out
     file = os.fspath(source)
     if surrogate is not None:  # a file is what it is: no surrogate to choose
-        raise DataError(f"the surrogate {surrogate!r} names which of the embedded campaigns {embedded} to load; {file!r} "
-                        "is a file", file=file)
+        raise DataError(f"the surrogate {surrogate!r} names which of the embedded campaigns {embedded} to load; "
+                        f"{file!r} is a file", file=file)
     if not (path := Path(file).expanduser()).exists():
         short = isinstance(source, str) and not Path(file).suffix and os.sep not in file and len(file) <= 2
-        raise FileNotFoundError(f"no such file: {file!r}" + (f" (the embedded campaigns are {embedded})" if short else ""))
+        said = f" (the embedded campaigns are {embedded})" if short else ""
+        raise FileNotFoundError(f"no such file: {file!r}{said}")
     if path.is_dir():
         raise DataError(f"it is a directory, not a data file; give the path of a file in it "
                         f"({', '.join(SUPPORTED_SUFFIXES)})", file=file)

@@ -55,7 +55,7 @@ def _build_state_keys() -> dict[str, str]:
         for comp, stems in _STEMS.items():
             for stem in stems:  # and a one-letter stem takes a phase only after it: "w_in", not "low"
                 pre = words if len(stem) > 1 else []
-                keys = [stem + ph for ph in phases] + [p + stem for p in pre] + [p + stem + q for p in pre for q in phases]
+                keys = [stem + ph for ph in phases] + [p + stem + q for p in pre for q in ("", *phases)]
                 table.update({k: f"{state}.{comp}" for k in keys if k not in _NOT_SYNONYMS})
     return table
 
@@ -137,7 +137,7 @@ _BRACKET = re.compile(r"^(.*?)[\s_]*[\[\(\{]([^\[\]\(\)\{\}]*)[\]\)\}]\s*$")
 
 
 def split_header(name: str) -> tuple[str, str | None]:
-    """Split ``"vx0 [m/s]"`` into ``("vx0", "m/s")`` (also ``vx0_mps``, ``vx0 m/s``); ``(name, None)`` without a unit."""
+    """Split ``"vx0 [m/s]"`` into ``("vx0", "m/s")`` (also ``vx0_mps``, ``vx0 m/s``); ``(name, None)`` if no unit."""
     m = _BRACKET.match(name)
     if m and m.group(1).strip():
         return m.group(1).strip(), m.group(2).strip()

@@ -435,7 +435,8 @@ def read_mat(path: Path, file: str) -> Table:
         raise DataError(f"reading it as a MATLAB file took over {MAT_PROBE_TIMEOUT_S:g} s; the file is damaged",
                         file=file) from None
     if proc.returncode != 0:
-        how = (f"signal {signal.Signals(-proc.returncode).name}" if -proc.returncode in signal.Signals._value2member_map_
+        signals = signal.Signals._value2member_map_
+        how = (f"signal {signal.Signals(-proc.returncode).name}" if -proc.returncode in signals
                else f"exit status {proc.returncode}")
         raise DataError(f"the MATLAB reader (scipy.io.loadmat) crashed on it ({how}): the file is damaged; save it "
                         "again from MATLAB or write a CSV", file=file)
@@ -500,8 +501,8 @@ def table_from_dataset(ds: xr.Dataset, file: str) -> Table:
         vals = var.values
         if vals.dtype.kind == "S":
             vals = np.array([v.decode("utf-8", "replace") for v in vals.reshape(-1)]).reshape(vals.shape)
-        for k, (col, v) in enumerate([(str(name), vals)] if vals.ndim == 1 else [
-                (f"{name}_{k + 1}", vals[:, k]) for k in range(vals.shape[1])] if vals.ndim == 2 else []):
+        split = [(f"{name}_{k + 1}", vals[:, k]) for k in range(vals.shape[1])] if vals.ndim == 2 else []
+        for col, v in [(str(name), vals)] if vals.ndim == 1 else split:
             cf = var.attrs.get("units")
             if isinstance(cf, str) and cf.strip():
                 units[col] = (cf.strip(), "units attribute")
