@@ -823,7 +823,10 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
                             column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
-    out = validate_campaign(ds.assign_attrs({"data_kind": "measured", "source": source, **ds.attrs}), file=file)
+    attrs = dict(ds.attrs)  # in their stored order
+    attrs.setdefault("data_kind", "measured")
+    attrs.setdefault("source", source)
+    out = validate_campaign(ds.assign_attrs(attrs), file=file)
     radius = float(out.attrs.get("ball_radius_m", BALL_RADIUS_M))
     p0, pf = out["landing"].values, out["liftoff"].values
     if (why := plausibility.implausibility(p0, pf, radius_m=radius, ranges=plausible)) is not None:
