@@ -90,7 +90,7 @@ class Reading:
             if unit and row and row[1] == "units row" and not _same_unit(unit, row[0]):
                 raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
                                 "them agree or remove one", file=t.file, column=name)
-        self.frame = t.frame.loc[:, [bool(n) for n in t.frame.columns]]
+        self.frame = t.frame if all(t.frame.columns) else t.frame.loc[:, [bool(n) for n in t.frame.columns]]
         self.names = list(self.frame.columns)
         self.rows = np.arange(len(self.frame))  # the file's data row (0-based) of each row kept
         self.chosen: dict[str, Choice] = {}
@@ -380,7 +380,7 @@ class Reading:
         """A column as floats, and the error of its first bad cell (or None)."""
         s = self.frame[name]
         if s.dtype.kind in "iuf" and pd.api.types.is_numeric_dtype(s):
-            vals = s.to_numpy(dtype=float, na_value=np.nan)
+            vals = s.to_numpy() if s.dtype == np.float64 else s.to_numpy(dtype=float, na_value=np.nan)
             if self.t.text_cells and np.isnan(vals).any():  # a missing cell, as in a file (an array's NaN: later)
                 i = int(np.flatnonzero(np.isnan(vals))[0])
                 said = f"missing value {self.cell(name, i)!r}" if self.t.text is not None else "missing value (NaN)"
@@ -548,8 +548,7 @@ class Reading:
         if "landing.speed" in self.chosen:
             return  # a polar landing is checked by its angle
         up = np.flatnonzero(self.scaled["landing.ydot"] >= 0)
-        landing = np.column_stack([self.scaled[f"landing.{c}"] for c in COMPONENTS])
-        if up.size and np.isfinite(landing[: up[0] + 1]).all():  # a non-finite value first: as_states reports it
+        if up.size and np.isfinite([self.scaled[f"landing.{c}"][: up[0] + 1] for c in COMPONENTS]).all():
             i, name = int(up[0]), self.col("landing.ydot")
             raise self.err("landing ydot must be negative (y points up, a landing moves down); the file gives "
                            f"{self.cell(name, i, self.unit_of['landing.ydot'][0])} (a file whose y points down needs "
@@ -565,8 +564,9 @@ class Reading:
             raise self.err(exc.message, exc.column if ch is None else ch.name,
                            None if exc.row is None else exc.row - 1) from None
 
-    def check_plausible(self) -> None:
-        """Refuse numbers whose unit is not given and not certain, and numbers only a wrong unit makes."""
+    def check_plausible(self, arrays: tuple[np.ndarray, np.ndarray]) -> None:
+        """Refuse numbers whose unit is not given and not certain, and numbers only a wrong unit makes (``arrays``:
+        the scaled landings and lift-offs)."""
         roles = [f"{s}.{c}" for s in STATES for c in COMPONENTS]
         for kind in ("velocity", "spin"):
             assumed = [r for r in roles if KINDS[r.split(".")[1]] == kind and self.unit_of[r][1] == "assumed"]
@@ -597,7 +597,6 @@ class Reading:
             if why is not None and why.row is not None:
                 raise self.err(msg, self.col(f"{why.state}.{why.component}"), why.row, hints)
             raise DataError(msg, file=self.file, column=names[0] if len(names) == 1 else None, hints=hints)
-        arrays = (np.column_stack([self.scaled[f"{s}.{c}"] for c in COMPONENTS]) for s in STATES)
         if (why := plausibility.implausibility(*arrays, radius_m=self.radius, ranges=self.plausible)) is not None:
             role = f"{why.state}.{why.component}"
             unit, origin = self.unit_of[role]
@@ -770,7 +769,7 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
                 raise _propagated_too_wide(r, state, COMPONENTS[k], i, what)
             raise r.err(f"{r.interval_cell(roles[k], i, scales)} is wider than any plausible value ({what}): check the "
                         "column's unit", r.col(roles[k]), i)
-    r.check_plausible()
+    r.check_plausible((states["landing"], states["liftoff"]))
     if missing == "drop":
         attrs["dropped_rows"] = [i + 1 for i in dropped]  # the file's data rows, 1-based as in errors
     return make_campaign(states["landing"], states["liftoff"], setting=setting, landing_pi=states.get("landing_pi"),

@@ -225,7 +225,7 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
         table = read.read_excel(path, file, sheet, header_row=header_row)
     else:
         table = read.read_mat(path, file) if suffix == ".mat" else read.read_text(file, _read_bytes(path, file),
-                                                                                   header_row=header_row)
+                                                                                   header_row=header_row, path=path)
     return interpret.campaign_from_table(table, columns=columns, given=interpret.check_units_arg(units, file),
                                          campaign=path.stem if campaign is None else str(campaign),
                                          surface="" if surface is None else str(surface), source=str(path.resolve()),

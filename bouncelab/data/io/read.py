@@ -160,8 +160,9 @@ def _plain(raw: bytes, at: int, delim: str | None) -> bool:
     return not (delim == "\t" and re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)").search(raw, at))
 
 
-def read_text(file: str, raw: bytes, header_row: int | None = None) -> Table:
-    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md."""
+def read_text(file: str, raw: bytes, header_row: int | None = None, path: Path | None = None) -> Table:
+    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. ``path``, the
+    file ``raw`` was read from, lets pandas read a large plain file from the disk (in parallel, pandas 3)."""
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
     enc = "utf-8"
@@ -248,12 +249,29 @@ def read_text(file: str, raw: bytes, header_row: int | None = None) -> Table:
                 linenos.append(no + first_line - 1)
         body, at = "\n".join(kept).encode(enc), 0
 
+    store: list[bytes | None] = [body]  # the data text() and line() read again: these bytes, or None: the file
+    stamp = (0, 0)
+
+    def data() -> bytes:
+        if store[0] is None and (path.stat().st_size, path.stat().st_mtime_ns) != stamp:
+            raise DataError("the file changed while it was being read; load it again", file=file)
+        return path.read_bytes() if store[0] is None else store[0]
+
     def line(row: int, column: str | None = None) -> str:
         if not linenos:  # every non-blank line is a row: find them when a message asks
-            linenos.extend(no + first_line - 1 for no, text, _ in _lines(body, at, enc) if text.strip())
+            linenos.extend(no + first_line - 1 for no, text, _ in _lines(data(), at, enc) if text.strip())
         return f"line {linenos[row]}"
 
-    frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
+    frame = None
+    if path is not None and body is raw and enc == "utf-8" and raw.find(b"\r") < 0 and first_line - 1 == sum(
+            no < first_line for no, _, _ in lines):  # every line above the data is one pandas skips
+        stamp = (path.stat().st_size, path.stat().st_mtime_ns)
+        frame = _parse(file, path, first_line - 1, delim, width, enc, as_text=delim != ",")
+        rows = raw.count(b"\n", pos) + (not raw.endswith(b"\n") and len(raw) > pos)
+        frame = frame if len(frame) == rows and stamp[0] == len(raw) else None  # blank lines, a changed file: memory
+        store[0] = None if frame is not None else body  # the bytes need not stay in memory beside the table
+    if frame is None:
+        frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
     extra = frame.iloc[:, width:].ne("").any(axis=1) if frame.shape[1] > width else pd.Series(False, frame.index)
     short = frame.iloc[:, width - 1].eq("") if delim is None and width else pd.Series(False, frame.index)
     refused = None
@@ -269,28 +287,32 @@ def read_text(file: str, raw: bytes, header_row: int | None = None) -> Table:
         j = names.index(column)
         if frame.iloc[:, j].dtype.kind == "O" and all(isinstance(v, str) for v in frame.iloc[:, j]):
             return frame.iloc[:, j].tolist()
-        return _parse(file, body, at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
+        return _parse(file, data(), at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
 
-    for j, name in enumerate(names):  # "-0" is a number's sign, lost where pandas typed it as an integer
-        col = frame.iloc[:, j]
-        if col.dtype.kind in "if" and body.find(b"-0", at) >= 0 and (zero := (col == 0).to_numpy()).any():
-            neg = zero & np.array([t.lstrip().startswith("-") for t in text(name)])
-            frame.isetitem(j, np.where(neg, -0.0, col.to_numpy(dtype=float)) if neg.any() else col)
+    zeros = {j: z for j in range(width) if frame.iloc[:, j].dtype.kind in "if" and (z := frame.iloc[:, j].to_numpy()
+                                                                                      == 0).any()}
+    for j, zero in zeros.items() if zeros and body.find(b"-0", at) >= 0 else ():  # "-0" is a number's sign, lost
+        neg = zero & np.array([t.lstrip().startswith("-") for t in text(names[j])])  # where pandas read an integer
+        if neg.any():
+            frame.isetitem(j, np.where(neg, -0.0, frame.iloc[:, j].to_numpy(dtype=float)))
     return Table(file, frame, units, line, decimal_comma=delim != ",", delimiter=delim, text=text, refused=refused)
 
 
-def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
+def _parse(file: str, body: bytes | Path, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
            usecols: list[int] | None = None) -> pd.DataFrame:
-    """pandas' reading of the data lines (``body`` from byte ``at``): every cell as written (``as_text``) or numbers
-    where a column holds only numbers; nothing taken as missing (``NA`` stays text); a longer row widens ``width``."""
+    """pandas' reading of the data lines (``body`` from byte ``at``, or the file ``body`` from line ``at``): every cell
+    as written (``as_text``) or numbers where a column holds only numbers; nothing taken as missing (``NA`` stays
+    text); a longer row widens ``width``."""
     while True:
-        source = io.BytesIO(body)  # shares the bytes
-        source.seek(at)
+        source = str(body) if isinstance(body, Path) else io.BytesIO(body)  # shares the bytes
+        if not isinstance(body, Path):
+            source.seek(at)
         try:
             with warnings.catch_warnings():  # pandas types a long file chunk by chunk: a mixed column is cells
                 warnings.simplefilter("ignore", pd.errors.DtypeWarning)
                 warnings.simplefilter("error", pd.errors.ParserWarning)  # cells beyond ``width`` would be lost
                 return pd.read_csv(source, sep=r"\s+" if delim is None else delim, header=None, index_col=False,
+                                   skiprows=at if isinstance(body, Path) else None,
                                    names=range(width), usecols=usecols, dtype=str if as_text else None,
                                    na_filter=False, encoding=enc, quoting=csv.QUOTE_NONE if delim is None else 0,
                                    **_EXACT)
