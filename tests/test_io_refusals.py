@@ -304,7 +304,7 @@ def test_save_campaign_round_trips_settings_beyond_int32(tmp_path, engine):
 
 # --- item 7: damaged files give DataError, never another exception --------------------------------
 
-@pytest.mark.parametrize("suffix", [".xlsx", ".nc", ".csv", ".mat"])
+@pytest.mark.parametrize("suffix", [".xlsx", ".nc", ".csv", pytest.param(".mat", marks=pytest.mark.slow)])
 def test_damaged_files_give_data_errors_or_the_same_values(tmp_path, suffix):
     ds = make_campaign(scaled(LAND), scaled(LIFT), setting=[1, 1, 2])
     good = tmp_path / f"good{suffix}"
