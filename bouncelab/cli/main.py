@@ -105,12 +105,20 @@ def _load(source: str, args: argparse.Namespace):
     if getattr(args, "angle_unit", None):
         units["angle"] = args.angle_unit
     surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
-    # Loader options only when given, so an embedded campaign is loaded as before; hint_style="cli" makes
-    # the loader's advice name these flags (--spin-unit rpm) instead of Python keywords.
+    # Loader options only when given, so an embedded campaign is loaded as before; its errors name their hints
+    # as flags where they are printed (cli.messages.message).
     options = {key: getattr(args, key) for key in ("sheet", "header_row", "intervals")
                if getattr(args, key, None) is not None}
+    if str(options.get("sheet", "")).isdigit() and Path(source).suffix.lower() in (".xlsx", ".xls"):
+        try:  # --sheet 1: the sheet named "1", or else the 0-based index 1
+            import pandas as pd
+
+            with pd.ExcelFile(source) as book:
+                options["sheet"] = options["sheet"] if options["sheet"] in book.sheet_names else int(options["sheet"])
+        except Exception:  # the loader says what is wrong with the file
+            pass
     return load_campaign(source, columns=columns, units=units or None, missing=getattr(args, "missing", "raise"),
-                         hint_style="cli", **options, **surrogate)
+                         **options, **surrogate)
 
 
 def _add_data_options(p: argparse.ArgumentParser) -> None:
@@ -593,8 +601,8 @@ def _read_input(args: argparse.Namespace, radius: float):
 
             raise DataError(f"standard input holds more than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads",
                             file=STDIN_NAME)
-        return read_landings(STDIN_NAME, data=data, units=units, radius_m=radius, hint_style="cli")
-    return read_landings(args.input, units=units, radius_m=radius, hint_style="cli")
+        return read_landings(STDIN_NAME, data=data, units=units, radius_m=radius)
+    return read_landings(args.input, units=units, radius_m=radius)
 
 
 def _output_units(args: argparse.Namespace, table) -> dict[str, str]:

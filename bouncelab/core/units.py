@@ -26,6 +26,7 @@ import numpy as np
 from bouncelab.core.errors import DataError, Hint
 
 __all__ = [
+    "ANGLE_UNITS",
     "BALL_RADIUS_M",
     "BALL_RADIUS_RANGE_M",
     "COMPONENTS",
@@ -110,6 +111,17 @@ _ALIASES: dict[str, str] = {
     "deg/s": "deg/s", "°/s": "deg/s",
 }
 
+#: Angle units (of speed, angle and spin files): degrees per unit.
+ANGLE_UNITS: dict[str, float] = {"deg": 1.0, "rad": 180.0 / math.pi}
+
+# Spellings that name a unit of one kind only: per second on a spin is rad/s (on a velocity radii/s, above),
+# and the angles of polar files.
+_KIND_ALIASES: dict[str, dict[str, str]] = {
+    "spin": {"1/s": "rad/s", "s-1": "rad/s", "s^-1": "rad/s", "/s": "rad/s"},
+    "angle": {"deg": "deg", "degree": "deg", "degrees": "deg", "°": "deg", "rad": "rad", "radian": "rad",
+              "radians": "rad"},
+}
+
 # CF / UDUNITS spellings ("m s-1", "radian/s", "revolutions per minute", "min-1") rewritten to the aliases
 # above, in order: every way of naming a unit (units=, a header, a units row, a netCDF attribute, a flag)
 # goes through canonical_unit, so all accept the same names.
@@ -132,13 +144,15 @@ def _cf_spelling(text: str) -> str:
 
 
 def canonical_unit(unit: str, kind: str) -> str:
-    """Return the canonical spelling of ``unit`` for ``kind`` ("velocity" or "spin").
+    """Return the canonical spelling of ``unit`` for ``kind`` ("velocity", "spin" or "angle").
 
-    Accepts the spellings of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`, their
-    common aliases, and CF / UDUNITS forms: ``"m s-1"``, ``"metres per
-    second"``, ``"rad s-1"``, ``"revolutions per minute"``, ``"min-1"``,
-    ``"min^-1"``, ``"1/min"`` (a unit per minute without an angle is
-    revolutions per minute, rpm).
+    Accepts the spellings of :data:`SPEED_UNITS`, :data:`SPIN_UNITS` and
+    :data:`ANGLE_UNITS`, their common aliases, and CF / UDUNITS forms: ``"m s-1"``,
+    ``"metres per second"``, ``"rad s-1"``, ``"revolutions per minute"``,
+    ``"min-1"``, ``"min^-1"``, ``"1/min"`` (a unit per minute without an angle is
+    revolutions per minute, rpm); ``"1/s"`` (``"s-1"``) is radii/s for a velocity
+    and rad/s for a spin. This is the one table of unit names: the loader, the
+    command line and the conversions all read units through it.
 
     Raises
     ------
@@ -146,10 +160,12 @@ def canonical_unit(unit: str, kind: str) -> str:
         If the unit is unknown or of the wrong kind (a spin unit for a velocity).
     """
     key = str(unit).strip().lower().replace(" ", "")
-    canon = _ALIASES.get(key)
+    own = _KIND_ALIASES.get(kind, {})
+    canon = own.get(key) or _ALIASES.get(key)
     if canon is None:
-        canon = _ALIASES.get(_cf_spelling(unit))
-    table = SPEED_UNITS if kind == "velocity" else SPIN_UNITS
+        cf = _cf_spelling(unit)
+        canon = own.get(cf) or _ALIASES.get(cf)
+    table = {"velocity": SPEED_UNITS, "angle": ANGLE_UNITS}.get(kind, SPIN_UNITS)
     if canon is None or canon not in table:
         known = ", ".join(table)
         raise DataError(f"unknown {kind} unit {unit!r}; known {kind} units: {known}", option=kind)
