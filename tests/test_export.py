@@ -275,20 +275,16 @@ def run_exported(command: list[str], p: np.ndarray, folder: Path) -> tuple[np.nd
     return a, ca, b, cb
 
 
-def check_agreement(name: str, n: int, command: list[str], folder: Path, outliers: float = 0.0) -> None:
-    """Lift-offs within TOL of the landing's norm and the same regime codes, for all landings but a fraction
-    ``outliers`` (which must still agree to 1e-5)."""
+def check_agreement(name: str, n: int, command: list[str], folder: Path) -> None:
+    """Lift-offs within TOL of the landing's norm, the same regime codes, and predict_one as predict."""
     law = LAWS[name]
     p, ref, codes = case(name, n)
     assert set(codes.tolist()) == set(range(len(law.regimes))), "every regime occurs"
     a, ca, b, cb = run_exported(command, p, folder)
     scale = np.linalg.norm(p, axis=1)
     err = np.abs(a - ref).max(axis=1) / scale
-    far = int((err > TOL).sum()) + int((ca != codes).sum())
-    assert far <= outliers * n, f"{name}: {far} landings off, worst {err.max():.3g} at {p[err.argmax()].tolist()}"
-    assert err.max() <= (TOL if not outliers else 1e-5)
-    if not outliers:
-        np.testing.assert_array_equal(ca, codes)
+    assert err.max() <= TOL, f"{name}: worst {err.max():.3g} at landing {p[err.argmax()].tolist()}"
+    np.testing.assert_array_equal(ca, codes)
     np.testing.assert_array_equal(b, a)  # one bounce at a time: the same numbers
     np.testing.assert_array_equal(cb, ca)
 
@@ -312,16 +308,55 @@ def test_c_agrees_with_python(c_program, name, n):
     check_agreement(name, n, [str(c_program), name], c_program.parent)
 
 
-#: JavaScript's Math.pow differs from the C library's pow in the last bit for about 8 % of arguments (measured
-#: with Node 20), and TurfContact's event location amplifies that for rare landings: on four sets of 10^5 landings
-#: 0 to 3 differed by more than 1e-12 of the landing's norm (the worst by 8e-7). Its check allows 1 in 10^4.
-JS_OUTLIERS = {"turf": 1e-4}
-
-
 @needs_node
 @pytest.mark.parametrize(("name", "n"), AGREEMENT)
 def test_js_agrees_with_python(js_driver, name, n):
-    check_agreement(name, n, [NODE, str(js_driver), name], js_driver.parent, JS_OUTLIERS.get(name, 0.0))
+    check_agreement(name, n, [NODE, str(js_driver), name], js_driver.parent)
+
+
+POW_JS = """
+import fs from 'fs';
+%s
+const b = fs.readFileSync(process.argv[2]);
+const v = new Float64Array(b.buffer, b.byteOffset, b.length / 8);
+const out = new Float64Array(v.length / 2);
+for (let i = 0; i < out.length; i++) out[i] = $pow(v[2 * i], v[2 * i + 1]);
+fs.writeFileSync(process.argv[3], Buffer.from(out.buffer));
+"""
+
+
+@needs_node
+def test_js_pow_is_correctly_rounded_with_c_special_values(tmp_path):
+    """The exported JavaScript's ** is correctly rounded (Math.pow is not: it differs from the C library's pow in
+    the last bit for about 8 % of arguments, which TurfContact's event location amplified to 1e-6 for rare
+    landings), and gives C's values for the special cases."""
+    from decimal import Decimal, localcontext
+
+    from bouncelab.export.translate import _js_pow
+
+    rng = np.random.default_rng(7)
+    n = 1000
+    x = np.concatenate([rng.uniform(1e-8, 1e-2, n), np.full(n, 10.0), np.exp(rng.uniform(-300, 300, n))])
+    y = np.concatenate([np.full(n, 0.4), rng.uniform(2, 11, n), rng.uniform(-2, 2, n)])
+    with localcontext() as ctx:
+        ctx.prec = 50
+        exact = np.array([float(Decimal(float(a)) ** Decimal(float(b))) for a, b in zip(x, y, strict=True)])
+    inf, nan = math.inf, math.nan
+    special = [(1.0, nan, 1.0), (nan, 0.0, 1.0), (-1.0, inf, 1.0), (-1.0, -inf, 1.0), (0.0, -1.0, inf),
+               (-0.0, -1.0, -inf), (-8.0, 1 / 3, nan), (-2.0, 3.0, -8.0), (2.0, 0.5, math.sqrt(2.0)),
+               (0.5, inf, 0.0), (2.0, -inf, 0.0), (inf, -2.0, 0.0), (4.0, 0.5, 2.0), (1e-310, 0.5, 1e-155)]
+    x = np.concatenate([x, [s[0] for s in special]])
+    y = np.concatenate([y, [s[1] for s in special]])
+    (tmp_path / "pow.mjs").write_text(POW_JS % _js_pow())
+    np.column_stack([x, y]).tofile(tmp_path / "in.bin")
+    subprocess.run([NODE, "pow.mjs", "in.bin", "out.bin"], cwd=tmp_path, check=True, timeout=120)
+    out = np.fromfile(tmp_path / "out.bin")
+    np.testing.assert_array_equal(out[:3 * n], exact)
+    want = np.array([s[2] for s in special])
+    got = out[3 * n:]
+    assert all((a == b and math.copysign(1, a) == math.copysign(1, b)) or (math.isnan(a) and math.isnan(b))
+               for a, b in zip(got[:-1], want[:-1], strict=True))
+    assert got[-1] == pytest.approx(want[-1], rel=1e-15)  # a subnormal base
 
 
 @needs_cc
@@ -372,7 +407,6 @@ def test_comment_gives_the_fitted_ranges_and_says_synthetic():
         for name, (lo, hi) in ranges.items():
             assert f"{name} from {lo:.6g} to {hi:.6g}" in text
         assert "SYNTHETIC" in text and "not real turf" in text
-        assert "derived" not in text or "Kernel arguments" in text
 
 
 def test_comment_lists_derived_constants():
@@ -440,7 +474,7 @@ def test_header_compiles_as_cpp(tmp_path):
 def test_law_without_values_is_refused():
     with pytest.raises(NotFittedError) as exc:
         bl.Rigid(r=0.5).to_c()
-    assert exc.value.missing == ("mu",) or list(exc.value.missing) == ["mu"]
+    assert list(exc.value.missing) == ["mu"]
     with pytest.raises(NotFittedError):
         bl.CraterContact().to_js()
 
@@ -599,6 +633,18 @@ def test_fastmath_kernel_is_refused():
     assert exc.value.construct == "a function compiled with fastmath=True"
     Fast.kernel = njit(fastmath={"nnan", "ninf", "nsz"})(frictionless.py_func)  # bouncelab's ROW_FLAGS: allowed
     assert "static inline" in Fast(e=0.5).to_c()
+
+
+def test_lambda_kernel_is_refused():
+    class Lam(bl.CompiledLaw):
+        _abstract_law = True
+        e = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
+        regimes = ("bounce",)
+        kernel = njit(lambda xd, yd, w, e: (xd, -e * yd, w, 0))
+
+    with pytest.raises(ExportError) as exc:
+        Lam(e=0.5).to_js()
+    assert exc.value.construct == "a function that is not a plain def"
 
 
 # ------------------------------------------------------------------------------ the command line

@@ -120,7 +120,8 @@ def c_header(law: Any, prefix: str = DEFAULT_PREFIX) -> str:
             ctype = {FLOAT: "double", INT: "long long"}.get(t, "int")
             consts.append(f"static const {ctype} {p}p_{name} = {k.program.literal(value, t)};")
     call = f"{k.spec.name}(xd, yd, w{''.join(f', {p}p_{name}' for name, _, _ in k.args)})"
-    regimes = [f"{p}regime_{r} = {code}" for code, r in enumerate(k.regimes) if _PREFIX.match(str(r))]
+    regimes = [f"{p}regime_{r} = {code}" for code, r in enumerate(k.regimes)
+               if _PREFIX.match(r) and r != "count" and k.regimes.index(r) == code]
     names = "\n".join(f"    case {code}: return \"{_c_string(r)}\";" for code, r in enumerate(k.regimes))
     body = f"""#include <math.h>
 #include <stdlib.h>
@@ -366,13 +367,11 @@ def _comment(k: _Kernel, lang: str, prefix: str | None) -> str:
              "enables) change the last bits, and -ffast-math more.", "  ")
     else:
         para("JavaScript numbers are IEEE doubles and engines do not fuse operations, so the arithmetic is "
-             "bouncelab's; Math.exp, Math.sin, Math.cos, Math.pow... may differ from the C library's in the last "
-             "bit (Node 20's Math.pow for about 8 % of arguments). bouncelab's tests check the results under Node "
-             "against law.predict to 1e-12 (relative to the landing's norm) on 10^5 landings covering every "
-             "regime. A law that locates stick/slip events while integrating a contact can amplify a last-bit "
-             "difference for rare landings: for TurfContact the tests found 0 to 3 landings in 10^5 off by more "
-             "than 1e-12 (at worst 8e-7); the C export, with the C library bouncelab uses, gives the same bits.",
-             "  ")
+             "bouncelab's; Math.exp, Math.sin, Math.cos... may differ from the C library's in the last bit. ** is "
+             "$pow below, correctly rounded (Node 20's Math.pow differs from the C library's pow for about 8 % of "
+             "arguments, which TurfContact's stick/slip events amplified up to 1e-6 for rare landings). "
+             "bouncelab's tests check the results under Node against law.predict to 1e-12 (relative to the "
+             "landing's norm) on 10^5 landings covering every regime.", "  ")
     para("Where numba raises (a division by zero), the code follows IEEE arithmetic (inf or NaN).", "  ")
     para()
     para("ENTRY POINTS")
