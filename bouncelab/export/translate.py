@@ -304,7 +304,6 @@ class _Function:
                 self.locals.add(node.id)
         self.callees: dict[str, Any] = {}
         self.builtins: set[str] = set()
-        self.math_names: set[str] = set()
         scope = dict(func.__globals__)
         if func.__closure__:
             scope.update(zip(func.__code__.co_freevars, (c.cell_contents for c in func.__closure__), strict=True))
@@ -323,7 +322,6 @@ class _Function:
                     if n.attr in _MATH_CONSTANTS:
                         return ast.copy_location(ast.Constant(_MATH_CONSTANTS[n.attr]), n)
                     if n.attr in _MATH_FUNCS:
-                        fn.math_names.add(n.value.id)
                         return n
                     raise _refuse(fn, n, f"math.{n.attr}")
                 raise _refuse(fn, n, "an attribute", ast.unparse(n))
@@ -342,7 +340,6 @@ class _Function:
                     raise _refuse(fn, n, f"the name {n.id!r}", "not defined")
                 alias = next((f for f in _MATH_FUNCS if value is getattr(math, f, None)), None)
                 if alias is not None:  # from math import sqrt
-                    fn.math_names.add(n.id)
                     return ast.copy_location(ast.Attribute(ast.Name("math", ast.Load()), alias, ast.Load()), n)
                 if is_jit_function(value):
                     fn.callees[n.id] = value
