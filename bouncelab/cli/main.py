@@ -7,6 +7,7 @@ Commands
 ``bouncelab predict``    lift-off states from landing states, in any units
 ``bouncelab info``       what a campaign file (or the embedded default) holds
 ``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
+``bouncelab export``     a law as a C99 header or a JavaScript module (cli/export.py)
 
 Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
 that cannot be done as asked; 5 (``reproduce``) the report is written but partial: some
@@ -255,6 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
     from bouncelab.cli.track import add_parser as add_track_parser  # implementation in cli/track.py
 
     add_track_parser(sub)
+    from bouncelab.cli.export import add_parser as add_export_parser  # implementation in cli/export.py
+
+    add_export_parser(sub)
     return parser
 
 
@@ -282,6 +286,10 @@ def _run(args: argparse.Namespace) -> int:
             from bouncelab.cli.track import run as run_track
 
             return run_track(args)
+        if args.command == "export":
+            from bouncelab.cli.export import run as run_export
+
+            return run_export(args)
         _import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
