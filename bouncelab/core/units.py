@@ -17,6 +17,7 @@ conversion takes ``radius_m`` to use another ball.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Mapping
@@ -48,6 +49,7 @@ __all__ = [
     "state_from_polar",
     "tangential_velocity",
     "to_scaled",
+    "unit_pair",
     "velocity_from_scaled",
     "velocity_to_scaled",
 ]
@@ -471,8 +473,13 @@ def _refuse_bools(value, what: str, option: str) -> None:
 _UNITS_EXAMPLE = Hint("units", {"velocity": "m/s", "spin": "rpm"})
 
 
-def _unit_pair(units) -> tuple[str, str] | None:
-    """``(velocity unit, spin unit)`` from ``units``; None for scaled units."""
+def unit_pair(units) -> tuple[str, str] | None:
+    """``(velocity unit, spin unit)`` from a ``units=`` argument; None for scaled units.
+
+    ``units`` is None or ``"scaled"`` (scaled units) or a mapping with exactly the
+    keys ``"velocity"`` and ``"spin"``; anything else is a :class:`DataError` on
+    option ``units``.
+    """
     if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
         return None
     if not isinstance(units, Mapping):
@@ -494,6 +501,18 @@ def _form_pair(form) -> tuple[str, str]:
     return pair
 
 
+def _convert(states, units, form: str, radius_m: float, polar, cartesian) -> np.ndarray:
+    """``polar`` or ``cartesian`` applied to ``states`` with the units and form checked once."""
+    pair = unit_pair(units)
+    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
+    _check_radius(radius_m)
+    if form == "polar":
+        return polar(states, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
+    if form != "cartesian":
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
+    return cartesian(states, velocity=vel, spin=spin, radius_m=radius_m)
+
+
 def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str = "landing",
                        radius_m: float = BALL_RADIUS_M) -> np.ndarray:
     """Scaled ``[xdot, ydot, omega]`` from (..., 3) states in ``units`` and ``form`` ("cartesian" or "polar").
@@ -502,27 +521,13 @@ def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str
     (any of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`); the polar form is
     ``[speed, angle_deg, spin]`` (see :func:`state_from_polar` for the angles).
     """
-    pair = _unit_pair(units)
-    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
-    _check_radius(radius_m)
-    if form == "polar":
-        return state_from_polar(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
-    if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
-    return to_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
+    return _convert(states, units, form, radius_m, functools.partial(state_from_polar, kind=kind), to_scaled)
 
 
 def scaled_to_physical(states, *, units=None, form: str = "cartesian", kind: str = "liftoff",
                        radius_m: float = BALL_RADIUS_M) -> np.ndarray:
     """(..., 3) scaled states in ``units`` and ``form``; the inverse of :func:`physical_to_scaled`."""
-    pair = _unit_pair(units)
-    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
-    _check_radius(radius_m)
-    if form == "polar":
-        return polar_from_state(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
-    if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
-    return from_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
+    return _convert(states, units, form, radius_m, functools.partial(polar_from_state, kind=kind), from_scaled)
 
 
 def tangential_velocity(state):

@@ -20,10 +20,10 @@ from bouncelab.core.units import (
     COMPONENTS,
     POLAR_COMPONENTS,
     _form_pair,
-    _unit_pair,
     ball_radius,
     physical_to_scaled,
     scaled_to_physical,
+    unit_pair,
 )
 from bouncelab.core.validation import check_downward
 
@@ -40,7 +40,7 @@ def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
 
 def io_option(units: Any, form: Any) -> str:
     """Which of ``units=`` and ``form=`` asks for a conversion (``"units"`` when both do)."""
-    return "units" if _unit_pair(units) is not None else "form"
+    return "units" if unit_pair(units) is not None else "form"
 
 
 def radius_of(radius_m: Any) -> float:
@@ -58,7 +58,7 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
     """
     if plausible is None:
         return
-    pair = None if io is None else _unit_pair(io.units)
+    pair = None if io is None else unit_pair(io.units)
     units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
     error = landing_error(p, radius_m=radius_m, ranges=plausible, units=units,
                           form="cartesian" if io is None else io.form_in,
@@ -119,7 +119,7 @@ class PhysicalIO:
 
     def __init__(self, units: Any, form: Any, radius_m: float | None,
                  plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> None:
-        _unit_pair(units)  # validate early, before any work
+        unit_pair(units)  # validate early, before any work
         self.units = units
         self.plausible = check_plausible_argument(plausible)
         self.form_in, self.form_out = _form_pair(form)
@@ -130,7 +130,7 @@ class PhysicalIO:
     @staticmethod
     def needed(units: Any, form: Any) -> bool:
         """Whether the landings need converting (anything but scaled Cartesian states); validates ``units``."""
-        return not (_unit_pair(units) is None and isinstance(form, str) and form == "cartesian")
+        return not (unit_pair(units) is None and isinstance(form, str) and form == "cartesian")
 
     def landing(self, landing: Any) -> np.ndarray:
         """The landings as a scaled Cartesian (..., 3) float array."""
@@ -161,7 +161,7 @@ class PhysicalIO:
                             f"{arr.dtype} values of shape {arr.shape}", option="landing")
         self.lead = arr.shape[:-1]
         if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
-            check_downward(arr.reshape(-1, 3)[:, 1], unit=(_unit_pair(self.units) or ("radii/s",))[0])
+            check_downward(arr.reshape(-1, 3)[:, 1], unit=(unit_pair(self.units) or ("radii/s",))[0])
         # the unit guard (guard_landings) judges the converted landings, as it judges every landing
         return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
 
