@@ -72,7 +72,6 @@ def _ball_radius_mm(text: str) -> float:
     return value
 
 
-
 def add_parser(sub) -> argparse.ArgumentParser:
     """Register the ``track`` subcommand on ``sub`` (the main parser's subparsers)."""
     p = sub.add_parser(
