@@ -137,6 +137,7 @@ def test_module_entry_point():
     assert proc.stdout.strip() == f"bouncelab {bl.__version__}"
 
 
+@pytest.mark.slow
 def test_reproduce_campaign_a(tmp_path, capsys):
     code, _, err = run(capsys, "reproduce", "--campaign", "A", "--out", str(tmp_path / "rep"))
     assert code == EXIT_OK
@@ -169,6 +170,7 @@ def test_reproduce_campaign_a(tmp_path, capsys):
     assert [p.name for p in tmp_path.iterdir()] == ["rep"]
 
 
+@pytest.mark.slow
 def test_reproduce_own_file_without_settings(tmp_path, capsys):
     ds = bl.load_campaign("B")
     p0, pf = ds.landing.values[:300], ds.liftoff.values[:300]
@@ -189,6 +191,7 @@ def test_reproduce_own_file_without_settings(tmp_path, capsys):
     assert "no published values are shown" in index
 
 
+@pytest.mark.slow
 def test_reproduce_label_puts_paper_values_beside(tmp_path, capsys):
     ds = bl.load_campaign("A")
     csv = tmp_path / "artificial_turf.csv"

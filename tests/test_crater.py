@@ -185,6 +185,7 @@ def test_json_round_trip_keeps_the_option(tmp_path):
     assert back == law and back.fade_xdot == 80.0
 
 
+@pytest.mark.slow
 def test_fit_recovers_its_own_parameters():
     """Fitted to its own noise-free lift-offs (tilt growth and recoil held), the law finds its parameters."""
     truth = LAWS[0]

@@ -47,7 +47,8 @@ def assert_same_shots(a, b, rows):
         np.testing.assert_array_equal(a[2][name].values[rows, :nt], b[2][name].values[:, :nt])
 
 
-@pytest.mark.parametrize(("surface", "air"), [("turf-A", None), ("green-fast", None), ("turf-B", Air())])
+@pytest.mark.parametrize(("surface", "air"), [pytest.param("turf-A", None, marks=pytest.mark.slow),
+                                              ("green-fast", None), ("turf-B", Air())])
 def test_a_shot_gives_the_same_bits_alone_in_a_batch_permuted_and_repeated(surface, air):
     rng = np.random.default_rng(len(surface))
     v, w, n = shots(23, rng)  # odd: a scalar tail after any vector width

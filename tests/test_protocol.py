@@ -130,6 +130,7 @@ def test_examples_round_trip_json(which, request, campaign_a, tmp_path):
     np.testing.assert_array_equal(again.predict(p0), law.predict(p0))
 
 
+@pytest.mark.slow
 def test_examples_in_the_cli(tmp_path):
     env = dict(os.environ, PYTHONPATH=f"{SNIPPETS}{os.pathsep}{ROOT}")
     out = subprocess.run([sys.executable, "-m", "bouncelab.cli.main", "fit", "laws_new:SpeedRestitution", "A",
@@ -435,6 +436,7 @@ def test_user_laws_from_the_command_line_without_pythonpath(tmp_path):
     assert out.returncode == 4 and "there is no module 'no_such_module_here'" in out.stderr
 
 
+@pytest.mark.slow
 def test_reproduce_compares_a_user_law(tmp_path, monkeypatch):
     from bouncelab.cli import reproduce as rp
 
