@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from bouncelab.core.errors import DataError
+from bouncelab.core.files import check_regular_file, read_regular_file
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius, spin_to_scaled, velocity_to_scaled
 from bouncelab.data.io.interpret import Choice, Reading, check_units_arg
 from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, normalize, role_of, split_header
@@ -73,8 +74,6 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
         Naming the file, the column and the line: columns that cannot be told apart or are missing, an empty
         or non-numeric cell, an unknown or conflicting unit, a landing that does not come down.
     """
-    from bouncelab.data.io.load import _check_regular_file, _read_bytes
-
     name = os.fspath(file)
     radius = ball_radius(radius_m, file=name)
     given = check_units_arg(units, name)
@@ -84,8 +83,8 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
             raise FileNotFoundError(f"no such file: {name!r}")
         if path.is_dir():
             raise DataError("it is a folder, not a file of landings", file=name)
-        _check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end: the loader's own checks
-        data = _read_bytes(path, name)
+        check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end
+        data = read_regular_file(path, name)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:

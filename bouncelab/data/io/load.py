@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import stat
 import sys
 from collections.abc import Mapping
 from importlib import resources
@@ -14,6 +13,8 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.files import MAX_FILE_BYTES as MAX_FILE_BYTES  # re-exported: the largest file read
+from bouncelab.core.files import check_regular_file, read_regular_file
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, ball_radius
 from bouncelab.data.embedded import DEFAULT_SURROGATE, EMBEDDED_CAMPAIGNS, SURROGATES, embedded_file_name
@@ -26,46 +27,8 @@ if TYPE_CHECKING:
 SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".netcdf")
 #: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.embedded.SURROGATES).
 EMBEDDED_SURROGATES = SURROGATES
-#: Largest data file :func:`load_campaign` reads, in bytes (1 GiB: some ten million bounces as CSV).
-MAX_FILE_BYTES = 1 << 30
 #: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
 DATAFRAME_NAME = "<DataFrame>"
-_KINDS = ((stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
-          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
-
-
-def _check_regular_file(path: Path, file: str) -> os.stat_result:
-    """Refuse anything but a regular file of at most :data:`MAX_FILE_BYTES` (a FIFO would hang, /dev/zero never end)."""
-    try:
-        st = path.stat()  # follows symlinks: a link to /dev/zero is a device
-    except PermissionError:
-        raise DataError("permission denied: the file cannot be read", file=file) from None
-    if not stat.S_ISREG(st.st_mode):
-        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-        raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files", file=file)
-    if st.st_size > MAX_FILE_BYTES:
-        raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {MAX_FILE_BYTES / 2**30:g} GiB "
-                        "bouncelab reads (bouncelab.data.io.load.MAX_FILE_BYTES)", file=file)
-    return st
-
-
-def _read_bytes(path: Path, file: str) -> bytes:
-    """The whole file, read without blocking on a FIFO that replaced it since the check."""
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except PermissionError:
-        raise DataError("permission denied: the file cannot be read", file=file) from None
-    with os.fdopen(fd, "rb") as fh:
-        st = os.fstat(fh.fileno())
-        if not stat.S_ISREG(st.st_mode):
-            raise DataError("it is not a regular file; bouncelab reads data only from regular files", file=file)
-        # read what the file holds (a read of MAX_FILE_BYTES would reserve a GiB), then anything it grew by
-        data = fh.read(min(st.st_size, MAX_FILE_BYTES) + 1)
-        if len(data) > st.st_size:
-            data += fh.read(MAX_FILE_BYTES + 1 - len(data))
-    if len(data) > MAX_FILE_BYTES:
-        raise DataError(f"the file is larger than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads", file=file)
-    return data
 
 
 def _embedded_file(name: str, surrogate: str):
@@ -213,7 +176,7 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
         _not_for("this file", file, " (only Excel files have sheets)", sheet=sheet)
     if suffix not in (*read.EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
         _not_for("this file", file, " (only text and Excel files have one)", header_row=header_row)
-    _check_regular_file(path, file)
+    check_regular_file(path, file)
     if suffix in read.NETCDF_SUFFIXES:
         ds = read.open_netcdf(path, file)
         if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
@@ -224,7 +187,7 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     elif suffix in read.EXCEL_SUFFIXES:
         table = read.read_excel(path, file, sheet, header_row=header_row)
     else:
-        table = read.read_mat(path, file) if suffix == ".mat" else read.read_text(file, _read_bytes(path, file),
+        table = read.read_mat(path, file) if suffix == ".mat" else read.read_text(file, read_regular_file(path, file),
                                                                                    header_row=header_row, path=path)
     return interpret.campaign_from_table(table, columns=columns, given=interpret.check_units_arg(units, file),
                                          campaign=path.stem if campaign is None else str(campaign),
