@@ -32,7 +32,8 @@ INTERVAL_KINDS = ("pi95", "sd")
 STATES, PI_STATES, POLAR = syn.STATES, syn.PI_STATES, syn.POLAR_ROLES
 _SAID = {"landing": "landing", "liftoff": "lift-off"}  # a state as messages write it
 KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
-_ASSUMED = {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}
+#: The units a column is read in when neither the file nor ``units=`` gives one.
+DEFAULT_UNITS = {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}
 _DROP = Hint("missing", "drop", "drops incomplete rows")
 _WIDEN = Hint("plausible", None, "PLAUSIBLE_RANGES.widened(...) accepts such values on purpose")
 _RADIAN_LIKE = math.pi + 0.35  # a radian column read as degrees: every angle within +-(pi + a few tenths)
@@ -135,14 +136,12 @@ class Reading:
                         "the one to use" if found else f"no column matches {requested!r} (asked for as {role}); the "
                         f"file's columns are {self.names}", file=self.file, column=requested)
 
-    def candidates(self) -> dict[str, list[Choice]]:
-        """The columns whose names match each role's synonyms; a whole-name match hides a base-name one."""
+    def candidates(self, extra: Mapping[str, str] | None = None) -> dict[str, list[Choice]]:
+        """The columns whose names match each role's synonyms (or ``extra``'s names, :func:`syn.synonym_role`)."""
         found: dict[str, list[Choice]] = {role: [] for role in syn.ROLES}
         for name in self.names:
-            for key, whole in ((syn.normalize(name), True), (syn.normalize(syn.split_header(name)[0]), False)):
-                if (role := syn.role_of(key) or syn.role_of(key, polar=True)) is not None:
-                    found[role].append(Choice(name, whole))
-                    break
+            if (match := syn.synonym_role(name, extra)) is not None:
+                found[match[0]].append(Choice(name, match[1]))
         return found
 
     def select_explicit(self, columns: Any) -> None:
@@ -158,7 +157,7 @@ class Reading:
             self.chosen.update({f"{key}.{c}": self.find(n, f"{key} {c}") for c, n in roles.items()})
         if columns.get("setting") is not None:
             self.chosen["setting"] = self.find(str(columns["setting"]), "setting")
-        said = {r: syn.synonym_role(ch.name) or "" for r, ch in self.chosen.items() if r != "setting"}
+        said = {r: (syn.synonym_role(ch.name) or ("",))[0] for r, ch in self.chosen.items() if r != "setting"}
         # A half-width named as a state's column or the reverse is refused; so is a column named as a speed or angle in
         # a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40). A mapping says what each column is.
         for r in (r for r, t in said.items() if "." in t and ("_pi." in t) != ("_pi." in r)):
@@ -450,7 +449,7 @@ class Reading:
                             hints=[Hint("units", {kind: header}, "as the header says")])
         if kind in given:
             return given[kind], "units="
-        return (header, "header") if header is not None else (_ASSUMED[kind], "assumed")
+        return (header, "header") if header is not None else (DEFAULT_UNITS[kind], "assumed")
 
     def convert(self, role: str, unit: str) -> np.ndarray:
         kind, v = KINDS[role.split(".")[1]], self.parsed[role]

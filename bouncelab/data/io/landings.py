@@ -19,19 +19,17 @@ from pathlib import Path
 import numpy as np
 
 from bouncelab.core.errors import DataError
+from bouncelab.core.files import check_regular_file, read_regular_file
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius, spin_to_scaled, velocity_to_scaled
-from bouncelab.data.io.interpret import Choice, Reading, check_units_arg
-from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, normalize, role_of, split_header
+from bouncelab.data.io.interpret import DEFAULT_UNITS, KINDS, Reading, check_units_arg
+from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, synonym_role
 from bouncelab.data.io.read import is_empty, read_text
 
 __all__ = ["DEFAULT_UNITS", "LandingTable", "read_landings"]
 
-#: The units a landing is read in when neither the file nor ``units=`` gives one.
-DEFAULT_UNITS = {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}
-
 # Names without a phase marker (``xdot``, ``vx``, ``speed``, ``spin``): in a file of landings alone they can only be
 # the landing's. One-letter stems are left out (``v`` is a ydot to the synonyms, a speed to many), but ``w``.
-_BARE = {stem: comp for comp, stems in (*_STEMS.items(), *POLAR_STEMS.items()) for stem in stems
+_BARE = {stem: f"landing.{comp}" for comp, stems in (*_STEMS.items(), *POLAR_STEMS.items()) for stem in stems
          if len(stem) > 1 or stem == "w"}
 _ORDER = ("xdot", "ydot", "omega", "speed", "angle")
 _SHOWN = {"xdot": "xdot", "ydot": "ydot", "omega": "spin", "speed": "speed", "angle": "angle"}
@@ -73,8 +71,6 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
         Naming the file, the column and the line: columns that cannot be told apart or are missing, an empty
         or non-numeric cell, an unknown or conflicting unit, a landing that does not come down.
     """
-    from bouncelab.data.io.load import _check_regular_file, _read_bytes
-
     name = os.fspath(file)
     radius = ball_radius(radius_m, file=name)
     given = check_units_arg(units, name)
@@ -84,8 +80,8 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
             raise FileNotFoundError(f"no such file: {name!r}")
         if path.is_dir():
             raise DataError("it is a folder, not a file of landings", file=name)
-        _check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end: the loader's own checks
-        data = _read_bytes(path, name)
+        check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end
+        data = read_regular_file(path, name)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -163,24 +159,15 @@ def _rows(file: str, lines: list[str], given: dict[str, str], radius_m: float) -
 def _role(name: str) -> str | None:
     """The landing role a column name stands for: the loader's synonyms with a phase (``xdot0``, ``vx_in``,
     ``speed_in``...) or a name without one (``vx``, ``speed``); None for anything else (lift-offs too)."""
-    for key in (normalize(name), normalize(split_header(name)[0])):
-        role = role_of(key) or role_of(key, polar=True) or (f"landing.{_BARE[key]}" if key in _BARE else None)
-        if role is not None:
-            return role if role.startswith("landing.") else None
-    return None
+    match = synonym_role(name, _BARE)
+    return match[0] if match is not None and match[0].startswith("landing.") else None
 
 
 def _by_name(r: Reading, given: dict[str, str]) -> LandingTable:
     file = r.file
     if len(r.frame) == 0:
         raise DataError("the file has a header but no landing rows", file=file)
-    found = r.candidates()  # the loader's synonyms: names with a phase (xdot0, vx_in, speed_in...)
-    for name in r.names:
-        if not any(name == ch.name for chs in found.values() for ch in chs):
-            for key, whole in ((normalize(name), True), (normalize(split_header(name)[0]), False)):
-                if key in _BARE:
-                    found[f"landing.{_BARE[key]}"].append(Choice(name, whole))
-                    break
+    found = r.candidates(_BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
     landing = {c: found[f"landing.{c}"] for c in _ORDER}
     if several := [(c, chs) for c, chs in landing.items() if len(chs) > 1]:
         c, chs = several[0]
@@ -222,14 +209,13 @@ def _by_name(r: Reading, given: dict[str, str]) -> LandingTable:
     for role in r.chosen:
         r.unit_of[role] = r.column_unit(role, given)
         r.scaled[role] = r.convert(role, r.unit_of[role][0])
-    kinds = {"xdot": "velocity", "ydot": "velocity", "speed": "velocity", "omega": "spin", "angle": "angle"}
-    velocity = {r.col(role): u for role, (u, _) in r.unit_of.items() if kinds[role.split(".")[1]] == "velocity"}
+    velocity = {r.col(role): u for role, (u, _) in r.unit_of.items() if KINDS[role.split(".")[1]] == "velocity"}
     if len(set(velocity.values())) > 1:
         raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=file,
                         column=r.col("landing.ydot"))
     values = np.column_stack([r.parsed[role] for role in r.chosen])
-    units = {kinds[role.split(".")[1]]: u for role, (u, _) in r.unit_of.items()}
-    origins = {kinds[role.split(".")[1]]: {"assumed": "default"}.get(o, o) for role, (_, o) in r.unit_of.items()}
+    units = {KINDS[role.split(".")[1]]: u for role, (u, _) in r.unit_of.items()}
+    origins = {KINDS[role.split(".")[1]]: {"assumed": "default"}.get(o, o) for role, (_, o) in r.unit_of.items()}
     if form == "polar":
         r.polar_state("landing")  # the loader's checks and conversion
     r.check_landing_sign()

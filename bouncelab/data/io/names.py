@@ -102,12 +102,12 @@ def role_of(key: str, polar: bool = False) -> str | None:
     return found if found is None or isinstance(found, str) else found[0]
 
 
-def synonym_role(name: str) -> str | None:
-    """The role a column's name stands for (the whole name first, then without its unit), or None."""
-    for key in (normalize(name), normalize(split_header(name)[0])):
-        role = role_of(key) or role_of(key, polar=True)
-        if role is not None:
-            return role
+def synonym_role(name: str, extra: Mapping[str, str] | None = None) -> tuple[str, bool] | None:
+    """(role, whether the whole name says it) of a column's name: the whole name first, then without its unit;
+    ``extra`` maps more normalised names to roles. None if the name is no synonym."""
+    for key, whole in ((normalize(name), True), (normalize(split_header(name)[0]), False)):
+        if (role := role_of(key) or role_of(key, polar=True) or (extra or {}).get(key)) is not None:
+            return role, whole
     return None
 
 

@@ -439,8 +439,7 @@ def _scalar(v: Any) -> Any:
 #: Seconds the crash probe of a ``.mat`` file may take before the file is refused.
 MAT_PROBE_TIMEOUT_S = 60.0
 _LOADMAT = dict(squeeze_me=True, struct_as_record=False, chars_as_strings=True)
-_PROBE = ("import sys, scipy.io\ntry:\n    scipy.io.loadmat(sys.argv[1], squeeze_me=True, struct_as_record=False, "
-          "chars_as_strings=True)\nexcept BaseException:\n    pass\n")
+_PROBE = f"import sys, scipy.io\ntry: scipy.io.loadmat(sys.argv[1], **{_LOADMAT!r})\nexcept BaseException: pass\n"
 
 
 def read_mat(path: Path, file: str) -> Table:

@@ -21,17 +21,12 @@ def _netcdf_engine() -> str:
 
 
 def _check_attr(key: str, value: Any, file: str) -> None:
-    ok = isinstance(value, str | float | np.floating | np.integer) or (
-        isinstance(value, int) and not isinstance(value, bool)
-    )
+    ok = isinstance(value, str | int | float | np.floating | np.integer) and not isinstance(value, bool)
     if isinstance(value, list | tuple | np.ndarray):
-        arr = np.asarray(value)
-        ok = arr.ndim == 1 and arr.dtype.kind in "iuf"
+        ok = (arr := np.asarray(value)).ndim == 1 and arr.dtype.kind in "iuf"
     if not ok:
-        raise DataError(
-            f"attribute {key!r} = {value!r} cannot be stored in netCDF "
-            "(use a string, a number or a 1-D list of numbers)", file=file,
-        )
+        raise DataError(f"attribute {key!r} = {value!r} cannot be stored in netCDF (use a string, a number or a 1-D "
+                        "list of numbers)", file=file)
 
 
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
@@ -66,22 +61,20 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     path = Path(path).expanduser()
     file = os.fspath(path)
     if path.suffix.lower() not in NETCDF_SUFFIXES:
-        raise DataError(
-            f"save_campaign writes netCDF; give the file a .nc suffix (got {path.suffix or 'none'!r})",
-            file=file,
-        )
-    parent = path.parent
-    if not parent.is_dir():
-        raise OutputError(f"cannot save {file!r}: the folder {os.fspath(parent)!r} does not exist", path=file,
+        raise DataError(f"save_campaign writes netCDF; give the file a .nc suffix (got {path.suffix or 'none'!r})",
+                        file=file)
+    if not path.parent.is_dir():
+        raise OutputError(f"cannot save {file!r}: the folder {os.fspath(path.parent)!r} does not exist", path=file,
                           reason="the folder does not exist", errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
-    checked = _storable_settings(checked, engine or _netcdf_engine())
+    engine = engine or _netcdf_engine()
+    checked = _storable_settings(checked, engine)
     # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.core.atomic).
     try:
         with atomic_path(path) as tmp:
-            checked.to_netcdf(tmp, engine=engine or _netcdf_engine())
+            checked.to_netcdf(tmp, engine=engine)
     except OutputError:
         raise
     except OSError as exc:  # read-only folder, a folder in the way, disk full: say which path
