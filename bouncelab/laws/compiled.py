@@ -245,6 +245,13 @@ class CompiledLaw(BounceModel):
             return self._kernel_args(**dict(zip(names, values, strict=True)))
 
         if n < PARALLEL_MIN:
+            if self._plain_args:  # one Python call less per evaluation: a search makes thousands
+                def f_plain(values: Sequence[Any]) -> tuple[float, float, float, float]:
+                    # numba reads a tuple of Python floats faster than one of NumPy scalars
+                    flat = values.tolist() if isinstance(values, np.ndarray) else values
+                    return sums(landing, liftoff, inv_norm, tuple(flat), 0, n)
+                return f_plain
+
             def f(values: Sequence[Any]) -> tuple[float, float, float, float]:
                 return sums(landing, liftoff, inv_norm, args_of(values), 0, n)
             return f
