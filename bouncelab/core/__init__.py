@@ -10,6 +10,7 @@ above them: importing them imports neither pandas nor xarray nor the file loader
 :mod:`~.core.published`    the reference paper's tables and laws
 :mod:`~.core.slip_roll`    the paper's slip/roll classification of measured bounces
 :mod:`~.core.errors`       the exceptions and warnings bouncelab raises on purpose
+:mod:`~.core.files`        reading files with checks (a regular file, of a sane size)
 :mod:`~.core.atomic`       writing files all at once or not at all
 =========================  ======================================================================
 """

@@ -480,8 +480,8 @@ def landing_faults(landing: np.ndarray, *, radius_m: float = BALL_RADIUS_M,
     if len(p) <= _SMALL:
         return _faults_small(p.tolist(), *limits)
     if len(p) >= FAST_GUARD_MIN:
-        from bouncelab.core._fast_guard import scan_landings
         from bouncelab.core._parallel import run_rows
+        from bouncelab.core._scans import scan_landings
 
         parts = run_rows(scan_landings, len(p), p, *limits, STATE_LIMIT)
         if not any(part[0] for part in parts):

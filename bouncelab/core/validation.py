@@ -240,8 +240,8 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
     if arr.shape[0] == 0:
         raise DataError(f"{name} holds no bounces", file=file, option=name)
     if arr.shape[0] >= FAST_CHECK_MIN:
-        from bouncelab.core._fast_checks import all_valid
         from bouncelab.core._parallel import run_chunked
+        from bouncelab.core._scans import all_valid
 
         if all(run_chunked(all_valid, arr.shape[0], arr, landing, STATE_LIMIT)):
             return
