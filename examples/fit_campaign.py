@@ -6,7 +6,7 @@ What it shows
     * fitting each of bouncelab's laws with :func:`bouncelab.fit` (the default global
       search minimising the paper's error delta) and reading the :class:`~bouncelab.FitResult`
       report, including its notes on parameters that ended on a bound;
-    * the fitted values beside the paper's published ones;
+    * the fitted errors beside the paper's Table 3 (a reference: these data are synthetic);
     * writing a fitted law to JSON and loading it back unchanged.
 
 Run it from the repository root (about 5 s; it writes only to a temporary directory)::
@@ -17,6 +17,7 @@ Run it from the repository root (about 5 s; it writes only to a temporary direct
 from __future__ import annotations
 
 import tempfile
+import warnings
 from pathlib import Path
 
 import bouncelab as bl
@@ -35,24 +36,29 @@ def main() -> None:
         print(res.report())
         print()
 
-    print("fitted delta beside the paper's (Table 3; Table 2 for the piecewise law):")
+    # The paper's Table 3 errors are on its measured bounces, fitted to all of them; the data here are a
+    # synthetic surrogate, so they are a reference, not a validation. Table 2 (the piecewise law) is a
+    # held-out figure and stands beside nothing fitted here.
+    print("fitted delta; in brackets the paper's Table 3 on its measured bounces (a reference, not a validation):")
     for name, res in results.items():
-        if name == "PiecewiseAffine":
-            paper = bl.published.TABLE2.loc[("A", "overall"), "delta"]
-        elif name in ("Rigid", "PennerVarying", "PennerFixed"):
-            paper = bl.published.TABLE3.loc[("A", name), "delta"]
+        if name in ("Rigid", "PennerVarying", "PennerFixed"):
+            ref = f"({bl.published.TABLE3.loc[('A', name), 'delta']:.1%})"
+        elif name == "PiecewiseAffine":
+            ref = "(the paper's figure is held-out: see bl.compare(..., split=...))"
         else:
-            paper = None  # TangentialRestitution goes beyond the paper
-        ref = f"{paper:.1%}" if paper is not None else "(not in the paper)"
-        print(f"    {name:<22} delta {res.delta:6.1%}   paper {ref}")
+            ref = "(not in the paper)"
+        print(f"    {name:<22} delta {res.delta:6.1%}   {ref}")
 
     law = results["PennerFixed"].model
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "penner_fixed_A.json"
         law.to_json(path)
-        again = bl.load_law(path)
-        print(f"\nsaved {law!r} to {path.name}:")
-        print(path.read_text().strip())
+        with warnings.catch_warnings():  # loading says the law was fitted to synthetic bounces: we know
+            warnings.simplefilter("ignore", bl.errors.SyntheticDataWarning)
+            again = bl.load_law(path)
+        text = path.read_text()
+        print(f"\nsaved {law!r} to {path.name} ({len(text.splitlines())} lines of JSON; its start):")
+        print("\n".join(text.strip().splitlines()[:12]))
         print(f"reloaded: {again!r}; identical: {again == law}")
         landing = [[1000.0, -800.0, 300.0]]
         print(f"same prediction: {(again.predict(landing) == law.predict(landing)).all()}")

@@ -1,1 +1,1 @@
-python "$REPO/examples/fit_campaign.py" | tail -n 38
+python "$REPO/examples/fit_campaign.py" | tail -n 22
