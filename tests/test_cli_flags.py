@@ -142,7 +142,7 @@ def test_input_dash_reads_standard_input(tmp_path, capsys, monkeypatch):
         ("vx,xdot0,vy,spin\n1,1,-1,1\n", [], EXIT_DATA, ["'vx'", "'xdot0'"]),
         # a unit given twice, differently
         ("speed,angle,spin\nm/s,deg,rpm\n28.5,37.3,2094\n", ["--velocity-unit", "ft/s"], EXIT_DATA,
-         ["--velocity-unit ft/s", "m/s"]),
+         ["the velocity unit given is ft/s", "give --velocity-unit m/s"]),
         # typed landings beside a file in other units: one unit for all, said with the flag
         ("speed,angle,spin\nm/s,deg,rpm\n28.5,37.3,2094\n", ["--landing", "1000", "-800", "200"], EXIT_USAGE,
          ["--velocity-unit m/s"]),

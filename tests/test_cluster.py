@@ -62,8 +62,14 @@ def test_lazy_predict_reorders_components_and_raises_on_compute() -> None:
     with pytest.raises(DataError) as e:  # a landing moving up
         lazy.compute()
     assert e.value.column == "landing.ydot"
-    with pytest.raises(DataError, match="lazily"):
-        law.predict(arr, units={"velocity": "m/s", "spin": "rpm"})
+    # lazily in scaled Cartesian states only: the option that asks for more is named
+    for call, option in ((lambda: law.predict(arr, units={"velocity": "m/s", "spin": "rpm"}), "units"),
+                         (lambda: law.predict(arr, return_flags=True), "return_flags"),
+                         (lambda: law.predict(arr, warn_outside_fitted=True), "warn_outside_fitted"),
+                         (lambda: law.regime(arr, form="polar"), "form")):
+        with pytest.raises(DataError) as e:
+            call()
+        assert e.value.option == option
 
 
 # ------------------------------------------------------------------------------ a Client as executor

@@ -9,7 +9,7 @@ import pytest
 from numba import njit
 
 import bouncelab as bl
-from bouncelab.core.errors import LawDefinitionError, ParameterError
+from bouncelab.core.errors import Code, Hint, LawDefinitionError, ParameterError
 from bouncelab.laws import Option, Parameter
 
 P0 = np.array([[1000.0, -800.0, 300.0], [400.0, -600.0, -200.0]])
@@ -85,8 +85,9 @@ def test_a_law_in_the_old_form_says_how_to_write_it():
     with pytest.raises(LawDefinitionError) as err:
         Parameter("e", (0.0, 1.0), (0.0, 1.0), "1", "restitution")
     assert err.value.method == "Parameter" and "bounds=" in str(err.value)
-    with pytest.raises(LawDefinitionError):
+    with pytest.raises(LawDefinitionError) as err:
         Parameter(physical=(0, 1))  # no search box
+    assert err.value.method == "Parameter" and err.value.hints == (Hint("bounds", Code("(low, high)")),)
 
 
 def test_one_parameter_object_cannot_take_two_names():

@@ -18,8 +18,8 @@ import pytest
 
 from bouncelab.core.errors import DataError
 from bouncelab.core.units import canonical_unit, spin_to_scaled
-from bouncelab.data.io import excel as io_excel
 from bouncelab.data.io import load_campaign, save_campaign
+from bouncelab.data.io import read as io_read
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -46,19 +46,20 @@ def _csv(path: Path, spin_unit: str | None, *, in_header: bool = False, rows=ROW
 
 
 def test_a_folder_is_a_data_error_naming_it(tmp_path):
-    with pytest.raises(DataError, match="directory, not a data file") as e:  # was IsADirectoryError
+    with pytest.raises(DataError) as e:  # was IsADirectoryError
         load_campaign(tmp_path)
-    assert e.value.file == str(tmp_path)
+    assert e.value.file == str(tmp_path) and "directory" in e.value.message
 
 
 @pytest.mark.parametrize(("suffix", "package"), [(".xls", "xlrd"), (".xlsx", "openpyxl")])
 def test_an_excel_file_without_its_reader_says_what_to_install(tmp_path, monkeypatch, suffix, package):
     path = tmp_path / f"book{suffix}"
     path.write_bytes(b"\xd0\xcf\x11\xe0 not read: the reader is missing")
-    monkeypatch.setattr(io_excel, "_module_available", lambda name: name != package)
-    with pytest.raises(DataError, match=rf"needs the package {package}: pip install 'bouncelab\[excel\]'") as e:
+    monkeypatch.setattr(io_read, "module_available", lambda name: name != package)
+    with pytest.raises(DataError) as e:
         load_campaign(path)  # was an ImportError
     assert e.value.file == str(path)
+    assert f"needs the package {package}: pip install 'bouncelab[excel]'" in e.value.message
 
 
 def test_the_excel_extra_installs_both_readers():
@@ -97,22 +98,22 @@ def test_saving_where_it_cannot_be_written_is_an_output_error_naming_the_path(tm
         raise PermissionError(errno.EACCES, "Permission denied", str(tmp_path))
 
     monkeypatch.setattr(tempfile, "mkstemp", refuse)  # a read-only folder, whoever runs the test
-    with pytest.raises(OutputError, match="Permission denied") as e:  # was a bare PermissionError
+    with pytest.raises(OutputError) as e:  # was a bare PermissionError
         save_campaign(ds, target)
-    assert e.value.path == str(target) and e.value.errno == errno.EACCES and str(target) in str(e.value)
+    assert (e.value.path, e.value.reason, e.value.errno) == (str(target), "Permission denied", errno.EACCES)
     assert list(tmp_path.iterdir()) == []
     monkeypatch.undo()
     (tmp_path / "in_the_way.nc").mkdir()
-    with pytest.raises(OutputError, match="in_the_way") as e:
+    with pytest.raises(OutputError) as e:
         save_campaign(ds, tmp_path / "in_the_way.nc")
-    assert isinstance(e.value, OSError)
+    assert isinstance(e.value, OSError) and e.value.path == str(tmp_path / "in_the_way.nc")
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc takes no new files on Linux only")
 def test_saving_into_proc_is_an_output_error():
     from bouncelab.core.errors import OutputError
 
-    with pytest.raises(OutputError, match=r"/proc/bouncelab-campaign\.nc") as e:
+    with pytest.raises(OutputError) as e:
         save_campaign(_campaign(), "/proc/bouncelab-campaign.nc")
     assert e.value.path == "/proc/bouncelab-campaign.nc"
 
@@ -125,8 +126,9 @@ def test_saving_into_a_read_only_folder_is_an_output_error(tmp_path):
     ro.mkdir()
     os.chmod(ro, 0o555)
     try:
-        with pytest.raises(OutputError, match="Permission denied"):
+        with pytest.raises(OutputError) as e:
             save_campaign(_campaign(), ro / "c.nc")
+        assert (e.value.path, e.value.errno) == (str(ro / "c.nc"), errno.EACCES)
     finally:
         os.chmod(ro, 0o755)
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import bouncelab as bl
-from bouncelab.core.errors import FitError, NotFittedError, ParameterError
+from bouncelab.core.errors import Code, FitError, Hint, NotFittedError, ParameterError, UnknownLawError
 from bouncelab.laws import BounceModel, CompiledLaw, FitOutcome, Parameter, fit_method, law_class, law_name
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -84,8 +84,9 @@ def test_compiled_example_own_method_with_stderr(compiled_law, campaign_b):
     assert "+-" in res.report()
     weighted = bl.fit(compiled_law, campaign_b, weighted=True)
     assert not np.allclose(weighted.model.A, res.model.A)
-    with pytest.raises(FitError, match="no option"):
+    with pytest.raises(FitError) as err:  # an option of none of its methods
         bl.fit(compiled_law, campaign_b, svm_C=1.0)
+    assert (err.value.law, err.value.option) == (law_name(compiled_law), "svm_C")
     polished = bl.fit(res.model, campaign_b, method="global", maxeval=300)  # generic search from there
     assert polished.delta <= res.delta + 1e-12
 
@@ -169,11 +170,13 @@ def test_ambiguous_and_unknown_names():
     made = []
     for module in ("lab_one", "lab_two"):
         made.append(type("Twin", (BounceModel,), {"__module__": module, "regimes": ()}))
-    with pytest.raises(ParameterError, match=r"ambiguous.*lab_one:Twin.*lab_two:Twin"):
+    with pytest.raises(ParameterError, match=r"ambiguous.*lab_one:Twin.*lab_two:Twin") as err:  # names both
         bl.BounceModel.from_dict({"law": "Twin", "parameters": {}})
+    assert err.value.law == "Twin" and not isinstance(err.value, UnknownLawError)
     assert type(bl.BounceModel.from_dict({"law": "lab_two:Twin", "parameters": {}})) is made[1]
-    with pytest.raises(ParameterError, match="import the module"):
+    with pytest.raises(UnknownLawError) as err:  # a ParameterError that says to import the module
         bl.BounceModel.from_dict({"law": "nowhere.module:Law", "parameters": {}})
+    assert (err.value.module, err.value.qualname, err.value.module_imported) == ("nowhere.module", "Law", False)
 
 
 @pytest.mark.parametrize("bad", [
@@ -211,8 +214,9 @@ def test_to_json_is_atomic(tmp_path, monkeypatch):
     import bouncelab.core.atomic as atomic
 
     monkeypatch.setattr(atomic.os, "replace", fail)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(OSError) as err:
         bl.Rigid(r=0.9, mu=0.1).to_json(path)
+    assert (err.value.path, err.value.reason) == (str(path), "disk full")
     assert path.read_text() == before  # the previous law is intact
     assert [p.name for p in tmp_path.iterdir()] == ["law.json"]  # no temporary file left
 
@@ -240,12 +244,15 @@ def test_fixed_and_free(campaign_a):
     res = bl.fit(bl.PennerFixed, campaign_a, fixed={"r": 0.5, "beta_deg": 5.0})
     assert (res.model.r, res.model.beta_deg) == (0.5, 5.0) and "(fixed)" in res.report()
     assert res.params["r"].vary is False
-    with pytest.raises(FitError, match="no value"):
+    with pytest.raises(FitError) as err:  # held, but the law has no value for it
         bl.fit(bl.Rigid, campaign_a, fixed=["r"])
-    with pytest.raises(ParameterError, match="no parameter"):
+    assert err.value.option == "fixed" and err.value.hints == (Hint("fixed", {"r": Code("value")}),)
+    with pytest.raises(ParameterError) as err:
         bl.fit(bl.Rigid, campaign_a, fixed={"nu": 1.0})
-    with pytest.raises(ParameterError, match="physical"):
+    assert (err.value.law, err.value.parameter) == ("Rigid", "nu")
+    with pytest.raises(ParameterError) as err:  # outside its physical range
         bl.fit(bl.Rigid, campaign_a, fixed={"r": 2.0})
+    assert (err.value.law, err.value.parameter, err.value.value) == ("Rigid", "r", 2.0)
 
     class Held(_Scaled):  # the same law, its spin parameter held at 1 unless freed
         g = Parameter(bounds=(0.0, 2.0), physical=(0.0, 2.0), doc="spin kept", vary=False, default=1.0)
@@ -263,29 +270,36 @@ def test_piecewise_start_values_and_held_plane(campaign_a):
     assert res.model.offset == published.offset and res.n_evaluations == 0
     started = bl.fit(published, campaign_a, maxeval=50)  # the search starts from the law's own plane
     assert "started from the plane of the law given" in started.report()
-    with pytest.raises(FitError, match="only the plane"):
+    with pytest.raises(FitError) as err:  # the plane methods hold only the plane
         bl.fit(published, campaign_a, fixed=["A1"])
+    assert (err.value.law, err.value.option) == ("PiecewiseAffine", "fixed")
+    assert [(h.option, h.value) for h in err.value.hints] == [("method", "global")]
 
 
 def test_unknown_method_and_options_are_named(campaign_a):
-    with pytest.raises(FitError, match=r"'svm' is a method of PiecewiseAffine"):
+    with pytest.raises(FitError, match=r"'svm' is a method of PiecewiseAffine") as err:  # where it is a method
         bl.fit(bl.Rigid, campaign_a, method="svm")
-    with pytest.raises(FitError, match=r"method 'structured' of Rigid has no option\(s\) \['algorithm'\]"):
+    assert (err.value.law, err.value.option) == ("Rigid", "method")
+    with pytest.raises(FitError) as err:
         bl.fit(bl.Rigid, campaign_a, method="structured", algorithm="CRS2_LM")
-    with pytest.raises(FitError, match="svm_C"):
+    assert (err.value.law, err.value.option) == ("Rigid", "algorithm")
+    with pytest.raises(FitError) as err:
         bl.fit(bl.Rigid, campaign_a, svm_C=2.0)  # previously ignored silently
+    assert (err.value.law, err.value.option) == ("Rigid", "svm_C")
 
 
 @pytest.mark.parametrize("seed", [-1, 2**64, 1.5, "1", True])
 def test_bad_seed_is_a_fit_error(seed, campaign_a):
-    with pytest.raises(FitError, match="seed"):
+    with pytest.raises(FitError) as err:
         bl.fit(bl.Rigid, campaign_a, seed=seed)
+    assert err.value.option == "seed"
 
 
 def test_held_out_must_be_held_out(campaign_a):
     train, test = bl.split_by_setting(campaign_a, seed=0)
-    with pytest.raises(FitError, match="held-out bounces must not be fitted"):
+    with pytest.raises(FitError) as err:  # held-out bounces must not be fitted
         bl.fit(bl.Rigid, campaign_a, test=test)
+    assert err.value.option == "test"
     assert bl.fit(bl.Rigid, train, test=test).n_test == test.sizes["bounce"]
 
 
@@ -325,8 +339,9 @@ def test_fit_outcome_type_is_checked(campaign_a):
         def _broken(self, problem) -> FitOutcome:
             return "nothing"
 
-    with pytest.raises(FitError, match="returned str"):
+    with pytest.raises(FitError) as err:  # it returned a str
         bl.fit(Bad, campaign_a, method="broken")
+    assert (err.value.law, err.value.option) == (law_name(Bad), "method")
 
 
 class _Scaled(BounceModel):
@@ -354,13 +369,17 @@ class _Scaled(BounceModel):
 
 def test_a_method_that_ignores_fixed_or_bounds_fails(campaign_a):
     assert bl.fit(_Scaled, campaign_a, method="ignores_everything").model.e == 0.9  # nothing asked: fine
-    with pytest.raises(FitError, match="does not hold parameter 'e'"):
+    with pytest.raises(FitError) as err:  # e was fixed, the method did not hold it
         bl.fit(_Scaled, campaign_a, method="ignores_everything", fixed={"e": 0.5})
-    with pytest.raises(FitError, match="outside the bounds"):
+    assert (err.value.law, err.value.option) == (law_name(_Scaled), "fixed")
+    assert [(h.option, h.value) for h in err.value.hints] == [("method", "global")]
+    with pytest.raises(FitError) as err:  # outside the bounds given: the hint is the method that keeps them
         bl.fit(_Scaled, campaign_a, method="ignores_everything", bounds={"g": (0.0, 1.0)})
+    assert err.value.option == "bounds" and [(h.option, h.value) for h in err.value.hints] == [("method", "global")]
     # the piecewise methods find the plane without a box: explicit bounds they cannot honour are an error
-    with pytest.raises(FitError, match="offset"):
+    with pytest.raises(FitError) as err:
         bl.fit(bl.PiecewiseAffine, campaign_a, bounds={"offset": (0.0, 1.0)})
+    assert (err.value.law, err.value.option) == ("PiecewiseAffine", "bounds")
 
 
 def test_callers_fixed_values_win_over_a_methods_hold(campaign_a):
@@ -369,18 +388,20 @@ def test_callers_fixed_values_win_over_a_methods_hold(campaign_a):
 
 
 def test_law_definition_errors(campaign_a):
-    with pytest.raises(bl.LawDefinitionError, match=r"numba\.njit"):
+    with pytest.raises(bl.LawDefinitionError) as err:  # a kernel that is not numba.njit
         class NotCompiled(CompiledLaw):
             e = Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
             regimes = ("one",)
             kernel = staticmethod(lambda xd, yd, w, e: (xd, -yd, w, 0))
+    assert (err.value.law, err.value.method) == ("NotCompiled", "kernel")
 
     class BadCodes(_Scaled):
         def _regime(self, p, e, g):
             return np.full(len(p), 3, np.int8)
 
-    with pytest.raises(bl.LawDefinitionError, match="regime code 3"):
+    with pytest.raises(bl.LawDefinitionError, match="regime code 3") as err:  # the code named: the point
         BadCodes(e=0.5, g=1.0).regime(campaign_a.landing.values)
+    assert (err.value.law, err.value.method) == (law_name(BadCodes), "_regime")
 
 
 def test_docs_compiled_example_refuses_to_hold(compiled_law, campaign_b):
@@ -433,8 +454,9 @@ def test_load_law_given_json_text_says_what_it_takes():
     text = bl.Rigid(r=0.5, mu=0.3).to_dict()
     import json
 
-    with pytest.raises(bl.ParameterError, match=r"path of a law JSON file.*law_from_dict"):
+    with pytest.raises(bl.ParameterError, match=r"path of a law JSON file.*law_from_dict") as err:  # what it takes
         bl.load_law(json.dumps(text))
+    assert err.value.parameter == "path"
     assert bl.laws.law_from_dict(json.loads(json.dumps(text))) == bl.Rigid(r=0.5, mu=0.3)
 
 
@@ -452,10 +474,12 @@ def test_a_law_name_in_its_exact_case_wins_over_one_differing_in_case():
     for name, cls in (("CaseLaw", upper), ("caselaw", lower), ("caselaws:CaseLaw", upper), ("caselaws:caselaw", lower)):
         assert law_class(name, case_sensitive=False) is cls
         assert type(bl.fit(name, bl.load_campaign("A"))).__name__ == "FitResult"
-    with pytest.raises(FitError, match="ambiguous"):
+    with pytest.raises(FitError) as err:  # ambiguous: two laws differ from it only in case
         bl.fit("CASELAW", bl.load_campaign("A"))
-    with pytest.raises(ParameterError, match="the module 'numpy' is imported but defines no bounce law 'ndarray'"):
+    assert (err.value.law, err.value.option) == ("CASELAW", "model")
+    with pytest.raises(ParameterError) as err:  # numpy is imported but defines no bounce law 'ndarray'
         law_class("numpy:ndarray")
+    assert (err.value.module, err.value.qualname, err.value.module_imported) == ("numpy", "ndarray", True)
 
 
 def test_the_documented_compiled_law_weighs_its_least_squares_by_the_sample_weights(compiled_law):

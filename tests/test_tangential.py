@@ -128,15 +128,18 @@ def test_default_threshold_scales_with_the_campaign():
 
 @pytest.mark.parametrize("near_zero", [-1.0, float("nan"), float("inf"), "small"])
 def test_bad_near_zero(campaign, near_zero):
-    with pytest.raises(DataError, match="near_zero"):
+    with pytest.raises(DataError) as err:
         tangential_summary(campaign, near_zero=near_zero)
+    assert err.value.option == "near_zero"
 
 
 def test_bad_data():
-    with pytest.raises(DataError, match="campaign Dataset"):
+    with pytest.raises(DataError) as err:  # a file name, not a campaign Dataset
         tangential_velocities("data.csv")
-    with pytest.raises(DataError, match="ydot"):
+    assert err.value.option == "data"
+    with pytest.raises(DataError) as err:  # a landing moving up
         tangential_summary(([[1.0, 5.0, 0.0]], [[1.0, 5.0, 0.0]]))
+    assert (err.value.column, err.value.row) == ("landing.ydot", 1)
     with pytest.raises(DataError):
         tangential_crosstab((LANDING, LIFTOFF[:3]))
 

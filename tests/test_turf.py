@@ -137,12 +137,14 @@ def test_predict_varying_matches_one_law_per_row():
 def test_predict_varying_refuses_bad_rows():
     p = landings(3)
     row = np.array(list(BASE.values()))
-    with pytest.raises(bl.ParameterError, match="shape"):
+    with pytest.raises(bl.ParameterError) as err:  # 2 rows for 3 landings
         bl.TurfContact.predict_varying(p, np.tile(row, (2, 1)))
+    assert (err.value.law, err.value.parameter) == ("TurfContact", "params")
     bad = np.tile(row, (3, 1))
     bad[1, 3] = -0.1
-    with pytest.raises(bl.ParameterError, match="'mu' of row 2"):
+    with pytest.raises(bl.ParameterError, match="of row 2") as err:  # the row named
         bl.TurfContact.predict_varying(p, bad)
+    assert (err.value.parameter, err.value.value) == ("mu", -0.1)
     with pytest.raises(bl.DataError):
         bl.TurfContact.predict_varying([[1.0, 5.0, 0.0]], row)
 
@@ -228,5 +230,6 @@ def test_stable_and_dissipative_over_the_whole_search_box():
 
 def test_restitution_refuses_speeds_that_are_not_positive_numbers():
     for bad in ("fast", [0.0], [-300.0], [float("nan")]):
-        with pytest.raises(bl.DataError, match=r"speed must be (a positive, finite number|numbers)"):
+        with pytest.raises(bl.DataError) as err:
             LAWS[0].restitution(bad)
+        assert err.value.option == "speed"

@@ -7,6 +7,7 @@ Commands
 ``bouncelab predict``    lift-off states from landing states, in any units
 ``bouncelab info``       what a campaign file (or the embedded default) holds
 ``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
+``bouncelab export``     a law as a C99 header or a JavaScript module (cli/export.py)
 
 Exit codes: 0 success; 2 bad command line; 3 bad or missing data file; 4 a law or fit
 that cannot be done as asked; 5 (``reproduce``) the report is written but partial: some
@@ -18,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import re
 import sys
@@ -36,6 +36,7 @@ from bouncelab.cli.messages import (
     UsageError,
     message,
 )
+from bouncelab.cli.options import finite, positive, whole
 
 # A negative number on the command line, exponent and inf/nan included: argparse (before Python 3.13)
 # only knows "-8" and "-8.5", so "--landing 1000 -8e2 200" read "-8e2" as an unknown option.
@@ -49,34 +50,7 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
 
-def _finite(text: str) -> float:
-    """A finite number (argparse type)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
 
-
-def _positive(text: str) -> float:
-    """A finite number > 0 (argparse type)."""
-    value = _finite(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
-    return value
-
-
-def _header_row(text: str) -> int:
-    """A line number >= 1 (argparse type)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"a line number counts from 1: {text!r}")
-    return value
 
 
 def _json_option(name: str, text: str | None, example: str) -> dict | None:
@@ -105,12 +79,20 @@ def _load(source: str, args: argparse.Namespace):
     if getattr(args, "angle_unit", None):
         units["angle"] = args.angle_unit
     surrogate = {"surrogate": args.surrogate} if getattr(args, "surrogate", None) else {}
-    # Loader options only when given, so an embedded campaign is loaded as before; hint_style="cli" makes
-    # the loader's advice name these flags (--spin-unit rpm) instead of Python keywords.
+    # Loader options only when given, so an embedded campaign is loaded as before; its errors name their hints
+    # as flags where they are printed (cli.messages.message).
     options = {key: getattr(args, key) for key in ("sheet", "header_row", "intervals")
                if getattr(args, key, None) is not None}
+    if str(options.get("sheet", "")).isdigit() and Path(source).suffix.lower() in (".xlsx", ".xls"):
+        try:  # --sheet 1: the sheet named "1", or else the 0-based index 1
+            import pandas as pd
+
+            with pd.ExcelFile(source) as book:
+                options["sheet"] = options["sheet"] if options["sheet"] in book.sheet_names else int(options["sheet"])
+        except Exception:  # the loader says what is wrong with the file
+            pass
     return load_campaign(source, columns=columns, units=units or None, missing=getattr(args, "missing", "raise"),
-                         hint_style="cli", **options, **surrogate)
+                         **options, **surrogate)
 
 
 def _add_data_options(p: argparse.ArgumentParser) -> None:
@@ -121,7 +103,7 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                                       'speed, angle and spin: {"speed": "v_in", "angle": "a_in", "spin": "w_in"}')
     p.add_argument("--sheet", metavar="NAME", help="Excel sheet to read: its name, or a 0-based index if no sheet "
                                                    "has that name (default: the first visible sheet)")
-    p.add_argument("--header-row", type=_header_row, metavar="N",
+    p.add_argument("--header-row", type=whole(1, "(a line number, counting from 1)"), metavar="N",
                    help="1-based line (text file) or row (Excel) of the header; lines above it are ignored "
                         "(default: the first line that is not a comment or a title)")
     p.add_argument("--missing", choices=("raise", "drop"), default="raise",
@@ -193,7 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--law", dest="laws", action="append", default=[], metavar="LAW",
                      help="a further law to fit and compare beside those of --laws or the default (repeatable): a "
                           "built-in name or a user law's module:Class (see --import)")
-    rep.add_argument("--bootstrap", type=_resamples, default=None, metavar="N",
+    rep.add_argument("--bootstrap", type=whole(0, "resamples"), default=None, metavar="N",
                      help="resamples of the parameter bootstrap (default 100; 0 leaves it out)")
     _add_import_option(rep)
     _add_data_options(rep)
@@ -224,9 +206,9 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("law", help="a law JSON file (from 'fit --save') or a law name with --published A|B")
     pred.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
                       help="use the paper's published values of the named law for campaign A or B")
-    pred.add_argument("--landing", nargs=3, type=_finite, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
+    pred.add_argument("--landing", nargs=3, type=finite, action="append", metavar=("XDOT", "YDOT", "OMEGA"),
                       help="one landing state; repeat for more")
-    pred.add_argument("--speed-angle-spin", nargs=3, type=_finite, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
+    pred.add_argument("--speed-angle-spin", nargs=3, type=finite, action="append", metavar=("SPEED", "ANGLE", "SPIN"),
                       help="one landing as speed, angle of incidence below the horizontal (deg unless --angle-unit "
                            "rad) and backspin")
     pred.add_argument("--input", metavar="FILE",
@@ -237,7 +219,7 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("--spin-unit", help="unit of spin (default: an --input file's header, else rad/s)")
     pred.add_argument("--angle-unit", choices=("deg", "rad"),
                       help="unit of angles of incidence (default: an --input file's header, else deg)")
-    pred.add_argument("--radius-mm", type=_positive, default=21.35, help="ball radius in mm (default 21.35)")
+    pred.add_argument("--radius-mm", type=positive, default=21.35, help="ball radius in mm (default 21.35)")
     _add_import_option(pred)
 
     info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
@@ -247,6 +229,9 @@ def build_parser() -> argparse.ArgumentParser:
     from bouncelab.cli.track import add_parser as add_track_parser  # implementation in cli/track.py
 
     add_track_parser(sub)
+    from bouncelab.cli.export import add_parser as add_export_parser  # implementation in cli/export.py
+
+    add_export_parser(sub)
     return parser
 
 
@@ -274,6 +259,10 @@ def _run(args: argparse.Namespace) -> int:
             from bouncelab.cli.track import run as run_track
 
             return run_track(args)
+        if args.command == "export":
+            from bouncelab.cli.export import run as run_export
+
+            return run_export(args)
         _import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
@@ -325,16 +314,6 @@ def _oneline(exc: BaseException) -> str:
         return f"{exc.strerror}: {exc.filename!r}"
     return message(exc)
 
-
-def _resamples(text: str) -> int:
-    """A whole number >= 0 (argparse type of --bootstrap)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more: {text!r}")
-    return value
 
 
 def _figure_units(text: str | None):
@@ -593,8 +572,8 @@ def _read_input(args: argparse.Namespace, radius: float):
 
             raise DataError(f"standard input holds more than the {MAX_FILE_BYTES / 2**30:g} GiB bouncelab reads",
                             file=STDIN_NAME)
-        return read_landings(STDIN_NAME, data=data, units=units, radius_m=radius, hint_style="cli")
-    return read_landings(args.input, units=units, radius_m=radius, hint_style="cli")
+        return read_landings(STDIN_NAME, data=data, units=units, radius_m=radius)
+    return read_landings(args.input, units=units, radius_m=radius)
 
 
 def _output_units(args: argparse.Namespace, table) -> dict[str, str]:

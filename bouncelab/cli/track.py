@@ -19,7 +19,6 @@ something, and match each file name (the name only, never its folder) within
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import re
 import signal
@@ -31,6 +30,7 @@ import time
 from pathlib import Path
 
 from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE, UsageError, message
+from bouncelab.cli.options import finite, positive, whole
 from bouncelab.core.errors import DataError
 
 #: Frame rates ``--fps`` accepts, frames/s. Below 100 no camera films a golf bounce (a ball at 25 m/s moves
@@ -44,20 +44,10 @@ PATTERN_GROUPS = ("setting", "fps", "ball_radius_mm", "pixels_per_metre")
 _FPS_HINT = "give the camera's recording rate, e.g. --fps 5000 (not the video's playback rate, often 25 or 30)"
 
 
-def _number(text: str) -> float:
-    """A finite number (argparse type; argparse names the option in front of the message)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
-
 
 def _fps(text: str) -> float:
     """--fps: frames per second within FPS_RANGE (argparse type)."""
-    value = _number(text)
+    value = finite(text)
     low, high = FPS_RANGE
     if value <= 0:
         raise argparse.ArgumentTypeError(f"must be a positive number of frames per second; got {text!r}")
@@ -70,31 +60,15 @@ def _fps(text: str) -> float:
     return value
 
 
-def _positive(text: str) -> float:
-    value = _number(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive; got {text!r}")
-    return value
-
 
 def _ball_radius_mm(text: str) -> float:
     from bouncelab.core.units import BALL_RADIUS_RANGE_M
 
-    value = _number(text)
+    value = finite(text)
     low, high = (1000.0 * r for r in BALL_RADIUS_RANGE_M)
     if not low <= value <= high:
         raise argparse.ArgumentTypeError(f"a ball's radius in millimetres, {low:g} to {high:g} (a golf ball's is "
                                          f"21.35); got {text!r}")
-    return value
-
-
-def _jobs(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"a whole number of processes; got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"1 or more processes; got {text!r}")
     return value
 
 
@@ -114,7 +88,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="the camera's recording rate, frames/s, 100 to 1e7 (unless in the manifest, the file names "
                         "or a .npz clip); not a video's playback rate")
     p.add_argument("--ball-radius-mm", type=_ball_radius_mm, default=21.35, help="ball radius, mm (default 21.35)")
-    p.add_argument("--pixels-per-mm", type=_positive,
+    p.add_argument("--pixels-per-mm", type=positive,
                    help="image scale (default: from the ball's detected radius)")
     p.add_argument("--manifest", metavar="FILE",
                    help="CSV with a column 'clip' and any of fps, setting, ball_radius_mm, pixels_per_metre")
@@ -128,7 +102,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--surface", default="", help="surface description stored in the file")
     p.add_argument("--synthetic", action="store_true", help="mark the campaign as synthetic (rendered clips)")
     p.add_argument("--figures", metavar="DIR", help="write a diagnostic figure per clip there (PNG)")
-    p.add_argument("--jobs", type=_jobs, default=1, help="clips tracked at once, in separate processes (default 1)")
+    p.add_argument("--jobs", type=whole(1, "processes"), default=1,
+                   help="clips tracked at once, in separate processes (default 1)")
     p.add_argument("--out", required=True, help="campaign file to write (.nc)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p

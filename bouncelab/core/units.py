@@ -17,6 +17,7 @@ conversion takes ``radius_m`` to use another ball.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Mapping
@@ -26,6 +27,7 @@ import numpy as np
 from bouncelab.core.errors import DataError, Hint
 
 __all__ = [
+    "ANGLE_UNITS",
     "BALL_RADIUS_M",
     "BALL_RADIUS_RANGE_M",
     "COMPONENTS",
@@ -47,6 +49,7 @@ __all__ = [
     "state_from_polar",
     "tangential_velocity",
     "to_scaled",
+    "unit_pair",
     "velocity_from_scaled",
     "velocity_to_scaled",
 ]
@@ -110,6 +113,17 @@ _ALIASES: dict[str, str] = {
     "deg/s": "deg/s", "°/s": "deg/s",
 }
 
+#: Angle units (of speed, angle and spin files): degrees per unit.
+ANGLE_UNITS: dict[str, float] = {"deg": 1.0, "rad": 180.0 / math.pi}
+
+# Spellings that name a unit of one kind only: per second on a spin is rad/s (on a velocity radii/s, above),
+# and the angles of polar files.
+_KIND_ALIASES: dict[str, dict[str, str]] = {
+    "spin": {"1/s": "rad/s", "s-1": "rad/s", "s^-1": "rad/s", "/s": "rad/s"},
+    "angle": {"deg": "deg", "degree": "deg", "degrees": "deg", "°": "deg", "rad": "rad", "radian": "rad",
+              "radians": "rad"},
+}
+
 # CF / UDUNITS spellings ("m s-1", "radian/s", "revolutions per minute", "min-1") rewritten to the aliases
 # above, in order: every way of naming a unit (units=, a header, a units row, a netCDF attribute, a flag)
 # goes through canonical_unit, so all accept the same names.
@@ -132,13 +146,15 @@ def _cf_spelling(text: str) -> str:
 
 
 def canonical_unit(unit: str, kind: str) -> str:
-    """Return the canonical spelling of ``unit`` for ``kind`` ("velocity" or "spin").
+    """Return the canonical spelling of ``unit`` for ``kind`` ("velocity", "spin" or "angle").
 
-    Accepts the spellings of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`, their
-    common aliases, and CF / UDUNITS forms: ``"m s-1"``, ``"metres per
-    second"``, ``"rad s-1"``, ``"revolutions per minute"``, ``"min-1"``,
-    ``"min^-1"``, ``"1/min"`` (a unit per minute without an angle is
-    revolutions per minute, rpm).
+    Accepts the spellings of :data:`SPEED_UNITS`, :data:`SPIN_UNITS` and
+    :data:`ANGLE_UNITS`, their common aliases, and CF / UDUNITS forms: ``"m s-1"``,
+    ``"metres per second"``, ``"rad s-1"``, ``"revolutions per minute"``,
+    ``"min-1"``, ``"min^-1"``, ``"1/min"`` (a unit per minute without an angle is
+    revolutions per minute, rpm); ``"1/s"`` (``"s-1"``) is radii/s for a velocity
+    and rad/s for a spin. This is the one table of unit names: the loader, the
+    command line and the conversions all read units through it.
 
     Raises
     ------
@@ -146,10 +162,12 @@ def canonical_unit(unit: str, kind: str) -> str:
         If the unit is unknown or of the wrong kind (a spin unit for a velocity).
     """
     key = str(unit).strip().lower().replace(" ", "")
-    canon = _ALIASES.get(key)
+    own = _KIND_ALIASES.get(kind, {})
+    canon = own.get(key) or _ALIASES.get(key)
     if canon is None:
-        canon = _ALIASES.get(_cf_spelling(unit))
-    table = SPEED_UNITS if kind == "velocity" else SPIN_UNITS
+        cf = _cf_spelling(unit)
+        canon = own.get(cf) or _ALIASES.get(cf)
+    table = {"velocity": SPEED_UNITS, "angle": ANGLE_UNITS}.get(kind, SPIN_UNITS)
     if canon is None or canon not in table:
         known = ", ".join(table)
         raise DataError(f"unknown {kind} unit {unit!r}; known {kind} units: {known}", option=kind)
@@ -455,8 +473,13 @@ def _refuse_bools(value, what: str, option: str) -> None:
 _UNITS_EXAMPLE = Hint("units", {"velocity": "m/s", "spin": "rpm"})
 
 
-def _unit_pair(units) -> tuple[str, str] | None:
-    """``(velocity unit, spin unit)`` from ``units``; None for scaled units."""
+def unit_pair(units) -> tuple[str, str] | None:
+    """``(velocity unit, spin unit)`` from a ``units=`` argument; None for scaled units.
+
+    ``units`` is None or ``"scaled"`` (scaled units) or a mapping with exactly the
+    keys ``"velocity"`` and ``"spin"``; anything else is a :class:`DataError` on
+    option ``units``.
+    """
     if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
         return None
     if not isinstance(units, Mapping):
@@ -478,6 +501,18 @@ def _form_pair(form) -> tuple[str, str]:
     return pair
 
 
+def _convert(states, units, form: str, radius_m: float, polar, cartesian) -> np.ndarray:
+    """``polar`` or ``cartesian`` applied to ``states`` with the units and form checked once."""
+    pair = unit_pair(units)
+    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
+    _check_radius(radius_m)
+    if form == "polar":
+        return polar(states, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
+    if form != "cartesian":
+        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
+    return cartesian(states, velocity=vel, spin=spin, radius_m=radius_m)
+
+
 def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str = "landing",
                        radius_m: float = BALL_RADIUS_M) -> np.ndarray:
     """Scaled ``[xdot, ydot, omega]`` from (..., 3) states in ``units`` and ``form`` ("cartesian" or "polar").
@@ -486,27 +521,13 @@ def physical_to_scaled(states, *, units=None, form: str = "cartesian", kind: str
     (any of :data:`SPEED_UNITS` and :data:`SPIN_UNITS`); the polar form is
     ``[speed, angle_deg, spin]`` (see :func:`state_from_polar` for the angles).
     """
-    pair = _unit_pair(units)
-    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
-    _check_radius(radius_m)
-    if form == "polar":
-        return state_from_polar(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
-    if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
-    return to_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
+    return _convert(states, units, form, radius_m, functools.partial(state_from_polar, kind=kind), to_scaled)
 
 
 def scaled_to_physical(states, *, units=None, form: str = "cartesian", kind: str = "liftoff",
                        radius_m: float = BALL_RADIUS_M) -> np.ndarray:
     """(..., 3) scaled states in ``units`` and ``form``; the inverse of :func:`physical_to_scaled`."""
-    pair = _unit_pair(units)
-    vel, spin = pair if pair is not None else ("radius/s", "rad/s")
-    _check_radius(radius_m)
-    if form == "polar":
-        return polar_from_state(states, kind=kind, speed_unit=vel, spin_unit=spin, radius_m=radius_m)
-    if form != "cartesian":
-        raise DataError(f"form must be 'cartesian' or 'polar'; got {form!r}", option="form")
-    return from_scaled(states, velocity=vel, spin=spin, radius_m=radius_m)
+    return _convert(states, units, form, radius_m, functools.partial(polar_from_state, kind=kind), from_scaled)
 
 
 def tangential_velocity(state):

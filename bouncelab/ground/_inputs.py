@@ -3,20 +3,19 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, Hint, ParameterError
+from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.units import (
     BALL_RADIUS_M,
     SPEED_UNITS,
     SPIN_UNITS,
     ball_radius,
-    canonical_unit,
     spin_from_scaled,
     spin_to_scaled,
+    unit_pair,
     velocity_from_scaled,
     velocity_to_scaled,
 )
@@ -28,10 +27,6 @@ __all__ = ["Units", "as_vectors", "unit_normals"]
 
 _AXES = ("x", "y", "z")
 
-#: The example of a ``units=`` argument that errors about it give.
-_UNITS_EXAMPLE = Hint("units", {"velocity": "m/s", "spin": "rpm"})
-
-
 class Units:
     """The caller's units: None (scaled: radii, radii/s, rad/s) or ``{"velocity": ..., "spin": ...}``.
 
@@ -40,19 +35,11 @@ class Units:
 
     def __init__(self, units: Any, radius_m: Any = None) -> None:
         self.radius_m = BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)
-        if units is None or (isinstance(units, str) and units.strip().lower() == "scaled"):
+        pair = unit_pair(units)
+        if pair is None:
             self.velocity = self.spin = None
             return
-        if not isinstance(units, Mapping):
-            raise DataError(f"units must be None (scaled), 'scaled' or a mapping of a 'velocity' and a 'spin' unit; "
-                            f"got {units!r}", option="units", hints=[_UNITS_EXAMPLE])
-        unknown = sorted(set(map(str, units)) - {"velocity", "spin"})
-        missing = [k for k in ("velocity", "spin") if k not in units]
-        if unknown or missing:
-            raise DataError(f"units needs exactly the keys 'velocity' and 'spin'; missing {missing}, unknown {unknown}",
-                            option="units", hints=[_UNITS_EXAMPLE])
-        velocity = canonical_unit(units["velocity"], "velocity")
-        spin = canonical_unit(units["spin"], "spin")
+        velocity, spin = pair
         self.velocity = None if velocity == "radius/s" else velocity
         self.spin = None if spin == "rad/s" else spin
 

@@ -15,13 +15,13 @@ def check_speeds(values: Any, name: str, *, positive: bool) -> np.ndarray:
     """``values`` as a 1-d float array of finite speeds (radii/s), or a DataError naming ``name``."""
     arr = np.atleast_1d(np.asarray(values))
     if arr.dtype.kind not in "iuf":
-        raise DataError(f"{name} must be numbers of radii/s; got values of type {arr.dtype}")
+        raise DataError(f"{name} must be numbers of radii/s; got values of type {arr.dtype}", option=name)
     arr = arr.astype(float).reshape(-1)
     bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
         need = "a positive, finite" if positive else "a finite"
-        raise DataError(f"{name} must be {need} number of radii/s; element {i} is {arr[i]}")
+        raise DataError(f"{name} must be {need} number of radii/s; element {i} is {arr[i]}", option=name)
     return arr
 
 

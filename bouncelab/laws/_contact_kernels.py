@@ -1,10 +1,12 @@
 r"""Compiled kernels of the contact laws (numba; loaded on first use, cached on disk).
 
-``compliant_kernel`` (:class:`~bouncelab.laws.compliant.CompliantImpact`) and
-``turf_kernel`` (:class:`~bouncelab.laws.turf.TurfContact`) follow the protocol of
-:class:`~bouncelab.laws.CompiledLaw`: ``kernel(xdot0, ydot0, omega0, theta) ->
-(xdotF, ydotF, omegaF, regime)``. The physics and its accuracy are documented in
-the two law modules; this file holds the arithmetic.
+``compliant_kernel`` (:class:`~bouncelab.laws.compliant.CompliantImpact`), ``turf_kernel``
+(:class:`~bouncelab.laws.turf.TurfContact`) and ``crater_kernel``
+(:class:`~bouncelab.laws.crater.CraterContact`) follow the protocol of
+:class:`~bouncelab.laws.CompiledLaw`: ``kernel(xdot0, ydot0, omega0, *parameters) ->
+(xdotF, ydotF, omegaF, regime)``, the law's parameters by name (and what its ``_kernel_args`` adds);
+the integrators below take them packed in a tuple ``theta`` in that order, with a step count. The
+physics and its accuracy are documented in the law modules; this file holds the arithmetic.
 
 Scaled units: lengths in ball radii, the ball a uniform sphere (I = 2/5 m R^2),
 forces per unit mass. A tangential force F at the contact point changes xdot at

@@ -13,27 +13,34 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import Code, DataError, Hint
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
 from bouncelab.core.units import (
     BALL_RADIUS_M,
     COMPONENTS,
     POLAR_COMPONENTS,
     _form_pair,
-    _unit_pair,
     ball_radius,
     physical_to_scaled,
     scaled_to_physical,
+    unit_pair,
 )
 from bouncelab.core.validation import check_downward
 
 __all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
 
+
 def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
     """``plausible=`` as given, if it is a :class:`PlausibleRanges` or None (DataError otherwise)."""
     if plausible is not None and not isinstance(plausible, PlausibleRanges):
-        raise DataError(f"plausible must be a bouncelab.core.plausibility.PlausibleRanges or None; got {plausible!r}")
+        raise DataError(f"plausible must be a bouncelab.core.plausibility.PlausibleRanges or None; got {plausible!r}",
+                        option="plausible")
     return plausible
+
+
+def io_option(units: Any, form: Any) -> str:
+    """Which of ``units=`` and ``form=`` asks for a conversion (``"units"`` when both do)."""
+    return "units" if unit_pair(units) is not None else "form"
 
 
 def radius_of(radius_m: Any) -> float:
@@ -51,7 +58,7 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
     """
     if plausible is None:
         return
-    pair = None if io is None else _unit_pair(io.units)
+    pair = None if io is None else unit_pair(io.units)
     units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
     error = landing_error(p, radius_m=radius_m, ranges=plausible, units=units,
                           form="cartesian" if io is None else io.form_in,
@@ -71,11 +78,11 @@ def _lazy_input(da: Any) -> Any:
 
     if "component" not in da.dims or da.sizes["component"] != 3:
         raise DataError(f"landing DataArray needs a 'component' dimension of size 3; its sizes are "
-                        f"{dict(da.sizes)}")
+                        f"{dict(da.sizes)}", option="landing")
     if "component" in da.coords:
         labels = [str(v) for v in da["component"].values]
         if sorted(labels) != sorted(COMPONENTS):
-            raise DataError(f"landing component labels must be {list(COMPONENTS)}; got {labels}")
+            raise DataError(f"landing component labels must be {list(COMPONENTS)}; got {labels}", option="landing")
         da = da.sel(component=list(COMPONENTS))
     return da.chunk({"component": -1})
 
@@ -112,7 +119,7 @@ class PhysicalIO:
 
     def __init__(self, units: Any, form: Any, radius_m: float | None,
                  plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> None:
-        _unit_pair(units)  # validate early, before any work
+        unit_pair(units)  # validate early, before any work
         self.units = units
         self.plausible = check_plausible_argument(plausible)
         self.form_in, self.form_out = _form_pair(form)
@@ -123,7 +130,7 @@ class PhysicalIO:
     @staticmethod
     def needed(units: Any, form: Any) -> bool:
         """Whether the landings need converting (anything but scaled Cartesian states); validates ``units``."""
-        return not (_unit_pair(units) is None and isinstance(form, str) and form == "cartesian")
+        return not (unit_pair(units) is None and isinstance(form, str) and form == "cartesian")
 
     def landing(self, landing: Any) -> np.ndarray:
         """The landings as a scaled Cartesian (..., 3) float array."""
@@ -132,7 +139,8 @@ class PhysicalIO:
         xr = sys.modules.get("xarray")
         if xr is not None and isinstance(landing, xr.DataArray):
             raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
-                            "in scaled units (see bouncelab.core.units) or pass its .values")
+                            "in scaled units (see bouncelab.core.units)", option=io_option(self.units, self.form_in),
+                            hints=[Hint("landing", Code("landing.values"), "its numbers, in the units and form given")])
         names = COMPONENTS if self.form_in == "cartesian" else POLAR_COMPONENTS
         if isinstance(landing, pd.DataFrame):
             self.index = landing.index
@@ -141,18 +149,19 @@ class PhysicalIO:
                 order = _order(cols, names)
                 if order is None:
                     raise DataError(f"landing DataFrame columns must be named {list(names)} for form "
-                                    f"{self.form_in!r} (any order; a suffix 0 is allowed); got {cols}")
+                                    f"{self.form_in!r} (any order; a suffix 0 is allowed); got {cols}",
+                                    option="landing")
                 landing = landing.iloc[:, order]
             landing = landing.to_numpy()
         if np.ma.isMaskedArray(landing) and np.ma.getmaskarray(landing).any():
-            raise DataError("landing has masked (missing) values; remove or fill them first")
+            raise DataError("landing has masked (missing) values; remove or fill them first", option="landing")
         arr = np.asarray(np.ma.getdata(landing))
         if arr.dtype.kind not in "iuf" or arr.ndim == 0 or arr.shape[-1] != 3:
             raise DataError(f"landing must be a real (..., 3) array of {list(names)}; got "
-                            f"{arr.dtype} values of shape {arr.shape}")
+                            f"{arr.dtype} values of shape {arr.shape}", option="landing")
         self.lead = arr.shape[:-1]
         if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
-            check_downward(arr.reshape(-1, 3)[:, 1], unit=(_unit_pair(self.units) or ("radii/s",))[0])
+            check_downward(arr.reshape(-1, 3)[:, 1], unit=(unit_pair(self.units) or ("radii/s",))[0])
         # the unit guard (guard_landings) judges the converted landings, as it judges every landing
         return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
 

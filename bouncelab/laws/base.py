@@ -49,6 +49,7 @@ import copy
 import functools
 import inspect
 import json
+import math
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -57,8 +58,9 @@ from typing import Any, ClassVar
 import numpy as np
 
 from bouncelab.core.errors import DataError, LawDefinitionError, NotFittedError, ParameterError
-from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
-from bouncelab.core.validation import States, as_states, check_values
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_limits
+from bouncelab.core.units import BALL_RADIUS_M
+from bouncelab.core.validation import STATE_LIMIT, States, as_states, check_values
 from bouncelab.laws import registry
 from bouncelab.laws.parameters import Option, Parameter, Parameters, collect
 from bouncelab.laws.protocol import DEFAULT_LOCAL_ALGORITHM, FitOutcome, FitProblem, fit_method, fit_methods
@@ -158,6 +160,7 @@ class BounceModel:
                    for o in self.option_specs}
         self.__dict__["_values"] = values
         self.__dict__["_options"] = options
+        self.__dict__["_missing"] = [k for k, v in values.items() if v is None]  # a law is immutable: once
         self._check()
 
     def _check(self) -> None:
@@ -229,7 +232,7 @@ class BounceModel:
     def _fitted_values(self) -> dict[str, Any]:
         """The parameter values by name, or NotFittedError naming the missing ones."""
         values = self.__dict__["_values"]
-        missing = [k for k, v in values.items() if v is None]
+        missing = self.__dict__["_missing"]
         if missing:
             raise NotFittedError(f"{law_name(self)} has no value for {missing}; pass them to the constructor "
                                  f"or fit the law with bouncelab.fit({type(self).__name__}(), data)",
@@ -327,8 +330,10 @@ class BounceModel:
         plausible = edge.check_plausible_argument(plausible)
         if edge.is_lazy(landing):
             if edge.PhysicalIO.needed(units, form) or return_flags or warn_outside_fitted:
-                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only; "
-                                "drop units=, form=, return_flags= and warn_outside_fitted=")
+                at = edge.io_option(units, form) if edge.PhysicalIO.needed(units, form) else \
+                    "return_flags" if return_flags else "warn_outside_fitted"
+                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only, without "
+                                "units=, form=, return_flags= or warn_outside_fitted=", option=at)
             return edge.lazy_predict(self, landing, plausible, radius_m)
         io = edge.PhysicalIO(units, form, radius_m, plausible) if edge.PhysicalIO.needed(units, form) else None
         p, wrap = self._argcheck(landing, io, plausible, radius_m)
@@ -344,6 +349,39 @@ class BounceModel:
             return result
         per = wrap if io is None else io.per_bounce
         return result, nonphysical.LiftoffFlags(into_ground=per(flags[0]), energy_gain=per(flags[1]))
+
+    def predict_one(self, xdot: float, ydot: float, omega: float, *,
+                    plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
+                    radius_m: float | None = None) -> tuple[float, float, float]:
+        """The lift-off ``(xdotF, ydotF, omegaF)`` of one landing, as floats: the fast path of a simulator's loop.
+
+        The same law, checks and numbers as ``predict([[xdot, ydot, omega]])[0]`` (scaled units, ``ydot < 0``;
+        the unit guard ``plausible`` on the one landing, ``radius_m`` the ball it refers to), without the
+        array machinery: a compiled law calls its kernel directly (a few microseconds a bounce).
+
+        Raises
+        ------
+        DataError
+            A value that is not a finite number, ``ydot >= 0``, a landing outside ``plausible``.
+        NotFittedError
+            Some parameters have no value.
+
+        Examples
+        --------
+        >>> import bouncelab as bl
+        >>> [round(v, 3) for v in bl.Rigid(r=0.5, mu=0.4).predict_one(1000.0, -800.0, 300.0)]
+        [628.571, 400.0, -628.571]
+        """
+        self._fitted_values()
+        x, y, w = _one_landing(xdot, ydot, omega)
+        if plausible is not None and not _plausible_one(x, y, w, plausible, radius_m):
+            self.predict([[x, y, w]], plausible=plausible, radius_m=radius_m)  # raises, naming the limit
+        return self._one(x, y, w)
+
+    def _one(self, x: float, y: float, w: float) -> tuple[float, float, float]:
+        """One validated landing's lift-off (laws with a faster way override it)."""
+        out = self._evaluate(np.array([[x, y, w]]))
+        return float(out[0, 0]), float(out[0, 1]), float(out[0, 2])
 
     def regime(self, landing: States, units: Mapping[str, str] | str | None = None, *, codes: bool = False,
                form: str | tuple[str, str] = "cartesian", radius_m: float | None = None,
@@ -371,7 +409,8 @@ class BounceModel:
         plausible = edge.check_plausible_argument(plausible)
         if edge.is_lazy(landing):
             if edge.PhysicalIO.needed(units, form):
-                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only")
+                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only, without "
+                                "units= or form=", option=edge.io_option(units, form))
             return edge.lazy_regime(self, landing, codes, plausible, radius_m)
         io = edge.PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m, plausible) \
             if edge.PhysicalIO.needed(units, form) else None
@@ -640,6 +679,28 @@ class BounceModel:
                                   "already there is unchanged)", path=str(path), reason=reason) from None
         return text
 
+    def to_c(self, path: str | Path | None = None, *, prefix: str = "bouncelab_") -> str:
+        """The law as a self-contained C99 header, its values baked in; also written to ``path`` if given.
+
+        Entry points ``void bouncelab_predict(const double *landing, double *liftoff, long n)`` and
+        ``int bouncelab_predict_one(double xdot, double ydot, double omega, double out[3])`` (scaled
+        units; ``prefix`` replaces ``bouncelab_`` so that several laws fit in one program). See
+        :func:`bouncelab.export.export_law` for the errors it raises.
+        """
+        from bouncelab.export import export_law
+
+        return export_law(self, "c", path, prefix=prefix)
+
+    def to_js(self, path: str | Path | None = None) -> str:
+        """The law as a self-contained JavaScript ES module, its values baked in; also written to ``path`` if given.
+
+        Exports ``predict(landings)`` (rows ``[xdot, ydot, omega]``, scaled units) and
+        ``predictOne(xdot, ydot, omega)``; see :func:`bouncelab.export.export_law`.
+        """
+        from bouncelab.export import export_law
+
+        return export_law(self, "js", path)
+
     # ------------------------------------------------------------ dunder methods
     def __repr__(self) -> str:
         parts = []
@@ -674,3 +735,36 @@ class BounceModel:
 
         d = value_dict(self)
         return hash((d["law"], json.dumps([d["parameters"], d.get("options")], sort_keys=True, default=str)))
+
+
+def _one_landing(xdot: Any, ydot: Any, omega: Any) -> tuple[float, float, float]:
+    """Three finite floats of one landing moving down, or the array check's DataError naming the component."""
+    try:
+        x, y, w = float(xdot), float(ydot), float(omega)
+    except (TypeError, ValueError):
+        x = y = w = math.nan
+    if not (abs(x) <= STATE_LIMIT and abs(y) <= STATE_LIMIT and abs(w) <= STATE_LIMIT and y < 0.0):
+        as_states(np.array([[xdot, ydot, omega]], dtype=object), "landing", landing=True)  # raises, naming it
+        raise DataError(f"landing ({xdot!r}, {ydot!r}, {omega!r}) is not three finite numbers with ydot < 0")
+    return x, y, w
+
+
+_LIMITS: dict[tuple[int, float], tuple[float, float, float, float]] = {}
+
+
+def _plausible_one(x: float, y: float, w: float, ranges: PlausibleRanges, radius_m: float | None) -> bool:
+    """Whether one landing passes the unit guard (the comparisons of plausibility.landing_faults, in floats)."""
+    radius = BALL_RADIUS_M if radius_m is None else radius_m
+    key = (id(ranges), radius)
+    limits = _LIMITS.get(key)
+    if limits is None:
+        if radius_m is not None:
+            from bouncelab.laws._physical_io import radius_of
+
+            radius = radius_of(radius_m)
+        limits = _LIMITS[key] = landing_limits(radius, ranges)
+        if len(_LIMITS) > 64:  # a few ranges and balls in a program: keep the cache small
+            _LIMITS.pop(next(iter(_LIMITS)))
+    min_s2, max_s2, max_w, tan_a = limits
+    s2 = x * x + y * y
+    return min_s2 <= s2 <= max_s2 and abs(w) <= max_w and -y >= abs(x) * tan_a

@@ -181,6 +181,31 @@ class CompiledLaw(BounceModel):
             return cached
         return self._kernel_args(**values)
 
+    def _one(self, x: float, y: float, w: float) -> tuple[float, float, float]:
+        """One landing: the law's compiled kernel called directly (no array, no loop). A law is immutable, so its
+        kernel's arguments and the kernel's compiled entry point for them are found once (skipping numba's
+        type dispatch on every call)."""
+        entry = self.__dict__.get("_one_entry")
+        if entry is None:
+            entry = self.__dict__["_one_entry"] = self._entry_point()
+        a, b, c, _ = entry(x, y, w)
+        return a, b, c
+
+    def _entry_point(self) -> Callable[[float, float, float], tuple]:
+        kernel = type(self).__dict__.get("_kernel_of_class")
+        if kernel is None:  # a built-in law loads its kernel on first use: keep it on the class
+            self._loops()  # a law without a kernel: the LawDefinitionError saying how to write one
+            kernel = type(self)._kernel_of_class = self.kernel
+        args = self._args(self.__dict__["_values"])
+        kernel(1.0, -1.0, 0.0, *args)  # compiled (or loaded from the cache) for these argument types
+        try:
+            from numba import typeof
+
+            compiled = kernel.overloads[tuple(typeof(v) for v in (1.0, -1.0, 0.0, *args))].entry_point
+            return lambda x, y, w: compiled(x, y, w, *args)
+        except (AttributeError, KeyError, TypeError):  # numba's internals moved: its dispatch, a little slower
+            return lambda x, y, w: kernel(x, y, w, *args)
+
     def _loops(self) -> _Loops:
         if self.kernel is None:
             names = ", ".join(s.name for s in self.parameter_specs)

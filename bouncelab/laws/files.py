@@ -100,17 +100,21 @@ def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = Non
         (never TypeError and the like).
     """
     if not isinstance(d, Mapping) or "law" not in d or "parameters" not in d:
-        raise ParameterError("a law description needs the keys 'law' and 'parameters'")
+        key = "law" if not isinstance(d, Mapping) or "law" not in d else "parameters"
+        raise ParameterError("a law description needs the keys 'law' and 'parameters'", parameter=key,
+                             law=d.get("law") if isinstance(d, Mapping) and isinstance(d.get("law"), str) else None)
     version = d.get("format_version", 1)
     if isinstance(version, bool) or not isinstance(version, int) or version < 1:
-        raise ParameterError(f"the law description's format_version must be a whole number >= 1; got {version!r}")
+        raise ParameterError(f"the law description's format_version must be a whole number >= 1; got {version!r}",
+                             parameter="format_version", value=version)
     if version > LAW_FORMAT_VERSION:
         raise ParameterError(f"the law description is in format {version}, written by a newer bouncelab "
                              f"({d.get('bouncelab_version', 'unknown version')}); this bouncelab reads formats up "
-                             f"to {LAW_FORMAT_VERSION}: upgrade bouncelab to read it")
+                             f"to {LAW_FORMAT_VERSION}: upgrade bouncelab to read it", parameter="format_version",
+                             value=version)
     name = d["law"]
     if not isinstance(name, str):
-        raise ParameterError(f"the law name must be a string; got {name!r}")
+        raise ParameterError(f"the law name must be a string; got {name!r}", parameter="law", value=name)
     record = d.get("class")
     script = record.get("script") if isinstance(record, Mapping) else None
     if script is not None and not isinstance(script, str):
@@ -130,27 +134,31 @@ def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = Non
     else:
         cls = law_class(name, script=script)
     if expected is not None and not issubclass(cls, expected):
-        raise ParameterError(f"the description is of a {name}, not a {expected.__name__}")
+        raise ParameterError(f"the description is of a {name}, not a {expected.__name__}", law=law_name(cls),
+                             parameter="law", value=name)
     kwargs: dict[str, Any] = {}
     for key in ("parameters", "options"):
         part = d.get(key, {})
         if part is None:
             part = {}
         if not isinstance(part, Mapping) or not all(isinstance(k, str) for k in part):
-            raise ParameterError(f"{name}: {key!r} must be a mapping of names to values; got {type(part).__name__}")
+            raise ParameterError(f"{name}: {key!r} must be a mapping of names to values; got {type(part).__name__}",
+                                 law=law_name(cls), parameter=key)
         kwargs.update(part)
     unknown = set(kwargs) - set(cls._keyword_names())
     if unknown:
-        raise ParameterError(f"{name} has no parameter(s) {sorted(unknown)}; it has {list(cls._keyword_names())}")
+        raise ParameterError(f"{name} has no parameter(s) {sorted(unknown)}; it has {list(cls._keyword_names())}",
+                             law=law_name(cls), parameter=sorted(unknown)[0])
     try:
         law = cls(**kwargs)
     except ParameterError:
         raise
     except (TypeError, ValueError, OverflowError, RecursionError, AttributeError) as exc:
-        raise ParameterError(f"{name}: bad parameter values in the description ({type(exc).__name__}: {exc})") from None
+        raise ParameterError(f"{name}: bad parameter values in the description ({type(exc).__name__}: {exc})",
+                             law=law_name(cls)) from None
     prov = d.get("provenance")
     if prov is not None:
-        law = law._with_provenance(Provenance.from_dict(prov, where=f"the description of {name}"))
+        law = law._with_provenance(Provenance.from_dict(prov, where=f"the description of {name}", law=law_name(cls)))
     return law
 
 
@@ -181,23 +189,26 @@ def load_law(path: str | Path) -> BounceModel:
     """
     if isinstance(path, str) and path.lstrip().startswith("{"):  # the JSON itself, not a file name
         raise ParameterError("load_law takes the path of a law JSON file; for JSON text use "
-                             "bouncelab.laws.law_from_dict(json.loads(text))")
+                             "bouncelab.laws.law_from_dict(json.loads(text))", parameter="path", value=path)
     try:
         file = str(Path(path))
     except TypeError:
-        raise ParameterError(f"load_law takes the path of a law JSON file; got {type(path).__name__}") from None
+        raise ParameterError(f"load_law takes the path of a law JSON file; got {type(path).__name__}",
+                             parameter="path", value=path) from None
     data = _read_law_file(Path(path).expanduser(), file)
     try:
         d = json.loads(data.decode("utf-8-sig"))
     except (ValueError, UnicodeDecodeError, RecursionError) as exc:  # JSONDecodeError, and too-long integers
-        raise ParameterError(f"{file}: not a JSON law description ({type(exc).__name__}: {exc})") from None
+        raise ParameterError(f"{file}: not a JSON law description ({type(exc).__name__}: {exc})", parameter="path",
+                             value=file) from None
     try:
         law = law_from_dict(d)
     except UnknownLawError as exc:
         raise UnknownLawError(f"{file}: {exc}", law_name=exc.law_name, module=exc.module, qualname=exc.qualname,
                               module_imported=exc.module_imported, script=exc.script) from None
-    except ParameterError as exc:
-        raise ParameterError(f"{file}: {exc}") from None
+    except ParameterError as exc:  # the file named, the facts kept
+        raise ParameterError(f"{file}: {exc.message}", law=exc.law, parameter=exc.parameter, value=exc.value,
+                             hints=exc.hints) from None
     note = None if law.provenance is None else law.provenance.synthetic_note()
     if note is not None:
         from bouncelab.core.errors import SyntheticDataWarning

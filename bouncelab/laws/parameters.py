@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import LawDefinitionError, ParameterError
+from bouncelab.core.errors import Code, Hint, LawDefinitionError, ParameterError
 
 __all__ = ["Option", "Parameter", "Parameters"]
 
@@ -92,8 +92,8 @@ class Parameter:
             raise LawDefinitionError(f"Parameter takes keyword fields only (bounds=, physical=, unit=, doc=); got "
                                      f"{len(args)} positional value(s) {args!r}: {_HOW}", method="Parameter")
         if bounds is None:
-            raise LawDefinitionError(f"a Parameter needs its search box, bounds=(low, high): {_HOW}",
-                                     method="Parameter")
+            raise LawDefinitionError(f"a Parameter needs its search box: {_HOW}", method="Parameter",
+                                     hints=[Hint("bounds", Code("(low, high)"))])
         set_ = object.__setattr__
         set_(self, "bounds", tuple(bounds))
         set_(self, "physical", tuple(physical))
@@ -113,7 +113,7 @@ class Parameter:
 
     def _name(self, name: str) -> None:
         if not isinstance(name, str) or not name.isidentifier():
-            raise ParameterError(f"a parameter name must be a Python identifier; got {name!r}")
+            raise ParameterError(f"a parameter name must be a Python identifier; got {name!r}", value=name)
         object.__setattr__(self, "name", name)
 
     # ------------------------------------------------------------------ declaration on a law class
@@ -164,7 +164,7 @@ class Parameter:
         except (TypeError, ValueError):
             raise ParameterError(
                 f"{what} of parameter {self.name!r} must be a (low, high) pair of numbers or arrays of shape "
-                f"{self.shape}; got {pair!r}", parameter=self.name
+                f"{self.shape}; got {pair!r}", parameter=self.name, value=pair
             ) from None
         return lo, hi
 

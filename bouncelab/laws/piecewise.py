@@ -10,12 +10,13 @@ from __future__ import annotations
 import numpy as np
 
 from bouncelab.core import published as _published
-from bouncelab.core.errors import FitError, ParameterError
+from bouncelab.core.errors import FitError, Hint, ParameterError
 from bouncelab.core.units import COMPONENTS
 from bouncelab.laws import plane_fitting as pf_
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 from bouncelab.laws.protocol import FitOutcome, FitProblem, fit_method
+from bouncelab.laws.registry import law_name
 
 __all__ = ["PAPER_FORM_MIN", "PiecewiseAffine"]
 
@@ -24,6 +25,9 @@ __all__ = ["PAPER_FORM_MIN", "PiecewiseAffine"]
 PAPER_FORM_MIN = 1e-3
 
 _INF = float("inf")
+
+#: The advice of a piecewise-affine fit asked for what only the generic search does.
+_GLOBAL = Hint("method", "global", "the generic search, which holds any parameter and takes any objective")
 
 
 def _kernel():
@@ -135,7 +139,7 @@ class PiecewiseAffine(CompiledLaw):
         """
         if not self.has_paper_form():
             raise ParameterError("the plane is (nearly) parallel to the omega axis; it has no 'omega0 = ...' form "
-                                 "(use plane_unit_form())")
+                                 "(use plane_unit_form())", law=law_name(self), parameter="normal", value=self.normal)
         a, b, _ = self.normal / self.normal[2]
         c = self.offset / self.normal[2]
         return float(a), float(b), float(c)
@@ -161,7 +165,9 @@ class PiecewiseAffine(CompiledLaw):
         if self.normal is None or self.offset is None:
             from bouncelab.core.errors import NotFittedError
 
-            raise NotFittedError("PiecewiseAffine has no plane yet; give normal and offset or fit the law")
+            missing = [k for k in ("normal", "offset") if getattr(self, k) is None]
+            raise NotFittedError("PiecewiseAffine has no plane yet; give normal and offset or fit the law",
+                                 law=law_name(self), missing=missing)
 
     # ------------------------------------------------------------------ reports
     def _summary_lines(self) -> list[str]:
@@ -185,23 +191,27 @@ class PiecewiseAffine(CompiledLaw):
     # ------------------------------------------------------------------ fitting
     def _plane_problem_checks(self, problem: FitProblem, min_side: int) -> tuple[np.ndarray, float] | None:
         """Common checks of the plane and svm methods; returns the plane held fixed, if any."""
+        law = law_name(self)
         if not np.array_equal(problem.weights, [1.0, 0.0, 0.0, 0.0]):
-            raise FitError("the piecewise-affine fit minimises delta; other objectives are not offered for it "
-                           "(use method='global')")
+            raise FitError("the piecewise-affine fit minimises delta; other objectives are not offered for it",
+                           law=law, option="objective", hints=[_GLOBAL])
         try:
             min_side = int(min_side)
         except (TypeError, ValueError):
-            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}") from None
+            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}", law=law,
+                           option="min_side") from None
         if min_side < 4:
-            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}")
+            raise FitError(f"min_side must be an integer of at least 4; got {min_side!r}", law=law, option="min_side")
         if problem.n < 2 * min_side:
-            raise FitError(f"{problem.n} bounces are too few for a piecewise-affine law (need {2 * min_side})")
+            raise FitError(f"{problem.n} bounces are too few for a piecewise-affine law (need {2 * min_side})",
+                           law=law)
         held = set(problem.fixed)
         if held - {"normal", "offset"}:
-            raise FitError(f"the plane and svm methods can hold only the plane (normal, offset); "
-                           f"{sorted(held - {'normal', 'offset'})} would need method='global'")
+            raise FitError(f"the plane and svm methods can hold only the plane (normal, offset), not "
+                           f"{sorted(held - {'normal', 'offset'})}", law=law, option="fixed", hints=[_GLOBAL])
         if held and held != {"normal", "offset"}:
-            raise FitError("hold both 'normal' and 'offset' (the plane) or neither")
+            raise FitError("hold both 'normal' and 'offset' (the plane) or neither", law=law, option="fixed",
+                           hints=[Hint("fixed", ["normal", "offset"])])
         if held:
             return np.asarray(problem.fixed["normal"], dtype=np.float64), float(problem.fixed["offset"])
         return None
@@ -240,7 +250,8 @@ class PiecewiseAffine(CompiledLaw):
         except (TypeError, ValueError):
             max_search_bounces = -1
         if max_search_bounces < 100:
-            raise FitError(f"max_search_bounces must be an integer of at least 100; got {max_search_bounces!r}")
+            raise FitError(f"max_search_bounces must be an integer of at least 100; got {max_search_bounces!r}",
+                           law=law_name(self), option="max_search_bounces")
         notes = ["plane chosen to minimise delta of the whole law (maps by least squares on each side); "
                  "delta is piecewise constant in the plane, so the search is global but heuristic"]
         if self.normal is not None and self.offset is not None:
@@ -252,7 +263,7 @@ class PiecewiseAffine(CompiledLaw):
                                   seed=problem.seed, sample_weight=problem.sample_weight)
                 start = (svm.normal, svm.offset)
             except FitError as exc:
-                if "svm_C" in str(exc):
+                if exc.option == "svm_C":
                     raise
                 start = None
         found = pf_.search_plane(p0, pf, problem.inv_norm, problem.search, start=start, seed=problem.seed,
@@ -287,8 +298,8 @@ class PiecewiseAffine(CompiledLaw):
         p0, pf = problem.landing, problem.liftoff
         held = self._plane_problem_checks(problem, min_side)
         if held is not None:
-            raise FitError("method 'svm' finds the plane; to hold it use method='plane' with fixed=['normal', "
-                           "'offset']")
+            raise FitError("method 'svm' finds the plane; it cannot hold it", law=law_name(self), option="fixed",
+                           hints=[Hint("method", "plane", "with fixed=['normal', 'offset']")])
         res = pf_.fit_svm(p0, pf, C=svm_C, min_side=int(min_side), plane=svm_plane, scaling=svm_scaling,
                           max_bounces=int(max_svm_bounces), seed=problem.seed, sample_weight=problem.sample_weight)
         algo = f"SVC(kernel='linear', C={res.svm_C:g}) + least squares"

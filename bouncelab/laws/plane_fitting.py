@@ -71,6 +71,8 @@ __all__ = [
     "orient_slip_side",
 ]
 
+#: The law these procedures fit (the ``law`` of their errors; the module does not import it).
+_LAW = "PiecewiseAffine"
 #: Fewest bounces allowed on one side of the plane (an affine map has 4 coefficients per output).
 MIN_SIDE = 8
 #: Readings of the paper's plane through the support vectors (see the module notes).
@@ -152,10 +154,10 @@ def canonical_plane(normal: np.ndarray, offset: float) -> tuple[np.ndarray, floa
     n = np.asarray(normal, dtype=np.float64).copy()
     c = float(offset)
     if n.shape != (3,) or not (np.all(np.isfinite(n)) and np.isfinite(c)):
-        raise FitError(f"the plane search gave a plane that is not finite (normal {n!r}, offset {c!r})")
+        raise FitError(f"the plane search gave a plane that is not finite (normal {n!r}, offset {c!r})", law=_LAW)
     scale = float(np.max(np.abs(n)))
     if scale == 0.0:
-        raise FitError("the plane search gave a zero normal; the plane is undetermined")
+        raise FitError("the plane search gave a zero normal; the plane is undetermined", law=_LAW)
     n /= scale
     n[np.abs(n) < 1e-12] = 0.0
     return n, c / scale
@@ -181,7 +183,7 @@ def least_squares_maps(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offse
         if m < min_side:
             raise FitError(
                 f"the plane leaves {m} bounce(s) on {name}; an affine map needs at least {min_side} "
-                "(4 coefficients per lift-off component)"
+                "(4 coefficients per lift-off component)", law=_LAW
             )
         X = np.column_stack([p0[mask], np.ones(m)])
         Y = pf[mask]
@@ -190,7 +192,7 @@ def least_squares_maps(p0: np.ndarray, pf: np.ndarray, normal: np.ndarray, offse
             X, Y = X * root, Y * root
         coef, _, rank, _ = np.linalg.lstsq(X, Y, rcond=None)
         if rank < 4:
-            raise FitError(f"the landings on {name} do not span 3-D space; its affine map is undetermined")
+            raise FitError(f"the landings on {name} do not span 3-D space; its affine map is undetermined", law=_LAW)
         maps.append((coef[:3].T, coef[3]))
     (A1, b1), (A2, b2) = maps
     return {"normal": normal, "offset": float(offset), "A1": A1, "b1": b1, "A2": A2, "b2": b2}
@@ -227,7 +229,7 @@ def _ols_omega_plane(points: np.ndarray, what: str) -> tuple[np.ndarray, float]:
     """omega0 = c - a xdot0 - b ydot0 by ordinary least squares, as ``normal = (a, b, 1)``, ``offset = c``."""
     X = np.column_stack([points[:, 0], points[:, 1], np.ones(len(points))])
     if len(points) < 3 or np.linalg.matrix_rank(X) < 3:
-        raise FitError(f"{len(points)} {what} do not determine a plane (need 3 not on one line)")
+        raise FitError(f"{len(points)} {what} do not determine a plane (need 3 not on one line)", law=_LAW)
     (alpha, beta, gamma), *_ = np.linalg.lstsq(X, points[:, 2], rcond=None)
     return np.array([-alpha, -beta, 1.0]), float(gamma)
 
@@ -270,21 +272,22 @@ def fit_svm(p0: np.ndarray, pf: np.ndarray, *, C: float = 1.0, min_side: int = M
     if plane == "all_support_vectors":
         plane = "support_vectors"
     if plane not in SVM_PLANES:
-        raise FitError(f"svm_plane must be one of {list(SVM_PLANES)}; got {plane!r}")
+        raise FitError(f"svm_plane must be one of {list(SVM_PLANES)}; got {plane!r}", law=_LAW, option="svm_plane")
     if scaling not in SVM_SCALINGS:
-        raise FitError(f"svm_scaling must be one of {list(SVM_SCALINGS)}; got {scaling!r}")
+        raise FitError(f"svm_scaling must be one of {list(SVM_SCALINGS)}; got {scaling!r}", law=_LAW,
+                       option="svm_scaling")
     try:
         C = float(C)
     except (TypeError, ValueError):
-        raise FitError(f"svm_C must be a positive number; got {C!r}") from None
+        raise FitError(f"svm_C must be a positive number; got {C!r}", law=_LAW, option="svm_C") from None
     if not (np.isfinite(C) and C > 0):
-        raise FitError(f"svm_C must be a positive number; got {C!r}")
+        raise FitError(f"svm_C must be a positive number; got {C!r}", law=_LAW, option="svm_C")
     slip = _slip_codes(p0, pf).astype(bool)
     counts = {"roll": int((~slip).sum()), "slip": int(slip.sum())}
     if min(counts.values()) < min_side:
         raise FitError(
             f"the SVM needs both classes with at least {min_side} bounces; the data have {counts} "
-            "(slip/roll from the contact-point velocity at landing and lift-off)"
+            "(slip/roll from the contact-point velocity at landing and lift-off)", law=_LAW
         )
     notes: list[str] = []
     train = np.arange(len(p0))
@@ -406,7 +409,7 @@ def search_plane(p0: np.ndarray, pf: np.ndarray, inv_norm: np.ndarray, search: A
                      "then a local polish on all of them")
     best = outcomes[-1]
     if best.fun >= kernel.INFEASIBLE:
-        raise FitError(f"no plane leaves at least {min_side} bounces on each side; too few bounces to fit")
+        raise FitError(f"no plane leaves at least {min_side} bounces on each side; too few bounces to fit", law=_LAW)
     u, t = unit_to_plane(best.x)
     normal = u / scale  # back to landing units: (u / scale) . p0 = t + (u / scale) . mean
     offset = float(t + normal @ mean)

@@ -141,7 +141,7 @@ def fit_method(name: str) -> Callable[[Callable], Callable]:
     ...     def _fit_closed_form(self, problem, *, damping: float = 0.0) -> FitOutcome: ...
     """
     if not isinstance(name, str) or not name.isidentifier():
-        raise ParameterError(f"a fitting method name must be an identifier; got {name!r}")
+        raise ParameterError(f"a fitting method name must be an identifier; got {name!r}", value=name)
 
     def mark(func: Callable) -> Callable:
         setattr(func, _FIT_METHOD_ATTR, name)

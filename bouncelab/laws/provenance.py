@@ -216,25 +216,32 @@ class Provenance:
         }
 
     @classmethod
-    def from_dict(cls, d: Any, where: str = "the law description") -> Provenance:
-        """Rebuild from :meth:`to_dict` output (ParameterError naming the field for anything malformed)."""
+    def from_dict(cls, d: Any, where: str = "the law description", law: str | None = None) -> Provenance:
+        """Rebuild from :meth:`to_dict` output (ParameterError naming the field for anything malformed).
+
+        ``where`` says in words where the provenance was read, ``law`` names the law it belongs to (the
+        error's ``law``); the error's ``parameter`` is the field, e.g. ``"provenance.n_bounces"``.
+        """
         if not isinstance(d, Mapping):
-            raise ParameterError(f"{where}: 'provenance' must be a mapping; got {type(d).__name__}")
+            raise ParameterError(f"{where}: 'provenance' must be a mapping; got {type(d).__name__}", law=law,
+                                 parameter="provenance", value=d)
 
         def field_(name: str, kinds: tuple[type, ...], default: Any = None) -> Any:
             value = d.get(name, default)
             if value is not None and (not isinstance(value, kinds) or (isinstance(value, bool) and bool not in kinds)):
                 raise ParameterError(f"{where}: provenance field {name!r} must be "
-                                     f"{' or '.join(k.__name__ for k in kinds)}; got {value!r}")
+                                     f"{' or '.join(k.__name__ for k in kinds)}; got {value!r}", law=law,
+                                     parameter=f"provenance.{name}", value=value)
             return value
 
         n = field_("n_bounces", (int,))
         if n is None or n < 0:
-            raise ParameterError(f"{where}: provenance field 'n_bounces' must be a count >= 0; got {n!r}")
+            raise ParameterError(f"{where}: provenance field 'n_bounces' must be a count >= 0; got {n!r}", law=law,
+                                 parameter="provenance.n_bounces", value=n)
         radius = field_("ball_radius_m", (int, float), BALL_RADIUS_M)
         if not (isinstance(radius, int | float) and math.isfinite(radius) and radius > 0):
             raise ParameterError(f"{where}: provenance field 'ball_radius_m' must be a positive number of metres; "
-                                 f"got {radius!r}")
+                                 f"got {radius!r}", law=law, parameter="provenance.ball_radius_m", value=radius)
         raw = field_("landing_ranges", (Mapping,), {})
         ranges: dict[str, tuple[float, float]] = {}
         for key, pair in raw.items():
@@ -243,7 +250,8 @@ class Provenance:
                   and pair[0] <= pair[1])
             if not ok:
                 raise ParameterError(f"{where}: provenance landing_ranges[{key!r}] must be [min, max] of one of "
-                                     f"{list(RANGE_NAMES)}; got {pair!r}")
+                                     f"{list(RANGE_NAMES)}; got {pair!r}", law=law,
+                                     parameter=f"provenance.landing_ranges[{key!r}]", value=pair)
             ranges[key] = (float(pair[0]), float(pair[1]))
         return cls(
             n_bounces=n, data_kind=field_("data_kind", (str,), "unknown") or "unknown",

@@ -117,7 +117,7 @@ def law_class(name: str, *, case_sensitive: bool = True, script: str | None = No
         registered classes could be (listing their qualified names).
     """
     if not isinstance(name, str) or not name:
-        raise ParameterError(f"a law name must be a non-empty string; got {name!r}")
+        raise ParameterError(f"a law name must be a non-empty string; got {name!r}", value=name)
     if not case_sensitive:
         try:  # the exact spelling wins over laws whose names differ from it only in case
             return law_class(name, case_sensitive=True, script=script)
@@ -139,7 +139,7 @@ def law_class(name: str, *, case_sensitive: bool = True, script: str | None = No
         return users[0]
     if len(builtin) + len(users) > 1:
         cands = sorted(f"{c.__module__}:{c.__qualname__}" for c in builtin + users)
-        raise ParameterError(f"the law name {name!r} is ambiguous; use one of the qualified names {cands}")
+        raise ParameterError(f"the law name {name!r} is ambiguous; use one of the qualified names {cands}", law=name)
     known = sorted(law_name(c) for c in classes)
     raise UnknownLawError(f"unknown law {name!r}; known laws: {known}", law_name=name)
 
@@ -161,7 +161,7 @@ def _qualified_class(name: str, classes: list[type[BounceModel]], same: Callable
     if len(hits) > 1:
         cands = sorted(f"{c.__module__}:{c.__qualname__}" for c in hits)
         raise ParameterError(f"the law name {name!r} is ambiguous: several registered laws could be it, "
-                             f"{cands}; load the law in a process that imports only one of them")
+                             f"{cands}; load the law in a process that imports only one of them", law=name)
     imported = module in sys.modules
     if module in MAIN_MODULES:
         where = f"in the script {script}" if script else "in a script or notebook run as __main__"

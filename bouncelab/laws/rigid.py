@@ -9,6 +9,7 @@ from bouncelab.core.errors import FitError
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 from bouncelab.laws.protocol import FitOutcome, FitProblem, fit_method
+from bouncelab.laws.registry import law_name
 
 __all__ = ["MU", "R", "Rigid"]
 
@@ -86,7 +87,8 @@ class Rigid(CompiledLaw):
         ``"lstsq"`` sum of squared xdot and omega residuals (the paper's text allows both).
         """
         if mu_objective not in ("delta", "lstsq"):
-            raise FitError(f"mu_objective must be 'delta' or 'lstsq'; got {mu_objective!r}")
+            raise FitError(f"mu_objective must be 'delta' or 'lstsq'; got {mu_objective!r}", law=law_name(self),
+                           option="mu_objective")
         p0, pf = problem.landing, problem.liftoff
         r_lo, r_hi = problem.box["r"]
         r = problem.fixed.get("r")

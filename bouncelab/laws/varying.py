@@ -126,12 +126,12 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
             cols.append(np.broadcast_to(col.reshape(len(col) if col.ndim else 1, -1), (n, s.size)))
         T = np.concatenate(cols, axis=1) if n else np.empty((0, len(elements)))
     else:
-        T = _numbers(params, f"{name}: params", name)
+        T = _numbers(params, f"{name}: params", name, "params")
         if T.ndim == 1:
             T = np.broadcast_to(T, (n, T.shape[0]))
         if T.ndim != 2 or T.shape != (n, len(elements)):
             raise ParameterError(f"{name}: params must have shape ({n}, {len(elements)}) in the order "
-                                 f"{elements}; got {T.shape}", law=name)
+                                 f"{elements}; got {T.shape}", law=name, parameter="params")
     T = np.ascontiguousarray(T, dtype=np.float64)
     frame = params if hasattr(params, "columns") and hasattr(params, "index") else landing
 

@@ -13,16 +13,11 @@ import xarray as xr
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError, OutputError
 from bouncelab.data.campaign import validate_campaign
-from bouncelab.data.io.netcdf import _NETCDF_SUFFIXES
-from bouncelab.data.io.table import _module_available
+from bouncelab.data.io.read import NETCDF_SUFFIXES, module_available
 
 
 def _netcdf_engine() -> str:
-    if _module_available("netCDF4"):
-        return "netcdf4"
-    if _module_available("h5netcdf"):
-        return "h5netcdf"
-    return "scipy"
+    return next((e.lower() for e in ("netCDF4", "h5netcdf") if module_available(e)), "scipy")
 
 
 def _check_attr(key: str, value: Any, file: str) -> None:
@@ -42,24 +37,18 @@ def _check_attr(key: str, value: Any, file: str) -> None:
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
     """Write a campaign to a netCDF file that :func:`~bouncelab.data.io.load_campaign` reads back exactly.
 
-    Values, the ``setting`` coordinate (numbers or strings), the prediction
-    intervals and the attrs all survive the round trip bit for bit. The file
-    is written to a temporary name and renamed, so a failed save leaves no
-    file (and an existing file untouched); an existing file keeps its
-    permission bits, a new one gets the usual ones (the umask's), and a
-    symlink stays a symlink to the file it names, which is replaced.
+    Values, the ``setting`` coordinate (numbers or strings), the prediction intervals and the attrs survive
+    the round trip bit for bit. The file is written to a temporary name and renamed: a failed save leaves no
+    file and an existing one untouched; an existing file keeps its permission bits, a symlink stays a symlink.
 
     Parameters
     ----------
     ds
-        A campaign Dataset (it is checked with
-        :func:`~bouncelab.data.campaign.validate_campaign`; only the campaign
-        variables, coordinates and attrs are written).
+        A campaign Dataset (checked with :func:`~bouncelab.data.campaign.validate_campaign`).
     path
-        Destination, ending in ``.nc`` or ``.netcdf``. Its directory must exist.
+        Destination, ending in ``.nc`` or ``.netcdf``, in an existing folder.
     engine
-        xarray netCDF engine; default ``"netcdf4"`` or ``"h5netcdf"`` if
-        installed, else ``"scipy"`` (netCDF-3, always available).
+        xarray netCDF engine; default ``"netcdf4"`` or ``"h5netcdf"`` if installed, else ``"scipy"`` (netCDF-3).
 
     Returns
     -------
@@ -69,17 +58,14 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     Raises
     ------
     DataError
-        ``ds`` is not a valid campaign, an attr cannot be stored, or the
-        suffix is not a netCDF one; no file is created.
+        ``ds`` is not a valid campaign, an attr cannot be stored, or the suffix is not a netCDF one.
     OutputError
-        The file cannot be written (its folder does not exist or is read-only,
-        ``path`` is a folder, the disk is full...): a
-        :class:`~bouncelab.core.errors.OutputError` (an ``OSError``) naming the path
-        (``err.path``); no file is created and an existing one is unchanged.
+        The file cannot be written (a missing or read-only folder, a folder in the way, a full disk): an
+        ``OSError`` naming the path (``err.path``), its ``reason`` and ``errno``; nothing is written.
     """
     path = Path(path).expanduser()
     file = os.fspath(path)
-    if path.suffix.lower() not in _NETCDF_SUFFIXES:
+    if path.suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(
             f"save_campaign writes netCDF; give the file a .nc suffix (got {path.suffix or 'none'!r})",
             file=file,
@@ -87,7 +73,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
     parent = path.parent
     if not parent.is_dir():
         raise OutputError(f"cannot save {file!r}: the folder {os.fspath(parent)!r} does not exist", path=file,
-                          errno=errno.ENOENT)
+                          reason="the folder does not exist", errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
         _check_attr(key, value, file)
@@ -100,7 +86,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
         raise
     except OSError as exc:  # read-only folder, a folder in the way, disk full: say which path
         reason = exc.strerror or str(exc)
-        raise OutputError(f"cannot save {file!r}: {reason}; nothing was written", path=file,
+        raise OutputError(f"cannot save {file!r}: {reason}; nothing was written", path=file, reason=reason,
                           errno=exc.errno) from exc
     return path
 

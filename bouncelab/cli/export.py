@@ -1,0 +1,80 @@
+"""``bouncelab export``: a law as a self-contained C99 header or JavaScript ES module.
+
+``bouncelab export LAW.json --lang c -o law.h`` writes the law of a law file (``bouncelab fit
+--save``, ``law.to_json``) with its values baked in; ``bouncelab export Rigid --published A --lang js``
+the paper's published values of a law. Without ``-o`` the source goes to standard output. The work is
+:func:`bouncelab.export.export_law`'s. Exit codes: 0 written; 2 bad command line or an output that
+cannot be written; 3 a law file that cannot be read; 4 a law that cannot be exported (no values, a
+kernel the translator cannot read).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from bouncelab.cli.messages import EXIT_FIT, EXIT_OK, UsageError, message
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    """Register the ``export`` subcommand on ``sub`` (the main parser's subparsers)."""
+    from bouncelab.export import DEFAULT_PREFIX, LANGUAGES
+
+    p = sub.add_parser(
+        "export", help="write a law as a C99 header or a JavaScript module",
+        description="Translate a law's compiled kernel into C99 (a header; C++ compilers accept it) or JavaScript "
+                    "(an ES module), its values baked in, its conventions, units, parameters and validity domain "
+                    "in the comment at the top. Entry points: C bouncelab_predict(landing, liftoff, n) and "
+                    "bouncelab_predict_one(xdot, ydot, omega, out); JavaScript predict(landings) and "
+                    "predictOne(xdot, ydot, omega); scaled units (radii/s, rad/s).",
+        epilog="Compile the C with -ffp-contract=off and without -ffast-math to get bouncelab's numbers (to 1e-12). "
+               "Exit codes: 0 written, 2 bad command line or output, 3 unreadable law file, 4 a law that cannot be "
+               "exported.",
+    )
+    p.add_argument("law", help="a law JSON file (from 'fit --save' or law.to_json), or a law name with --published")
+    p.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
+                   help="export the paper's published values of the named law for campaign A or B")
+    p.add_argument("--lang", required=True, choices=LANGUAGES, help="c (a C99 header) or js (an ES module)")
+    p.add_argument("-o", "--output", metavar="FILE", default="-",
+                   help="file to write (e.g. law.h, law.mjs); '-' or none: standard output")
+    p.add_argument("--prefix", default=None, metavar="NAME",
+                   help=f"C only: the prefix of every name the header defines (default {DEFAULT_PREFIX}); give each "
+                        "law of one program its own, e.g. --prefix turf_a_")
+    return p
+
+
+def _law(args: argparse.Namespace):
+    from pathlib import Path
+
+    from bouncelab.laws import law_class, load_law
+
+    if args.published:
+        return law_class(args.law, case_sensitive=False).published(args.published)
+    if not (Path(args.law).suffix == ".json" or Path(args.law).exists()):
+        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
+                         f"(e.g. bouncelab export {args.law} --published A --lang c -o law.h)")
+    return load_law(args.law)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``bouncelab export``; returns the exit code (library errors reach the main command's handlers)."""
+    from bouncelab.export import DEFAULT_PREFIX, ExportError, export_law
+
+    if args.prefix is not None and args.lang != "c":
+        raise UsageError("--prefix is for --lang c: an ES module's names are its own (import it under any name)")
+    law = _law(args)
+    to_stdout = args.output in ("-", "")
+    try:
+        text = export_law(law, args.lang, None if to_stdout else args.output,
+                          prefix=DEFAULT_PREFIX if args.prefix is None else args.prefix)
+    except ExportError as exc:
+        print(f"bouncelab export: {message(exc)}", file=sys.stderr)
+        return EXIT_FIT
+    if to_stdout:
+        sys.stdout.write(text)
+    else:
+        what = "C99 header" if args.lang == "c" else "JavaScript ES module"
+        print(f"{law!r} written to {args.output} ({what})")
+    return EXIT_OK
