@@ -3,7 +3,7 @@
 Run: ``python benchmarks/bench_assess.py`` (a few minutes without TurfContact's calibration; add
 ``--turf`` for it, which takes tens of minutes). Issue 24's targets, on 2 cores:
 
-* ``assess`` of a rigid-family law (default PennerFixed, with assess's default counts: 5 folds,
+* ``assess`` of a rigid-family law (default Rigid, with assess's default counts: 5 folds,
   100 bootstrap resamples, 4 global starts, profiles of 11 + 2 x 3 points per parameter) under 10 s;
 * ``calibrate`` of a rigid-family law (default Rigid, ``vary=["r", "mu"]``, run until converged)
   under 2 minutes;
@@ -58,7 +58,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--campaign", default="B", help="embedded campaign (B has 693 bounces)")
     ap.add_argument("--surrogate", default="turf", help="embedded surrogate: turf (default) or published")
-    ap.add_argument("--assess-law", default="PennerFixed", help="rigid-family law to assess")
+    ap.add_argument("--assess-law", default="Rigid", help="rigid-family law to assess")
     ap.add_argument("--calibrate-law", default="Rigid", help="rigid-family law to calibrate (vary r and mu)")
     ap.add_argument("--workers", type=int, default=0,
                     help="also time assess on a LocalCluster of this many workers; TurfContact's chains run on it")

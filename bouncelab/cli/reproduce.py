@@ -388,12 +388,12 @@ ASSESS_OPTIONS = {"k": 5, "starts": 4, "profile_points": 11, "local_points": 3}
 NOT_ASSESSED = {
     "PiecewiseAffine": "28 numbers in array parameters: an assessment profiles each with about 17 refits by the "
                        "generic global search, hundreds in all, and its plane search has no held parameters",
-    "CompliantImpact": "each fit integrates every bounce through the contact (about a second); an assessment refits "
-                       "it about 160 times",
+    "CompliantImpact": "each fit integrates every bounce through the contact (one to a few seconds); an assessment "
+                       "refits it about 160 times",
     "TurfContact": "each fit integrates every bounce through the contact (seconds to a minute); an assessment refits "
                    "it some 200 times",
     "CraterContact": "each fit integrates every bounce through the contact (half a minute to a minute or more); an "
-                     "assessment refits it some 300 times",
+                     "assessment refits it some 300 times (docs/physics_laws.md gives one, with reduced counts)",
 }
 NOT_ASSESSED_OTHER = "not one of the rigid family assessed in the report; an assessment refits a law some 150 times"
 

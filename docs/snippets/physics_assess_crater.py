@@ -1,10 +1,12 @@
-"""CraterContact assessed on the embedded campaigns A and B, all eleven parameters free (about 40 min on 2 cores).
+"""CraterContact assessed on the embedded campaigns A and B, all eleven parameters free (42 min on 2 shared cores).
 
 SYNTHETIC data: the default "turf" surrogates were simulated with CraterContact itself (its parameters varying
 from spot to spot), so this asks which of its parameters bounce data of this design can determine at all, in the
-most favourable case (the law is the truth). Reduced counts keep it affordable (each fit takes 30 s on A, about a
-minute on B): 2 folds, no bootstrap, 2 global starts (DIRECT_L, CRS2_LM), profiles of 3 points over each
-parameter's box (its bounds and middle) besides the estimate: 38 fits per campaign.
+most favourable case (the law is the truth). Reduced counts keep it affordable (each fit takes 30 s to two minutes,
+most of it the Nelder-Mead polish): 2 folds, no bootstrap, 2 global starts (DIRECT_L, CRS2_LM), profiles of 3 points
+over each parameter's box (its bounds and middle) besides the estimate: 38 fits per campaign. With so coarse a grid
+the profile intervals are interpolated between the estimate and the nearest grid point: rough, while the verdicts
+rest on the grid points themselves.
 """
 
 import time
