@@ -20,6 +20,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import bouncelab as bl
@@ -46,6 +47,8 @@ def quick(monkeypatch):
     so that the old code takes them too.)"""
     monkeypatch.setattr(rp, "BEYOND_PAPER_LAWS", ())
     monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    monkeypatch.setattr(rp, "ASSESS_OPTIONS", {"k": 5, "starts": 2, "profile_points": 5, "local_points": 1},
+                        raising=False)
 
 
 def write_lab_file(path: Path) -> Path:
@@ -503,3 +506,64 @@ def test_report_on_a_synthetic_campaign_says_the_papers_values_are_a_reference(q
     assert "PiecewiseAffine †" in (tmp_path / "rep" / "tables" / "A_crossvalidation.md").read_text()
     assert report.complete
     assert json.loads((tmp_path / "rep" / rp.MANIFEST).read_text())["files"]
+
+
+# ------------------------------------------------------------------------------ issue 24: held-out and assessment
+def test_report_shows_held_out_beside_training_and_an_assessment_per_law(quick, tmp_path, monkeypatch):
+    monkeypatch.setattr(rp, "NOT_CROSS_VALIDATED", frozenset({"PennerFixed"}))  # as TurfContact is by default
+    report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False, surrogate="published",
+                          law_set=["Rigid", "PennerFixed", "PiecewiseAffine"], bootstrap=5)
+    assert report.complete
+    tables = tmp_path / "rep" / "tables"
+    sec = report.sections["A"]
+    cmp = sec["comparison"]
+    # Table 3: the training errors with the paper's in brackets, then free parameters and held-out errors
+    t3 = (tables / "A_table3.md").read_text()
+    lines = t3.splitlines()
+    train = next(line for line in lines if line.startswith("| delta |"))
+    held = next(line for line in lines if line.startswith("| delta, held out (5 folds by setting) |"))
+    assert "(31.9 %)" in train and "(" not in held.split("|", 2)[2]
+    assert "| free parameters | 2 | 3 | 28 |" in t3
+    rigid = cmp.table.loc["Rigid"]
+    assert f"{100 * rigid['heldout_delta']:.3g} % +- {100 * rigid['heldout_delta_sd']:.3g} %" in held
+    assert np.isnan(cmp.table.loc["PennerFixed", "heldout_delta"])  # left out, and the report says why
+    assert "PennerFixed: no held-out errors (left out to keep the report quick" in t3
+    assert ("heldout_delta", "bouncelab") in pd.read_csv(tables / "A_table3.csv", header=[0, 1],
+                                                                          index_col=0).columns
+    # the assessment: every law of the rigid family asked for, with verdicts; the others named, with the reason
+    assert set(sec["assessments"]) == {"Rigid", "PennerFixed"}
+    md = (tables / "A_assessment.md").read_text()
+    assert "5 folds grouped by launcher setting, 5 bootstrap resamples" in md and "profile of each parameter (5 " in md
+    for law, a in sec["assessments"].items():
+        for par, verdict in a.verdicts.items():
+            assert f"| {law} | {par} | " in md and verdict in md
+    assert "Not assessed here" in md and "PiecewiseAffine: 28 numbers" in md
+    frame = pd.read_csv(tables / "A_assessment.csv", index_col=[0, 1])
+    assert frame.loc[("Rigid", "r"), "verdict"] == sec["assessments"]["Rigid"].verdicts["r"]
+    assert sec["not_assessed"] == {"PiecewiseAffine": rp.NOT_ASSESSED["PiecewiseAffine"]}
+    # the bootstrap table is the assessment's own bootstrap (no second set of refits)
+    boot = pd.read_csv(tables / "A_bootstrap.csv", index_col=[0, 1])
+    summary = sec["assessments"]["Rigid"].bootstrap.summary()
+    assert boot.loc[("Rigid", "r"), "ci_high"] == pytest.approx(summary.loc["r", "ci_high"], rel=1e-12)
+    index = (tmp_path / "rep" / "index.html").read_text()
+    assert "Assessment of each law, campaign A" in index and "A_assessment.md" in index
+
+
+def test_an_assessment_that_cannot_run_is_a_skip(quick, tmp_path, monkeypatch):
+    import bouncelab.fitting.assessment as assessment
+
+    real = assessment.assess
+
+    def refuse_rigid(model, data, **kw):
+        if bl.laws.law_name(model) == "Rigid":
+            raise FitError("too few launcher settings for this assessment")
+        return real(model, data, **kw)
+
+    monkeypatch.setattr(assessment, "assess", refuse_rigid)
+    report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False,
+                          law_set=["Rigid", "PennerFixed"], bootstrap=3)
+    assert ("A", "assessment: Rigid", "too few launcher settings for this assessment") in report.skipped
+    md = (tmp_path / "rep" / "tables" / "A_assessment.md").read_text()
+    assert "Rigid: not assessed, skipped: too few launcher settings" in md and "| PennerFixed | r |" in md
+    boot = (tmp_path / "rep" / "tables" / "A_bootstrap.md").read_text()
+    assert "Rigid: skipped, its assessment could not run" in boot

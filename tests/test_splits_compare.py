@@ -220,6 +220,90 @@ def test_bouncelab_laws_keep_their_parameter_columns_and_the_papers_values(campa
 def test_compare_says_when_the_fits_minimised_something_else(campaign_b):
     w = np.ones(campaign_b.sizes["bounce"])
     assert not any("Fitted by minimising" in n for n in bl.compare(campaign_b, ["Rigid"]).notes)
-    weighted = bl.compare(campaign_b, ["Rigid"], sample_weight=w)
+    weighted = bl.compare(campaign_b, ["Rigid"], sample_weight=w, heldout=False)
     assert any("delta, sample-weighted, not the paper's delta" in n for n in weighted.notes)
     assert "sample-weighted" in weighted.to_markdown()
+
+
+# ------------------------------------------------------------------------------ issue 24: held-out columns
+def test_compare_held_out_columns_are_assess_held_out_row(campaign_b):
+    """compare's held-out errors are assess's (the same folds, fits and weighting), beside the training ones,
+    with the number of free parameters; the paper's values stand beside the training errors only."""
+    cmp = bl.compare(campaign_b, ["Rigid", "PennerFixed"], seed=2)
+    t = cmp.table
+    assert list(t["n_free"]) == [2, 3]
+    for law in ("Rigid", "PennerFixed"):
+        a = bl.assess(law, campaign_b, seed=2, n_bootstrap=0, starts=0, profile_points=3, local_points=0)
+        held = a.scores.loc["held-out"]
+        for col in ("delta", "delta_xdot", "delta_ydot", "delta_omega", "delta_sd"):
+            assert t.loc[law, f"heldout_{col}"] == held[col]
+        assert t.loc[law, "train_delta"] == a.scores.loc["training", "delta"]
+        assert cmp.heldout[law].split == "setting" and cmp.heldout[law].k == 5
+    # each bounce held out once; a fit that saw none of a bounce's setting predicts it worse than one that did
+    assert cmp.heldout["Rigid"].scores["n"] == campaign_b.sizes["bounce"]
+    assert (t["heldout_delta"] > t["train_delta"]).all()
+    md = cmp.to_markdown()
+    assert "| free parameters | 2 | 3 |" in md
+    row = next(line for line in md.splitlines() if line.startswith("| delta, held out (5 folds by setting)"))
+    assert row.count("+-") == 2 and "(" not in row.split("|", 2)[2]  # no paper value beside a held-out figure
+    assert f"{100 * t.loc['Rigid', 'heldout_delta']:.3g} % +- {100 * t.loc['Rigid', 'heldout_delta_sd']:.3g} %" in row
+    assert "grouped 5-fold cross-validation" in md
+    sbs = cmp.side_by_side()
+    assert ("heldout_delta", "bouncelab") in sbs.columns and np.isnan(sbs.loc["Rigid", ("heldout_delta", "paper")])
+    assert "n_free" not in cmp.parameter_columns() and "heldout_delta" not in cmp.parameter_columns()
+
+
+def test_compare_held_out_can_be_left_out_or_chosen(campaign_b, monkeypatch):
+    import bouncelab.fitting.splits as splits
+
+    calls = []
+    real = splits.cross_validate
+
+    def spy(model, data, **kw):
+        calls.append(bl.laws.law_name(model))
+        return real(model, data, **kw)
+
+    monkeypatch.setattr("bouncelab.fitting.assessment.cross_validate", spy)
+    quick = bl.compare(campaign_b, ["Rigid", "PennerFixed"], heldout=False)
+    assert calls == [] and "heldout_delta" not in quick.table.columns and list(quick.table["n_free"]) == [2, 3]
+    assert "held out" not in quick.to_markdown()
+    some = bl.compare(campaign_b, ["Rigid", "PennerFixed"], heldout=["PennerFixed"], k=3)
+    assert calls == ["PennerFixed"]
+    assert np.isnan(some.table.loc["Rigid", "heldout_delta"]) and some.heldout["PennerFixed"].k == 3
+    assert "Rigid" in some.heldout_skipped
+    md = some.to_markdown()
+    assert "Rigid: no held-out errors" in md and "(3 folds by setting)" in md
+
+
+def test_compare_held_out_by_bounce_without_settings(campaign_b):
+    pair = (campaign_b.landing.values[:120], campaign_b.liftoff.values[:120])
+    cmp = bl.compare(pair, ["Rigid"], k=4)
+    assert cmp.heldout["Rigid"].split == "bounce" and cmp.heldout["Rigid"].scores["n"] == 120
+    assert "(4 folds by bounce)" in cmp.to_markdown()
+    assert "the data have no launcher settings" in cmp.to_markdown()
+
+
+def test_compare_held_out_errors_and_options(campaign_b):
+    w = np.ones(campaign_b.sizes["bounce"])
+    with pytest.raises(FitError) as e:  # the folds could not carry the weights
+        bl.compare(campaign_b, ["Rigid"], sample_weight=w, heldout=True)
+    assert e.value.option == "sample_weight" and e.value.hints[0] == bl.errors.Hint("heldout", False)
+    # by default (heldout=None) a weighted comparison still works, and says why it has no held-out errors
+    weighted = bl.compare(campaign_b, ["Rigid"], sample_weight=w)
+    assert weighted.heldout == {} and "sample-weighted" in weighted.heldout_skipped["Rigid"]
+    assert np.isnan(weighted.table.loc["Rigid", "heldout_delta"])
+    assert "Rigid: no held-out errors (sample-weighted fits" in weighted.to_markdown()
+    with pytest.raises(FitError) as e:
+        bl.compare(campaign_b, ["Rigid"], heldout=["PennerFixed"])
+    assert e.value.option == "heldout"
+    for bad in (1, 2.5, True):
+        with pytest.raises(FitError) as e:
+            bl.compare(campaign_b, ["Rigid"], k=bad)
+        assert e.value.option == "k"
+    one = campaign_b.isel(bounce=slice(0, 40)).assign_coords(setting=("bounce", np.zeros(40, int)))
+    with pytest.raises(FitError) as e:  # one launcher setting: no fold of settings can be held out
+        bl.compare(one, ["Rigid"], heldout=True)
+    assert e.value.option == "heldout" and e.value.hints[0] == bl.errors.Hint("heldout", False)
+    for skipped in (bl.compare(one, ["Rigid"], heldout=True, errors="skip"), bl.compare(one, ["Rigid"])):
+        assert "one launcher setting only" in skipped.heldout_skipped["Rigid"] and skipped.heldout == {}
+        assert np.isnan(skipped.table.loc["Rigid", "heldout_delta"]) and "Rigid" in skipped.results

@@ -12,7 +12,7 @@ import xarray as xr
 if TYPE_CHECKING:
     from bouncelab.cli.reproduce import Report
 
-__all__ = ["frame_markdown", "index_html", "md_to_html", "table2_markdown"]
+__all__ = ["assessment_markdown", "frame_markdown", "index_html", "md_to_html", "table2_markdown"]
 
 
 def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan", mark: str | None = None) -> str:
@@ -88,6 +88,65 @@ def table2_markdown(name: str, pw: dict, ds: xr.Dataset) -> str:
                      f"delta on them {100 * res.delta:.3g} %)")
     footnote = generator_note(generating_law(ds), ["PiecewiseAffine"])
     if footnote is not None:
+        lines.append(f"\n> {footnote}")
+    return "\n".join(lines) + "\n"
+
+
+def assessment_markdown(name: str, assessments: dict[str, Any], options: dict[str, Any], *,
+                        not_assessed: dict[str, str], failed: dict[str, str], generator: str | None) -> str:
+    """The report's assessment section: per law its free parameters, training and held-out delta and verdict
+    counts, then one table of every assessed law's parameters with their verdicts (:func:`bouncelab.assess`), and
+    the laws not assessed with the reason (errors in per cent, as in the other tables)."""
+    from bouncelab.fitting.assessment import VERDICTS
+    from bouncelab.fitting.comparison import GENERATOR_MARK, generator_note
+
+    def mark(law: str) -> str:
+        return f"{law} {GENERATOR_MARK}" if law == generator else law
+
+    def num(v: Any) -> str:
+        return "" if v is None or (isinstance(v, float) and np.isnan(v)) else f"{v:.4g}"
+
+    boot = options["n_bootstrap"]
+    lines = [f"### Assessment of each law, campaign {name}: held-out errors and identifiability (beyond the paper)\n",
+             f"bouncelab.assess with {options['k']} folds grouped by launcher setting, "
+             + (f"{boot} bootstrap resamples of whole launcher settings (95 % percentile intervals), " if boot else
+                "no bootstrap (0 resamples: no intervals, no correlations), ")
+             + f"{options['starts']} independent global fits from random starts, and a profile of each parameter "
+               f"({options['profile_points']} points over its search box and {options['local_points']} on each side "
+               "of the estimate, every other parameter refitted). A parameter is identifiable when its profile leaves "
+               "the noise of the data on both sides of the estimate, weakly identifiable when the data cannot bound "
+               "it on a side (or a second minimum fits as well), not identifiable along a flat direction "
+               "(docs/assessment.md).\n"]
+    if assessments:
+        head = ["law", "free parameters", "delta, training", "delta, held out", *VERDICTS]
+        lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        for law, a in assessments.items():
+            s = a.summary()
+            counts = [str(s[f"n_{v.replace(' ', '_')}"]) for v in VERDICTS]
+            lines.append(f"| {mark(law)} | {s['n_free']} | {100 * s['train_delta']:.3g} % | "
+                         f"{100 * s['heldout_delta']:.3g} % +- {100 * s['heldout_delta_sd']:.3g} % | "
+                         + " | ".join(counts) + " |")
+        lines.append("")
+        head = ["law", "parameter", "estimate", "95 % bootstrap interval", "spread over starts",
+                "profile within noise", "verdict", "correlated with"]
+        lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        for law, a in assessments.items():
+            for par, r in a.parameters.iterrows():
+                if r["verdict"] == "fixed":
+                    cells = [num(r["estimate"]), "", "", "", "fixed", ""]
+                else:
+                    ci = "" if np.isnan(r["ci_low"]) else f"{r['ci_low']:.4g} to {r['ci_high']:.4g}"
+                    bound = f" (at {r['at_bound']} bound)" if r["at_bound"] else ""
+                    cells = [num(r["estimate"]) + bound, ci, num(r["starts_spread"]),
+                             f"{r['profile_low']:.4g} to {r['profile_high']:.4g}", r["verdict"], r["correlated"]]
+                lines.append(f"| {mark(law)} | {par} | " + " | ".join(cells) + " |")
+    for law, why in failed.items():
+        lines.append(f"\n> {law}: not assessed, skipped: {why}")
+    if not_assessed:
+        lines.append("\n> Not assessed here, to keep the report quick (bouncelab.assess(law, data) assesses any law): "
+                     + "; ".join(f"{law}: {why}" for law, why in not_assessed.items()) + ".")
+    footnote = generator_note(generator, list(assessments))
+    if footnote is not None and generator in assessments:
         lines.append(f"\n> {footnote}")
     return "\n".join(lines) + "\n"
 

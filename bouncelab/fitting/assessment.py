@@ -85,7 +85,7 @@ from bouncelab.laws.base import BounceModel
 from bouncelab.laws.registry import law_name
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
 
-__all__ = ["START_ALGORITHMS", "VERDICTS", "Assessment", "assess"]
+__all__ = ["START_ALGORITHMS", "VERDICTS", "Assessment", "HeldOut", "assess", "held_out_errors"]
 
 #: The verdicts of :func:`assess`, from best to worst (see the module documentation).
 VERDICTS = ("identifiable", "weakly identifiable", "not identifiable")
@@ -388,7 +388,8 @@ def assess(
 
     # 2. held-out errors by grouped folds
     cv_data = _with_groups(data, p0, pf, groups, setting is None)
-    cv = cross_validate(law, cv_data, k=k, seed=seed, executor=client, method=method, **later)
+    held_out = _held_out(law, cv_data, k=k, seed=seed, executor=client, split=split, method=method, **later)
+    cv = held_out.cross_validation
     # 3. the bootstrap
     boot = None
     if n_bootstrap:
@@ -511,11 +512,9 @@ def assess(
     parameters.index.name = "parameter"
 
     train = error_terms(p0, pf, vec.predict(estimate_law, p0, theta_hat)).mean(axis=0)
-    folds = cv.folds
-    held_cols = ["test_delta", "test_delta_xdot", "test_delta_ydot", "test_delta_omega"]
-    heldout = [float(np.average(folds[c], weights=folds["n_test"])) for c in held_cols]
+    test = held_out.scores
     scores = pd.DataFrame(
-        [[n, *train, np.nan], [int(folds["n_test"].sum()), *heldout, cv.delta_std]],
+        [[n, *train, np.nan], [test["n"], *(test[c] for c in ERROR_COLUMNS), test["delta_sd"]]],
         index=pd.Index(["training", "held-out"], name="data"), columns=["n", *ERROR_COLUMNS, "delta_sd"])
     scores["n"] = scores["n"].astype(int)
     note = synthetic_warning(data)
@@ -528,6 +527,77 @@ def assess(
     return Assessment(law=law_name(law), fit=full, scores=scores, parameters=parameters, profiles=profiles,
                       starts=starts_table, correlation=corr, null_directions=nulls, cross_validation=cv,
                       bootstrap=boot, split=split, options=options, notes=notes)
+
+
+# ------------------------------------------------------------------------------ held-out errors
+@dataclass
+class HeldOut:
+    """Held-out errors of a law by grouped k-fold cross-validation (:func:`held_out_errors`).
+
+    Attributes
+    ----------
+    cross_validation
+        The folds (:class:`~bouncelab.fitting.CrossValidation`).
+    scores
+        ``n`` (bounces, each held out once), delta and the three Delta q over all of them (the folds'
+        figures weighted by their bounces) and ``delta_sd``, the standard deviation of delta over the folds.
+    split
+        ``"setting"`` (folds of whole launcher settings) or ``"bounce"`` (the data have no settings).
+    k
+        Number of folds.
+    """
+
+    cross_validation: CrossValidation
+    scores: dict[str, float]
+    split: str
+    k: int
+
+
+def held_out_errors(model: Any, data: Any, *, k: int = 5, seed: int = 0, executor: Any = None,
+                    **fit_kwargs: Any) -> HeldOut:
+    """Held-out delta and Delta q of a law: grouped k-fold cross-validation by launcher setting, by bounce
+    without settings.
+
+    The one implementation behind :func:`assess`'s held-out row and :func:`bouncelab.compare`'s held-out
+    columns: every repeat of a launcher setting falls in the same fold
+    (:func:`~bouncelab.fitting.cross_validate`), so each bounce is predicted by a fit that saw none of
+    its setting; without a ``setting`` coordinate (or for a ``(landing, liftoff)`` pair) each bounce is
+    its own group.
+
+    Parameters
+    ----------
+    model
+        A law class, instance or name.
+    data
+        A campaign Dataset or a ``(landing, liftoff)`` pair.
+    k
+        Number of folds, between 2 and the number of settings (or bounces).
+    seed, executor, **fit_kwargs
+        As for :func:`~bouncelab.fitting.cross_validate`.
+
+    Raises
+    ------
+    FitError
+        ``k`` is not an integer between 2 and the number of settings (or bounces), or a fold cannot be fitted.
+    """
+    p0, pf, setting = campaign_arrays(data)
+    by_bounce = setting is None
+    groups = np.arange(len(p0)) if by_bounce else np.asarray(setting)
+    return _held_out(model, _with_groups(data, p0, pf, groups, by_bounce), k=k, seed=seed, executor=executor,
+                     split="bounce" if by_bounce else "setting", **fit_kwargs)
+
+
+def _held_out(model: Any, grouped: Any, *, k: int, seed: int, executor: Any, split: str,
+              **fit_kwargs: Any) -> HeldOut:
+    """:func:`held_out_errors` on data that carry their groups as ``setting`` (see :func:`_with_groups`)."""
+    cv = cross_validate(model, grouped, k=k, seed=seed, executor=executor, **fit_kwargs)
+    folds = cv.folds
+    weights = folds["n_test"].to_numpy(dtype=float)
+    scores: dict[str, float] = {"n": int(weights.sum())}
+    for col in ERROR_COLUMNS:
+        scores[col] = float(np.average(folds[f"test_{col}"], weights=weights))
+    scores["delta_sd"] = cv.delta_std
+    return HeldOut(cross_validation=cv, scores=scores, split=split, k=len(folds))
 
 
 # ------------------------------------------------------------------------------ pieces

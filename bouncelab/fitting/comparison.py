@@ -8,6 +8,12 @@ bounces) beside errors on the fitted bounces, Table 2's (the piecewise-affine la
 its test set) beside errors on held-out bounces. On a synthetic campaign the paper's
 values are labelled as what they are (its results on its measured bounces, a
 reference, not a validation), and the law that generated the data is marked.
+
+Beside the errors on the fitted bounces stand, by default, the number of free
+parameters and the *held-out* errors of grouped k-fold cross-validation
+(:func:`bouncelab.fitting.assessment.held_out_errors`, the machinery of
+:func:`bouncelab.assess`): a law with more parameters always fits its own bounces
+better, and only the held-out figures say whether it predicts others better.
 """
 
 from __future__ import annotations
@@ -22,8 +28,10 @@ import pandas as pd
 import xarray as xr
 
 from bouncelab.core import published
-from bouncelab.core.errors import DataError, FitError, ParameterError
+from bouncelab.core.errors import DataError, FitError, Hint, ParameterError
 from bouncelab.data.campaign import synthetic_warning
+from bouncelab.data.inputs import campaign_arrays
+from bouncelab.fitting.assessment import HeldOut, _held_out, _with_groups
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
@@ -32,7 +40,8 @@ from bouncelab.laws import law_name
 from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "generating_law", "law_instance", "paper_reference"]
+__all__ = ["HELD_OUT_COLUMNS", "PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "free_count", "generating_law",
+           "law_instance", "paper_reference"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
 PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
@@ -40,7 +49,13 @@ PAPER_LAWS = ("Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine")
 #: degenerate plane...): ``compare(..., errors="skip")`` and ``bouncelab reproduce`` skip the law or step
 #: with its message. Anything else is a bug and propagates.
 SKIPPABLE = (FitError, DataError, ParameterError)
-_LABELS = {"delta_xdot": "Delta xdot", "delta_ydot": "Delta ydot", "delta_omega": "Delta omega", "n": "bounces"}
+_LABELS = {"delta_xdot": "Delta xdot", "delta_ydot": "Delta ydot", "delta_omega": "Delta omega", "n": "bounces",
+           "n_free": "free parameters"}
+#: Columns of :attr:`Comparison.table` holding the held-out errors (fractions), and their spread over the folds.
+HELD_OUT_COLUMNS = tuple(f"heldout_{c}" for c in ERROR_COLUMNS)
+HELD_OUT_SD = "heldout_delta_sd"
+#: Folds of the held-out errors by default (:func:`compare`'s ``k``).
+HELD_OUT_FOLDS = 5
 #: How the paper's values are introduced: plain for measured data, as a reference on synthetic data.
 PAPER_LABEL = "the paper's values in brackets"
 PAPER_LABEL_SYNTHETIC = ("in brackets, the paper's results on its measured bounces: a reference, not a validation, "
@@ -116,7 +131,12 @@ class Comparison:
         One row per law: its parameters (scalars as numbers, arrays summarised as
         text), then delta and Delta q on the fitted data (``train_*``) and, with a
         split, on the held-out data (``test_*``), then the laws' diagnostics
-        (``train_<name>``, ``test_<name>``). Fractions, not per cent.
+        (``train_<name>``, ``test_<name>``), then ``n_free`` (the numbers the fit
+        varied, elements of array parameters one by one) and, unless
+        ``heldout=False``, the cross-validated errors ``heldout_delta``,
+        ``heldout_delta_xdot``, ``heldout_delta_ydot``, ``heldout_delta_omega`` and
+        ``heldout_delta_sd`` (their spread over the folds); NaN for a law left out of
+        the cross-validation. Fractions, not per cent.
     campaign
         "A" or "B" when the data are (a surrogate of) one of the paper's campaigns, else None.
     skipped
@@ -125,6 +145,12 @@ class Comparison:
         Whether the data are synthetic (the paper's values are then labelled as a reference).
     generator
         The law that generated synthetic data (:func:`generating_law`), marked in the tables.
+    heldout
+        Law name -> its held-out errors (:class:`~bouncelab.fitting.assessment.HeldOut`: the folds,
+        the scores, ``split`` ``"setting"`` or ``"bounce"``, ``k``).
+    heldout_skipped
+        Law name -> why it has no held-out errors (left out by ``heldout=``, or its folds could
+        not be fitted with ``errors="skip"``); the markdown says so.
     """
 
     results: dict[str, FitResult]
@@ -136,6 +162,8 @@ class Comparison:
     skipped: dict[str, str] = field(default_factory=dict)
     synthetic: bool = False
     generator: str | None = None
+    heldout: dict[str, HeldOut] = field(default_factory=dict)
+    heldout_skipped: dict[str, str] = field(default_factory=dict)
 
     def _which(self) -> str:
         return "test" if self.split else "train"
@@ -143,9 +171,30 @@ class Comparison:
     def parameter_columns(self) -> list[str]:
         """Columns of :attr:`table` that hold parameters."""
         err = {f"{p}_{c}" for p in ("train", "test") for c in ERROR_COLUMNS}
+        err |= {"n_free", *HELD_OUT_COLUMNS, HELD_OUT_SD}
         diag = {f"{p}_{k}" for r in self.results.values() for p in ("train", "test")
                 for k in (*r.diagnostics, *r.test_diagnostics)}
         return [c for c in self.table.columns if c not in err and c not in diag]
+
+    def _held_out_columns(self) -> list[str]:
+        return [c for c in (*HELD_OUT_COLUMNS, HELD_OUT_SD) if c in self.table.columns]
+
+    def held_out_note(self) -> str | None:
+        """What the held-out rows are, and which laws have none and why (None without held-out errors)."""
+        if not self.heldout and not self.heldout_skipped:
+            return None
+        parts = []
+        if self.heldout:
+            first = next(iter(self.heldout.values()))
+            groups = "launcher settings" if first.split == "setting" else "bounces (the data have no launcher settings)"
+            parts.append(f"Held out: each law refitted {first.k} times on all the bounces but a fold of {groups} "
+                         f"(grouped {first.k}-fold cross-validation, bouncelab.assess's folds), so that each bounce "
+                         "is predicted once by a fit that saw none of its setting's repeats; +- is the spread of "
+                         "delta over the folds. A law with more free parameters always fits its own bounces better; "
+                         "the held-out figures say whether it predicts others better.")
+        for law, why in self.heldout_skipped.items():
+            parts.append(f"{law}: no held-out errors ({why}).")
+        return " ".join(parts)
 
     def _diagnostic_names(self) -> list[str]:
         names: list[str] = []
@@ -192,7 +241,8 @@ class Comparison:
         """Our values beside the paper's: columns (quantity, source) with source "bouncelab" and "paper"."""
         ours = self.table.rename(columns={f"{self._which()}_{c}": c for c in (*ERROR_COLUMNS,
                                                                               *self._diagnostic_names())})
-        cols = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *self._diagnostic_names()) if c in ours.columns]
+        cols = [c for c in (*self.parameter_columns(), *ERROR_COLUMNS, *self._diagnostic_names(), "n_free",
+                            *self._held_out_columns()) if c in ours.columns]
         frames = {"bouncelab": ours[cols]}
         paper = self.published()
         if paper is not None:
@@ -209,8 +259,10 @@ class Comparison:
 
         Rows are quantities and columns laws; each cell reads ``ours (paper)``
         where the paper published a value. Errors and fractions are in per cent,
-        as printed in the paper. Every law with diagnostics also gets its table by
-        slip/roll class (the Table 2 layout).
+        as printed in the paper. Below the errors, the number of free parameters and
+        the held-out errors (cross-validated, ``+-`` their spread over the folds), with
+        no paper values beside them (the paper has none of that kind). Every law with
+        diagnostics also gets its table by slip/roll class (the Table 2 layout).
         """
         title = f"campaign {self.campaign}" if self.campaign else "this campaign"
         which = "held-out" if self.split else "fitted"
@@ -234,7 +286,8 @@ class Comparison:
             params = [*params[:at], "plane", *params[at:]]
         else:
             units = self.units
-        quantities = [c for c in (*params, *ERROR_COLUMNS, *diag) if c in ours.columns and ours[c].notna().any()]
+        quantities = [c for c in (*params, *ERROR_COLUMNS, *diag, "n_free", *HELD_OUT_COLUMNS)
+                      if c in ours.columns and ours[c].notna().any()]
         brackets = ""
         if paper is not None:
             brackets = "; " + (PAPER_LABEL_SYNTHETIC if self.synthetic else PAPER_LABEL)
@@ -242,15 +295,24 @@ class Comparison:
         lines = [f"### Laws fitted to {title} (errors on the {which} bounces{brackets})\n"]
         lines.append("| quantity | " + " | ".join(mark[law] for law in ours.index) + " |")
         lines.append("|---|" + "---|" * len(ours.index))
+        held = next(iter(self.heldout.values()), None)
         for q in quantities:
             cells = []
+            percent = q in ERROR_COLUMNS or q in diag or q in HELD_OUT_COLUMNS
             for law in ours.index:
-                cell = _fmt(ours.loc[law, q], q, digits, percent=q in ERROR_COLUMNS or q in diag)
+                cell = _fmt(ours.loc[law, q], q, digits, percent=percent)
+                if cell and q == HELD_OUT_COLUMNS[0] and HELD_OUT_SD in ours.columns:
+                    sd = _fmt(ours.loc[law, HELD_OUT_SD], HELD_OUT_SD, digits, percent=True)
+                    cell += f" +- {sd}" if sd else ""
                 if cell and paper is not None and law in paper.index and q in paper.columns:
-                    ref = _fmt(paper.loc[law, q], q, digits, percent=q in ERROR_COLUMNS or q in diag)
+                    ref = _fmt(paper.loc[law, q], q, digits, percent=percent)
                     cell += f" ({ref})" if ref else ""
                 cells.append(cell)
-            lines.append(f"| {self._label(q, units)} | " + " | ".join(cells) + " |")
+            if q in HELD_OUT_COLUMNS and held is not None:
+                label = f"{self._label(q.removeprefix('heldout_'))}, held out ({held.k} folds by {held.split})"
+            else:
+                label = self._label(q, units)
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
         for law, res in self.results.items():
             if not (res.test_diagnostics if self.split else res.diagnostics):
                 continue
@@ -279,6 +341,8 @@ class Comparison:
         footnote = generator_note(self.generator, list(ours.index))
         if footnote is not None:
             lines.append(f"\n> {footnote}")
+        if (held_note := self.held_out_note()) is not None:
+            lines.append(f"\n> {held_note}")
         for law, why in self.skipped.items():
             lines.append(f"\n> {law} was not fitted: {why}")
         for note in self.notes:
@@ -297,11 +361,22 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
         return v
     if v is None or (isinstance(v, float) and np.isnan(v)):
         return ""
-    if name == "n":
+    if name in ("n", "n_free"):
         return f"{int(v)}"
     if percent:
         return f"{100 * v:.{digits}g} %"
     return f"{v:.{digits}g}"
+
+
+def free_count(result: FitResult) -> int:
+    """The numbers a fit varied: every element of every parameter neither held nor boxed to one value."""
+    n = 0
+    for spec in result.model.parameter_specs:
+        if spec.name in result.fixed or spec.name not in result.bounds:
+            continue
+        lo, hi = (np.broadcast_to(np.asarray(b, dtype=float), (spec.size,)) for b in result.bounds[spec.name])
+        n += int(np.count_nonzero(hi > lo))
+    return n
 
 
 def _summarise(value: Any) -> Any:
@@ -322,6 +397,8 @@ def compare(
     seed: int = 0,
     executor: Any = None,
     errors: str = "raise",
+    heldout: bool | Sequence[str] | None = None,
+    k: int = HELD_OUT_FOLDS,
     **fit_kwargs: Any,
 ) -> Comparison:
     """Fit several laws to the same bounces and tabulate them as the paper's Tables 3 and 2.
@@ -338,14 +415,32 @@ def compare(
         setting held out, :func:`~bouncelab.split_by_setting`); laws are fitted
         on the rest and scored on both (as its Table 2).
     seed
-        Seed of the split and of every fit.
+        Seed of the split, of the folds and of every fit.
     executor
-        Where to run the fits (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
+        Where to run the fits and the folds (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
     errors
         ``"raise"`` (default): a law that cannot be fitted to these data stops the comparison.
         ``"skip"``: it is left out and recorded, with the reason, in :attr:`Comparison.skipped`
         (and the markdown); only the errors of :data:`SKIPPABLE` (FitError, DataError,
         ParameterError) are skipped, anything else propagates. If no law can be fitted, FitError.
+        A law whose folds cannot be fitted keeps its fit, without held-out errors
+        (:attr:`Comparison.heldout_skipped`).
+    heldout
+        Held-out errors by grouped ``k``-fold cross-validation of all the bounces (whatever
+        ``split``): folds of whole launcher settings, of single bounces when the data have no
+        ``setting`` (:func:`bouncelab.fitting.assessment.held_out_errors`, as
+        :func:`bouncelab.assess`). None (default): for every law where the data allow it;
+        with a ``sample_weight`` (the folds would not carry the weights), with a single
+        launcher setting, or for a law whose folds cannot be fitted, the law gets none and
+        :attr:`Comparison.heldout_skipped` and the markdown say why. True: for every law,
+        and any of those cases is an error (FitError, or skipped with ``errors="skip"``);
+        a list of law names: as True, for those only; False: none (no held-out columns).
+        **Cost**: ``k`` more fits per law, so a comparison takes about ``k + 1`` times as
+        long as the fits alone (the paper's four laws on 693 bounces: about a second more;
+        a contact law such as TurfContact or CraterContact: minutes more).
+    k
+        Folds of the held-out errors (default 5; at most the number of settings, or bounces:
+        fewer settings give fewer folds).
     **fit_kwargs
         Passed to :func:`bouncelab.fit` for every law (e.g. ``objective``).
 
@@ -370,6 +465,15 @@ def compare(
         raise FitError(f"each law may appear once; got {names}", option="laws")
     if split is not None:
         refuse_sample_weight(fit_kwargs, "compare(split='setting')")
+    auto = heldout is None
+    cross = _heldout_names(True if auto else heldout, names)
+    weighted = "sample_weight" in fit_kwargs
+    if cross and weighted and not auto:
+        raise FitError("compare's held-out errors take no sample_weight: the folds split the bounces and the "
+                       "weights would not follow them; pass heldout=False to compare weighted fits",
+                       option="sample_weight", hints=[Hint("heldout", False)])
+    if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 2:
+        raise FitError(f"k must be an integer of at least 2 (folds of the held-out errors); got {k!r}", option="k")
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
     fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs, errors == "skip") for m in models], executor)
     results = {name: res for name, res in zip(names, fits, strict=True) if isinstance(res, FitResult)}
@@ -417,8 +521,72 @@ def compare(
             note += " Agreement with the paper's numbers for its measured campaign is expected only roughly."
         notes.append(note)
     synthetic = isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate"
+    if weighted:  # (auto: none; the folds would not carry the weights)
+        held, held_skipped = {}, {name: "sample-weighted fits: the folds would not carry the weights" for name in
+                                  results}
+    else:
+        held, held_skipped = _held_out_all(data, models, names, results, cross, int(k), seed, executor,
+                                           "skip" if auto else errors, fit_kwargs)
+    table["n_free"] = [free_count(results[name]) for name in table.index]
+    if held or cross:
+        for col in (*HELD_OUT_COLUMNS, HELD_OUT_SD):
+            table[col] = [held[name].scores[col.removeprefix("heldout_")] if name in held else np.nan
+                          for name in table.index]
     return Comparison(results=results, table=table, campaign=campaign, split=split, notes=notes, units=units,
-                      skipped=skipped, synthetic=synthetic, generator=generating_law(data))
+                      skipped=skipped, synthetic=synthetic, generator=generating_law(data), heldout=held,
+                      heldout_skipped=held_skipped)
+
+
+def _heldout_names(heldout: Any, names: Sequence[str]) -> list[str]:
+    """The laws (of ``names``) whose held-out errors ``heldout`` asks for."""
+    if heldout is True:
+        return list(names)
+    if heldout is False:
+        return []
+    if isinstance(heldout, str):
+        heldout = [heldout]
+    try:
+        chosen = [h if isinstance(h, str) else law_name(law_instance(h)) for h in heldout]
+    except (TypeError, FitError):
+        raise FitError(f"heldout must be True, False or a list of the compared laws' names; got {heldout!r}",
+                       option="heldout") from None
+    unknown = [h for h in chosen if h not in names]
+    if unknown:
+        raise FitError(f"heldout names {unknown}, which are not among the compared laws {list(names)}",
+                       option="heldout")
+    return [n for n in names if n in chosen]
+
+
+def _held_out_all(data: Any, models: Sequence[BounceModel], names: Sequence[str], results: dict[str, FitResult],
+                  cross: Sequence[str], k: int, seed: int, executor: Any, errors: str,
+                  fit_kwargs: dict[str, Any]) -> tuple[dict[str, HeldOut], dict[str, str]]:
+    """The held-out errors of the fitted laws named in ``cross``, and why the others have none."""
+    held: dict[str, HeldOut] = {}
+    skipped = {name: "left out of the cross-validation (heldout=)" for name in results if name not in cross}
+    todo = [(m, name) for m, name in zip(models, names, strict=True) if name in cross and name in results]
+    if not todo:
+        return held, skipped
+    p0, pf, setting = campaign_arrays(data)
+    by_bounce = setting is None
+    groups = np.arange(len(p0)) if by_bounce else np.asarray(setting)
+    n_groups = len(pd.unique(groups))
+    if n_groups < 2:
+        why = "one launcher setting only: no fold of settings can be held out"
+        if errors == "raise":
+            raise FitError(f"compare's held-out errors need two or more launcher settings: {why}", option="heldout",
+                           hints=[Hint("heldout", False)])
+        return held, {**skipped, **{name: why for _, name in todo}}
+    grouped = _with_groups(data, p0, pf, groups, by_bounce)
+    folds = min(k, n_groups)
+    for model, name in todo:
+        try:
+            held[name] = _held_out(model, grouped, k=folds, seed=seed, executor=executor,
+                                   split="bounce" if by_bounce else "setting", **fit_kwargs)
+        except SKIPPABLE as exc:
+            if errors == "raise":
+                raise
+            skipped[name] = f"its folds could not be fitted: {str(exc).strip().splitlines()[0]}"
+    return held, skipped
 
 
 def _fit_task(task: tuple) -> FitResult | tuple[str, str]:

@@ -4,3 +4,5 @@ ls report report/laws
 cat report/tables/B_table2.md
 echo "----"
 cat report/tables/B_bootstrap.md
+echo "----"
+cat report/tables/B_assessment.md
