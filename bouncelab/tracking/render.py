@@ -190,7 +190,7 @@ def render_clip(
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     if liftoff is None:
         if law is None:
-            from bouncelab import Rigid
+            from bouncelab.laws import Rigid
 
             law = Rigid.published("A")
         liftoff = np.asarray(law.predict(np.asarray(landing, dtype=float)[None, :], plausible=None),  # any state
