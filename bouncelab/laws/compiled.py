@@ -240,18 +240,13 @@ class CompiledLaw(BounceModel):
         names = [s.name for s in self.parameter_specs]
 
         def args_of(values: Sequence[Any]) -> tuple:
+            if isinstance(values, np.ndarray):  # numba reads a tuple of Python floats faster than NumPy scalars
+                values = values.tolist()
             if self._plain_args:
                 return tuple(values)
             return self._kernel_args(**dict(zip(names, values, strict=True)))
 
         if n < PARALLEL_MIN:
-            if self._plain_args:  # one Python call less per evaluation: a search makes thousands
-                def f_plain(values: Sequence[Any]) -> tuple[float, float, float, float]:
-                    # numba reads a tuple of Python floats faster than one of NumPy scalars
-                    flat = values.tolist() if isinstance(values, np.ndarray) else values
-                    return sums(landing, liftoff, inv_norm, tuple(flat), 0, n)
-                return f_plain
-
             def f(values: Sequence[Any]) -> tuple[float, float, float, float]:
                 return sums(landing, liftoff, inv_norm, args_of(values), 0, n)
             return f
