@@ -211,6 +211,10 @@ def test_interval_shapes_and_levels(quick_posterior) -> None:
     with pytest.raises(FitError) as e:
         post.interval(land, 1.0)
     assert e.value.option == "level"
+    for bad in (0, 1.5, True, "0.9"):
+        with pytest.raises(FitError) as e:
+            post.summary(bad)
+        assert e.value.option == "level"
     with pytest.raises(DataError) as e:
         post.predict([[100.0, 50.0, 0.0]])
     assert (e.value.column, e.value.row) == ("landing.ydot", 1)
@@ -303,6 +307,9 @@ def test_without_intervals_noise_is_fitted() -> None:
     ({"vary": ["r"], "steps": 0}, "steps"),
     ({"vary": ["r"], "chains": 0}, "chains"),
     ({"vary": ["r"], "walkers": 3}, "walkers"),
+    ({"vary": ["r"], "max_steps": 5}, "max_steps"),
+    ({"vary": ["r"], "tau_multiple": 0}, "tau_multiple"),
+    ({"vary": ["r"], "tau_multiple": "50"}, "tau_multiple"),
     ({"vary": ["r"], "approximation": "exact"}, "approximation"),
     ({"vary": ["r"], "sample_weight": np.ones(40)}, "sample_weight"),
 ])

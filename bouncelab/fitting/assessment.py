@@ -73,10 +73,18 @@ import xarray as xr
 from bouncelab.core.errors import FitError
 from bouncelab.data.campaign import make_campaign, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
-from bouncelab.fitting.fitter import SEED_MAX, check_seed, fit, law_instance, refuse_sample_weight
+from bouncelab.fitting.fitter import (
+    SEED_MAX,
+    check_count,
+    check_fraction,
+    check_seed,
+    fit,
+    law_instance,
+    refuse_sample_weight,
+)
 from bouncelab.fitting.objective import bounce_weights, objective_weighting, objective_weights
 from bouncelab.fitting.problem import resolve_fixed
-from bouncelab.fitting.result import FitResult
+from bouncelab.fitting.result import FitResult, _indent
 from bouncelab.fitting.splits import CrossValidation, cross_validate
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.fitting.uncertainty import Bootstrap, bootstrap
@@ -351,15 +359,15 @@ def assess(
     law = law_instance(model)
     refuse_sample_weight(fit_kwargs, "assess")
     seed = check_seed(seed)
-    k = _count(k, "k", minimum=2)
-    n_bootstrap = _count(n_bootstrap, "n_bootstrap", minimum=0)
+    k = check_count(k, "k", minimum=2)
+    n_bootstrap = check_count(n_bootstrap, "n_bootstrap", minimum=0)
     if n_bootstrap == 1:
         raise FitError("n_bootstrap must be 0 (no bootstrap) or at least 2 resamples; got 1", option="n_bootstrap")
-    starts = _count(starts, "starts", minimum=0)
-    profile_points = _count(profile_points, "profile_points", minimum=3)
-    local_points = _count(local_points, "local_points", minimum=0)
-    level = _fraction(level, "level")
-    correlation = _fraction(correlation, "correlation")
+    starts = check_count(starts, "starts", minimum=0)
+    profile_points = check_count(profile_points, "profile_points", minimum=3)
+    local_points = check_count(local_points, "local_points", minimum=0)
+    level = check_fraction(level, "level")
+    correlation = check_fraction(correlation, "correlation")
     null_tol = _positive(null_tol, "null_tol")
     tol = _positive(tol, "tol", zero=True)
     if not law.parameter_specs:
@@ -811,20 +819,6 @@ def _judge(e: _Element, prof: pd.DataFrame, in_null: Mapping[str, set[str]],
             "reason": reason}
 
 
-def _count(value: Any, name: str, *, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
-    return int(value)
-
-
-def _fraction(value: Any, name: str) -> float:
-    try:
-        ok = 0 < float(value) < 1
-    except (TypeError, ValueError):
-        ok = False
-    if not ok or isinstance(value, bool):
-        raise FitError(f"{name} must be a number in (0, 1); got {value!r}", option=name)
-    return float(value)
 
 
 def _positive(value: Any, name: str, *, zero: bool = False) -> float:
@@ -837,8 +831,4 @@ def _positive(value: Any, name: str, *, zero: bool = False) -> float:
         raise FitError(f"{name} must be a {'non-negative' if zero else 'positive'} number; got {value!r}",
                        option=name)
     return v
-
-
-def _indent(text: str, pad: str = "    ") -> str:
-    return "\n".join(pad + line for line in text.splitlines())
 

@@ -192,6 +192,20 @@ def check_seed(seed: Any) -> int:
     return int(seed)
 
 
+def check_count(value: Any, name: str, minimum: int) -> int:
+    """``value`` as an int of at least ``minimum`` (a count option such as ``k`` or ``walkers``), or FitError."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
+    return int(value)
+
+
+def check_fraction(value: Any, name: str) -> float:
+    """``value`` as a float in (0, 1) (a level or a share), or FitError."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value < 1:
+        raise FitError(f"{name} must be a number in (0, 1); got {value!r}", option=name)
+    return float(value)
+
+
 def refuse_sample_weight(fit_kwargs: Mapping[str, Any], where: str,
                          why: str = "it splits or resamples the bounces and the weights would not follow them") -> None:
     """FitError if ``sample_weight`` is among the fit options of a function that cannot honour it."""

@@ -103,7 +103,7 @@ from bouncelab.core.units import COMPONENTS
 from bouncelab.core.validation import as_states
 from bouncelab.data.campaign import interval_sds, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
-from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
+from bouncelab.fitting.fitter import check_count, check_fraction, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.fitting.vector import ParameterVector
 from bouncelab.laws import law_from_dict, law_name
@@ -386,7 +386,7 @@ def calibrate(
     """Hierarchical calibration: population values, spot-to-spot scales and model discrepancy of a law.
 
     See the module documentation (:mod:`bouncelab.fitting.hierarchical`) for the model, the
-    linearisation it uses, the priors and the convergence criteria.
+    approximations it offers, the priors and the convergence criteria.
 
     Parameters
     ----------
@@ -451,10 +451,10 @@ def calibrate(
     if isinstance(vary, str):
         vary = [vary]
     vary = list(vary)
-    chains = _count(chains, "chains", 1)
-    max_steps = _count(max_steps, "max_steps", 10)
+    chains = check_count(chains, "chains", 1)
+    max_steps = check_count(max_steps, "max_steps", 10)
     if steps is not None:
-        steps = _count(steps, "steps", 10)
+        steps = check_count(steps, "steps", 10)
     if not (isinstance(tau_multiple, int | float) and not isinstance(tau_multiple, bool) and tau_multiple > 0):
         raise FitError(f"tau_multiple must be a positive number; got {tau_multiple!r}", option="tau_multiple")
     p0, pf, _ = campaign_arrays(data)
@@ -494,7 +494,7 @@ def calibrate(
             x0[j] = lo + 1e-3 * (hi - lo) if x0[j] <= lo else hi - 1e-3 * (hi - lo)
     mode = _mode(post, x0)
     ndim = post.ndim
-    walkers = max(24, 4 * ndim) if walkers is None else _count(walkers, "walkers", 2 * ndim + 2)
+    walkers = max(24, 4 * ndim) if walkers is None else check_count(walkers, "walkers", 2 * ndim + 2)
     walkers += walkers % 2
     widths = np.array([1e-3 * (post.box[n][1] - post.box[n][0]) for n in free] + [1e-2] * (ndim - len(free)))
     tasks = []
@@ -541,11 +541,6 @@ def calibrate(
 def _data_kind(data: Any) -> str:
     return str(data.attrs.get("data_kind", "unknown")) if isinstance(data, xr.Dataset) else "unknown"
 
-
-def _count(value: Any, name: str, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
-    return int(value)
 
 
 def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
@@ -716,6 +711,7 @@ class Posterior:
 
     def summary(self, level: float = 0.95) -> pd.DataFrame:
         """Per sampled number: median, mean, sd, equal-tailed interval at ``level``, autocorrelation time, R-hat."""
+        level = check_fraction(level, "level")
         lo, hi = 100 * (1 - level) / 2, 100 * (1 + level) / 2
         table = pd.DataFrame({
             "median": self.samples.median(), "mean": self.samples.mean(), "sd": self.samples.std(ddof=1),
@@ -790,7 +786,7 @@ class Posterior:
         """
         p, _ = as_states(landing, "landing", landing=True)
         p = np.ascontiguousarray(p.reshape(-1, 3), dtype=np.float64)
-        n = _count(n, "n", 1)
+        n = check_count(n, "n", 1)
         seed = check_seed(seed)
         m = len(p)
         rng = np.random.default_rng(seed)
@@ -854,8 +850,7 @@ class Posterior:
         lower, upper
             Each of shape (m, 3).
         """
-        if not (isinstance(level, float | int) and 0 < level < 1):
-            raise FitError(f"level must be a number in (0, 1); got {level!r}", option="level")
+        level = check_fraction(level, "level")
         draws = self.predict(landing, n, measurement_error=measurement_error, measurement_sd=measurement_sd,
                              seed=seed)
         lo, hi = np.quantile(draws, [(1 - level) / 2, (1 + level) / 2], axis=0)
