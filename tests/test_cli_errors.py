@@ -201,6 +201,16 @@ def test_input_that_is_not_a_regular_file_is_refused(tmp_path, capsys, kind):
 
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_sheet_by_number_of_a_workbook_that_is_a_fifo_is_refused_without_hanging(tmp_path):
+    """--sheet 1 is resolved by the loader after its file checks (the command line opened the workbook first)."""
+    f = tmp_path / "book.xlsx"
+    os.mkfifo(f)
+    proc = subprocess.run([sys.executable, "-m", "bouncelab", "info", str(f), "--sheet", "1"], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == EXIT_DATA and "not a regular file" in proc.stderr
+
+
 def test_fit_save_survives_a_reader_that_goes_away(tmp_path):
     """`bouncelab fit ... --save F | head -1`: the reader leaves after one line; the law is still saved."""
     import shlex

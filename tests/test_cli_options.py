@@ -41,3 +41,11 @@ def test_parser_names_the_option_and_exits_2(capsys):
         main(["reproduce", "--bootstrap", "-1"])
     assert exit_.value.code == 2
     assert "--bootstrap" in capsys.readouterr().err
+
+
+def test_a_folder_of_clips_includes_npz_and_npy_frame_files(tmp_path):
+    from bouncelab.cli.track import expand_clips
+
+    for name in ("a.npy", "b.npz", "c.mp4", "notes.txt"):
+        (tmp_path / name).write_bytes(b"")
+    assert [p.rsplit("/", 1)[1] for p in expand_clips([str(tmp_path)])] == ["a.npy", "b.npz", "c.mp4"]

@@ -9,7 +9,9 @@ import pytest
 
 import bouncelab as bl
 from bouncelab.core.errors import DataError, NotFittedError
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 
+LANDING = (1000.0, -800.0, 300.0)
 LAWS = [bl.Rigid(r=0.5, mu=0.4), bl.PennerFixed.published("A"), bl.PennerVarying.published("B"),
         bl.PennerFixed.published("B").replace(fade_xdot=40.0), bl.PiecewiseAffine.published("A"),
         bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.3), bl.CompliantImpact(r=0.5, mu=0.6, kappa=1.2),
@@ -65,3 +67,28 @@ def test_a_numpy_law_has_it_too():
             return np.zeros(len(p), dtype=np.int8)
 
     assert OneFastPath(e=0.5).predict_one(1000.0, -800.0, 300.0) == (1000.0, 400.0, 300.0)
+
+
+@pytest.mark.parametrize("law", [bl.Rigid(r=0.5, mu=0.4), bl.CompliantImpact(r=0.5, mu=0.4, kappa=1.5)],
+                         ids=["Rigid", "CompliantImpact"])
+def test_a_law_that_ran_predict_one_still_pickles_and_copies(law):
+    """The compiled entry point predict_one keeps is a cache, not state: pickling and copies leave it out."""
+    import copy
+    import pickle
+
+    before = law.predict_one(*LANDING)
+    again = pickle.loads(pickle.dumps(law))
+    assert again == law and again.predict_one(*LANDING) == before
+    twin = copy.copy(law)
+    assert "_one_entry" not in twin.__dict__ and twin.predict_one(*LANDING) == before
+
+
+def test_equal_ranges_in_a_new_object_are_not_confused_with_freed_ones():
+    law = bl.Rigid(r=0.5, mu=0.4)
+    slow = (1.0, -1.5, 0.0)  # about 0.04 m/s: refused by the default guard
+    with pytest.raises(bl.errors.DataError):
+        law.predict_one(*slow)
+    for _ in range(3):  # a fresh, wider ranges object each time (ids of freed objects may be reused)
+        assert law.predict_one(*slow, plausible=PLAUSIBLE_RANGES.widened(min_landing_speed=0.01))[1] > 0
+        with pytest.raises(bl.errors.DataError):
+            law.predict_one(*slow, plausible=PLAUSIBLE_RANGES.widened(min_landing_speed=0.5))

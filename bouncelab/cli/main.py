@@ -83,14 +83,6 @@ def _load(source: str, args: argparse.Namespace):
     # as flags where they are printed (cli.messages.message).
     options = {key: getattr(args, key) for key in ("sheet", "header_row", "intervals")
                if getattr(args, key, None) is not None}
-    if str(options.get("sheet", "")).isdigit() and Path(source).suffix.lower() in (".xlsx", ".xls"):
-        try:  # --sheet 1: the sheet named "1", or else the 0-based index 1
-            import pandas as pd
-
-            with pd.ExcelFile(source) as book:
-                options["sheet"] = options["sheet"] if options["sheet"] in book.sheet_names else int(options["sheet"])
-        except Exception:  # the loader says what is wrong with the file
-            pass
     return load_campaign(source, columns=columns, units=units or None, missing=getattr(args, "missing", "raise"),
                          **options, **surrogate)
 

@@ -1,6 +1,6 @@
 """``bouncelab track``: high-speed clips of bounces to a campaign file.
 
-Each CLIP is a video file, a folder of images or a ``.npz`` of frames (a folder
+Each CLIP is a video file, a folder of images or a ``.npz``/``.npy`` of frames (a folder
 holding only clips, not images, is expanded to its clips). Clips that fail are
 summarised with the reason and do not stop the others. Exit codes: 0 at least
 one clip measured (the campaign is written), 2 bad command line or an output
@@ -82,7 +82,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                     "reads.",
     )
     p.add_argument("clips", nargs="+", metavar="CLIP",
-                   help="video files (AVI, MP4, ...), folders of images (PNG, TIFF, BMP) or .npz frame files; "
+                   help="video files (AVI, MP4, ...), folders of images (PNG, TIFF, BMP) or .npz/.npy frame files; "
                         "a folder of such clips is expanded")
     p.add_argument("--fps", type=_fps,
                    help="the camera's recording rate, frames/s, 100 to 1e7 (unless in the manifest, the file names "
@@ -111,13 +111,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 def expand_clips(paths: list[str]) -> list[str]:
     """The clips named: a folder with images is one clip; a folder without is expanded to its clips."""
-    from bouncelab.tracking.frames import IMAGE_SUFFIXES, VIDEO_SUFFIXES
+    from bouncelab.tracking.frames import ARRAY_SUFFIXES, IMAGE_SUFFIXES, VIDEO_SUFFIXES
 
     out: list[str] = []
     for p in map(Path, paths):
         if p.is_dir() and not any(q.suffix.lower() in IMAGE_SUFFIXES for q in p.iterdir()):
             inner = sorted(q for q in p.iterdir()
-                           if q.suffix.lower() in (*VIDEO_SUFFIXES, ".npz") or q.is_dir())
+                           if q.suffix.lower() in (*VIDEO_SUFFIXES, *ARRAY_SUFFIXES) or q.is_dir())
             out.extend(str(q) for q in inner)
         else:
             out.append(str(p))

@@ -43,7 +43,6 @@ class ParameterVector:
 
     def __init__(self, law: type[BounceModel] | BounceModel) -> None:
         cls = law if isinstance(law, type) else type(law)
-        self.cls = cls
         self.specs = cls.parameter_specs
         self.keys = [s.name for s in self.specs]
         self.slices: list[slice] = []
@@ -86,7 +85,3 @@ class ParameterVector:
     def predict(self, law: BounceModel, landing: np.ndarray, theta: Any) -> np.ndarray:
         """``law``'s lift-offs of validated landings with the parameters of ``theta`` (no law is built)."""
         return law._evaluate(landing, self.named(theta))
-
-    def regime(self, law: BounceModel, landing: np.ndarray, theta: Any) -> np.ndarray:
-        """``law``'s regime codes of validated landings with the parameters of ``theta``."""
-        return law._classify(landing, self.named(theta))

@@ -219,7 +219,7 @@ class BounceModel:
     @property
     def is_fitted(self) -> bool:
         """True when every parameter has a value."""
-        return all(v is not None for v in self.__dict__["_values"].values())
+        return not self.__dict__["_missing"]
 
     def replace(self, **changes: Any) -> BounceModel:
         """A copy with some keyword arguments changed (validated like the constructor)."""
@@ -702,6 +702,11 @@ class BounceModel:
         return export_law(self, "js", path)
 
     # ------------------------------------------------------------ dunder methods
+    def __getstate__(self) -> dict[str, Any]:
+        # the per-law caches (a compiled entry point, kernel arguments) are rebuilt on use: a compiled
+        # function cannot be pickled, and a copy with other provenance should not share them
+        return {k: v for k, v in self.__dict__.items() if k not in _CACHES}
+
     def __repr__(self) -> str:
         parts = []
         defaults = {o.name: o.default for o in self.option_specs}
@@ -749,20 +754,28 @@ def _one_landing(xdot: Any, ydot: Any, omega: Any) -> tuple[float, float, float]
     return x, y, w
 
 
-_LIMITS: dict[tuple[int, float], tuple[float, float, float, float]] = {}
+#: Entries of a law's __dict__ that are caches, not state (see BounceModel.__getstate__).
+_CACHES = ("_args_cache", "_one_entry")
+
+#: (id of the ranges, radius) -> (the ranges, their limits). Holding the ranges keeps their id from being reused
+#: by another object while cached; keying by id keeps the lookup cheap on the single-bounce path.
+_LIMITS: dict[tuple[int, float], tuple[PlausibleRanges, tuple[float, float, float, float]]] = {}
 
 
 def _plausible_one(x: float, y: float, w: float, ranges: PlausibleRanges, radius_m: float | None) -> bool:
     """Whether one landing passes the unit guard (the comparisons of plausibility.landing_faults, in floats)."""
     radius = BALL_RADIUS_M if radius_m is None else radius_m
     key = (id(ranges), radius)
-    limits = _LIMITS.get(key)
-    if limits is None:
+    cached = _LIMITS.get(key)
+    if cached is not None:
+        limits = cached[1]
+    else:
         if radius_m is not None:
             from bouncelab.laws._physical_io import radius_of
 
             radius = radius_of(radius_m)
-        limits = _LIMITS[key] = landing_limits(radius, ranges)
+        limits = landing_limits(radius, ranges)
+        _LIMITS[key] = (ranges, limits)
         if len(_LIMITS) > 64:  # a few ranges and balls in a program: keep the cache small
             _LIMITS.pop(next(iter(_LIMITS)))
     min_s2, max_s2, max_w, tan_a = limits

@@ -4,7 +4,8 @@ returns, and the decorator that registers a law's own fitting methods.
 A law's fitting method is an ordinary method decorated with :func:`fit_method`; it receives a
 :class:`FitProblem` (the validated bounces, the search box, the held parameters and services: the
 objective of a law, NLopt's search, the generic global method) and returns a :class:`FitOutcome`.
-It never handles a parameter vector: the problem's services take and give laws.
+Parameters go in and out as laws (:meth:`FitProblem.value`, :meth:`FitProblem.run_global`); only
+:meth:`FitProblem.search`, NLopt's own search, works on a vector of numbers in the unit box.
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ class FitProblem(Protocol):
         Held-out ``(landing, liftoff)`` or None (for information; never fitted).
     sample_weight
         The user's weight of each bounce (positive: bounces of weight 0 are left out; mean 1), or None. It is in
-        ``inv_norm`` (so in :meth:`objective`); a method that fits anything else from the
+        ``inv_norm`` (so in :meth:`value`); a method that fits anything else from the
         bounces (least squares, a classifier) must weigh them by it too.
     """
 

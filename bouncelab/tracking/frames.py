@@ -59,7 +59,8 @@ __all__ = [
 
 IMAGE_SUFFIXES = (".png", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
 VIDEO_SUFFIXES = (".avi", ".mp4", ".mov", ".mkv", ".m4v", ".wmv", ".mpg", ".mpeg")
-_NPZ_SUFFIXES = (".npz", ".npy")
+#: Files of frames saved with NumPy: a .npz of frames (and its fps) or a .npy array of frames.
+ARRAY_SUFFIXES = (".npz", ".npy")
 #: Containers that store their frame count (a shortfall of more than one frame is a truncated file); others
 #: (MPEG streams, WMV) only estimate it from the duration.
 _COUNTED_VIDEO = (".avi", ".mp4", ".mov", ".m4v", ".mkv")

@@ -77,7 +77,8 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     campaign, surface
         Names stored in the attrs (default: the file stem and ``""``; a campaign file's own).
     sheet
-        Excel sheet name or 0-based index (default: the first visible sheet).
+        Excel sheet name or 0-based index (default: the first visible sheet); a string of digits that
+        names no sheet is read as an index (``"1"``: the sheet named "1", else the second sheet).
     ball_radius_m
         Ball radius in metres, to scale the velocities (21.35 is refused as millimetres).
     plausible

@@ -357,6 +357,8 @@ def read_excel(path: Path, file: str, sheet: str | int | None, header_row: int |
                     raise DataError(f"every sheet of the workbook is hidden ({names}); name the one to read", file=file,
                                     hints=[Hint("sheet", names[0])])
                 sheet = visible[0]  # the first sheet a person sees in Excel
+            if isinstance(sheet, str) and sheet.isdigit() and sheet not in names:
+                sheet = int(sheet)  # "1" (as a command line gives it): the sheet named "1", else the index 1
             index = isinstance(sheet, int) and not isinstance(sheet, bool)
             if index and not 0 <= sheet < len(names):
                 raise DataError(f"sheet index {sheet} out of range; the workbook's sheets are {names}", file=file)
