@@ -307,3 +307,16 @@ def test_compare_held_out_errors_and_options(campaign_b):
     for skipped in (bl.compare(one, ["Rigid"], heldout=True, errors="skip"), bl.compare(one, ["Rigid"])):
         assert "one launcher setting only" in skipped.heldout_skipped["Rigid"] and skipped.heldout == {}
         assert np.isnan(skipped.table.loc["Rigid", "heldout_delta"]) and "Rigid" in skipped.results
+
+
+def test_held_out_errors_is_what_compare_and_assess_report():
+    """bouncelab.fitting.assessment.held_out_errors, the public form of the held-out figures, gives compare's."""
+    from bouncelab.fitting.assessment import held_out_errors
+
+    data = bl.load_campaign("B", surrogate="published")
+    alone = held_out_errors(bl.Rigid, data, k=3, seed=0)
+    assert alone.split == "setting" and alone.k == 3 and alone.scores["n"] == data.sizes["bounce"]
+    cmp = bl.compare(data, ["Rigid"], k=3, seed=0, heldout=True)
+    assert cmp.heldout["Rigid"].scores == alone.scores
+    pair = held_out_errors(bl.Rigid, (data.landing.values[:60], data.liftoff.values[:60]), k=4, seed=0)
+    assert pair.split == "bounce" and pair.scores["n"] == 60

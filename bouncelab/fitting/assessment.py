@@ -373,10 +373,9 @@ def assess(
     if not law.parameter_specs:
         raise FitError(f"assess needs a law with parameters; {law_name(law)} has none", law=law_name(law))
 
-    p0, pf, setting = campaign_arrays(data)
+    p0, pf, _ = campaign_arrays(data)
     n = len(p0)
-    split = "setting" if setting is not None else "bounce"
-    groups = np.asarray(setting) if setting is not None else np.arange(n)
+    cv_data, groups, split = _fold_groups(data)
     n_groups = len(pd.unique(groups))
     if k > n_groups:
         raise FitError(f"k = {k} folds need at least {k} launcher settings (or bounces); the data have {n_groups}",
@@ -395,7 +394,6 @@ def assess(
     later_level = {**fit_level, "plausible": None}
 
     # 2. held-out errors by grouped folds
-    cv_data = _with_groups(data, p0, pf, groups, setting is None)
     held_out = _held_out(law, cv_data, k=k, seed=seed, executor=client, split=split, method=method, **later)
     cv = held_out.cross_validation
     # 3. the bootstrap
@@ -588,16 +586,13 @@ def held_out_errors(model: Any, data: Any, *, k: int = 5, seed: int = 0, executo
     FitError
         ``k`` is not an integer between 2 and the number of settings (or bounces), or a fold cannot be fitted.
     """
-    p0, pf, setting = campaign_arrays(data)
-    by_bounce = setting is None
-    groups = np.arange(len(p0)) if by_bounce else np.asarray(setting)
-    return _held_out(model, _with_groups(data, p0, pf, groups, by_bounce), k=k, seed=seed, executor=executor,
-                     split="bounce" if by_bounce else "setting", **fit_kwargs)
+    grouped, _, split = _fold_groups(data)
+    return _held_out(model, grouped, k=k, seed=seed, executor=executor, split=split, **fit_kwargs)
 
 
 def _held_out(model: Any, grouped: Any, *, k: int, seed: int, executor: Any, split: str,
               **fit_kwargs: Any) -> HeldOut:
-    """:func:`held_out_errors` on data that carry their groups as ``setting`` (see :func:`_with_groups`)."""
+    """:func:`held_out_errors` on data that carry their groups as ``setting`` (see :func:`_fold_groups`)."""
     cv = cross_validate(model, grouped, k=k, seed=seed, executor=executor, **fit_kwargs)
     folds = cv.folds
     weights = folds["n_test"].to_numpy(dtype=float)
@@ -701,13 +696,16 @@ def _fit_task(task: tuple) -> np.ndarray:
     return ParameterVector(fitted).of(fitted)
 
 
-def _with_groups(data: Any, p0: np.ndarray, pf: np.ndarray, groups: np.ndarray, by_bounce: bool) -> Any:
-    """The data as a campaign whose ``setting`` is each bounce's group (its own index without settings)."""
-    if not by_bounce:
-        return data
+def _fold_groups(data: Any) -> tuple[Any, np.ndarray, str]:
+    """The data as a campaign whose ``setting`` is each bounce's fold group, the groups, and the split:
+    ``"setting"`` (the data's launcher settings) or ``"bounce"`` (no settings: each bounce its own group)."""
+    p0, pf, setting = campaign_arrays(data)
+    if setting is not None:
+        return data, np.asarray(setting), "setting"
+    groups = np.arange(len(p0))
     if isinstance(data, xr.Dataset):
-        return data.assign_coords(setting=("bounce", groups))
-    return make_campaign(p0, pf, setting=groups, plausible=None)
+        return data.assign_coords(setting=("bounce", groups)), groups, "bounce"
+    return make_campaign(p0, pf, setting=groups, plausible=None), groups, "bounce"
 
 
 def _paired_change(diff: np.ndarray, codes: np.ndarray) -> tuple[float, float]:

@@ -30,8 +30,7 @@ import xarray as xr
 from bouncelab.core import published
 from bouncelab.core.errors import DataError, FitError, Hint, ParameterError
 from bouncelab.data.campaign import synthetic_warning
-from bouncelab.data.inputs import campaign_arrays
-from bouncelab.fitting.assessment import HeldOut, _held_out, _with_groups
+from bouncelab.fitting.assessment import HeldOut, _fold_groups, _held_out
 from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
@@ -566,9 +565,7 @@ def _held_out_all(data: Any, models: Sequence[BounceModel], names: Sequence[str]
     todo = [(m, name) for m, name in zip(models, names, strict=True) if name in cross and name in results]
     if not todo:
         return held, skipped
-    p0, pf, setting = campaign_arrays(data)
-    by_bounce = setting is None
-    groups = np.arange(len(p0)) if by_bounce else np.asarray(setting)
+    grouped, groups, split = _fold_groups(data)
     n_groups = len(pd.unique(groups))
     if n_groups < 2:
         why = "one launcher setting only: no fold of settings can be held out"
@@ -576,12 +573,11 @@ def _held_out_all(data: Any, models: Sequence[BounceModel], names: Sequence[str]
             raise FitError(f"compare's held-out errors need two or more launcher settings: {why}", option="heldout",
                            hints=[Hint("heldout", False)])
         return held, {**skipped, **{name: why for _, name in todo}}
-    grouped = _with_groups(data, p0, pf, groups, by_bounce)
     folds = min(k, n_groups)
     for model, name in todo:
         try:
-            held[name] = _held_out(model, grouped, k=folds, seed=seed, executor=executor,
-                                   split="bounce" if by_bounce else "setting", **fit_kwargs)
+            held[name] = _held_out(model, grouped, k=folds, seed=seed, executor=executor, split=split,
+                                   **fit_kwargs)
         except SKIPPABLE as exc:
             if errors == "raise":
                 raise
