@@ -9,7 +9,7 @@ or the bounces measured are not golf bounces at the frame rate given.
 
 The frame rate, the file-name pattern and the outputs are checked before any
 clip is tracked: ``--fps`` must be a finite number of frames per second within
-:data:`FPS_RANGE`; ``--pattern`` must compile, name only groups that set
+:data:`CAMERA_FPS_RANGE`; ``--pattern`` must compile, name only groups that set
 something, and match each file name (the name only, never its folder) within
 :data:`PATTERN_SECONDS` (a pattern with catastrophic backtracking, such as
 ``(a+)+$``, is stopped and refused instead of hanging); ``--out`` must be a
@@ -35,8 +35,9 @@ from bouncelab.core.errors import DataError
 
 #: Frame rates ``--fps`` accepts, frames/s. Below 100 no camera films a golf bounce (a ball at 25 m/s moves
 #: 0.25 m between frames, the whole contact falls between two of them): 24-60 frames/s is the playback rate a
-#: video container stores, not the camera's. Above 10^7 no video camera records.
-FPS_RANGE = (100.0, 1e7)
+#: video container stores, not the camera's. Above 10^7 no video camera records. (The library, which also reads
+#: slow test clips, accepts 1 to 10^7: bouncelab.tracking.FPS_RANGE.)
+CAMERA_FPS_RANGE = (100.0, 1e7)
 #: Longest ``--pattern`` may take to match one file name, in seconds (a file name matches in microseconds).
 PATTERN_SECONDS = 1.0
 #: The named groups ``--pattern`` may set (bouncelab.tracking.clip_settings).
@@ -46,9 +47,9 @@ _FPS_HINT = "give the camera's recording rate, e.g. --fps 5000 (not the video's 
 
 
 def _fps(text: str) -> float:
-    """--fps: frames per second within FPS_RANGE (argparse type)."""
+    """--fps: frames per second within CAMERA_FPS_RANGE (argparse type)."""
     value = finite(text)
-    low, high = FPS_RANGE
+    low, high = CAMERA_FPS_RANGE
     if value <= 0:
         raise argparse.ArgumentTypeError(f"must be a positive number of frames per second; got {text!r}")
     if value < low:
@@ -267,8 +268,8 @@ def _fps_source(setting) -> str:
 
 
 def _check_frame_rates(settings: dict) -> None:
-    """A frame rate from the manifest or a file name within FPS_RANGE, or a DataError naming where it came from."""
-    low, high = FPS_RANGE
+    """A frame rate from the manifest or a file name within CAMERA_FPS_RANGE, or a DataError saying where from."""
+    low, high = CAMERA_FPS_RANGE
     for clip, s in settings.items():
         if s.fps is not None and not low <= s.fps <= high:
             raise DataError(f"{_fps_source(s)} is not a camera's recording rate ({low:g} to {high:.0e} frames/s); "

@@ -173,7 +173,7 @@ def positive(value: Any, name: str, *, allow_zero: bool = False, error: type = P
 
 def check_law(law: Any) -> BounceModel:
     """``law`` if it is a bounce law with all its parameters, else a ParameterError."""
-    from bouncelab.laws import BounceModel
+    from bouncelab.laws import BounceModel, law_name
 
     if not isinstance(law, BounceModel):
         raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
@@ -182,8 +182,8 @@ def check_law(law: Any) -> BounceModel:
         from bouncelab.core.errors import NotFittedError
 
         missing = [k for k, v in law.parameters.items() if v is None]
-        raise NotFittedError(f"{type(law).__name__} has no value for {missing}: fit it or give the values",
-                             law=type(law).__name__, missing=missing, parameter="law")
+        raise NotFittedError(f"{law_name(law)} has no value for {missing}: fit it or give the values",
+                             law=law_name(law), missing=missing, parameter="law")
     return law
 
 
