@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
-           "inverse_norms"]
+           "inverse_norms", "is_dataarray"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
@@ -70,7 +70,7 @@ def as_states(
         Wrong shape, non-numeric, NaN or infinite values, or a landing with
         ``ydot >= 0``; the message names the row and component.
     """
-    if _is_dataarray(states):
+    if is_dataarray(states):
         return _from_dataarray(states, name, landing=landing, file=file, defer_check=defer_check)
     labelled = states
     states = _from_labelled(states, name, file)
@@ -181,7 +181,8 @@ def _component_order(labels: list[str]) -> list[int] | None:
     return None
 
 
-def _is_dataarray(obj: Any) -> bool:
+def is_dataarray(obj: Any) -> bool:
+    """Whether ``obj`` is an xarray DataArray (without importing xarray to ask)."""
     xr = sys.modules.get("xarray")  # a DataArray exists only if xarray was imported: never imported just to ask
     return xr is not None and isinstance(obj, xr.DataArray)
 

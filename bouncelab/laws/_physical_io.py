@@ -8,7 +8,6 @@ same index and named columns).
 
 from __future__ import annotations
 
-import sys
 from typing import Any
 
 import numpy as np
@@ -25,7 +24,7 @@ from bouncelab.core.units import (
     scaled_to_physical,
     unit_pair,
 )
-from bouncelab.core.validation import check_downward
+from bouncelab.core.validation import check_downward, is_dataarray
 
 __all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
 
@@ -69,8 +68,7 @@ def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: f
 
 def is_lazy(x: Any) -> bool:
     """True for a DataArray backed by a dask array (predicted lazily, chunk by chunk)."""
-    xr = sys.modules.get("xarray")  # a DataArray exists only if xarray was imported: never imported to ask
-    return xr is not None and isinstance(x, xr.DataArray) and x.chunks is not None
+    return is_dataarray(x) and x.chunks is not None
 
 
 def _lazy_input(da: Any) -> Any:
@@ -136,8 +134,7 @@ class PhysicalIO:
         """The landings as a scaled Cartesian (..., 3) float array."""
         import pandas as pd
 
-        xr = sys.modules.get("xarray")
-        if xr is not None and isinstance(landing, xr.DataArray):
+        if is_dataarray(landing):
             raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
                             "in scaled units (see bouncelab.core.units)", option=io_option(self.units, self.form_in),
                             hints=[Hint("landing", Code("landing.values"), "its numbers, in the units and form given")])
