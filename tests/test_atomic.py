@@ -53,3 +53,19 @@ def test_missing_folder_and_directory_target_are_refused(tmp_path):
         atomic_write_text(tmp_path / "nope" / "x.txt", "x")
     with pytest.raises(IsADirectoryError):
         atomic_write_text(tmp_path, "x")
+
+
+def test_every_to_json_with_a_path_words_a_failed_write_as_an_output_error(tmp_path):
+    """Laws, surfaces and exported laws write through core.atomic.write_output: an OutputError naming the path."""
+    import bouncelab as bl
+    from bouncelab.core.errors import OutputError
+    from bouncelab.ground import Surface
+
+    target = tmp_path / "missing" / "out.json"
+    law = bl.Rigid(r=0.5, mu=0.4)
+    for write in (law.to_json, Surface(name="test", law=law, sliding_friction=0.4, stimp_m=3.0).to_json,
+                  law.to_c):
+        with pytest.raises(OutputError) as err:
+            write(target)
+        assert (err.value.path, err.value.reason) == (str(target), "no such folder")
+        assert isinstance(err.value, OSError) and not target.parent.exists()

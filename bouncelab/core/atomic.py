@@ -17,7 +17,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text"]
+__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text", "write_output"]
 
 
 def _umask() -> int:
@@ -83,3 +83,20 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
 def atomic_write_text(path: str | os.PathLike[str], text: str, encoding: str = "utf-8") -> Path:
     """Write ``text`` to ``path`` atomically (see :func:`atomic_path`); returns ``path``."""
     return atomic_write_bytes(path, text.encode(encoding))
+
+
+def write_output(path: str | os.PathLike[str], text: str, what: str) -> Path:
+    """:func:`atomic_write_text`, its failure an :class:`~bouncelab.core.errors.OutputError` naming ``what``
+    (e.g. ``"the law"``) and the path, with the operating system's reason; nothing is written then."""
+    from bouncelab.core.errors import OutputError
+
+    try:
+        return atomic_write_text(path, text)
+    except OSError as exc:
+        if exc.strerror:
+            said, reason = f"cannot write {what} to {str(path)!r}: {exc.strerror}", exc.strerror
+        else:  # atomic_path's own checks say it in full
+            said = f"{what}: {exc}"
+            reason = {FileNotFoundError: "no such folder", IsADirectoryError: "a folder"}.get(type(exc), str(exc))
+        raise OutputError(f"{said}; nothing was written (a file already there is unchanged)", path=str(path),
+                          reason=reason, errno=getattr(exc, "errno", None)) from None

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import OutputError, ParameterError
+from bouncelab.core.errors import ParameterError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 from bouncelab.core.units import BALL_RADIUS_M, CONVENTIONS
 from bouncelab.export.translate import (
@@ -89,18 +89,9 @@ def export_law(law: Any, lang: str, path: str | Path | None = None, *, prefix: s
                              parameter="prefix", value=prefix)
     text = c_header(law, prefix=prefix) if lang == "c" else js_module(law)
     if path is not None:
-        from bouncelab.core.atomic import atomic_write_text
+        from bouncelab.core.atomic import write_output
 
-        try:
-            atomic_write_text(path, text)
-        except OSError as exc:
-            if exc.strerror:
-                said, reason = f"cannot write the exported law to {str(path)!r}: {exc.strerror}", exc.strerror
-            else:  # bouncelab.core.atomic's own checks say it in full
-                said = f"the exported law: {exc}"
-                reason = {FileNotFoundError: "no such folder", IsADirectoryError: "a folder"}.get(type(exc), str(exc))
-            raise OutputError(f"{said}; nothing was written (a file already there is unchanged)", path=str(path),
-                              reason=reason, errno=getattr(exc, "errno", None)) from None
+        write_output(path, text, "the exported law")
     return text
 
 

@@ -185,9 +185,9 @@ class Surface:
         """JSON text of :meth:`to_dict`; also written to ``path`` if given (atomically)."""
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            from bouncelab.core.atomic import atomic_write_text
+            from bouncelab.core.atomic import write_output
 
-            atomic_write_text(path, text + "\n")
+            write_output(path, text + "\n", "the surface")
         return text
 
     @classmethod

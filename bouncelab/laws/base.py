@@ -668,15 +668,9 @@ class BounceModel:
         """
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            from bouncelab.core.atomic import atomic_write_text
-            from bouncelab.core.errors import OutputError
+            from bouncelab.core.atomic import write_output
 
-            try:
-                atomic_write_text(path, text + "\n")
-            except OSError as exc:
-                reason = exc.strerror or str(exc)
-                raise OutputError(f"cannot write the law to {str(path)!r}: {reason}; nothing was written (a file "
-                                  "already there is unchanged)", path=str(path), reason=reason) from None
+            write_output(path, text + "\n", "the law")
         return text
 
     def to_c(self, path: str | Path | None = None, *, prefix: str = "bouncelab_") -> str:
