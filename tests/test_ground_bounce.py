@@ -230,6 +230,9 @@ def test_bad_input_is_refused_with_a_typed_error_naming_it():
     e = refused(DataError, law, [1000.0, np.nan, -800.0], [0.0, 0.0, 0.0])
     assert (e.column, e.row) == ("velocity_y", 1)  # not finite
     assert refused(DataError, law, [1000.0, -800.0], [0.0, 0.0, 0.0]).option == "velocity"  # not (3,) or (n, 3)
+    for not_numbers in (["1000", "0", "-800"], [True, False, True], [1000 + 1j, 0, -800]):  # would become floats
+        assert refused(DataError, law, not_numbers, [0.0, 0.0, 0.0]).option == "velocity"
+    assert refused(DataError, law, [1000.0, 0.0, -800.0], ["0", "0", "0"]).option == "spin"
     e = refused(DataError, law, [[1000.0, 0.0, -800.0]] * 3, [[0.0, 0.0, 0.0]] * 2)
     assert e.option == "spin"  # its rows do not match the velocity's
     e = refused(DataError, law, [10.0, 0.0, -8.0], [0.0, 0.0, 0.0], units={"velocity": "furlong/s", "spin": "rpm"})

@@ -20,7 +20,8 @@ if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
-           "inverse_norms", "is_dataarray"]
+           "inverse_norms", "is_dataarray",
+           "refuse_non_numeric"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
@@ -87,11 +88,7 @@ def as_states(
         raw = np.asarray(states)
     except (TypeError, ValueError, OverflowError, RecursionError) as exc:
         raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file, option=name) from None
-    if raw.dtype.kind in "cbUSVMm":
-        what = {"c": "complex", "b": "boolean", "U": "text", "S": "bytes", "V": "structured", "M": "dates",
-                "m": "time spans"}[raw.dtype.kind]
-        raise DataError(f"{name} must be numeric: real numbers (xdot, ydot, omega); got {what} values", file=file,
-                        option=name)
+    refuse_non_numeric(raw, name, "xdot, ydot, omega", file=file)
     try:
         arr = raw.astype(np.float64) if raw.dtype != np.float64 else raw
     except (TypeError, ValueError, OverflowError) as exc:
@@ -179,6 +176,20 @@ def _component_order(labels: list[str]) -> list[int] | None:
         if all(labels.count(n) == 1 for n in names):
             return [labels.index(n) for n in names]
     return None
+
+
+#: Array kinds that are not real numbers, though NumPy would turn some of them into floats.
+_NOT_REAL = {"c": "complex", "b": "boolean", "U": "text", "S": "bytes", "V": "structured", "M": "dates",
+             "m": "time spans"}
+
+
+def refuse_non_numeric(raw: np.ndarray, name: str, components: str, *, file: str | None = None) -> None:
+    """DataError when ``raw`` holds complex, boolean, text, bytes, structured or date values (which
+    ``astype(float)`` would silently turn into numbers); ``components`` names what the numbers are."""
+    what = _NOT_REAL.get(raw.dtype.kind)
+    if what is not None:
+        raise DataError(f"{name} must be numeric: real numbers ({components}); got {what} values", file=file,
+                        option=name)
 
 
 def is_dataarray(obj: Any) -> bool:

@@ -19,6 +19,7 @@ from bouncelab.core.units import (
     velocity_from_scaled,
     velocity_to_scaled,
 )
+from bouncelab.core.validation import refuse_non_numeric
 
 if TYPE_CHECKING:
     from bouncelab.laws import BounceModel
@@ -100,11 +101,14 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise DataError(f"{name} has masked (missing) values; remove or fill them first", option=name)
     try:
-        arr = np.array(np.ma.getdata(value), dtype=float)
+        raw = np.asarray(np.ma.getdata(value))
     except (TypeError, ValueError) as exc:
         raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
-    if np.iscomplexobj(np.asarray(np.ma.getdata(value))):
-        raise DataError(f"{name} must be real numbers; got complex values", option=name)
+    refuse_non_numeric(raw, name, "x, y, z")
+    try:
+        arr = np.array(raw, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
     if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
         raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}",
                         option=name)
