@@ -491,6 +491,11 @@ def test_penner_jump_at_vertical_impact_and_its_continuous_variant():
     with pytest.raises(ParameterError) as err:
         law.replace(fade_xdot=-1.0)
     assert (err.value.law, err.value.parameter, err.value.value) == ("PennerFixed", "fade_xdot", -1.0)
+    for not_a_speed in ("50", True, np.nan, [50.0]):  # the tilted-surface laws share one check with CraterContact
+        with pytest.raises(ParameterError) as err:
+            law.replace(fade_xdot=not_a_speed)
+        assert err.value.parameter == "fade_xdot"
+    assert law.replace(fade_xdot=None).fade_xdot is None and law.replace(fade_xdot=40).fade_xdot == 40.0
     beta = bl.PennerVarying.published("A").replace(fade_xdot=30.0).beta_deg([[15.0, -900.0, 0.0], [0.0, -900.0, 0.0]])
     assert beta[1] == 0.0 and 0 < beta[0] < bl.PennerVarying.published("A").beta_deg([[15.0, -900.0, 0.0]])[0]
 

@@ -6,25 +6,14 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import ParameterError
 from bouncelab.laws.compiled import CompiledLaw
-from bouncelab.laws.parameters import Option, Parameter
+from bouncelab.laws.parameters import Option, Parameter, fade_speed
 
 __all__ = ["CRATER_FADE_XDOT", "CraterContact"]
 
 #: Default of the ``fade_xdot`` option (radii/s): the crater wall's tilt fades to zero below this xdot0.
 CRATER_FADE_XDOT = 50.0
 
-
-def _check_fade(value: Any, law: str) -> float:
-    if isinstance(value, bool | str | bytes) or not isinstance(value, int | float | np.number):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s; got {value!r}", law=law,
-                             parameter="fade_xdot", value=value)
-    fade = float(value)
-    if not (np.isfinite(fade) and fade > 0):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s; got {value!r}",
-                             law=law, parameter="fade_xdot", value=value)
-    return fade
 
 
 def _kernels():
@@ -167,7 +156,7 @@ class CraterContact(CompiledLaw):
                        doc="tilt growth with |ydot0|")
     beta_t = Parameter(bounds=(0.0, 30.0), physical=(0.0, 100.0), unit="deg per 1000 radius/s",
                        doc="tilt growth with |xdot0|")
-    fade_xdot = Option(default=CRATER_FADE_XDOT, check=_check_fade,
+    fade_xdot = Option(default=CRATER_FADE_XDOT, check=fade_speed,
                        doc="radii/s below which the crater wall's tilt fades linearly to zero (positive)")
     regimes = ("slip", "grip", "reversed")
 

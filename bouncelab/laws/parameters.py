@@ -32,6 +32,7 @@ Examples
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
@@ -302,6 +303,22 @@ class Option:
         if self.check is None or value is self.default:
             return value
         return self.check(value, law)
+
+
+def fade_speed(value: Any, law: str, *, optional: bool = False) -> float | None:
+    """The ``fade_xdot`` option of the tilted-surface laws: a positive, finite number of radii/s (or None
+    when ``optional``), else a ParameterError naming the law and the option. An ``Option(check=...)``."""
+    if value is None and optional:
+        return None
+    what = "a positive number of radii/s" + (" or None" if optional else "")
+    if isinstance(value, bool | str | bytes) or not isinstance(value, numbers.Real):
+        raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {value!r}", law=law,
+                             parameter="fade_xdot", value=value)
+    fade = float(value)
+    if not (math.isfinite(fade) and fade > 0):
+        raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {value!r}", law=law,
+                             parameter="fade_xdot", value=value)
+    return fade
 
 
 class Parameters(Mapping[str, Parameter]):

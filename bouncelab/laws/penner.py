@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
@@ -9,10 +10,9 @@ from typing import Any
 import numpy as np
 
 from bouncelab.core import published as _published
-from bouncelab.core.errors import ParameterError
 from bouncelab.core.validation import as_states
 from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, landing_bits, run_chunked, run_rows
-from bouncelab.laws.parameters import Option, Parameter
+from bouncelab.laws.parameters import Option, Parameter, fade_speed
 from bouncelab.laws.rigid import MU, R
 
 __all__ = ["K_P_MAX", "PennerFixed", "PennerVarying"]
@@ -60,19 +60,6 @@ def _kernels():
 
     return _kernels
 
-
-def _check_fade(value: Any, law: str) -> float | None:
-    if value is None:
-        return None
-    try:
-        v = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a number of radii/s or None; got {value!r}",
-                             law=law, parameter="fade_xdot", value=value) from None
-    if not (math.isfinite(v) and v > 0):
-        raise ParameterError(f"{law} option 'fade_xdot' must be a positive number of radii/s or None; got {value!r}",
-                             law=law, parameter="fade_xdot", value=value)
-    return v
 
 
 class _Penner(CompiledLaw):
@@ -126,7 +113,7 @@ class _Penner(CompiledLaw):
 
 
 #: Penner's laws' option (declared on each law after its angle, as the constructor takes it).
-_FADE = dict(default=None, check=_check_fade,
+_FADE = dict(default=None, check=functools.partial(fade_speed, optional=True),
              doc="radii/s over which the tilt fades to zero as xdot0 -> 0 (None: the published law)")
 
 
