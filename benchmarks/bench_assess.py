@@ -1,14 +1,15 @@
 """Time of ``bouncelab.assess`` and ``bouncelab.calibrate`` on a 693-bounce campaign, beside the plain fit.
 
-Run: ``python benchmarks/bench_assess.py`` (a few minutes without TurfContact's calibration; add
-``--turf`` for it, which takes tens of minutes). Issue 24's targets, on 2 cores:
+Run: ``python benchmarks/bench_assess.py`` (about a minute without TurfContact's calibration; add
+``--turf`` for it, which takes about a quarter of an hour). Issue 24's targets, on 2 cores:
 
 * ``assess`` of a rigid-family law (default Rigid, with assess's default counts: 5 folds,
   100 bootstrap resamples, 4 global starts, profiles of 11 + 2 x 3 points per parameter) under 10 s;
 * ``calibrate`` of a rigid-family law (default Rigid, ``vary=["r", "mu"]``, run until converged)
   under 2 minutes;
-* ``calibrate`` of TurfContact (``vary=["mu", "lam"]``) under 20 minutes, its chains on a dask
-  ``Client`` with ``--workers`` (one chain per worker).
+* ``calibrate`` of TurfContact (``vary=["mu", "lam"]``) under 20 minutes: one chain, its walkers
+  shared by the threads of the process (``--chains N`` with ``--workers`` runs N chains on the dask
+  workers instead; each chain still needs the full length, so that does not shorten the run).
 
 Each row prints the time of the plain ``bouncelab.fit`` of the same law on the same data. The
 compiled kernels are loaded before any timing (one small fit). ``--workers N`` also times
@@ -61,11 +62,11 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--assess-law", default="Rigid", help="rigid-family law to assess")
     ap.add_argument("--calibrate-law", default="Rigid", help="rigid-family law to calibrate (vary r and mu)")
     ap.add_argument("--workers", type=int, default=0,
-                    help="also time assess on a LocalCluster of this many workers; TurfContact's chains run on it")
-    ap.add_argument("--turf", action="store_true", help="also calibrate TurfContact (tens of minutes)")
+                    help="also time assess on a LocalCluster of this many workers (and --chains on it)")
+    ap.add_argument("--turf", action="store_true", help="also calibrate TurfContact (about 15 minutes)")
     ap.add_argument("--turf-vary", nargs="+", default=["mu", "lam"], help="TurfContact parameters that vary")
     ap.add_argument("--chains", type=int, default=None,
-                    help="TurfContact's chains (default: --workers, at least 1)")
+                    help="TurfContact's chains (default 1; with --workers they run on the cluster)")
     args = ap.parse_args(argv)
 
     ds = bl.load_campaign(args.campaign, surrogate=args.surrogate)
@@ -109,13 +110,14 @@ def main(argv: list[str] | None = None) -> list[dict]:
     # calibrate, TurfContact
     if args.turf:
         fit_s, _ = _timed(bl.fit, bl.TurfContact, ds)
-        chains = args.chains or max(1, args.workers)
+        chains = args.chains or 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", bl.errors.BouncelabWarning)
             secs, post = _timed(bl.calibrate, bl.TurfContact, ds, vary=args.turf_vary, seed=0, chains=chains,
-                                client=client)
+                                client=client if args.chains else None)
         d = post.diagnostics
-        where = f"{chains} chain(s)" + (f" on {args.workers} workers" if client is not None else ", serial")
+        where = f"{chains} chain(s)" + (f" on {args.workers} workers" if client is not None and args.chains
+                                         else f", walkers on {bl.laws.num_threads()} threads")
         rows.append({"task": f"calibrate TurfContact (vary {', '.join(args.turf_vary)})", "s": secs, "fit_s": fit_s,
                      "target_s": 1200.0,
                      "note": f"{'converged' if post.converged else 'NOT converged: ' + d['reason']}; {where}; "

@@ -351,3 +351,124 @@ def test_chains_on_client_equal_serial() -> None:
     pd.testing.assert_frame_equal(remote.samples, serial.samples, check_exact=True)
     assert serial.diagnostics["chains"] == 2 and serial.diagnostics["walkers"] == 28
     assert not other.samples.equals(serial.samples)
+
+
+# ------------------------------------------------------------------------------ the sampler's start and stop
+class _Quadratic:
+    """A stand-in log posterior: a normal density with covariance ``cov`` about ``centre`` (plus ``bend``,
+    an extra quadratic form), a uniform prior on x[0] >= ``floor``."""
+
+    def __init__(self, cov: np.ndarray, centre: np.ndarray, bend: np.ndarray | None = None, floor: float = -np.inf):
+        self.prec = np.linalg.inv(cov) + (0 if bend is None else bend)
+        self.centre, self.floor = centre, floor
+        self.free = ["a"]
+        self.box = {"a": (-10.0, 10.0)}
+
+    def log_prior(self, x: np.ndarray) -> float:
+        return 0.0 if x[0] >= self.floor else -math.inf
+
+    def __call__(self, x: np.ndarray) -> float:
+        d = np.asarray(x) - self.centre
+        return self.log_prior(x) - 0.5 * float(d @ self.prec @ d)
+
+
+def test_laplace_start_recovers_a_normal_posterior() -> None:
+    """The walkers' start: the covariance of a normal posterior from the Hessian (exact for a quadratic up to
+    rounding); an indefinite Hessian falls back to the diagonal, a non-concave axis to a small ball."""
+    cov = np.array([[0.04, 0.018, 0.0], [0.018, 0.09, -0.01], [0.0, -0.01, 0.0025]])
+    centre = np.array([1.0, -2.0, 0.5])
+    spread, kind = H._laplace(_Quadratic(cov, centre), centre)
+    assert kind == "laplace"
+    np.testing.assert_allclose(spread @ spread.T, cov, rtol=1e-6, atol=1e-10)
+    saddle = _Quadratic(np.eye(3), centre, bend=np.array([[0.0, 3.0, 0.0], [3.0, 0.0, 0.0], [0.0, 0.0, 0.0]]))
+    spread, kind = H._laplace(saddle, centre)  # each axis curves down, the Hessian is indefinite
+    assert kind == "diagonal"
+    np.testing.assert_allclose(np.diag(spread), 1.0, rtol=1e-6)
+    upward = _Quadratic(np.eye(3), centre, bend=np.diag([0.0, -2.0, 0.0]))
+    assert H._laplace(upward, centre)[1] == "ball"
+
+
+def test_start_keeps_every_walker_inside_the_prior() -> None:
+    post = _Quadratic(np.eye(2), np.zeros(2), floor=0.0)  # the mode on the prior's edge: half the draws outside
+    spread, _ = H._laplace(post, np.array([0.5, 0.0]))
+    start = H._start(post, np.array([0.05, 0.0]), spread, 40, np.random.default_rng(0))
+    assert start.shape == (40, 2)
+    assert np.all(start[:, 0] >= 0.0)
+    assert len(np.unique(start[:, 1])) > 30  # redrawn, not piled on the mode
+
+
+def _ar1(steps: int, walkers: int, phi: float, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    chain = np.zeros((steps, walkers, 2))
+    chain[0] = rng.standard_normal((walkers, 2))
+    for t in range(1, steps):
+        chain[t] = phi * chain[t - 1] + math.sqrt(1 - phi ** 2) * rng.standard_normal((walkers, 2))
+    return chain
+
+
+def test_burn_in_and_stopping_rule() -> None:
+    """Burn-in: BURN_TAUS autocorrelation times (an AR(1) chain with phi 0.8 has tau = 9), at most a third; the run
+    stops once the rest is tau_multiple autocorrelation times long."""
+    long = _ar1(2000, 20, 0.8, seed=1)
+    burn, done = H._burn(long, 50.0, H.BURN_TAUS)
+    tau = float(np.max(H._autocorr(long[2000 // 3:])))
+    assert 7 < tau < 11
+    assert burn == math.ceil(H.BURN_TAUS * tau) and done
+    assert H._burn(long, 50.0, math.inf)[0] == 2000 // 3  # a start in a small ball: the first third
+    burn, done = H._burn(long[:300], 50.0, H.BURN_TAUS)
+    assert burn <= 100 and not done  # 300 steps are not 50 autocorrelation times
+
+
+def test_threads_do_not_change_the_samples() -> None:
+    """The walkers' log posteriors are shared between threads (emcee's pool): the samples are the same bits."""
+    from bouncelab.core._parallel import num_threads, set_num_threads
+
+    data = varying_campaign(40, seed=13)
+    before = num_threads()
+    runs = []
+    try:
+        for n in (1, 2):
+            set_num_threads(n)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                runs.append(calibrate(bl.Rigid, data, vary=["r", "mu"], steps=40, walkers=16, seed=4))
+    finally:
+        set_num_threads(before)
+    pd.testing.assert_frame_equal(runs[0].samples, runs[1].samples, check_exact=True)
+    assert runs[0].diagnostics["start"] == "laplace"
+
+
+def test_chains_that_stop_apart_are_pooled_over_their_common_tail(monkeypatch) -> None:
+    data = varying_campaign(30, seed=11)
+    run = H._run_chain
+    calls = []
+
+    def uneven(task):
+        out = run(task)
+        calls.append(len(out["chain"]))
+        if len(calls) == 2:  # the second chain stopped 7 steps earlier
+            out = {**out, "chain": out["chain"][7:], "steps": out["steps"] - 7}
+        return out
+
+    monkeypatch.setattr(H, "_run_chain", uneven)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        post = calibrate(bl.Rigid, data, vary=["r"], steps=30, walkers=14, chains=2, seed=6)
+    assert post.diagnostics["kept_steps"] == min(calls) - 7
+    assert post.diagnostics["walkers"] == 28
+
+
+def test_mode_search_settles_inside_the_bulk() -> None:
+    """The start of the sampler: from 4 sd away in each of 6 numbers, a point within a few tenths of a unit of log
+    density of the mode (the bulk of a 6-dimensional normal lies about 3 units below it), in far fewer than the
+    search's most evaluations."""
+    cov = np.diag([0.04, 0.09, 0.0025, 1.0, 0.25, 4.0])
+    cov[0, 1] = cov[1, 0] = 0.03
+    centre = np.array([1.0, -2.0, 0.5, 3.0, 0.0, -1.0])
+    post = _Quadratic(cov, centre)
+    calls = []
+    counted = type("Counted", (), {"__call__": lambda self, x: (calls.append(1), post(x))[1],
+                                   "box": post.box, "free": post.free})()
+    x = H._mode(counted, centre + 4 * np.sqrt(np.diag(cov)))
+    assert post(x) > -0.5
+    assert len(calls) < 400 * 6

@@ -269,6 +269,19 @@ def test_predict_law_file_of_a_user_law_names_import(tmp_path, capsys, law_modul
     assert code == EXIT_FIT and "--import" in err and "Simple" in err and "script's file name" in err
 
 
+def test_export_law_file_of_a_user_law_takes_import_as_predict_does(tmp_path, capsys, law_module):
+    """export shares predict's law argument: a file naming a user's law says to add --import, and with it exports."""
+    law_file = tmp_path / "law.json"
+    law_file.write_text(json.dumps({"law": f"{law_module}:SpeedRestitution", "parameters": {"r": 0.5, "mu": 0.3}}))
+    code, out, err = run(capsys, "export", str(law_file), "--lang", "js")
+    assert code == EXIT_FIT and f"add --import {law_module}" in err and out == ""
+    code, out, err = run(capsys, "export", str(law_file), "--lang", "js", "--import", law_module)
+    assert code == EXIT_OK, err
+    assert "export function predictOne" in out and "SpeedRestitution" in out
+    code, _, err = run(capsys, "export", "Rigid", "--lang", "c")  # neither a file nor --published
+    assert code == EXIT_USAGE and "bouncelab export Rigid --published A --lang c -o law.h" in err
+
+
 # ------------------------------------------------------------------------------------------------------- track
 @pytest.mark.parametrize("value", ["inf", "nan", "-inf", "1e300", "-5", "0", "30", "1e-300", "fast"])
 def test_track_refuses_a_bad_fps_naming_it(tmp_path, capsys, value):

@@ -214,3 +214,32 @@ def test_read_only_install_run_by_another_user(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert float(proc.stdout.splitlines()[0]) == pytest.approx(
         float(bl.PennerVarying.published("A").predict([[900.0, -700.0, 150.0]])[0, 0]), rel=1e-15)
+
+
+def test_thread_map_keeps_order_and_runs_inner_loops_serially(threads):
+    """ThreadMap (calibrate's emcee pool): results in the items' order, equal to a plain map for any thread count;
+    a large prediction inside an item runs serially (no nested sharing) and gives the same bits."""
+    from bouncelab.core import _parallel
+    from bouncelab.core._parallel import ThreadMap
+
+    law = bl.PennerVarying.published("A")
+    rng = np.random.default_rng(3)
+    arrays = [np.abs(rng.normal(500.0, 300.0, (n, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
+              for n in (5, PARALLEL_MIN + 7, 1, 300, 40)]
+    expected = [law.predict(a, plausible=None) for a in arrays]
+    seen_in_pool = []
+
+    def item(a: np.ndarray) -> np.ndarray:
+        seen_in_pool.append(getattr(_parallel._local, "in_pool", False))
+        return law.predict(a, plausible=None)
+
+    for n_threads in (1, 2, 3):
+        threads(n_threads)
+        seen_in_pool.clear()
+        got = ThreadMap().map(item, iter(arrays))
+        assert len(got) == len(arrays)
+        for g, e in zip(got, expected, strict=True):
+            np.testing.assert_array_equal(g, e)
+        assert all(seen_in_pool) == (n_threads > 1)
+    assert ThreadMap().map(item, []) == []
+    assert not getattr(_parallel._local, "in_pool", False)  # the calling thread is released afterwards

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from bouncelab.cli.laws import add_import_option, import_modules, law_argument
 from bouncelab.cli.messages import EXIT_FIT, EXIT_OK, UsageError, message
 
 __all__ = ["add_parser", "run"]
@@ -33,7 +34,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                "Exit codes: 0 written, 2 bad command line or output, 3 unreadable law file, 4 a law that cannot be "
                "exported.",
     )
-    p.add_argument("law", help="a law JSON file (from 'fit --save' or law.to_json), or a law name with --published")
+    p.add_argument("law", help="a law JSON file (from 'fit --save' or law.to_json; a law of your own needs --import), "
+                               "or a law name with --published")
     p.add_argument("--published", metavar="A|B", type=str.upper, choices=["A", "B"],
                    help="export the paper's published values of the named law for campaign A or B")
     p.add_argument("--lang", required=True, choices=LANGUAGES, help="c (a C99 header) or js (an ES module)")
@@ -42,20 +44,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--prefix", default=None, metavar="NAME",
                    help=f"C only: the prefix of every name the header defines (default {DEFAULT_PREFIX}); give each "
                         "law of one program its own, e.g. --prefix turf_a_")
+    add_import_option(p)
     return p
-
-
-def _law(args: argparse.Namespace):
-    from pathlib import Path
-
-    from bouncelab.laws import law_class, load_law
-
-    if args.published:
-        return law_class(args.law, case_sensitive=False).published(args.published)
-    if not (Path(args.law).suffix == ".json" or Path(args.law).exists()):
-        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
-                         f"(e.g. bouncelab export {args.law} --published A --lang c -o law.h)")
-    return load_law(args.law)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -64,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.prefix is not None and args.lang != "c":
         raise UsageError("--prefix is for --lang c: an ES module's names are its own (import it under any name)")
-    law = _law(args)
+    import_modules(args.imports)
+    law = law_argument(args, "--lang c -o law.h")
     to_stdout = args.output in ("-", "")
     try:
         text = export_law(law, args.lang, None if to_stdout else args.output,

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.cli.laws import add_import_option, import_modules, law_argument, named_law
 from bouncelab.cli.messages import (
     EXIT_DATA,
     EXIT_FIT,
@@ -117,12 +118,6 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
                         "paper's laws on it is circular); see docs/simulation.md")
 
 
-def _add_import_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--import", dest="imports", action="append", default=[], metavar="MODULE",
-                   help="import a module that defines your own laws first (repeatable; the current folder is "
-                        "searched, as by python -m), e.g. --import mylaws")
-
-
 def build_parser() -> argparse.ArgumentParser:
     from bouncelab.core import __version__
 
@@ -169,7 +164,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "built-in name or a user law's module:Class (see --import)")
     rep.add_argument("--bootstrap", type=whole(0, "resamples"), default=None, metavar="N",
                      help="resamples of the parameter bootstrap (default 100; 0 leaves it out)")
-    _add_import_option(rep)
+    add_import_option(rep)
     _add_data_options(rep)
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
@@ -188,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--option", dest="options", action="append", default=[], metavar="KEY=VALUE",
                      help="an option of the fitting method, VALUE as JSON or a bare word (repeatable), e.g. "
                           "--option maxeval=2000 --option svm_plane=hyperplane")
-    _add_import_option(fit)
+    add_import_option(fit)
     _add_data_options(fit)
 
     pred = sub.add_parser("predict", help="lift-off states from landing states",
@@ -212,7 +207,7 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("--angle-unit", choices=("deg", "rad"),
                       help="unit of angles of incidence (default: an --input file's header, else deg)")
     pred.add_argument("--radius-mm", type=positive, default=21.35, help="ball radius in mm (default 21.35)")
-    _add_import_option(pred)
+    add_import_option(pred)
 
     info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
     info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
@@ -255,7 +250,7 @@ def _run(args: argparse.Namespace) -> int:
             from bouncelab.cli.export import run as run_export
 
             return run_export(args)
-        _import_modules(getattr(args, "imports", []))
+        import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
         # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
@@ -350,11 +345,11 @@ def _reproduce(args: argparse.Namespace) -> int:
         ds = _load(src, embedded_args if src in campaigns else argparse.Namespace(**{**vars(args), "surrogate": None}))
         return ds.assign_attrs(campaign=labels[src]) if src in labels else ds
 
-    law_set = None if args.law_set is None else [_law_class(name) for name in args.law_set]
+    law_set = None if args.law_set is None else [named_law(name) for name in args.law_set]
     report = reproduce(
         campaigns=campaigns, data=args.data, out=args.out, seed=args.seed, figures=not args.no_figures,
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
-        laws=[_law_class(name) for name in args.laws], law_set=law_set, bootstrap=args.bootstrap,
+        laws=[named_law(name) for name in args.laws], law_set=law_set, bootstrap=args.bootstrap,
     )
     print(f"report written to {Path(args.out) / report.index.name}")
     if report.complete:
@@ -364,124 +359,6 @@ def _reproduce(args: argparse.Namespace) -> int:
     for campaign, what, why in report.skipped:
         print(f"  {campaign}: {what}: {why}")
     return EXIT_PARTIAL
-
-
-def _import_modules(modules: list[str], law: str | None = None) -> None:
-    """Import the modules a command line names (--import, or the module of a module:Class ``law``), searching
-    the current folder first as ``python -m`` does, so that a user's laws register themselves.
-
-    A module that is not there is told from one that is there but fails to import (its own import of a
-    missing package, a syntax error): both are ParameterErrors naming the flag (or the law), the module and
-    the folder searched."""
-    import importlib
-    import importlib.util
-
-    from bouncelab.core.errors import ParameterError
-
-    if modules and os.getcwd() not in sys.path:
-        sys.path.insert(0, os.getcwd())
-    for module in modules:
-        said = f"--import {module}" if law is None else f"law {law!r}"
-        how = "" if law is None else f" (a module:Class law imports its module, as --import {module} would)"
-        if not re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", module) or module.endswith(".py"):
-            raise ParameterError(f"{said}: {module!r} is not a module name; write it as in an import statement "
-                                 "(mylaws or lab.laws, without .py or a folder)")
-        try:
-            found = importlib.util.find_spec(module) is not None
-        except ModuleNotFoundError:  # its package is missing
-            found = False
-        except Exception:
-            found = True
-        if not found:
-            raise ParameterError(f"{said}: cannot import {module}: there is no module {module!r} in the current "
-                                 f"folder ({os.getcwd()}) or the installed packages{how}; run bouncelab from the "
-                                 f"folder that holds {module.split('.')[0]}.py, or check the name")
-        try:
-            importlib.import_module(module)
-        except Exception as exc:
-            raise ParameterError(f"{said}: the module {module!r} was found, but importing it failed: "
-                                 f"{type(exc).__name__}: {exc}") from None
-
-
-def _laws_of_module(module: str) -> list[str]:
-    """The bounce laws a module defines (module:Class names), from the registry."""
-    from bouncelab.laws import law_name, registered_laws
-
-    return sorted({law_name(c) for c in registered_laws().values() if c.__module__ == module})
-
-
-def _law_class(name: str):
-    """The law a command line names: "rigid", "Rigid" and "RIGID" are one law; "pkg.module:Class" imports
-    the module the user names (a law JSON file, by contrast, never imports code: use --import).
-
-    A missing module (ParameterError naming --import and the current folder) is told from a module without
-    that class (naming the laws the module does define)."""
-    from bouncelab.core.errors import ParameterError
-    from bouncelab.laws import law_class
-
-    try:
-        return law_class(name, case_sensitive=False)
-    except ParameterError:
-        if ":" not in name:
-            raise
-    module, _, cls = name.partition(":")
-    _import_modules([module], law=name)
-    try:
-        return law_class(name, case_sensitive=False)
-    except ParameterError:
-        defined = _laws_of_module(module)
-        listed = (f"it defines {', '.join(defined)}" if defined else
-                  "it defines none (a bounce law is a class derived from bouncelab.BounceModel)")
-        raise ParameterError(f"law {name!r}: module {module!r} was imported, but it defines no bounce law "
-                             f"{cls!r}; {listed}") from None
-
-
-def _saved_law_name(path: str) -> str | None:
-    """The law name a law JSON file holds ("law"), or None if it cannot be read as one."""
-    try:
-        name = json.loads(Path(path).read_text()).get("law")
-    except (OSError, ValueError, AttributeError, RecursionError):
-        return None
-    return name if isinstance(name, str) else None
-
-
-def _predict_law(args: argparse.Namespace):
-    """The law of ``predict``: published values of a named law, or a law JSON file. A file naming a user's
-    law whose module is not imported says to add --import (a law file never imports code)."""
-    from bouncelab.core.errors import ParameterError
-    from bouncelab.laws import law_class, load_law
-
-    if args.published:
-        return _law_class(args.law).published(args.published)
-    if not (Path(args.law).suffix == ".json" or Path(args.law).exists()):
-        raise UsageError(f"{args.law!r} is neither a law JSON file nor used with --published A|B "
-                         f"(e.g. bouncelab predict {args.law} --published A --landing 1000 -800 200)")
-    try:
-        return load_law(args.law)
-    except ParameterError:
-        name = _saved_law_name(args.law)
-        if name is None or ":" not in name:
-            raise
-        try:
-            law_class(name)
-        except ParameterError:
-            pass
-        else:
-            raise  # the law is known: the error is about something else (its parameters)
-    module, _, cls = name.partition(":")
-    if module == "__main__":  # saved from a script: the file cannot say which module to import
-        tried = f" (--import {', '.join(args.imports)} defines no law {cls!r})" if args.imports else ""
-        raise ParameterError(f"{args.law}: the law file names {name!r}, a law defined in a script run as the main "
-                             f"program{tried}: give --import with the module that defines {cls} (the script's file "
-                             "name without .py)") from None
-    if module in sys.modules:
-        defined = _laws_of_module(module)
-        listed = f"it defines {', '.join(defined)}" if defined else "it defines none"
-        raise ParameterError(f"{args.law}: the law file names {name!r}, but module {module!r} (imported) defines no "
-                             f"bounce law {cls!r}; {listed}") from None
-    raise ParameterError(f"{args.law}: the law file names {name!r}, a law of your own, and a law file never imports "
-                         f"code: add --import {module} (looked for in the current folder and the installed "
-                         "packages)") from None
 
 
 def _method_options(items: list[str]) -> dict[str, Any]:
@@ -521,7 +398,7 @@ def _fit(args: argparse.Namespace) -> int:
     options = _method_options(args.options)
     if args.algorithm is not None:  # an option of the search methods
         options["algorithm"] = args.algorithm
-    res = fit(_law_class(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
+    res = fit(named_law(args.law), data, method=args.method, objective=args.objective, seed=args.seed,
               bounds=bounds, **options)
     # The result is printed before the law is saved, so a failed save loses no work; a reader that went away
     # (`| head`) does not stop the save either.
@@ -597,7 +474,7 @@ def _predict(args: argparse.Namespace) -> int:
     from bouncelab.core import units
     from bouncelab.core.errors import DataError
 
-    law = _predict_law(args)
+    law = law_argument(args, "--landing 1000 -800 200")
     radius = args.radius_mm / 1000.0
     table = _read_input(args, radius) if args.input else None
     out_units = _output_units(args, table)

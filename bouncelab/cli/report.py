@@ -103,9 +103,6 @@ def assessment_markdown(name: str, assessments: dict[str, Any], options: dict[st
     def mark(law: str) -> str:
         return f"{law} {GENERATOR_MARK}" if law == generator else law
 
-    def num(v: Any) -> str:
-        return "" if v is None or (isinstance(v, float) and np.isnan(v)) else f"{v:.4g}"
-
     boot = options["n_bootstrap"]
     lines = [f"### Assessment of each law, campaign {name}: held-out errors and identifiability (beyond the paper)\n",
              f"bouncelab.assess with {options['k']} folds grouped by launcher setting, "
@@ -131,15 +128,7 @@ def assessment_markdown(name: str, assessments: dict[str, Any], options: dict[st
                 "profile within noise", "verdict", "correlated with"]
         lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for law, a in assessments.items():
-            for par, r in a.parameters.iterrows():
-                if r["verdict"] == "fixed":
-                    cells = [num(r["estimate"]), "", "", "", "fixed", ""]
-                else:
-                    ci = "" if np.isnan(r["ci_low"]) else f"{r['ci_low']:.4g} to {r['ci_high']:.4g}"
-                    bound = f" (at {r['at_bound']} bound)" if r["at_bound"] else ""
-                    cells = [num(r["estimate"]) + bound, ci, num(r["starts_spread"]),
-                             f"{r['profile_low']:.4g} to {r['profile_high']:.4g}", r["verdict"], r["correlated"]]
-                lines.append(f"| {mark(law)} | {par} | " + " | ".join(cells) + " |")
+            lines += [f"| {mark(law)} | {par} | " + " | ".join(cells) + " |" for par, cells in a.table_rows()]
     for law, why in failed.items():
         lines.append(f"\n> {law}: not assessed, skipped: {why}")
     if not_assessed:
@@ -217,7 +206,7 @@ def _paper_values(report: Report) -> str:
 
 
 def _figure_units(report: Report) -> str:
-    units = getattr(report, "figure_units", None)
+    units = report.figure_units
     if not units:
         return ""
     return f" in the tables (in the figures: velocities in {units['velocity']}, spin in {units['spin']})"
@@ -236,7 +225,7 @@ def index_html(report: Report) -> str:
              f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
              "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
              + "</nav>"]
-    skipped = getattr(report, "skipped", [])
+    skipped = report.skipped
     if skipped:
         items = "".join(f"<li>campaign {html.escape(c)}, {html.escape(w)}: {html.escape(r)}</li>"
                         for c, w, r in skipped)

@@ -381,9 +381,19 @@ NOT_CROSS_VALIDATED_REASON = ("left out to keep the report quick: each fit integ
 BOOTSTRAPPED = ("Rigid", "PennerVarying", "PennerFixed")
 #: The laws the report assesses (:func:`bouncelab.assess`): the rigid family, whose fits take milliseconds.
 ASSESSED = ("Rigid", "PennerVarying", "PennerFixed", "TangentialRestitution")
-#: The assessment's counts in the report (:func:`bouncelab.assess`'s defaults; its bootstrap resamples are the
-#: report's ``bootstrap``, and its folds at most the launcher settings): about 1 to 3 s per law on 693 bounces.
-ASSESS_OPTIONS = {"k": 5, "starts": 4, "profile_points": 11, "local_points": 3}
+
+def _assess_defaults() -> dict[str, int]:
+    from inspect import signature
+
+    from bouncelab.fitting.assessment import assess
+
+    params = signature(assess).parameters
+    return {name: params[name].default for name in ("k", "starts", "profile_points", "local_points")}
+
+
+#: The assessment's counts in the report: :func:`bouncelab.assess`'s defaults (its bootstrap resamples are the
+#: report's ``bootstrap``, and its folds at most the launcher settings); about 1 to 3 s per law on 693 bounces.
+ASSESS_OPTIONS = _assess_defaults()
 #: Why a law is not assessed in the report, by law (others: :data:`NOT_ASSESSED_OTHER`).
 NOT_ASSESSED = {
     "PiecewiseAffine": "28 numbers in array parameters: an assessment profiles each with about 17 refits by the "
@@ -593,16 +603,15 @@ def _remove(staging: Path | None) -> None:
 
 
 def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: bool, step: _Progress,
-           start: float, units: Any = None, laws: Sequence[Any] = (), bootstrap: int | None = None) -> Report:
+           start: float, units: Any, laws: Sequence[Any], bootstrap: int) -> Report:
     """Write the whole report into the (new, empty) folder ``out``."""
     report = Report(out=out, index=out / "index.html")
     if units is not None and (units.velocity, units.spin) != ("radius/s", "rad/s"):
         report.figure_units = {"velocity": units.velocity, "spin": units.spin}
     for name, ds in loaded:
-        section = _campaign(name, ds, out, seed, figures, step, report.files, units, laws=laws,
-                            bootstrap=BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap)
+        section = _campaign(name, ds, out, seed, figures, step, report.files, units, laws=laws, bootstrap=bootstrap)
         report.sections[name] = section
-        report.skipped += [(name, what, why) for what, why in section.get("skipped", [])]
+        report.skipped += [(name, what, why) for what, why in section["skipped"]]
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
         report.files.append(report.index)
@@ -632,8 +641,7 @@ def _first_line(exc: BaseException) -> str:
 
 
 def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, step: _Progress,
-              files: list[Path], units: Any = None, *, laws: Sequence[Any] = (), bootstrap: int = 0
-              ) -> dict[str, Any]:
+              files: list[Path], units: Any, *, laws: Sequence[Any], bootstrap: int) -> dict[str, Any]:
     from bouncelab.analysis.contact_velocity import tangential_summary
     from bouncelab.analysis.repeats import repeatability, repeatability_summary
     from bouncelab.core import published
@@ -679,14 +687,16 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
         _write_table(df, md, tables / f"{name}_{stem}", files)
         section["tables"][key] = md
 
-    def skipped_table(key: str, stem: str, title: str, reason: str) -> str:
-        """A section that could not be computed: its markdown says why (no CSV: there are no numbers).
-        Returns the progress display's status."""
-        md = f"### {title}\n\nSkipped: {reason}\n"
+    def add_markdown(key: str, stem: str, md: str) -> None:
+        """A section without numbers (its steps were skipped): the markdown that says why, and no CSV."""
         tables.mkdir(parents=True, exist_ok=True)
         atomic_write_text(tables / f"{name}_{stem}.md", md)
         files.append(tables / f"{name}_{stem}.md")
         section["tables"][key] = md
+
+    def skipped_table(key: str, stem: str, title: str, reason: str) -> str:
+        """A section that could not be computed; returns the progress display's status."""
+        add_markdown(key, stem, f"### {title}\n\nSkipped: {reason}\n")
         skip(key, reason)
         return f"skipped: {reason}"
 
@@ -758,9 +768,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
                 md = (f"### Piecewise-affine law, campaign {name}, on the paper's split\n\n"
                       + "".join(f"Skipped ({w.split(': ', 1)[1]}): {r}\n\n" for w, r in section["skipped"]
                                 if w.startswith("Table 2: ")))
-                atomic_write_text(tables / f"{name}_table2.md", md)
-                files.append(tables / f"{name}_table2.md")
-                section["tables"][key2] = md
+                add_markdown(key2, "table2", md)
             else:
                 if len(pw) < 2:
                     st.status = "done, one plane skipped"
@@ -822,11 +830,9 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             if assessments:
                 frame = pd.concat({law: a.to_frame() for law, a in assessments.items()}, names=["law", "parameter"])
                 _write_table(frame, md, tables / f"{name}_assessment", files)
+                section["tables"][keyassess] = md
             else:
-                tables.mkdir(parents=True, exist_ok=True)
-                atomic_write_text(tables / f"{name}_assessment.md", md)
-                files.append(tables / f"{name}_assessment.md")
-            section["tables"][keyassess] = md
+                add_markdown(keyassess, "assessment", md)
             section["assessments"] = assessments
             section["not_assessed"] = not_assessed
             if failed:
@@ -874,9 +880,7 @@ def _campaign(name: str, ds: xr.Dataset, out: Path, seed: int, figures: bool, st
             st.status = "skipped"
             md = (f"### Parameter uncertainty, campaign {name}\n\n"
                   + "\n\n".join(f"{law}: skipped, {why}" for law, why in failed.items()) + "\n")
-            atomic_write_text(tables / f"{name}_bootstrap.md", md)
-            files.append(tables / f"{name}_bootstrap.md")
-            section["tables"][keyboot] = md
+            add_markdown(keyboot, "bootstrap", md)
         else:
             why = ("bootstrap resamples set to 0" if bootstrap == 0 else
                    f"none of {', '.join(BOOTSTRAPPED)} is among the laws")

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-__all__ = ["CHUNK", "PARALLEL_MIN", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
+__all__ = ["CHUNK", "PARALLEL_MIN", "ThreadMap", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
 #: Rows per chunk of a loop whose partial results are combined (sums): every call of at least
 #: :data:`PARALLEL_MIN` rows is cut at multiples of it, serial or threaded, so sums do not depend on threads.
@@ -141,6 +141,32 @@ def run_rows(fn: Callable, n: int, *args: Any) -> list[Any]:
     results: list[Any] = [None] * (len(cuts) - 1)
     _share(fn, args, cuts, results)
     return results
+
+
+class ThreadMap:
+    """An object with ``map(fn, items)`` that shares the items between the calling thread and the pool.
+
+    For work that spends its time in compiled loops releasing the GIL, one item each (e.g. the
+    walkers of an ``emcee`` ensemble, its ``pool=``). Results come back in the items' order and
+    do not depend on the number of threads; loops called inside run serially (no nested sharing).
+    """
+
+    def map(self, fn: Callable, items: Any) -> list[Any]:
+        items = list(items)
+        results: list[Any] = [None] * len(items)
+        if num_threads() == 1 or len(items) < 2 or getattr(_local, "in_pool", False):
+            return [fn(item) for item in items]
+
+        def part(start: int, stop: int) -> None:
+            for k in range(start, stop):
+                results[k] = fn(items[k])
+
+        _local.in_pool = True  # the calling thread shares the work: its own loops run serially too
+        try:
+            _share(part, (), list(range(len(items) + 1)), None)
+        finally:
+            _local.in_pool = False
+        return results
 
 
 def run_chunked(fn: Callable, n: int, *args: Any) -> list[Any]:

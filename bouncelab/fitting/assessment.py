@@ -166,8 +166,8 @@ class Assessment:
 
     @property
     def n_free(self) -> int:
-        """Number of free (fitted) numbers of the law."""
-        return int((self.parameters["verdict"] != "fixed").sum())
+        """Number of free (fitted) numbers of the law (:attr:`FitResult.n_free`)."""
+        return self.fit.n_free
 
     @property
     def verdicts(self) -> dict[str, str]:
@@ -259,16 +259,27 @@ class Assessment:
                  f"| parameter | estimate | {pct} bootstrap interval | spread over starts | profile within noise "
                  "| verdict | correlated with |",
                  "|---|---|---|---|---|---|---|"]
+        lines += [f"| {name} | " + " | ".join(cells) + " |" for name, cells in self.table_rows()]
+        return "\n".join(lines)
+
+    def table_rows(self) -> list[tuple[str, list[str]]]:
+        """Each parameter's cells in the Markdown tables (here and in ``bouncelab reproduce``'s report): estimate
+        (and the bound it sits on), bootstrap interval, spread over starts, profile within the noise, verdict,
+        correlated parameters."""
+        def num(v: Any) -> str:
+            return "" if v is None or (isinstance(v, float) and np.isnan(v)) else f"{v:.4g}"
+
+        rows = []
         for name, r in self.parameters.iterrows():
             if r["verdict"] == "fixed":
-                lines.append(f"| {name} | {r['estimate']:.4g} | | | | fixed | |")
+                rows.append((str(name), [num(r["estimate"]), "", "", "", "fixed", ""]))
                 continue
             ci = "" if np.isnan(r["ci_low"]) else f"{r['ci_low']:.4g} to {r['ci_high']:.4g}"
-            spread = "" if np.isnan(r["starts_spread"]) else f"{r['starts_spread']:.3g}"
             bound = f" (at {r['at_bound']} bound)" if r["at_bound"] else ""
-            lines.append(f"| {name} | {r['estimate']:.4g}{bound} | {ci} | {spread} | "
-                         f"{r['profile_low']:.4g} to {r['profile_high']:.4g} | {r['verdict']} | {r['correlated']} |")
-        return "\n".join(lines)
+            rows.append((str(name), [num(r["estimate"]) + bound, ci, num(r["starts_spread"]),
+                                     f"{r['profile_low']:.4g} to {r['profile_high']:.4g}", r["verdict"],
+                                     r["correlated"]]))
+        return rows
 
 
 # ------------------------------------------------------------------------------ the function

@@ -39,7 +39,7 @@ from bouncelab.laws import law_name
 from bouncelab.laws.base import BounceModel
 from bouncelab.metrics import ERROR_COLUMNS
 
-__all__ = ["HELD_OUT_COLUMNS", "PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "free_count", "generating_law",
+__all__ = ["HELD_OUT_COLUMNS", "PAPER_LAWS", "SKIPPABLE", "Comparison", "compare", "generating_law",
            "law_instance", "paper_reference"]
 
 #: The paper's four laws, in the order of its Tables 3 and 2.
@@ -367,17 +367,6 @@ def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     return f"{v:.{digits}g}"
 
 
-def free_count(result: FitResult) -> int:
-    """The numbers a fit varied: every element of every parameter neither held nor boxed to one value."""
-    n = 0
-    for spec in result.model.parameter_specs:
-        if spec.name in result.fixed or spec.name not in result.bounds:
-            continue
-        lo, hi = (np.broadcast_to(np.asarray(b, dtype=float), (spec.size,)) for b in result.bounds[spec.name])
-        n += int(np.count_nonzero(hi > lo))
-    return n
-
-
 def _summarise(value: Any) -> Any:
     """A table cell for a parameter: the number, or a one-line text for an array."""
     if value is None:
@@ -526,7 +515,7 @@ def compare(
     else:
         held, held_skipped = _held_out_all(data, models, names, results, cross, int(k), seed, executor,
                                            "skip" if auto else errors, fit_kwargs)
-    table["n_free"] = [free_count(results[name]) for name in table.index]
+    table["n_free"] = [results[name].n_free for name in table.index]
     if held or cross:
         for col in (*HELD_OUT_COLUMNS, HELD_OUT_SD):
             table[col] = [held[name].scores[col.removeprefix("heldout_")] if name in held else np.nan

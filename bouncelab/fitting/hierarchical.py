@@ -74,12 +74,17 @@ lift-offs in the data. The scales and discrepancies are sampled as logarithms.
 
 Sampling and convergence
 ------------------------
-``emcee``'s affine-invariant ensemble sampler, started in a small ball around the posterior's
-mode (found by Nelder-Mead from a point fit). With ``steps=None`` it runs in blocks until the
-chain after burn-in (its first third) is at least ``tau_multiple`` (50) integrated
-autocorrelation times long and the split R-hat across walkers is below 1.05, or ``max_steps``
-is reached, in which case a :class:`ConvergenceWarning` is issued. ``chains`` independent
-ensembles can run on a dask ``client``; the diagnostics then pool every walker of every chain.
+``emcee``'s ensemble sampler (differential-evolution moves). Its walkers start from the normal
+approximation of the posterior at its mode: the mode found by Nelder-Mead from a point fit, the
+covariance from a finite-difference Hessian there (the diagonal, or a small ball, where the
+Hessian is not negative definite). With ``steps=None`` it runs in blocks of 250 steps until the
+chain after burn-in (five autocorrelation times, at most the first third; the first third after
+a small-ball start) is at least ``tau_multiple`` (50) integrated autocorrelation times long and
+the split R-hat across walkers is below 1.05, or ``max_steps`` is reached, in which case a
+:class:`ConvergenceWarning` is issued. The walkers' log posteriors of each step are shared
+between the threads of :func:`bouncelab.laws.set_num_threads` (the law's loops release the GIL; the
+samples do not depend on the number of threads). ``chains`` independent ensembles can run on a
+dask ``client``; the diagnostics then pool every walker of every chain over their common length.
 """
 
 from __future__ import annotations
@@ -97,6 +102,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from bouncelab.core._parallel import ThreadMap
 from bouncelab.core.errors import BouncelabWarning, DataError, FitError, Hint, ParameterError
 from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
 from bouncelab.core.units import COMPONENTS
@@ -405,7 +411,7 @@ def calibrate(
         ``"unscented"`` (default) or ``"linear"``: how the per-bounce parameters are
         marginalised (see the module documentation).
     walkers
-        Walkers of the ensemble (default: four per sampled number, at least 24; even).
+        Walkers of the ensemble (default: two per sampled number plus two, at least 24; even).
     steps
         Steps per walker; None runs until converged or ``max_steps``.
     max_steps
@@ -494,23 +500,19 @@ def calibrate(
             x0[j] = lo + 1e-3 * (hi - lo) if x0[j] <= lo else hi - 1e-3 * (hi - lo)
     mode = _mode(post, x0)
     ndim = post.ndim
-    walkers = max(24, 4 * ndim) if walkers is None else check_count(walkers, "walkers", 2 * ndim + 2)
+    walkers = max(24, 2 * ndim + 2) if walkers is None else check_count(walkers, "walkers", 2 * ndim + 2)
     walkers += walkers % 2
-    widths = np.array([1e-3 * (post.box[n][1] - post.box[n][0]) for n in free] + [1e-2] * (ndim - len(free)))
+    spread, start_kind = _laplace(post, mode)
     tasks = []
     for c in range(chains):
         rng = np.random.default_rng([seed, c])
-        start = mode + widths * rng.standard_normal((walkers, ndim))
-        for w in range(walkers):  # keep every walker inside the prior
-            tries = 0
-            while not math.isfinite(post.log_prior(start[w])) and tries < 100:
-                start[w] = mode + widths * rng.standard_normal(ndim) * 0.1
-                tries += 1
-            if tries == 100:
-                start[w] = mode
-        tasks.append((post, start, steps, max_steps, tau_multiple, int(rng.integers(2**32 - 1)), progress))
+        start = _start(post, mode, spread, walkers, rng)
+        burn_taus = BURN_TAUS if start_kind != "ball" else math.inf  # a start in a small ball needs to spread out
+        tasks.append((post, start, steps, max_steps, tau_multiple, burn_taus, int(rng.integers(2**32 - 1)),
+                      progress))
     runs = map_tasks(_run_chain, tasks, client)
-    kept = np.concatenate([r["chain"] for r in runs], axis=1)  # (steps kept, all walkers, ndim)
+    length = min(len(r["chain"]) for r in runs)  # chains that stopped at different steps: their common tail
+    kept = np.concatenate([r["chain"][-length:] for r in runs], axis=1)  # (steps kept, all walkers, ndim)
     diagnostics = _diagnostics(kept, runs, tau_multiple)
     columns = post.columns
     samples = _thin(kept, diagnostics, columns, len(free))
@@ -526,6 +528,7 @@ def calibrate(
                       f"steps ({diagnostics['reason']}); run longer (steps=, max_steps=) before trusting the "
                       "posterior", ConvergenceWarning, stacklevel=2)
         notes.append(f"NOT CONVERGED: {diagnostics['reason']}")
+    diagnostics["start"] = start_kind
     diagnostics["elapsed_s"] = time.perf_counter() - start_time
     measurement = {
         "landing_sd": None if landing_sd is None else np.median(landing_sd, axis=0).tolist(),
@@ -543,55 +546,150 @@ def _data_kind(data: Any) -> str:
 
 
 
-def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
-    """The posterior's mode near ``x0`` (Nelder-Mead, twice: a restart escapes a collapsed simplex)."""
-    from scipy.optimize import minimize
+class _Settled(Exception):
+    """Raised inside the mode search once it stops gaining."""
 
-    def neg(x: np.ndarray) -> float:
-        v = post(x)
-        return 1e300 if not math.isfinite(v) else -v
+
+#: The mode search stops when its best log posterior gained less than this over the last SETTLE_EVALS x (number
+#: of sampled numbers) evaluations: a start needs to be well inside the posterior's bulk (whose log density sits
+#: some ndim / 2 below the mode's), not at machine precision.
+SETTLE_GAIN = 0.1
+SETTLE_EVALS = 25
+
+
+def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
+    """A point near the posterior's mode, from ``x0`` (Nelder-Mead, stopped once it settles; see SETTLE_GAIN).
+
+    The point only starts the sampler: the walkers are then spread by the Hessian there and burnt in.
+    """
+    from scipy.optimize import minimize
 
     x = np.asarray(x0, dtype=float)
     if not math.isfinite(post(x)):
         raise FitError("the calibration cannot start: the point fit has zero posterior density (a parameter on "
                        "the edge of its physical range, or a degenerate covariance)", option="bounds",
                        hints=[Hint("bounds", None, "wider, or away from the edge of the physical range")])
-    for _ in range(2):
-        res = minimize(neg, x, method="Nelder-Mead",
-                       options={"maxiter": 400 * len(x), "maxfev": 600 * len(x), "xatol": 1e-7, "fatol": 1e-7,
-                                "adaptive": True})
-        x = res.x
-    return x
+    window = SETTLE_EVALS * len(x)
+    best: list[tuple[float, np.ndarray]] = []  # the best (value, point) after each evaluation
+
+    def neg(z: np.ndarray) -> float:
+        v = post(z)
+        f = 1e300 if not math.isfinite(v) else -v
+        best.append((f, z.copy()) if not best or f < best[-1][0] else best[-1])
+        if len(best) > window and best[-1 - window][0] - best[-1][0] < SETTLE_GAIN:
+            raise _Settled
+        return f
+
+    try:
+        minimize(neg, x, method="Nelder-Mead", options={"maxiter": 400 * len(x), "maxfev": 400 * len(x),
+                                                         "xatol": 1e-6, "fatol": 1e-6, "adaptive": True})
+    except _Settled:
+        pass
+    return best[-1][1]
+
+
+def _values(post: _LogPosterior, points: Sequence[np.ndarray]) -> np.ndarray:
+    """The log posterior at each point, the points shared between threads (the law's loops release the GIL)."""
+    return np.array(ThreadMap().map(post, points), dtype=float)
+
+
+def _laplace(post: _LogPosterior, mode: np.ndarray) -> tuple[np.ndarray, str]:
+    """A matrix L with L L^T the covariance of the normal approximation of the posterior at ``mode``, and its kind.
+
+    Central differences of the log posterior: first along each axis with a small step, which gives
+    each number's posterior standard deviation, then the full Hessian with steps of one standard
+    deviation (accurate for a near-normal posterior; evaluations shared between threads). Where
+    the Hessian is not negative definite (a mode on a bound, a flat direction) the diagonal is
+    used, and where that fails too, a small ball: the sampler then spreads out on its own.
+    """
+    n = len(mode)
+    widths = np.array([1e-3 * (post.box[f][1] - post.box[f][0]) for f in post.free] + [1e-2] * (n - len(post.free)))
+    eye = np.eye(n)
+    f0 = post(mode)
+    ends = _values(post, [mode + sign * widths[j] * eye[j] for j in range(n) for sign in (1.0, -1.0)]).reshape(n, 2)
+    curv = (ends[:, 0] + ends[:, 1] - 2 * f0) / widths ** 2
+    if not (math.isfinite(f0) and np.all(np.isfinite(curv)) and np.all(curv < 0)):
+        return np.diag(widths), "ball"
+    h = 1.0 / np.sqrt(-curv)  # steps of one standard deviation
+    pairs = [(j, k) for j in range(n) for k in range(j + 1, n)]
+    axes = [mode + sign * h[j] * eye[j] for j in range(n) for sign in (1.0, -1.0)]
+    corners = [mode + a * h[j] * eye[j] + b * h[k] * eye[k] for j, k in pairs
+               for a, b in ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))]
+    values = _values(post, axes + corners)
+    ax, co = values[:2 * n].reshape(n, 2), values[2 * n:].reshape(-1, 4)
+    with np.errstate(invalid="ignore"):  # a point outside the prior (-inf) leaves a NaN: the fallback below
+        hess = np.diag((ax[:, 0] + ax[:, 1] - 2 * f0) / h ** 2)
+        for (j, k), (pp, pm, mp, mm) in zip(pairs, co, strict=True):
+            hess[j, k] = hess[k, j] = (pp - pm - mp + mm) / (4 * h[j] * h[k])
+    if np.all(np.isfinite(hess)):
+        try:
+            return np.linalg.cholesky(np.linalg.inv(-hess)), "laplace"
+        except np.linalg.LinAlgError:
+            pass
+    return np.diag(h), "diagonal"
+
+
+def _start(post: _LogPosterior, mode: np.ndarray, spread: np.ndarray, walkers: int,
+           rng: np.random.Generator) -> np.ndarray:
+    """Walkers drawn from the normal approximation at the mode, each redrawn until inside the prior."""
+    start = mode + rng.standard_normal((walkers, len(mode))) @ spread.T
+    for w in range(walkers):
+        shrink = 1.0
+        while not math.isfinite(post.log_prior(start[w])):
+            shrink *= 0.5
+            if shrink < 1e-6:
+                start[w] = mode
+                break
+            start[w] = mode + shrink * (spread @ rng.standard_normal(len(mode)))
+    return start
 
 
 _MOVES = "de"
+#: Steps between convergence checks of a run with ``steps=None``.
+BLOCK = 250
+#: Burn-in, in autocorrelation times (at most the first third of the run).
+BURN_TAUS = 5
 
 
 def _run_chain(task: tuple) -> dict[str, Any]:
     """One emcee ensemble (module level, so that executors can pickle it): its kept chain and diagnostics."""
     import emcee
 
-    post, start, steps, max_steps, tau_multiple, seed, progress = task
+    post, start, steps, max_steps, tau_multiple, burn_taus, seed, progress = task
     walkers, ndim = start.shape
     moves = [(emcee.moves.DEMove(), 0.8), (emcee.moves.DESnookerMove(), 0.2)] if _MOVES == "de" else None
-    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves)
+    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves, pool=ThreadMap())
     sampler.random_state = np.random.RandomState(seed).get_state()
     if steps is not None:
         sampler.run_mcmc(start, steps, progress=progress)
         total = steps
+        burn = _burn(sampler.get_chain(), tau_multiple, burn_taus)[0]
     else:
-        state, total, block = start, 0, 500
+        state, total, block = start, 0, BLOCK
         while total < max_steps:
             n = min(block, max_steps - total)
             state = sampler.run_mcmc(state, n, progress=progress)
             total += n
-            chain = sampler.get_chain(discard=total // 3)
-            tau = _autocorr(chain)
-            if len(chain) >= tau_multiple * np.max(tau) and np.max(_split_rhat(chain)) < 1.05:
+            burn, done = _burn(sampler.get_chain(), tau_multiple, burn_taus)
+            if done:
                 break
-    burn = total // 3
     return {"chain": sampler.get_chain(discard=burn), "acceptance": sampler.acceptance_fraction.copy(),
             "steps": total, "burn": burn}
+
+
+def _burn(chain: np.ndarray, tau_multiple: float, burn_taus: float) -> tuple[int, bool]:
+    """Steps to discard from a (steps, walkers, ndim) chain, and whether the rest passes the convergence test.
+
+    The burn-in is ``burn_taus`` autocorrelation times (estimated after the first third), at most
+    the first third: walkers started from the normal approximation of the posterior need a few
+    autocorrelation times to forget it, not a fixed share of the run.
+    """
+    total = len(chain)
+    tau = float(np.max(_autocorr(chain[total // 3:])))
+    burn = min(total // 3, math.ceil(burn_taus * tau)) if math.isfinite(burn_taus * tau) else total // 3
+    kept = chain[burn:]
+    tau_kept = float(np.max(_autocorr(kept)))
+    return burn, bool(len(kept) >= tau_multiple * tau_kept and np.max(_split_rhat(kept)) < 1.05)
 
 
 def _autocorr(chain: np.ndarray) -> np.ndarray:

@@ -132,6 +132,17 @@ class FitResult:
                           for name, p in self.model.params.items())
 
     @property
+    def n_free(self) -> int:
+        """The numbers the fit varied: every element of every parameter neither held nor boxed to one value."""
+        n = 0
+        for spec in self.model.parameter_specs:
+            if spec.name in self.fixed or spec.name not in self.bounds:
+                continue
+            lo, hi = (np.broadcast_to(np.asarray(b, dtype=float), (spec.size,)) for b in self.bounds[spec.name])
+            n += int(np.count_nonzero(hi > lo))
+        return n
+
+    @property
     def mismatched(self) -> float | None:
         """The law's ``mismatched`` diagnostic on the fitted bounces, if it has one (piecewise law)."""
         return self.diagnostics.get("mismatched")
