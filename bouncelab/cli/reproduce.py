@@ -611,7 +611,7 @@ def _build(loaded: list[tuple[str, xr.Dataset]], out: Path, seed: int, figures: 
     for name, ds in loaded:
         section = _campaign(name, ds, out, seed, figures, step, report.files, units, laws=laws, bootstrap=bootstrap)
         report.sections[name] = section
-        report.skipped += [(name, what, why) for what, why in section["skipped"]]
+        report.skipped += [(name, what, why) for what, why in section.get("skipped", [])]
     with step("writing index.html"):
         report.elapsed = time.perf_counter() - start
         report.files.append(report.index)
