@@ -472,3 +472,39 @@ def test_mode_search_settles_inside_the_bulk() -> None:
     x = H._mode(counted, centre + 4 * np.sqrt(np.diag(cov)))
     assert post(x) > -0.5
     assert len(calls) < 400 * 6
+
+
+def test_a_law_written_in_python_is_not_run_on_threads(monkeypatch) -> None:
+    """Only compiled laws (thread-safe, GIL released) share the walkers between threads; a user's Python law,
+    which need not be thread-safe, runs on the calling thread."""
+    from bouncelab.core import _parallel
+    from bouncelab.core._parallel import num_threads, set_num_threads
+
+    class PythonRigid(bl.BounceModel):
+        r = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0), doc="restitution")
+        mu = bl.Parameter(bounds=(0.0, 1.5), physical=(0.0, float("inf")), doc="friction")
+        regimes = bl.Rigid.regimes
+
+        def _predict(self, p, r, mu):
+            return bl.Rigid(r=0.5, mu=0.5)._predict(p, r=r, mu=mu)
+
+        def _regime(self, p, r, mu):
+            return bl.Rigid(r=0.5, mu=0.5)._regime(p, r=r, mu=mu)
+
+    shared = []
+    share = _parallel._share
+    monkeypatch.setattr(_parallel, "_share", lambda *a: (shared.append(1), share(*a))[1])
+    data = varying_campaign(30, seed=14)
+    before = num_threads()
+    set_num_threads(2)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            python_law = calibrate(PythonRigid(r=0.5, mu=0.4), data, vary=["r"], steps=20, walkers=14, seed=3)
+            assert not shared
+            compiled = calibrate(bl.Rigid(r=0.5, mu=0.4), data, vary=["r"], steps=20, walkers=14, seed=3)
+            assert shared
+    finally:
+        set_num_threads(before)
+    # the same law either way: the same samples
+    pd.testing.assert_frame_equal(python_law.samples, compiled.samples, check_exact=False, rtol=1e-9)

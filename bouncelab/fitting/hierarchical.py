@@ -81,9 +81,10 @@ Hessian is not negative definite). With ``steps=None`` it runs in blocks of 250 
 chain after burn-in (five autocorrelation times, at most the first third; the first third after
 a small-ball start) is at least ``tau_multiple`` (50) integrated autocorrelation times long and
 the split R-hat across walkers is below 1.05, or ``max_steps`` is reached, in which case a
-:class:`ConvergenceWarning` is issued. The walkers' log posteriors of each step are shared
-between the threads of :func:`bouncelab.laws.set_num_threads` (the law's loops release the GIL; the
-samples do not depend on the number of threads). ``chains`` independent ensembles can run on a
+:class:`ConvergenceWarning` is issued. For a compiled law (every built-in law) the walkers' log
+posteriors of each step are shared between the threads of :func:`bouncelab.laws.set_num_threads`
+(its loops release the GIL; the samples do not depend on the number of threads); a law written in
+Python is evaluated on one thread. ``chains`` independent ensembles can run on a
 dask ``client``; the diagnostics then pool every walker of every chain over their common length.
 """
 
@@ -114,6 +115,7 @@ from bouncelab.fitting.tasks import map_tasks
 from bouncelab.fitting.vector import ParameterVector
 from bouncelab.laws import law_from_dict, law_name
 from bouncelab.laws.base import BounceModel
+from bouncelab.laws.compiled import CompiledLaw
 
 __all__ = ["ConvergenceWarning", "Posterior", "calibrate", "load_posterior"]
 
@@ -589,8 +591,10 @@ def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
 
 
 def _values(post: _LogPosterior, points: Sequence[np.ndarray]) -> np.ndarray:
-    """The log posterior at each point, the points shared between threads (the law's loops release the GIL)."""
-    return np.array(ThreadMap().map(post, points), dtype=float)
+    """The log posterior at each point, shared between threads for a compiled law (its loops release the GIL)."""
+    if isinstance(getattr(post, "law", None), CompiledLaw):
+        return np.array(ThreadMap().map(post, points), dtype=float)
+    return np.array([post(x) for x in points], dtype=float)
 
 
 def _laplace(post: _LogPosterior, mode: np.ndarray) -> tuple[np.ndarray, str]:
@@ -658,7 +662,10 @@ def _run_chain(task: tuple) -> dict[str, Any]:
     post, start, steps, max_steps, tau_multiple, burn_taus, seed, progress = task
     walkers, ndim = start.shape
     moves = [(emcee.moves.DEMove(), 0.8), (emcee.moves.DESnookerMove(), 0.2)] if _MOVES == "de" else None
-    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves, pool=ThreadMap())
+    # compiled laws release the GIL and are thread-safe; a law written in Python gains nothing from threads
+    # and need not be safe in them
+    pool = ThreadMap() if isinstance(post.law, CompiledLaw) else None
+    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves, pool=pool)
     sampler.random_state = np.random.RandomState(seed).get_state()
     if steps is not None:
         sampler.run_mcmc(start, steps, progress=progress)
