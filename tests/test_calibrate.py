@@ -456,6 +456,8 @@ def test_chains_that_stop_apart_are_pooled_over_their_common_tail(monkeypatch) -
         post = calibrate(bl.Rigid, data, vary=["r"], steps=30, walkers=14, chains=2, seed=6)
     assert post.diagnostics["kept_steps"] == min(calls) - 7
     assert post.diagnostics["walkers"] == 28
+    assert post.diagnostics["chain_steps"] == [30, 23]  # each chain's own count, and the report says both
+    assert "x 23-30 steps" in post.report() and f"{min(calls) - 7} kept per walker" in post.report()
 
 
 def test_mode_search_settles_inside_the_bulk() -> None:
@@ -508,3 +510,21 @@ def test_a_law_written_in_python_is_not_run_on_threads(monkeypatch) -> None:
         set_num_threads(before)
     # the same law either way: the same samples
     pd.testing.assert_frame_equal(python_law.samples, compiled.samples, check_exact=False, rtol=1e-9)
+
+
+def test_a_short_run_with_a_walker_that_never_moved_ends_unconverged() -> None:
+    """A walker that does not move in the kept steps has no variance: its autocorrelation time is infinite, not
+    NaN (which crashed the thinning); the run ends with a ConvergenceWarning, saves and loads."""
+    chain = _ar1(60, 12, 0.5, seed=2)
+    chain[:, 3, 0] = 0.5  # one walker stuck in the first number (its mean exactly 0.5: zero variance)
+    tau = H._autocorr(chain)
+    assert tau[0] == np.inf and np.isfinite(tau[1])
+    assert H._burn(chain, 50.0, H.BURN_TAUS) == (20, False)  # an infinite time: the first third, not converged
+    data = varying_campaign(30, seed=3)
+    for steps, seed in ((10, 1), (20, 4)):  # each crashed with "cannot convert float NaN to integer"
+        with pytest.warns(ConvergenceWarning):
+            post = calibrate(bl.Rigid, data, vary=["r"], steps=steps, seed=seed)
+        assert not post.converged and post.diagnostics["thin"] >= 1
+        again = Posterior.from_dict(__import__("json").loads(post.to_json()))
+        assert again.diagnostics["autocorr"] == post.diagnostics["autocorr"]
+        assert "walkers x" in again.report()

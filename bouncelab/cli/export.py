@@ -4,8 +4,9 @@
 --save``, ``law.to_json``) with its values baked in; ``bouncelab export Rigid --published A --lang js``
 the paper's published values of a law. Without ``-o`` the source goes to standard output. The work is
 :func:`bouncelab.export.export_law`'s. Exit codes: 0 written; 2 bad command line or an output that
-cannot be written; 3 a law file that cannot be read; 4 a law that cannot be exported (no values, a
-kernel the translator cannot read).
+cannot be written; 3 a law file that cannot be opened (missing, a folder); 4 a file that is not a law
+(not JSON, another JSON), a law or ``--import`` module that cannot be found, or a law that cannot be
+exported (no values, a kernel the translator cannot read).
 """
 
 from __future__ import annotations
@@ -31,8 +32,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                     "bouncelab_predict_one(xdot, ydot, omega, out); JavaScript predict(landings) and "
                     "predictOne(xdot, ydot, omega); scaled units (radii/s, rad/s).",
         epilog="Compile the C with -ffp-contract=off and without -ffast-math to get bouncelab's numbers (to 1e-12). "
-               "Exit codes: 0 written, 2 bad command line or output, 3 unreadable law file, 4 a law that cannot be "
-               "exported.",
+               "Exit codes: 0 written, 2 bad command line or output, 3 a law file that cannot be opened, 4 a file "
+               "that is not a law, a law or --import module not found, or a law that cannot be exported.",
     )
     p.add_argument("law", help="a law JSON file (from 'fit --save' or law.to_json; a law of your own needs --import), "
                                "or a law name with --published")

@@ -195,6 +195,17 @@ def _finite_or_text(v: float) -> Any:
     return v if np.isfinite(v) else ("inf" if v > 0 else "-inf")
 
 
+def _json_number(v: Any) -> Any:
+    """A diagnostic for JSON: NumPy scalars as Python numbers, infinities and NaN as text (lists element-wise)."""
+    if isinstance(v, list):
+        return [_json_number(x) for x in v]
+    if isinstance(v, np.generic):
+        v = v.item()
+    if isinstance(v, float) and not math.isfinite(v):
+        return "nan" if math.isnan(v) else _finite_or_text(v)
+    return v
+
+
 # ------------------------------------------------------------------------------ the log posterior
 class _LogPosterior:
     """The linearised log posterior of the population values, scales and discrepancies (picklable).
@@ -700,10 +711,16 @@ def _burn(chain: np.ndarray, tau_multiple: float, burn_taus: float) -> tuple[int
 
 
 def _autocorr(chain: np.ndarray) -> np.ndarray:
-    """Integrated autocorrelation time of each parameter (emcee's estimator, without its length check)."""
+    """Integrated autocorrelation time of each parameter (emcee's estimator, without its length check).
+
+    A walker that has not moved in the chain has no variance, and the estimator gives NaN: such a
+    chain has not mixed at all, so its time is taken as infinite (never converged, never thinned by).
+    """
     import emcee
 
-    return np.asarray(emcee.autocorr.integrated_time(chain, tol=0, quiet=True), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau = np.asarray(emcee.autocorr.integrated_time(chain, tol=0, quiet=True), dtype=float)
+    return np.where(np.isnan(tau), np.inf, tau)
 
 
 def _split_rhat(chain: np.ndarray) -> np.ndarray:
@@ -737,14 +754,22 @@ def _diagnostics(kept: np.ndarray, runs: list[dict[str, Any]], tau_multiple: flo
         reasons.append(f"acceptance fraction {acceptance:.2f} outside [0.1, 0.9]")
     return {"converged": not reasons, "reason": "; ".join(reasons) or "converged",
             "steps": int(max(r["steps"] for r in runs)), "burn": int(max(r["burn"] for r in runs)),
+            "chain_steps": [int(r["steps"]) for r in runs], "chain_burn": [int(r["burn"]) for r in runs],
             "walkers": int(kept.shape[1]), "chains": len(runs), "acceptance": acceptance,
             "autocorr": tau.tolist(), "rhat": rhat.tolist(), "kept_steps": int(length)}
+
+
+def _span(d: Mapping[str, Any], key: str) -> str:
+    """A diagnostic per chain as one number, or "low-high" when the chains stopped apart."""
+    values = d.get(f"chain_{key}") or [d[key]]
+    return f"{min(values)}" if min(values) == max(values) else f"{min(values)}-{max(values)}"
 
 
 def _thin(kept: np.ndarray, diagnostics: dict[str, Any], columns: list[str], n_free: int,
           most: int = 4000) -> pd.DataFrame:
     """Samples after burn-in, thinned by half the shortest autocorrelation time and to at most ``most`` rows."""
-    thin = max(1, int(0.5 * min(diagnostics["autocorr"])))
+    finite = [t for t in diagnostics["autocorr"] if math.isfinite(t)]
+    thin = max(1, int(0.5 * min(finite))) if finite else 1
     flat = kept[::thin].reshape(-1, kept.shape[2])
     if len(flat) > most:
         flat = flat[np.linspace(0, len(flat) - 1, most).round().astype(int)]
@@ -775,8 +800,12 @@ class Posterior:
         parameters) by parameter name, ``scale_<name>`` (spot-to-spot standard deviation in the
         transformed space), and ``discrepancy_<component>`` or ``noise_<component>`` (scaled units).
     diagnostics
-        ``converged``, ``reason``, ``steps``, ``burn``, ``walkers``, ``chains``, ``acceptance`` (mean
-        fraction), ``autocorr`` and ``rhat`` (per column of ``samples``), ``thin``, ``elapsed_s``.
+        ``converged``, ``reason``, ``steps`` and ``burn`` (the most over the chains; per chain in
+        ``chain_steps`` and ``chain_burn``), ``kept_steps`` (per walker after burn-in: the chains'
+        common tail), ``walkers`` (all chains), ``chains``, ``acceptance`` (mean fraction), ``autocorr``
+        (infinite for a column in which some walker never moved) and ``rhat`` (per column of
+        ``samples``), ``thin``, ``start`` (how the walkers started: ``"laplace"``, ``"diagonal"`` or
+        ``"ball"``; see the module documentation), ``elapsed_s``.
     measurement
         Typical measurement standard deviations of the calibration data (medians per component of
         ``landing_sd`` and ``liftoff_sd``), used by :meth:`predict` for new landings; None without intervals.
@@ -787,7 +816,8 @@ class Posterior:
     n_bounces
         Bounces of the calibration data.
     mode
-        The posterior mode the sampler started from (logarithms for scales and discrepancies).
+        The point near the posterior's mode that the sampler started from: where the mode search
+        settled, not the exact mode (logarithms for scales and discrepancies).
     notes
         Anything a reader should know (synthetic data, no convergence ...).
     data_kind
@@ -839,8 +869,9 @@ class Posterior:
                  "    varying from bounce to bounce: " + (", ".join(
                      f"{v} ({self.transforms[v].describe()})" for v in self.vary) or "none"),
                  f"    residual term: {self.residual}" + ("" if self.with_tau else " (none fitted)"),
-                 f"    sampler: {d['chains']} chain(s) x {d['walkers'] // d['chains']} walkers x {d['steps']} steps, "
-                 f"burn-in {d['burn']}, acceptance {d['acceptance']:.2f}, {d['elapsed_s']:.1f} s",
+                 f"    sampler: {d['chains']} chain(s) x {d['walkers'] // d['chains']} walkers x {_span(d, 'steps')} "
+                 f"steps, burn-in {_span(d, 'burn')}, {d['kept_steps']} kept per walker, acceptance "
+                 f"{d['acceptance']:.2f}, {d['elapsed_s']:.1f} s",
                  f"    convergence: {d['reason']} (max autocorrelation time {max(d['autocorr']):.1f} steps, "
                  f"max split R-hat {max(d['rhat']):.3f})",
                  "[[Posterior]] (medians of the population values; scales in the transformed space)"]
@@ -1003,7 +1034,7 @@ class Posterior:
             "transforms": {k: t.to_dict() for k, t in self.transforms.items()},
             "residual": self.residual, "with_tau": self.with_tau, "n_bounces": self.n_bounces,
             "measurement": self.measurement, "mode": self.mode,
-            "diagnostics": {k: (v if not isinstance(v, np.generic) else v.item()) for k, v in self.diagnostics.items()},
+            "diagnostics": {k: _json_number(v) for k, v in self.diagnostics.items()},
             "samples": {c: self.samples[c].tolist() for c in self.samples.columns},
             "notes": list(self.notes), "data_kind": self.data_kind,
         }
@@ -1037,8 +1068,11 @@ class Posterior:
             free, vary = [str(x) for x in d["free"]], [str(x) for x in d["vary"]]
             transforms = {k: _Transform.from_dict(v) for k, v in d["transforms"].items()}
             samples = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in d["samples"].items()})
+            # lists of numbers, with "inf" for an infinite autocorrelation time
+            diagnostics = {k: ([float(x) if isinstance(x, str) else x for x in v] if isinstance(v, list) else v)
+                           for k, v in d["diagnostics"].items()}
             out = cls(law=law, free=free, vary=vary, transforms=transforms, samples=samples,
-                      diagnostics=dict(d["diagnostics"]), measurement=dict(d["measurement"]),
+                      diagnostics=diagnostics, measurement=dict(d["measurement"]),
                       residual=str(d["residual"]), with_tau=bool(d["with_tau"]), n_bounces=int(d["n_bounces"]),
                       mode=dict(d.get("mode", {})), notes=list(d.get("notes", [])),
                       data_kind=str(d.get("data_kind", "unknown")))
