@@ -528,3 +528,11 @@ def test_a_short_run_with_a_walker_that_never_moved_ends_unconverged() -> None:
         again = Posterior.from_dict(__import__("json").loads(post.to_json()))
         assert again.diagnostics["autocorr"] == post.diagnostics["autocorr"]
         assert "walkers x" in again.report()
+
+
+def test_diagnostics_in_json_keep_non_finite_values_as_text() -> None:
+    """NaN was written as "-inf" by the transform's helper; every non-finite float reads back as itself."""
+    written = H._json_number([np.float64(np.nan), np.inf, -np.inf, np.float64(1.5), 3])
+    assert written == ["nan", "inf", "-inf", 1.5, 3]
+    back = [float(x) if isinstance(x, str) else x for x in written]
+    assert math.isnan(back[0]) and back[1:] == [np.inf, -np.inf, 1.5, 3]

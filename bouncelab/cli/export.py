@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from bouncelab.cli.laws import add_import_option, import_modules, law_argument
+from bouncelab.cli.laws import add_import_option, law_argument
 from bouncelab.cli.messages import EXIT_FIT, EXIT_OK, UsageError, message
 
 __all__ = ["add_parser", "run"]
@@ -55,7 +55,6 @@ def run(args: argparse.Namespace) -> int:
 
     if args.prefix is not None and args.lang != "c":
         raise UsageError("--prefix is for --lang c: an ES module's names are its own (import it under any name)")
-    import_modules(args.imports)
     law = law_argument(args, "--lang c -o law.h")
     to_stdout = args.output in ("-", "")
     try:

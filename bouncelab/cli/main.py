@@ -246,11 +246,11 @@ def _run(args: argparse.Namespace) -> int:
             from bouncelab.cli.track import run as run_track
 
             return run_track(args)
+        import_modules(getattr(args, "imports", []))
         if args.command == "export":
             from bouncelab.cli.export import run as run_export
 
             return run_export(args)
-        import_modules(getattr(args, "imports", []))
         return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
         # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.

@@ -192,18 +192,19 @@ class _Transform:
 
 
 def _finite_or_text(v: float) -> Any:
-    return v if np.isfinite(v) else ("inf" if v > 0 else "-inf")
+    """A number for JSON: infinities and NaN as text (``float`` reads them back)."""
+    if np.isfinite(v):
+        return v
+    return "nan" if np.isnan(v) else ("inf" if v > 0 else "-inf")
 
 
 def _json_number(v: Any) -> Any:
-    """A diagnostic for JSON: NumPy scalars as Python numbers, infinities and NaN as text (lists element-wise)."""
+    """A diagnostic for JSON: NumPy scalars as Python numbers, non-finite floats as text (lists element-wise)."""
     if isinstance(v, list):
         return [_json_number(x) for x in v]
     if isinstance(v, np.generic):
         v = v.item()
-    if isinstance(v, float) and not math.isfinite(v):
-        return "nan" if math.isnan(v) else _finite_or_text(v)
-    return v
+    return _finite_or_text(v) if isinstance(v, float) else v
 
 
 # ------------------------------------------------------------------------------ the log posterior
@@ -558,7 +559,6 @@ def _data_kind(data: Any) -> str:
     return str(data.attrs.get("data_kind", "unknown")) if isinstance(data, xr.Dataset) else "unknown"
 
 
-
 class _Settled(Exception):
     """Raised inside the mode search once it stops gaining."""
 
@@ -601,11 +601,16 @@ def _mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray:
     return best[-1][1]
 
 
+def _pool(post: _LogPosterior) -> ThreadMap | None:
+    """The threads that share a compiled law's evaluations (its loops release the GIL and are thread-safe); None
+    for a law written in Python, which gains nothing from threads and need not be safe in them."""
+    return ThreadMap() if isinstance(getattr(post, "law", None), CompiledLaw) else None
+
+
 def _values(post: _LogPosterior, points: Sequence[np.ndarray]) -> np.ndarray:
-    """The log posterior at each point, shared between threads for a compiled law (its loops release the GIL)."""
-    if isinstance(getattr(post, "law", None), CompiledLaw):
-        return np.array(ThreadMap().map(post, points), dtype=float)
-    return np.array([post(x) for x in points], dtype=float)
+    """The log posterior at each point (shared between threads by :func:`_pool`)."""
+    pool = _pool(post)
+    return np.array(pool.map(post, points) if pool is not None else [post(x) for x in points], dtype=float)
 
 
 def _laplace(post: _LogPosterior, mode: np.ndarray) -> tuple[np.ndarray, str]:
@@ -659,7 +664,6 @@ def _start(post: _LogPosterior, mode: np.ndarray, spread: np.ndarray, walkers: i
     return start
 
 
-_MOVES = "de"
 #: Steps between convergence checks of a run with ``steps=None``.
 BLOCK = 250
 #: Burn-in, in autocorrelation times (at most the first third of the run).
@@ -672,11 +676,8 @@ def _run_chain(task: tuple) -> dict[str, Any]:
 
     post, start, steps, max_steps, tau_multiple, burn_taus, seed, progress = task
     walkers, ndim = start.shape
-    moves = [(emcee.moves.DEMove(), 0.8), (emcee.moves.DESnookerMove(), 0.2)] if _MOVES == "de" else None
-    # compiled laws release the GIL and are thread-safe; a law written in Python gains nothing from threads
-    # and need not be safe in them
-    pool = ThreadMap() if isinstance(post.law, CompiledLaw) else None
-    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves, pool=pool)
+    moves = [(emcee.moves.DEMove(), 0.8), (emcee.moves.DESnookerMove(), 0.2)]
+    sampler = emcee.EnsembleSampler(walkers, ndim, post, moves=moves, pool=_pool(post))
     sampler.random_state = np.random.RandomState(seed).get_state()
     if steps is not None:
         sampler.run_mcmc(start, steps, progress=progress)
@@ -761,7 +762,7 @@ def _diagnostics(kept: np.ndarray, runs: list[dict[str, Any]], tau_multiple: flo
 
 def _span(d: Mapping[str, Any], key: str) -> str:
     """A diagnostic per chain as one number, or "low-high" when the chains stopped apart."""
-    values = d.get(f"chain_{key}") or [d[key]]
+    values = d.get(f"chain_{key}") or [d[key]]  # a posterior saved before the per-chain lists
     return f"{min(values)}" if min(values) == max(values) else f"{min(values)}-{max(values)}"
 
 
