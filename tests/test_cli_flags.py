@@ -416,3 +416,29 @@ def test_track_out_that_fails_on_the_final_write_is_an_output_error(tmp_path, ca
     code, _, err = run(capsys, "track", str(clip), "--out", str(tmp_path / "c.nc"), "--quiet")
     assert code == EXIT_USAGE
     assert "--out" in err and "not saved" in err and "Permission denied" in err and "data error" not in err
+
+
+def test_fit_save_that_cannot_be_written_keeps_the_writers_reason(tmp_path, capsys, monkeypatch):
+    """fit --save words the OutputError the law's to_json raises (path, reason, errno), not a re-read OSError."""
+    import errno
+
+    from bouncelab.core.errors import OutputError
+    from bouncelab.laws.base import BounceModel
+
+    target = tmp_path / "law.json"
+    raised = []
+
+    def full_disk(self, path=None):
+        raise OutputError("cannot write", path=path, reason="No space left on device", errno=errno.ENOSPC)
+
+    real = OutputError.__init__
+
+    def spy(self, message, **fields):
+        raised.append(fields)
+        real(self, message, **fields)
+
+    monkeypatch.setattr(BounceModel, "to_json", full_disk)
+    monkeypatch.setattr(OutputError, "__init__", spy)
+    code, _, err = run(capsys, "fit", "Rigid", "A", "--save", str(target))
+    assert code == EXIT_USAGE and "not saved" in err and "No space left on device" in err
+    assert raised[-1] == {"path": str(target), "reason": "No space left on device", "errno": errno.ENOSPC}

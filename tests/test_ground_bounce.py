@@ -261,3 +261,17 @@ def test_the_laws_warnings_point_at_the_callers_line():
     with pytest.warns(bl.errors.NonphysicalLiftoffWarning, match="into the ground") as rec:
         bounce(law, v, [0.0, -10000.0 * rpm, 0.0])
     assert rec[0].filename == __file__
+
+
+def test_a_number_too_large_for_a_float_is_a_data_error_as_in_predict():
+    """The ground's vectors go through the landing check's own conversion (core.validation.real_array): an integer
+    beyond float range was a bare OverflowError there, a DataError in predict."""
+    import bouncelab as bl
+    from bouncelab.core.errors import DataError
+    from bouncelab.ground import bounce
+
+    with pytest.raises(DataError) as e:
+        bounce(bl.Rigid(r=0.5, mu=0.4), [10**400, 0, -8.0], [0, 0, 0])
+    assert e.value.option is not None
+    with pytest.raises(DataError):
+        bl.Rigid(r=0.5, mu=0.4).predict([[10**400, -8, 0]])

@@ -227,6 +227,9 @@ def test_laws_option_chooses_the_laws_and_law_adds_one(monkeypatch, capsys, tmp_
     with pytest.raises(FitError) as e:
         rp.reproduce(["A"], out=tmp_path / "r5", progress=False, figures=False, bootstrap=-2)
     assert e.value.option == "bootstrap"
+    with pytest.raises(FitError) as e:  # one resample has no spread: it skipped every assessment
+        rp.reproduce(["A"], out=tmp_path / "r6", progress=False, figures=False, bootstrap=1)
+    assert e.value.option == "bootstrap" and not (tmp_path / "r6").exists()
 
 
 def test_only_typed_errors_become_skips(monkeypatch, tmp_path):

@@ -267,6 +267,7 @@ def test_compare_held_out_can_be_left_out_or_chosen(campaign_b, monkeypatch):
     quick = bl.compare(campaign_b, ["Rigid", "PennerFixed"], heldout=False)
     assert calls == [] and "heldout_delta" not in quick.table.columns and list(quick.table["n_free"]) == [2, 3]
     assert "held out" not in quick.to_markdown()
+    assert quick.heldout_skipped == {} and "held-out" not in quick.to_markdown()  # no note for what was not asked
     some = bl.compare(campaign_b, ["Rigid", "PennerFixed"], heldout=["PennerFixed"], k=3)
     assert calls == ["PennerFixed"]
     assert np.isnan(some.table.loc["Rigid", "heldout_delta"]) and some.heldout["PennerFixed"].k == 3

@@ -414,9 +414,10 @@ def _fit(args: argparse.Namespace) -> int:
     if args.save:
         try:
             res.model.to_json(args.save)  # atomic: a failed write leaves the previous file intact
-        except OSError as exc:
-            raise OutputError(f"the fit above is not saved: cannot write {args.save!r} "
-                              f"({exc.strerror or exc}); any previous file there is unchanged") from None
+        except OutputError as exc:  # (to_json's own, with the path and the reason)
+            raise OutputError(f"the fit above is not saved: cannot write {args.save!r} ({exc.reason or exc}); any "
+                              "previous file there is unchanged", path=exc.path, reason=exc.reason,
+                              errno=getattr(exc, "errno", None)) from None
         if not args.json:
             print(f"law written to {args.save}")
     return EXIT_OK

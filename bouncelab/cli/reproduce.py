@@ -524,8 +524,10 @@ def reproduce(
 
     chosen = _resolve_laws(law_set, laws)  # unknown names fail here, before any work
     resamples = BOOTSTRAP_RESAMPLES if bootstrap is None else bootstrap
-    if isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0:
-        raise FitError(f"bootstrap must be a whole number of resamples >= 0 (0 leaves it out); got {bootstrap!r}",
+    # one resample has no spread: assess (whose bootstrap the report shows) takes 0 or at least 2
+    if (isinstance(resamples, bool) or not isinstance(resamples, numbers.Integral) or resamples < 0
+            or resamples == 1):
+        raise FitError(f"bootstrap must be 0 (leaves it out) or a whole number of resamples >= 2; got {bootstrap!r}",
                        option="bootstrap")
     resamples = int(resamples)
     sources = [*campaigns, *data]

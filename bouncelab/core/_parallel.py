@@ -153,17 +153,12 @@ class ThreadMap:
 
     def map(self, fn: Callable, items: Any) -> list[Any]:
         items = list(items)
-        results: list[Any] = [None] * len(items)
         if num_threads() == 1 or len(items) < 2 or getattr(_local, "in_pool", False):
             return [fn(item) for item in items]
-
-        def part(start: int, stop: int) -> None:
-            for k in range(start, stop):
-                results[k] = fn(items[k])
-
+        results: list[Any] = [None] * len(items)
         _local.in_pool = True  # the calling thread shares the work: its own loops run serially too
         try:
-            _share(part, (), list(range(len(items) + 1)), None)
+            _share(lambda k, _next: fn(items[k]), (), list(range(len(items) + 1)), results)  # one item a part
         finally:
             _local.in_pool = False
         return results

@@ -20,8 +20,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
-           "inverse_norms", "is_dataarray",
-           "refuse_non_numeric"]
+           "inverse_norms", "is_dataarray", "real_array", "refuse_non_numeric"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
@@ -84,15 +83,7 @@ def as_states(
                             "affected); remove or fill them first", file=file,
                             column=f"{name}.{COMPONENTS[col]}" if col < 3 else None, row=int(row) + 1)
         states = np.ma.getdata(states)
-    try:
-        raw = np.asarray(states)
-    except (TypeError, ValueError, OverflowError, RecursionError) as exc:
-        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file, option=name) from None
-    refuse_non_numeric(raw, name, "xdot, ydot, omega", file=file)
-    try:
-        arr = raw.astype(np.float64) if raw.dtype != np.float64 else raw
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise DataError(f"{name} must be numeric (xdot, ydot, omega); {exc}", file=file, option=name) from None
+    arr = real_array(states, name, "xdot, ydot, omega", file=file)
     if arr.ndim == 0 or arr.shape[-1] != 3:
         raise DataError(
             f"{name} must have shape (n, 3) with columns [xdot, ydot, omega]; got shape {arr.shape}",
@@ -190,6 +181,20 @@ def refuse_non_numeric(raw: np.ndarray, name: str, components: str, *, file: str
     if what is not None:
         raise DataError(f"{name} must be numeric: real numbers ({components}); got {what} values", file=file,
                         option=name)
+
+
+def real_array(value: Any, name: str, components: str, *, file: str | None = None) -> np.ndarray:
+    """``value`` as a float64 array, or a DataError naming ``name``: values that are not numbers, and those
+    that ``astype(float)`` would silently turn into numbers (:func:`refuse_non_numeric`), are refused."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError, OverflowError, RecursionError) as exc:
+        raise DataError(f"{name} must be numeric ({components}); {exc}", file=file, option=name) from None
+    refuse_non_numeric(raw, name, components, file=file)
+    try:
+        return raw.astype(np.float64) if raw.dtype != np.float64 else raw
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise DataError(f"{name} must be numeric ({components}); {exc}", file=file, option=name) from None
 
 
 def is_dataarray(obj: Any) -> bool:

@@ -31,7 +31,7 @@ from bouncelab.core import published
 from bouncelab.core.errors import DataError, FitError, Hint, ParameterError
 from bouncelab.data.campaign import synthetic_warning
 from bouncelab.fitting.assessment import HeldOut, _fold_groups, _held_out
-from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
+from bouncelab.fitting.fitter import check_count, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.result import FitResult
 from bouncelab.fitting.splits import split_by_setting
 from bouncelab.fitting.tasks import map_tasks
@@ -421,7 +421,8 @@ def compare(
         with a ``sample_weight`` (the folds would not carry the weights), with a single
         launcher setting, or for a law whose folds cannot be fitted, the law gets none and
         :attr:`Comparison.heldout_skipped` and the markdown say why. True: for every law,
-        and any of those cases is an error (FitError, or skipped with ``errors="skip"``);
+        and any of those cases is an error (FitError, or skipped with ``errors="skip"``; a
+        ``sample_weight`` is always a FitError);
         a list of law names: as True, for those only; False: none (no held-out columns).
         **Cost**: ``k`` more fits per law, so a comparison takes about ``k + 1`` times as
         long as the fits alone (the paper's four laws on 693 bounces: about a second more;
@@ -460,8 +461,7 @@ def compare(
         raise FitError("compare's held-out errors take no sample_weight: the folds split the bounces and the "
                        "weights would not follow them; pass heldout=False to compare weighted fits",
                        option="sample_weight", hints=[Hint("heldout", False)])
-    if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 2:
-        raise FitError(f"k must be an integer of at least 2 (folds of the held-out errors); got {k!r}", option="k")
+    k = check_count(k, "k", 2)  # folds of the held-out errors
     train, test = (split_by_setting(data, seed) if split == "setting" else (data, None))
     fits = map_tasks(_fit_task, [(m, train, test, seed, fit_kwargs, errors == "skip") for m in models], executor)
     results = {name: res for name, res in zip(names, fits, strict=True) if isinstance(res, FitResult)}
@@ -509,11 +509,13 @@ def compare(
             note += " Agreement with the paper's numbers for its measured campaign is expected only roughly."
         notes.append(note)
     synthetic = isinstance(data, xr.Dataset) and data.attrs.get("data_kind") == "synthetic surrogate"
-    if weighted:  # (auto: none; the folds would not carry the weights)
+    if not cross:  # heldout=False: none asked for, so nothing to say about them
+        held, held_skipped = {}, {}
+    elif weighted:  # (auto: none; the folds would not carry the weights)
         held, held_skipped = {}, {name: "sample-weighted fits: the folds would not carry the weights" for name in
                                   results}
     else:
-        held, held_skipped = _held_out_all(data, models, names, results, cross, int(k), seed, executor,
+        held, held_skipped = _held_out_all(data, models, names, results, cross, k, seed, executor,
                                            "skip" if auto else errors, fit_kwargs)
     table["n_free"] = [results[name].n_free for name in table.index]
     if held or cross:

@@ -19,7 +19,7 @@ from bouncelab.core.units import (
     velocity_from_scaled,
     velocity_to_scaled,
 )
-from bouncelab.core.validation import refuse_non_numeric
+from bouncelab.core.validation import real_array
 
 if TYPE_CHECKING:
     from bouncelab.laws import BounceModel
@@ -100,15 +100,7 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
     """
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise DataError(f"{name} has masked (missing) values; remove or fill them first", option=name)
-    try:
-        raw = np.asarray(np.ma.getdata(value))
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
-    refuse_non_numeric(raw, name, "x, y, z")
-    try:
-        arr = np.array(raw, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be real numbers of shape (3,) or (n, 3); {exc}", option=name) from None
+    arr = np.array(real_array(np.ma.getdata(value), name, "x, y, z"))  # a copy: never the caller's array
     if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
         raise DataError(f"{name} must have shape (3,) or (n, 3) (x, y, z components); got shape {arr.shape}",
                         option=name)
@@ -182,12 +174,13 @@ def check_law(law: Any) -> BounceModel:
     if not isinstance(law, BounceModel):
         raise ParameterError(f"law must be a bouncelab bounce law (e.g. bl.Rigid(r=0.5, mu=0.4)); got "
                              f"{type(law).__name__}", parameter="law")
-    if not law.is_fitted:
-        from bouncelab.core.errors import NotFittedError
+    from bouncelab.core.errors import NotFittedError
 
-        missing = [k for k, v in law.parameters.items() if v is None]
-        raise NotFittedError(f"{law_name(law)} has no value for {missing}: fit it or give the values",
-                             law=law_name(law), missing=missing, parameter="law")
+    try:
+        law._fitted_values()
+    except NotFittedError as exc:  # the law's own error, told as about the argument ``law``
+        raise NotFittedError(f"{law_name(law)} has no value for {list(exc.missing)}: fit it or give the values",
+                             law=law_name(law), missing=exc.missing, parameter="law") from None
     return law
 
 

@@ -311,10 +311,8 @@ def fade_speed(value: Any, law: str, *, optional: bool = False) -> float | None:
     if value is None and optional:
         return None
     what = "a positive number of radii/s" + (" or None" if optional else "")
-    if isinstance(value, bool | str | bytes) or not isinstance(value, numbers.Real):
-        raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {value!r}", law=law,
-                             parameter="fade_xdot", value=value)
-    fade = float(value)
+    number = isinstance(value, numbers.Real) and not isinstance(value, bool)  # (text and bytes are not Real)
+    fade = float(value) if number else math.nan
     if not (math.isfinite(fade) and fade > 0):
         raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {value!r}", law=law,
                              parameter="fade_xdot", value=value)
