@@ -4,8 +4,7 @@ r"""From landing to rest: bounces, flights, skid and roll, for many landings at 
 time 0) with a velocity and a spin, and follows it to rest on a :class:`Surface`:
 
 1. **Bounce.** A landing (velocity into the ground) bounces with the surface's law, lifted
-   to 3-D (:mod:`bouncelab.ground.bounce3d`). All shots landing in the same round go to
-   ``law.predict`` in one batch.
+   to 3-D as the law states (:mod:`bouncelab.ground.bounce3d`).
 2. **Flight** under gravity (9.81 m/s², along -z; in scaled units :math:`g = 9.81/R`
    radii/s²), in closed form; optionally with air (:class:`Air`: quadratic drag and a
    Magnus lift, integrated with RK4). The spin is constant in flight. The next landing is
@@ -49,9 +48,13 @@ powers of :math:`\tan(\psi/2)`, :math:`\psi` the angle between :math:`q` and :ma
 (derived in :func:`bouncelab.ground._kernels.glide`; it agrees with
 ``scipy.integrate.solve_ivp`` to 1e-9 of the run, tested).
 
-Every step of a shot is its own row in compiled loops with IEEE arithmetic in a fixed order
-(:data:`bouncelab.core._jit.ROW_FLAGS`) and the law's compiled prediction, so a shot gives the same
-bits whatever the batch it is in, its position there and the number of threads.
+A law with a compiled kernel (every built-in law) runs each shot from its landing to rest in
+one compiled kernel, the law's 3-D lift inside it, the shots shared between threads
+(:func:`bouncelab.ground._kernels.run_loop`); a law written in NumPy bounces all the shots
+landing in the same round in one ``law.predict``, with the same compiled pieces around it.
+The kernels use IEEE arithmetic in a fixed order (:data:`bouncelab.core._jit.ROW_FLAGS`), so
+a shot gives the same bits whatever the batch it is in, its position there and the number of
+threads. The path (:attr:`RunResult.path`) runs the shots once more to record their bounces.
 """
 
 from __future__ import annotations
@@ -212,12 +215,14 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
         z up: backspin for travel in +x is a negative y spin. A velocity into the ground
         (``v . n < 0``) is a landing; one along the ground (``|v . n| <= 1e-9 |v|``) starts
         on the ground, skidding or rolling as its contact-point velocity says. A velocity
-        away from the ground is refused.
+        away from the ground is refused, and so is any component beyond
+        :data:`~bouncelab.core.validation.STATE_LIMIT` in scaled units (radii/s, rad/s).
     surface
         A :class:`~bouncelab.ground.Surface` or the name of a preset
         (:data:`bouncelab.ground.surface.PRESET_NAMES`).
     normal
-        The ground's normal, (3,) or (n, 3) (normalised here; z > 0): a planar slope.
+        The ground's normal, (3,) or (n, 3) (normalised here, of any magnitude; z > 0): a
+        planar slope.
     units
         None (scaled: radii/s, rad/s, lengths in ball radii) or ``{"velocity": "m/s",
         "spin": "rpm"}`` (lengths then in metres), for inputs and results.
@@ -241,10 +246,14 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
     Raises
     ------
     DataError
-        Bad shapes or values, a velocity away from the ground, a normal not pointing up, a
-        slope too steep for the ball to stop on this surface (row named), unknown units.
+        Bad shapes or values (absurd magnitudes included), a velocity away from the ground, a
+        normal not pointing up, a slope too steep for the ball to stop on this surface (row
+        named), unknown units.
     ParameterError
-        A bad surface, ``rate``, ``min_apex_m`` or ``max_bounces``.
+        A bad surface, ``rate``, ``min_apex_m`` or ``max_bounces``; a law giving a non-finite
+        lift-off.
+    LawDefinitionError
+        A law stating a lift the ground does not know (:mod:`bouncelab.ground.bounce3d`).
 
     Warns
     -----
@@ -325,13 +334,15 @@ class _Simulation:
         self.normal = nrm
         self.v0, self.w0 = v, w
         self.landing = landing.astype(np.int8)
-        self.out = np.zeros((self.n, _kernels().OUT_COLUMNS))
-        self.counts = np.zeros((self.n, 4), dtype=np.int64)
         self._records: tuple[np.ndarray, ...] | None = None
         self._lift = compiled_lift(surface.law)
-        if self._lift is not None:
+        if self._lift is not None:  # the kernel writes every value read (the first lift-off only of shots that bounce)
+            self.out = np.empty((self.n, _kernels().OUT_COLUMNS))
+            self.counts = np.empty((self.n, 4), dtype=np.int64)
             self._run(self.out, self.counts, np.zeros(1, dtype=np.int64), *_no_records())
         else:
+            self.out = np.zeros((self.n, _kernels().OUT_COLUMNS))
+            self.counts = np.zeros((self.n, 4), dtype=np.int64)
             self._records = self._rounds()
         out = self.out
         if not np.isfinite(out[:, :_kernels().ENTRY]).all():
