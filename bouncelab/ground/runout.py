@@ -516,7 +516,8 @@ class RunResult:
 
     @property
     def heading(self) -> np.ndarray:
-        """(n, 3) unit heading of each shot: its landing velocity along the ground (the contact frame's t if none)."""
+        """(n, 3) unit heading of each shot: its landing velocity along the ground (if none, the fall-back tangent of
+        the plane of travel, as the bounce takes it: the x axis projected on the ground)."""
         s = self._sim
         vt = s.v0 - _dot(s.v0, s.normal)[:, None] * s.normal
         h = np.empty_like(vt)
@@ -542,8 +543,9 @@ class RunResult:
         back); ``total_run`` = bounce_carry + roll (the rest position along the heading);
         ``lateral``, the rest position across it (positive to the left, along
         ``n x heading``); ``skid_time``, ``roll_time``, ``time_to_rest`` (s);
-        ``into_ground`` and ``energy_gain``, how many of its bounces the law sent into the
-        ground or gave more energy (its ``LiftoffFlags``); ``bounce_limit``, whether it was
+        ``into_ground`` and ``energy_gain``, how many of its 3-D bounces the law sent into the
+        ground (``vF . n <= 0``) or gave more energy (``|v|^2 + 2/5 |omega|^2``, beyond
+        :data:`~bouncelab.laws.nonphysical.ENERGY_RTOL`); ``bounce_limit``, whether it was
         still bouncing at ``max_bounces``.
         """
         import pandas as pd
