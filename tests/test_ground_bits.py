@@ -81,10 +81,68 @@ def test_a_shot_gives_the_same_bits_whatever_the_number_of_threads(monkeypatch):
 
 
 def test_the_ground_loops_allow_no_floating_point_freedom_beyond_row_flags():
+    from bouncelab.ground.bounce3d import compiled_lift
+
     loops = [getattr(gk, name) for name in dir(gk) if hasattr(getattr(gk, name), "targetoptions")]
+    laws = (bl.Rigid(r=0.5, mu=0.4), bl.CompliantImpact(r=0.5, mu=0.4, kappa=1.2), bl.PiecewiseAffine.published("A"))
+    for law in laws:
+        lift, _ = compiled_lift(law)  # the loops built around a law's lift: own, slip and travel
+        loops += [lift, gk.bounce_loop(lift), gk.run_loop(lift)]
     row_loops = [f for f in loops if f.targetoptions.get("nogil")]
     assert {f.py_func.__name__ for f in row_loops} >= {"to_plane_rows", "from_plane_rows", "advance_rows",
-                                                       "ground_rows", "sample_rows", "angle_rows"}
+                                                       "ground_rows", "sample_rows", "angle_rows", "bounce_rows",
+                                                       "run_rows"}
     for f in loops:
         flags = f.targetoptions.get("fastmath", set())
         assert flags is not True and set(flags) <= _jit.ROW_FLAGS, (f.py_func.__name__, flags)
+
+
+_CROSS = """
+import hashlib, json, sys, warnings
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import bouncelab as bl
+from bouncelab.ground import Air, preset, run
+from test_ground_bits import shots
+warnings.simplefilter("ignore")
+v, w, n = shots(61, np.random.default_rng(17))
+out = {}
+for name, law, air in (("green-fast", None, None), ("turf-A", None, Air()), ("green-medium", bl.CompliantImpact(
+        r=0.4, mu=0.5, kappa=1.3), None), ("turf-B", bl.PiecewiseAffine.published("B"), None)):
+    s = preset(name) if law is None else preset(name).replace(law=law)
+    r = run(v, w, s, normal=n, units={"velocity": "m/s", "spin": "rad/s"}, air=air, max_bounces=20)
+    ds = r.sample(25.0)
+    parts = [r.rest_position, r.totals.to_numpy(dtype=float)] + [ds[k].values for k in ("position", "velocity", "spin")]
+    out[name] = hashlib.sha256(b"".join(np.ascontiguousarray(p).tobytes() for p in parts)).hexdigest()
+    vf, wf = bl.ground.bounce(s, v - 2 * np.maximum((v * n).sum(1), 0)[:, None] * n - 0.1 * n, w, n)
+    out[name + " bounce"] = hashlib.sha256(vf.tobytes() + wf.tobytes()).hexdigest()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow
+def test_a_run_gives_the_same_bits_under_a_reduced_instruction_set(tmp_path):
+    """As tests/test_bits.py for the laws: the ground's kernels compiled for a generic x86-64 CPU (no AVX2, AVX-512
+    or FMA), with a fresh numba cache, give the same bits as natively."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from tests.test_bits import reduced_instruction_set_env
+
+    if os.environ.get("NUMBA_CPU_NAME"):
+        pytest.skip("this run is already under a reduced instruction set")
+    root = Path(__file__).resolve().parents[1]
+
+    def cross(extra: dict[str, str]) -> dict:
+        env = {**os.environ, "PYTHONPATH": str(root), **extra}
+        proc = subprocess.run([sys.executable, "-c", _CROSS, str(Path(__file__).parent)], capture_output=True,
+                              text=True, env=env, timeout=1200)
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout.splitlines()[-1])
+
+    native = cross({})
+    reduced = cross({**reduced_instruction_set_env(), "NUMBA_CACHE_DIR": str(tmp_path), "BOUNCELAB_NO_CACHE": "1"})
+    assert native == reduced

@@ -62,8 +62,14 @@ def test_preset_green_speeds_and_laws():
     assert preset("green-slow").stimp_ft == pytest.approx(7.5)
     assert preset("green-medium").stimp_ft == pytest.approx(9.0)
     assert preset("green-fast").stimp_ft == pytest.approx(11.0)
-    assert preset("turf-A").law == bl.PennerVarying.published("A")
-    assert preset("turf-B").law == bl.PennerVarying.published("B")
+    # the published laws, their tilt faded at small speeds along the ground (issue 30: a vertical drop stays put)
+    from bouncelab.ground.surface import PRESET_FADE_XDOT
+
+    assert PRESET_FADE_XDOT == 50.0
+    assert preset("turf-A").law == bl.PennerVarying.published("A").replace(fade_xdot=50.0)
+    for name in ("turf-B", "green-slow", "green-medium", "green-fast"):
+        assert preset(name).law == bl.PennerVarying.published("B").replace(fade_xdot=50.0)
+        assert "fades below 50 radii/s" in preset(name).description
 
 
 @pytest.mark.parametrize(("kwargs", "parameter"), [

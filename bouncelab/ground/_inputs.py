@@ -19,12 +19,12 @@ from bouncelab.core.units import (
     velocity_from_scaled,
     velocity_to_scaled,
 )
-from bouncelab.core.validation import real_array
+from bouncelab.core.validation import STATE_LIMIT, real_array
 
 if TYPE_CHECKING:
     from bouncelab.laws import BounceModel
 
-__all__ = ["Units", "as_vectors", "unit_normals"]
+__all__ = ["Units", "as_vectors", "unit_normals", "within_limit"]
 
 _AXES = ("x", "y", "z")
 
@@ -116,19 +116,40 @@ def as_vectors(value: Any, name: str) -> tuple[np.ndarray, tuple[int, ...]]:
     return arr, lead
 
 
+def within_limit(scaled: np.ndarray, name: str, given: np.ndarray, unit: str) -> np.ndarray:
+    """``scaled`` (velocities or spins in scaled units) if every component is within
+    :data:`~bouncelab.core.validation.STATE_LIMIT`, else a DataError naming the row and component.
+
+    No ball moves or spins that fast (1e8 radii/s is 2135 km/s); the arithmetic of a run would
+    overflow long before a double does (squares of 1e154 are infinite). ``given`` holds the
+    caller's values in ``unit``, for the message.
+    """
+    bad = ~(np.abs(scaled) <= STATE_LIMIT)  # also infinite after a unit conversion
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        raise DataError(f"{name} row {row + 1}, component {_AXES[col]}: {given[row, col]:.6g} {unit} is beyond "
+                        f"{STATE_LIMIT:g} in scaled units (radii/s, rad/s); no ball moves or spins that fast - is it "
+                        f"in another unit?", column=f"{name}_{_AXES[col]}", row=int(row) + 1, option=name)
+    return scaled
+
+
 def unit_normals(normal: Any, *, upward: bool) -> tuple[np.ndarray, tuple[int, ...]]:
     """Ground normals as unit (n, 3) vectors (any non-zero length is normalised).
 
-    With ``upward`` the normal must have a positive z component (gravity pushes the ball into
-    that ground); a DataError names the row otherwise.
+    Each row is first divided by its largest component (in magnitude), then by its length:
+    a normal of any magnitude, tiny or huge, normalises as its multiple of order 1 does
+    (``[1e-160, 0, 1e-160]`` exactly as ``[1, 0, 1]``), where squaring it would underflow or
+    overflow. With ``upward`` the normal must have a positive z component (gravity pushes the
+    ball into that ground); a DataError names the row otherwise.
     """
     n, lead = as_vectors(normal, "normal")
-    length = np.sqrt((n * n).sum(axis=1))
-    if (length == 0).any():
-        row = int(np.flatnonzero(length == 0)[0])
+    big = np.abs(n).max(axis=1)
+    if (big == 0).any():
+        row = int(np.flatnonzero(big == 0)[0])
         raise DataError(f"normal row {row + 1} is the zero vector; give the ground's normal, e.g. (0, 0, 1)",
                         column="normal", row=row + 1, option="normal")
-    n = n / length[:, None]
+    n = n / big[:, None]
+    n = n / np.sqrt(n[:, 0] * n[:, 0] + n[:, 1] * n[:, 1] + n[:, 2] * n[:, 2])[:, None]
     if upward and (n[:, 2] <= 0).any():
         row = int(np.flatnonzero(n[:, 2] <= 0)[0])
         raise DataError(f"normal row {row + 1} = {normal_text(n[row])} does not point up (z <= 0): gravity "

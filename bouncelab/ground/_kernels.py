@@ -1,27 +1,56 @@
-"""Compiled row loops of the ground phase (numba; built on first use, cached on disk).
+r"""Compiled kernels of the ground phase (numba; built on first use, cached on disk).
 
-Every loop here treats its rows independently, in scaled units (radii, radii/s, rad/s,
-seconds), with the floating-point flags :data:`bouncelab.core._jit.ROW_FLAGS` only (no
-contraction into fused multiply-adds, no reassociation, no approximate functions): a
-shot gives the same bits whatever the batch it is in, its position there and the number
-of threads. Besides ``+ - * /`` and ``math.sqrt`` (correctly rounded), the loops call
-libm's ``pow`` (curved skids and rolls on slopes) and ``atan2`` (lift-off angles), scalar
-calls in loops with branches that the compiler does not vectorise, as the contact laws'
+Plain scalar code: ``+ - * /``, ``math.sqrt`` and a few libm calls, loops and branches, no
+NumPy call inside a row (the C, JavaScript and C# exports translate these functions). Every
+row is independent, in scaled units (radii, radii/s, rad/s, seconds), with the
+floating-point flags :data:`bouncelab.core._jit.ROW_FLAGS` only (no contraction into fused
+multiply-adds, no reassociation, no approximate functions): a shot gives the same bits
+whatever the batch it is in, its position there and the number of threads. Besides
+``+ - * /`` and ``math.sqrt`` (correctly rounded), the kernels call libm's ``pow`` (curved
+skids and rolls on slopes) and ``atan2`` (lift-off angles), as the contact laws call
 ``exp``, ``sin`` and ``cos``.
+
+Structure: one kernel per job, each a loop over rows ``[start, stop)`` that
+:func:`bouncelab.core._parallel.run_rows` shares between threads:
+
+* :func:`bounce_loop` (``ground.bounce``): the 3-D bounce of each landing;
+* :func:`run_loop` (``ground.run``): each landing to rest, its bounces, flights, skid and
+  roll; it also records each bounce when asked (the path);
+* :func:`sample_rows` (``RunResult.path``): the states of each shot at given times;
+* :func:`angle_rows` (the totals).
+
+The law enters through its *lift*, a scalar function
+``lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args) -> (vF, omegaF)`` built around the
+law's compiled kernel by :func:`lift_of` (see :mod:`bouncelab.ground.bounce3d` for the
+three lifts); :func:`bounce_loop` and :func:`run_loop` are built once per lift (a closure
+over it, compiled and cached like the laws' own loops). Everything else is a function of
+this module compiled once: the frames, :func:`flight`, :func:`to_rest` and :func:`glide`.
+A law without a compiled kernel (a law written in NumPy) is bounced by ``law.predict`` in
+rounds, with the row loops :func:`to_plane_rows`, :func:`from_plane_rows` and
+:func:`advance_rows`, then :func:`ground_rows`: the same scalar functions.
 
 Layouts
 -------
 ``F`` (contact frames, ``(m, 9)``): ``t`` (3), ``b`` (3), then ``v . b``, ``omega . t`` and
 ``omega . n``: what the 2-D law does not touch (see :mod:`bouncelab.ground.bounce3d`).
+``OUT`` (a run's results per shot, ``(n, OUT_COLUMNS)``): columns 0-11 the ground phase
+(:func:`to_rest`: skid time, skid-end position (3) and velocity (3), roll time, rest position
+(3), rest time), 12-21 the ground entry (velocity (3), spin (3), position (3), time), 22-27
+the first lift-off (velocity (3), spin (3); unset without a bounce). ``COUNTS`` (int64,
+``(n, 4)``): bounces, lift-offs into the ground, lift-offs gaining energy, whether the shot hit
+``max_bounces`` (0 or 1).
 """
 
 from __future__ import annotations
 
 import math
+import threading
+from typing import Any
 
 import numpy as np
 
 from bouncelab.core._jit import ROW_FLAGS, jit
+from bouncelab.laws.nonphysical import ENERGY_RTOL
 
 #: A glide is straight when ``|q x a| <= PARALLEL |q| |a|`` or ``|a| <= PARALLEL k`` (see :func:`glide`).
 PARALLEL = 1.0e-12
@@ -31,12 +60,21 @@ AIR_STEPS = 64
 AIR_MAX_STEPS = 1_000_000
 #: Halvings of the last step to find where a flight with air meets the ground.
 AIR_BISECT = 60
+#: Most Newton steps to find where a curved glide is at a given time (it takes 3-6).
+CURVE_STEPS = 60
+#: I / (m R^2) of a solid sphere: the spin's share of the kinetic energy (scaled units).
+INERTIA = 0.4
 
 # Phase codes of the path (bouncelab.ground.runout.PHASES).
 FLIGHT, SKID, ROLL, REST = 0, 1, 2, 3
 
+# Columns of OUT (module notes).
+ENTRY = 12
+FIRST = 22
+OUT_COLUMNS = 28
 
-# ------------------------------------------------------------------------------ contact frame
+
+# ------------------------------------------------------------------------------ frames
 @jit(inline="always")
 def _any_tangent(nx, ny, nz):
     """A unit vector perpendicular to n: the x axis projected on the plane (the y axis if n is near x)."""
@@ -53,20 +91,45 @@ def _any_tangent(nx, ny, nz):
 
 
 @jit(inline="always")
+def _along(x, y, z, nx, ny, nz):
+    """(x, y, z) minus its component along the unit vector n."""
+    d = x * nx + y * ny + z * nz
+    return x - d * nx, y - d * ny, z - d * nz
+
+
+@jit(inline="always")
+def travel_frame(vx, vy, vz, nx, ny, nz):
+    """The plane of travel of a ball touching the plane of unit normal n: h and b = n x h.
+
+    h is the unit vector of the velocity along the ground ``v - (v . n) n``; when there is
+    none (a landing along the normal), :func:`_any_tangent`. The projection is made twice:
+    once leaves a rounding error of order ``eps |v|`` along n, which would tilt h out of the
+    plane when the velocity along the ground is that small (on flat ground the second pass
+    subtracts an exact zero).
+    """
+    tx, ty, tz = _along(vx, vy, vz, nx, ny, nz)
+    tx, ty, tz = _along(tx, ty, tz, nx, ny, nz)
+    vv = tx * tx + ty * ty + tz * tz
+    if vv > 0.0:
+        s = math.sqrt(vv)
+        tx, ty, tz = tx / s, ty / s, tz / s
+    else:
+        tx, ty, tz = _any_tangent(nx, ny, nz)
+    return tx, ty, tz, ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx
+
+
+@jit(inline="always")
 def contact_frame(vx, vy, vz, wx, wy, wz, nx, ny, nz):
-    """The in-plane axis t and b = n x t of a ball touching the plane of unit normal n.
+    """The plane of the slip of a ball touching the plane of unit normal n: t and b = n x t.
 
     t is the direction of the tangential contact-point velocity ``u = v_t + n x omega``; when
     it vanishes, of the tangential velocity; when both vanish, :func:`_any_tangent`. Its sign
-    makes the ball travel along +t (``v . t >= 0``), as the paper's balls travel in +x.
+    makes the ball travel along +t (``v . t >= 0``), as the paper's balls travel in +x. u is
+    projected on the plane once more: near zero slip its rounding error along n (of order
+    ``eps |v|``) would tilt t out of the plane (on flat ground it subtracts an exact zero).
     """
-    vn = vx * nx + vy * ny + vz * nz
-    vtx = vx - vn * nx
-    vty = vy - vn * ny
-    vtz = vz - vn * nz
-    ux = vtx + (ny * wz - nz * wy)
-    uy = vty + (nz * wx - nx * wz)
-    uz = vtz + (nx * wy - ny * wx)
+    vtx, vty, vtz = _along(vx, vy, vz, nx, ny, nz)
+    ux, uy, uz = _along(vtx + (ny * wz - nz * wy), vty + (nz * wx - nx * wz), vtz + (nx * wy - ny * wx), nx, ny, nz)
     uu = ux * ux + uy * uy + uz * uz
     if uu > 0.0:
         s = math.sqrt(uu)
@@ -86,14 +149,114 @@ def contact_frame(vx, vy, vz, wx, wy, wz, nx, ny, nz):
     return tx, ty, tz, bx, by, bz
 
 
+@jit(inline="always")
+def frame_of(slip, vx, vy, vz, wx, wy, wz, nx, ny, nz):
+    """The slip's frame (:func:`contact_frame`) if ``slip``, else the plane of travel (:func:`travel_frame`)."""
+    if slip:
+        return contact_frame(vx, vy, vz, wx, wy, wz, nx, ny, nz)
+    return travel_frame(vx, vy, vz, nx, ny, nz)
+
+
+@jit(inline="always")
+def from_frame(xf, yf, wf, vb, wt, wn, tx, ty, tz, bx, by, bz, nx, ny, nz):
+    """``v = xF t + yF n + vb b`` and ``omega = wt t - wF b + wn n``: a lift-off from its frame's components."""
+    return (xf * tx + yf * nx + vb * bx, xf * ty + yf * ny + vb * by, xf * tz + yf * nz + vb * bz,
+            wt * tx - wf * bx + wn * nx, wt * ty - wf * by + wn * ny, wt * tz - wf * bz + wn * nz)
+
+
+# ------------------------------------------------------------------------------ the lifts of a law
+_BUILT: dict[tuple, tuple[Any, Any]] = {}
+_BUILT_LOCK = threading.Lock()
+
+
+def _built(key: tuple, keep_alive: Any, make: Any) -> Any:
+    """``make()`` once per key and process (the key holds ids: ``keep_alive`` keeps them from being reused)."""
+    with _BUILT_LOCK:
+        hit = _BUILT.get(key)
+        if hit is None or hit[0] is not keep_alive:
+            hit = (keep_alive, make())
+            _BUILT[key] = hit
+        return hit[1]
+
+
+def lift_of(kind: str, kernel: Any) -> Any:
+    """The compiled lift of a law: ``lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args) -> (vF, omegaF)``.
+
+    ``kind`` is ``"own"`` (``kernel`` is the law's ``kernel_3d``, acting in the plane of travel),
+    ``"travel"`` or ``"slip"`` (``kernel`` is the law's 2-D kernel, acting in that plane); ``args``
+    the law's kernel arguments, ``keep`` the fraction of the lift-off's spin about n kept. See
+    :mod:`bouncelab.ground.bounce3d`.
+    """
+    def make() -> Any:
+        if kind == "own":
+            @jit(fastmath=ROW_FLAGS)
+            def lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args):
+                hx, hy, hz, bx, by, bz = travel_frame(vx, vy, vz, nx, ny, nz)
+                x = vx * hx + vy * hy + vz * hz
+                y = vx * nx + vy * ny + vz * nz
+                w = -(wx * bx + wy * by + wz * bz)
+                vb = vx * bx + vy * by + vz * bz
+                wh = wx * hx + wy * hy + wz * hz
+                wn = wx * nx + wy * ny + wz * nz
+                xf, yf, wf, vbf, whf, wnf = kernel(x, y, w, vb, wh, wn, *args)
+                return from_frame(xf, yf, wf, vbf, whf, wnf * keep, hx, hy, hz, bx, by, bz, nx, ny, nz)
+        else:
+            slip = kind == "slip"
+
+            @jit(fastmath=ROW_FLAGS)
+            def lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args):
+                tx, ty, tz, bx, by, bz = frame_of(slip, vx, vy, vz, wx, wy, wz, nx, ny, nz)
+                x = vx * tx + vy * ty + vz * tz
+                y = vx * nx + vy * ny + vz * nz
+                w = -(wx * bx + wy * by + wz * bz)  # t x n = -b
+                xf, yf, wf, _ = kernel(x, y, w, *args)
+                vb = vx * bx + vy * by + vz * bz
+                wt = wx * tx + wy * ty + wz * tz
+                wn = (wx * nx + wy * ny + wz * nz) * keep
+                return from_frame(xf, yf, wf, vb, wt, wn, tx, ty, tz, bx, by, bz, nx, ny, nz)
+        return lift
+
+    if kind not in ("own", "travel", "slip"):
+        raise ValueError(f"unknown lift {kind!r}")
+    return _built(("lift", kind, id(kernel)), kernel, make)
+
+
+@jit(inline="always")
+def energy(vx, vy, vz, wx, wy, wz):
+    """``|v|^2 + 2/5 |omega|^2``: twice the kinetic energy per unit mass (scaled units)."""
+    return vx * vx + vy * vy + vz * vz + INERTIA * (wx * wx + wy * wy + wz * wz)
+
+
+def bounce_loop(lift: Any) -> Any:
+    """The row loop of ``ground.bounce`` around a lift: lift-offs into VF, WF; FLAGS (int8, (n, 2)) into the
+    ground (``vF . n <= 0``) and gaining energy (beyond :data:`~bouncelab.laws.nonphysical.ENERGY_RTOL`)."""
+    def make() -> Any:
+        @jit(nogil=True, fastmath=ROW_FLAGS)
+        def bounce_rows(V, W, N, keep, args, VF, WF, FLAGS, start, stop):
+            for i in range(start, stop):
+                vx, vy, vz = V[i, 0], V[i, 1], V[i, 2]
+                wx, wy, wz = W[i, 0], W[i, 1], W[i, 2]
+                nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
+                ax, ay, az, bx, by, bz = lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args)
+                VF[i, 0], VF[i, 1], VF[i, 2] = ax, ay, az
+                WF[i, 0], WF[i, 1], WF[i, 2] = bx, by, bz
+                FLAGS[i, 0] = ax * nx + ay * ny + az * nz <= 0.0
+                FLAGS[i, 1] = energy(ax, ay, az, bx, by, bz) > energy(vx, vy, vz, wx, wy, wz) * (1.0 + ENERGY_RTOL)
+            return True
+        return bounce_rows
+
+    return _built(("bounce", id(lift)), lift, make)
+
+
+# ------------------------------------------------------------------------------ rows for laws without a kernel
 @jit(nogil=True, fastmath=ROW_FLAGS)
-def to_plane_rows(V, W, N, P2, F, start, stop):
+def to_plane_rows(V, W, N, slip, P2, F, start, stop):
     """The 2-D landings ``[v . t, v . n, omega . (t x n)]`` into P2 and the frames into F (module layout)."""
     for i in range(start, stop):
         vx, vy, vz = V[i, 0], V[i, 1], V[i, 2]
         wx, wy, wz = W[i, 0], W[i, 1], W[i, 2]
         nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
-        tx, ty, tz, bx, by, bz = contact_frame(vx, vy, vz, wx, wy, wz, nx, ny, nz)
+        tx, ty, tz, bx, by, bz = frame_of(slip, vx, vy, vz, wx, wy, wz, nx, ny, nz)
         P2[i, 0] = vx * tx + vy * ty + vz * tz
         P2[i, 1] = vx * nx + vy * ny + vz * nz
         P2[i, 2] = -(wx * bx + wy * by + wz * bz)  # t x n = -b
@@ -111,21 +274,12 @@ def to_plane_rows(V, W, N, P2, F, start, stop):
 
 @jit(nogil=True, fastmath=ROW_FLAGS)
 def from_plane_rows(P2F, F, N, keep, VF, WF, start, stop):
-    """3-D lift-offs from the 2-D ones.
-
-    ``v = xF t + yF n + (v.b) b`` and ``omega = (omega.t) t - wF b + keep (omega.n) n``.
-    """
+    """3-D lift-offs from the 2-D ones (:func:`from_frame`, the spin about n times ``keep``)."""
     for i in range(start, stop):
-        xf, yf, wf = P2F[i, 0], P2F[i, 1], P2F[i, 2]
-        nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
-        tx, ty, tz, bx, by, bz = F[i, 0], F[i, 1], F[i, 2], F[i, 3], F[i, 4], F[i, 5]
-        vb, wt, wn = F[i, 6], F[i, 7], F[i, 8] * keep[i]
-        VF[i, 0] = xf * tx + yf * nx + vb * bx
-        VF[i, 1] = xf * ty + yf * ny + vb * by
-        VF[i, 2] = xf * tz + yf * nz + vb * bz
-        WF[i, 0] = wt * tx - wf * bx + wn * nx
-        WF[i, 1] = wt * ty - wf * by + wn * ny
-        WF[i, 2] = wt * tz - wf * bz + wn * nz
+        a, b, c, d, e, f = from_frame(P2F[i, 0], P2F[i, 1], P2F[i, 2], F[i, 6], F[i, 7], F[i, 8] * keep,
+                                      F[i, 0], F[i, 1], F[i, 2], F[i, 3], F[i, 4], F[i, 5], N[i, 0], N[i, 1], N[i, 2])
+        VF[i, 0], VF[i, 1], VF[i, 2] = a, b, c
+        WF[i, 0], WF[i, 1], WF[i, 2] = d, e, f
     return True
 
 
@@ -231,16 +385,34 @@ def _vacuum_flight(px, py, pz, vx, vy, vz, nx, ny, nz, g):
     return tf, qx - d * nx, qy - d * ny, qz - d * nz, vx, vy, vz - g * tf
 
 
+@jit(inline="always")
+def leaves(vn, nz, g, hmin):
+    """Whether a lift-off with normal velocity vn rises above hmin along the normal (apex vn^2 / 2 g nz)."""
+    return vn > 0.0 and vn * vn > 2.0 * g * nz * hmin
+
+
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
+def flight(px, py, pz, vx, vy, vz, wx, wy, wz, nx, ny, nz, g, air, empty, dummy):
+    """From a lift-off at p to the next landing: flight time, landing position and velocity.
+
+    Under gravity alone in closed form (``air`` empty), or with ``air = [kd, kq, c_L, C_L,max]``
+    by RK4 (``_air_flight``; ``empty`` and ``dummy`` are its (0,) and (0, 6) sample arrays).
+    """
+    if air.shape[0] == 0:
+        return _vacuum_flight(px, py, pz, vx, vy, vz, nx, ny, nz, g)
+    tf, qx, qy, qz, ux, uy, uz, _ = _air_flight(px, py, pz, vx, vy, vz, wx, wy, wz, nx, ny, nz, g, air[0], air[1],
+                                                air[2], air[3], empty, dummy, 0)
+    return tf, qx, qy, qz, ux, uy, uz
+
+
 @jit(nogil=True, fastmath=ROW_FLAGS)
 def advance_rows(VF, WF, N, T, P, g, hmin, last, air, leave, T1, P1, V1, start, stop):
-    """After a bounce: fly to the next landing (``leave[i] = 1``), or stay on the ground (0).
+    """After a bounce (laws without a kernel): fly to the next landing (``leave[i] = 1``), or stay on the ground (0).
 
-    A ball leaves when the apex of its next flight without air, ``(v . n)^2 / (2 g n_z)``
-    along the normal, is above ``hmin`` (radii) and this was not its last allowed bounce
-    (``last``; then ``leave[i] = 2`` marks a ball that would have left). Its next landing
-    time, position and velocity go to T1, P1, V1. A ball that stays keeps its tangential
-    velocity: V1 receives ``v - (v . n) n``. ``air`` is ``[kd, kq, cl_slope, cl_max]`` or
-    empty (no air).
+    A ball leaves when :func:`leaves` and this was not its last allowed bounce (``last``; then
+    ``leave[i] = 2`` marks a ball that would have left). Its next landing time, position and
+    velocity go to T1, P1, V1. A ball that stays keeps its tangential velocity: V1 receives
+    ``v - (v . n) n``.
     """
     empty = np.empty(0)
     dummy = np.empty((0, 6))
@@ -248,16 +420,11 @@ def advance_rows(VF, WF, N, T, P, g, hmin, last, air, leave, T1, P1, V1, start, 
         vx, vy, vz = VF[i, 0], VF[i, 1], VF[i, 2]
         nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
         vn = vx * nx + vy * ny + vz * nz
-        up = vn > 0.0 and vn * vn > 2.0 * g * nz * hmin
+        up = leaves(vn, nz, g, hmin)
         if up and not last:
             leave[i] = 1
-            px, py, pz = P[i, 0], P[i, 1], P[i, 2]
-            if air.shape[0] == 0:
-                tf, qx, qy, qz, ux, uy, uz = _vacuum_flight(px, py, pz, vx, vy, vz, nx, ny, nz, g)
-            else:
-                tf, qx, qy, qz, ux, uy, uz, _ = _air_flight(px, py, pz, vx, vy, vz, WF[i, 0], WF[i, 1], WF[i, 2],
-                                                            nx, ny, nz, g, air[0], air[1], air[2], air[3],
-                                                            empty, dummy, 0)
+            tf, qx, qy, qz, ux, uy, uz = flight(P[i, 0], P[i, 1], P[i, 2], vx, vy, vz, WF[i, 0], WF[i, 1], WF[i, 2],
+                                                nx, ny, nz, g, air, empty, dummy)
             T1[i] = T[i] + tf
             P1[i, 0], P1[i, 1], P1[i, 2] = qx, qy, qz
             V1[i, 0], V1[i, 1], V1[i, 2] = ux, uy, uz
@@ -277,38 +444,52 @@ def _put(out, row, a, b, c, d, e, f):
 
 
 @jit(inline="always")
-def _curve_at(x, x0, qm1, s, aa):
-    """Time, the two integrals and the speed factor ``S r`` of the curved glide at ``x = tan(psi / 2)``."""
-    r = math.pow(x / x0, qm1)
+def _curve_at(r, x0, qm1, s, aa):
+    """The curved glide where ``r = (x / x0)^(Qk - 1)`` in [0, 1] (1 at the start, 0 at the stop).
+
+    Returns the time, the two integrals, the speed factor ``S r`` and ``x = tan(psi / 2)``.
+    Parametrised by r, not x: near the steepest slope a ball rests on (``Qk -> 1``) the
+    speed ``S r (1 + x^2)`` falls through its whole range while x falls by hundreds of orders
+    of magnitude, below what a double holds (x underflows to 0 here, where its terms are
+    negligible).
+    """
+    x = x0 * math.pow(r, 1.0 / qm1)
     r2 = r * r
     xx = x * x
     x02 = x0 * x0
     t = s / aa * ((1.0 - r) / qm1 + (x02 - r * xx) / (qm1 + 2.0))
     ie = s * s / aa * ((1.0 - r2) / (2.0 * qm1) - (x02 * x02 - r2 * xx * xx) / (2.0 * qm1 + 4.0))
     ip = 2.0 * s * s / aa * ((x0 - r2 * x) / (2.0 * qm1 + 1.0) + (x02 * x0 - r2 * xx * x) / (2.0 * qm1 + 3.0))
-    return t, ie, ip, s * r
+    return t, ie, ip, s * r, x
 
 
 @jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
-def _curve_x(ts, x0, qm1, s, aa):
-    """The x in (0, x0] where the curved glide's time is ``ts`` (safeguarded Newton; t falls as x grows)."""
+def _curve_r(ts, tt, x0, qm1, s, aa):
+    """The r in [0, 1] where the curved glide's time is ``ts`` in (0, tt) (safeguarded Newton; t falls as r grows).
+
+    ``dt/dr = -S (1 + x^2) / (A (Qk - 1))``; t is nearly linear in r at both ends of ``Qk``, so
+    Newton from ``r = 1 - ts / tt`` takes a few steps.
+    """
     lo = 0.0
-    hi = x0
-    x = 0.5 * x0
-    for _ in range(200):
-        t, _ie, _ip, sr = _curve_at(x, x0, qm1, s, aa)
+    hi = 1.0
+    r = 1.0 - ts / tt
+    for _ in range(CURVE_STEPS):
+        t, _ie, _ip, _sr, x = _curve_at(r, x0, qm1, s, aa)
         f = t - ts
         if f > 0.0:
-            lo = x
+            lo = r
+        elif f < 0.0:
+            hi = r
         else:
-            hi = x
-        if f == 0.0 or hi - lo <= 1e-15 * x0:
             break
-        xn = x + f * aa * x / (sr * (1.0 + x * x))  # Newton: dt/dx = -S r (1 + x^2) / (A x)
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        x = xn
-    return x
+        rn = r + f * aa * qm1 / (s * (1.0 + x * x))
+        if not (lo < rn < hi):
+            rn = 0.5 * (lo + hi)
+        if abs(rn - r) <= 2e-16 or hi - lo <= 2e-16:  # r in [0, 1]: a few units of its last place
+            r = rn
+            break
+        r = rn
+    return r
 
 
 @jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
@@ -330,7 +511,8 @@ def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
       ``t(x) = S/A [(1 - r)/(Qk - 1) + (x0^2 - r x^2)/(Qk + 1)]`` and
       ``Q(x) = S^2/A [(1 - r^2)/(2Qk - 2) - (x0^4 - r^2 x^4)/(2Qk + 2)] e
       + 2 S^2/A [(x0 - r^2 x)/(2Qk - 1) + (x0^3 - r^2 x^3)/(2Qk + 1)] e_perp``.
-      The stop (x = 0) needs only arithmetic; a sample at a given time solves t(x) for x.
+      The stop (x = 0) needs only arithmetic; a sample at a given time solves t for r
+      (:func:`_curve_r`; ``x = x0 r^(1/(Qk - 1))``).
 
     With ``tsample`` (times from the start, ascending) the states ``(q, Q)`` at those times
     are written to ``out[k0 + j]`` (6 columns; zero velocity and the final Q after the stop).
@@ -378,8 +560,8 @@ def glide(ax, ay, az, k, qx, qy, qz, tsample, out, k0):
         if tsample[j] <= 0.0:
             _put(out, k0 + j, qx, qy, qz, 0.0, 0.0, 0.0)
         else:
-            x = _curve_x(tsample[j], x0, qm1, s, aa)
-            _t, ie, ip, sr = _curve_at(x, x0, qm1, s, aa)
+            r = _curve_r(tsample[j], tt, x0, qm1, s, aa)
+            _t, ie, ip, sr, x = _curve_at(r, x0, qm1, s, aa)
             ce = sr * (1.0 - x * x)
             cp = sr * 2.0 * x
             _put(out, k0 + j, ce * ex + cp * px, ce * ey + cp * py, ce * ez + cp * pz,
@@ -398,53 +580,129 @@ def _tangential_gravity(nx, ny, nz, g):
     return gn * nx, gn * ny, gn * nz - g, gn
 
 
-@jit(nogil=True, fastmath=ROW_FLAGS)
-def ground_rows(VG, WG, PG, TG, N, g, mu_s, mu_r, OUT, start, stop):
-    """Skid then roll to rest from the ground entry (VG tangential velocity, WG spin, PG, TG).
+@jit(fastmath=ROW_FLAGS)  # a call, not inlined: the loops that use it compile much faster
+def to_rest(vx, vy, vz, wx, wy, wz, px, py, pz, t0, nx, ny, nz, g, mu_s, mu_r, empty, dummy):
+    """Skid then roll to rest from the ground entry (tangential velocity v, spin w, position p, time t0).
 
-    OUT columns: 0 skid time, 1-3 position at the end of the skid, 4-6 velocity there,
-    7 roll time, 8-10 rest position, 11 rest time.
+    Returns the skid time, the position (3) and velocity (3) at the end of the skid, the roll
+    time, the rest position (3) and the rest time (columns 0-11 of the module's OUT).
     """
+    gx, gy, gz, gn = _tangential_gravity(nx, ny, nz, g)
+    ux = vx + (ny * wz - nz * wy)
+    uy = vy + (nz * wx - nx * wz)
+    uz = vz + (nx * wy - ny * wx)
+    ts, sx, sy, sz, _ = glide(gx, gy, gz, 3.5 * mu_s * gn, ux, uy, uz, empty, dummy, 0)
+    c = 5.0 / 14.0 * ts * ts
+    ex = px + vx * ts + c * gx + (2.0 / 7.0) * (sx - ux * ts)
+    ey = py + vy * ts + c * gy + (2.0 / 7.0) * (sy - uy * ts)
+    ez = pz + vz * ts + c * gz + (2.0 / 7.0) * (sz - uz * ts)
+    c = 5.0 / 7.0 * ts
+    rx = vx + c * gx - (2.0 / 7.0) * ux
+    ry = vy + c * gy - (2.0 / 7.0) * uy
+    rz = vz + c * gz - (2.0 / 7.0) * uz
+    tr, qx, qy, qz, _ = glide(5.0 / 7.0 * gx, 5.0 / 7.0 * gy, 5.0 / 7.0 * gz, mu_r * gn, rx, ry, rz, empty, dummy, 0)
+    return ts, ex, ey, ez, rx, ry, rz, tr, ex + qx, ey + qy, ez + qz, t0 + ts + tr
+
+
+@jit(nogil=True, fastmath=ROW_FLAGS)
+def ground_rows(ENT, N, g, mu_s, mu_r, OUT, start, stop):
+    """:func:`to_rest` from the ground entries ``ENT`` (velocity, spin, position, time) into OUT columns 0-11."""
     empty = np.empty(0)
     dummy = np.empty((0, 6))
     for i in range(start, stop):
-        nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
-        gx, gy, gz, gn = _tangential_gravity(nx, ny, nz, g)
-        vx, vy, vz = VG[i, 0], VG[i, 1], VG[i, 2]
-        wx, wy, wz = WG[i, 0], WG[i, 1], WG[i, 2]
-        ux = vx + (ny * wz - nz * wy)
-        uy = vy + (nz * wx - nx * wz)
-        uz = vz + (nx * wy - ny * wx)
-        ts, sx, sy, sz, _ = glide(gx, gy, gz, 3.5 * mu_s * gn, ux, uy, uz, empty, dummy, 0)
-        c = 5.0 / 14.0 * ts * ts
-        ex = PG[i, 0] + vx * ts + c * gx + (2.0 / 7.0) * (sx - ux * ts)
-        ey = PG[i, 1] + vy * ts + c * gy + (2.0 / 7.0) * (sy - uy * ts)
-        ez = PG[i, 2] + vz * ts + c * gz + (2.0 / 7.0) * (sz - uz * ts)
-        c = 5.0 / 7.0 * ts
-        rx = vx + c * gx - (2.0 / 7.0) * ux
-        ry = vy + c * gy - (2.0 / 7.0) * uy
-        rz = vz + c * gz - (2.0 / 7.0) * uz
-        tr, qx, qy, qz, _ = glide(5.0 / 7.0 * gx, 5.0 / 7.0 * gy, 5.0 / 7.0 * gz, mu_r * gn, rx, ry, rz,
-                                  empty, dummy, 0)
-        OUT[i, 0] = ts
-        OUT[i, 1], OUT[i, 2], OUT[i, 3] = ex, ey, ez
-        OUT[i, 4], OUT[i, 5], OUT[i, 6] = rx, ry, rz
-        OUT[i, 7] = tr
-        OUT[i, 8], OUT[i, 9], OUT[i, 10] = ex + qx, ey + qy, ez + qz
-        OUT[i, 11] = TG[i] + ts + tr
+        res = to_rest(ENT[i, 0], ENT[i, 1], ENT[i, 2], ENT[i, 3], ENT[i, 4], ENT[i, 5], ENT[i, 6], ENT[i, 7],
+                      ENT[i, 8], ENT[i, 9], N[i, 0], N[i, 1], N[i, 2], g, mu_s, mu_r, empty, dummy)
+        for c in range(12):
+            OUT[i, c] = res[c]
     return True
+
+
+# ------------------------------------------------------------------------------ landing to rest, per shot
+def run_loop(lift: Any) -> Any:
+    """The row loop of ``ground.run`` around a lift: each shot from its landing (or from the ground) to rest.
+
+    ``run_rows(V, W, N, LANDING, args, keep, g, hmin, max_bounces, air, mu_s, mu_r, OUT, COUNTS,
+    OFFSETS, BT, BP, BV, BW, start, stop)``: V, W, N the shots' (n, 3) velocities, spins and unit
+    normals; LANDING (int8) whether each lands (else it starts on the ground); ``args`` and
+    ``keep`` the lift's; ``hmin`` the lowest apex of a flight; ``air`` ``[kd, kq, c_L, C_L,max]``
+    or empty. Writes OUT and COUNTS (module layout). With BT non-empty it also records the
+    bounces of shot i at rows ``OFFSETS[i]:OFFSETS[i + 1]`` (known from a first call's COUNTS):
+    BT landing time, BP landing position, BV and BW lift-off velocity and spin.
+    """
+    def make() -> Any:
+        @jit(nogil=True, fastmath=ROW_FLAGS)
+        def run_rows(V, W, N, LANDING, args, keep, g, hmin, max_bounces, air, mu_s, mu_r, OUT, COUNTS, OFFSETS,
+                     BT, BP, BV, BW, start, stop):
+            empty = np.empty(0)
+            dummy = np.empty((0, 6))
+            record = BT.shape[0] > 0
+            for i in range(start, stop):
+                vx, vy, vz = V[i, 0], V[i, 1], V[i, 2]
+                wx, wy, wz = W[i, 0], W[i, 1], W[i, 2]
+                nx, ny, nz = N[i, 0], N[i, 1], N[i, 2]
+                t = 0.0
+                px, py, pz = 0.0, 0.0, 0.0
+                nb = 0
+                into = 0
+                gain = 0
+                limit = 0
+                if LANDING[i] != 0:
+                    while True:  # bounce, then fly to the next landing, until the ball stays on the ground
+                        ax, ay, az, bx, by, bz = lift(vx, vy, vz, wx, wy, wz, nx, ny, nz, keep, args)
+                        an = ax * nx + ay * ny + az * nz
+                        if an <= 0.0:
+                            into += 1
+                        if energy(ax, ay, az, bx, by, bz) > energy(vx, vy, vz, wx, wy, wz) * (1.0 + ENERGY_RTOL):
+                            gain += 1
+                        if nb == 0:
+                            OUT[i, FIRST], OUT[i, FIRST + 1], OUT[i, FIRST + 2] = ax, ay, az
+                            OUT[i, FIRST + 3], OUT[i, FIRST + 4], OUT[i, FIRST + 5] = bx, by, bz
+                        if record:
+                            k = OFFSETS[i] + nb
+                            BT[k] = t
+                            BP[k, 0], BP[k, 1], BP[k, 2] = px, py, pz
+                            BV[k, 0], BV[k, 1], BV[k, 2] = ax, ay, az
+                            BW[k, 0], BW[k, 1], BW[k, 2] = bx, by, bz
+                        nb += 1
+                        wx, wy, wz = bx, by, bz
+                        if leaves(an, nz, g, hmin):
+                            if nb < max_bounces:
+                                tf, px, py, pz, vx, vy, vz = flight(px, py, pz, ax, ay, az, bx, by, bz, nx, ny, nz,
+                                                                    g, air, empty, dummy)
+                                t += tf
+                                continue
+                            limit = 1
+                        vx, vy, vz = ax - an * nx, ay - an * ny, az - an * nz  # on the ground: its tangential velocity
+                        break
+                else:
+                    vn = vx * nx + vy * ny + vz * nz  # within rounding of 0: a ball on the ground
+                    vx, vy, vz = vx - vn * nx, vy - vn * ny, vz - vn * nz
+                res = to_rest(vx, vy, vz, wx, wy, wz, px, py, pz, t, nx, ny, nz, g, mu_s, mu_r, empty, dummy)
+                for c in range(12):
+                    OUT[i, c] = res[c]
+                OUT[i, ENTRY], OUT[i, ENTRY + 1], OUT[i, ENTRY + 2] = vx, vy, vz
+                OUT[i, ENTRY + 3], OUT[i, ENTRY + 4], OUT[i, ENTRY + 5] = wx, wy, wz
+                OUT[i, ENTRY + 6], OUT[i, ENTRY + 7], OUT[i, ENTRY + 8] = px, py, pz
+                OUT[i, ENTRY + 9] = t
+                COUNTS[i, 0] = nb
+                COUNTS[i, 1] = into
+                COUNTS[i, 2] = gain
+                COUNTS[i, 3] = limit
+            return True
+        return run_rows
+
+    return _built(("run", id(lift)), lift, make)
 
 
 # ------------------------------------------------------------------------------ the path
 @jit(nogil=True, fastmath=ROW_FLAGS)
-def sample_rows(times, N, g, mu_s, mu_r, air, offsets, BT, BP, BV, BW, VG, WG, PG, TG, GOUT, POS, VEL, SPIN,
-                PHASE, start, stop):
+def sample_rows(times, N, g, mu_s, mu_r, air, offsets, BT, BP, BV, BW, OUT, POS, VEL, SPIN, PHASE, start, stop):
     """States of each shot at ``times`` (ascending, from the first landing): POS, VEL, SPIN (shot, time, 3), PHASE.
 
     The bounces of shot i are rows ``offsets[i]:offsets[i+1]`` of BT (landing times), BP
     (landing positions), BV and BW (lift-off velocity and spin); a flight follows every
-    bounce but the last. Then the ground phase from VG, WG, PG, TG with its results GOUT
-    (:func:`ground_rows`). At an event's time the state is the one after it.
+    bounce but the last. Then the ground phase from the ground entry and its results in OUT
+    (module layout). At an event's time the state is the one after it.
     """
     nt = times.shape[0]
     buf = np.empty((nt, 6))
@@ -482,13 +740,13 @@ def sample_rows(times, N, g, mu_s, mu_r, air, offsets, BT, BP, BV, BW, VG, WG, P
                 SPIN[i, j, 0], SPIN[i, j, 1], SPIN[i, j, 2] = wx, wy, wz
                 PHASE[i, j] = FLIGHT
         # skid
-        vx, vy, vz = VG[i, 0], VG[i, 1], VG[i, 2]
-        wx, wy, wz = WG[i, 0], WG[i, 1], WG[i, 2]
+        vx, vy, vz = OUT[i, ENTRY], OUT[i, ENTRY + 1], OUT[i, ENTRY + 2]
+        wx, wy, wz = OUT[i, ENTRY + 3], OUT[i, ENTRY + 4], OUT[i, ENTRY + 5]
         ux = vx + (ny * wz - nz * wy)
         uy = vy + (nz * wx - nx * wz)
         uz = vz + (nx * wy - ny * wx)
-        tg = TG[i]
-        ts = GOUT[i, 0]
+        tg = OUT[i, ENTRY + 9]
+        ts = OUT[i, 0]
         j0 = k
         while k < nt and times[k] < tg + ts:
             k += 1
@@ -499,9 +757,9 @@ def sample_rows(times, N, g, mu_s, mu_r, air, offsets, BT, BP, BV, BW, VG, WG, P
                 s = times[j] - tg
                 qx, qy, qz, sx, sy, sz = buf[j, 0], buf[j, 1], buf[j, 2], buf[j, 3], buf[j, 4], buf[j, 5]
                 c = 5.0 / 14.0 * s * s
-                POS[i, j, 0] = PG[i, 0] + vx * s + c * gx + (2.0 / 7.0) * (sx - ux * s)
-                POS[i, j, 1] = PG[i, 1] + vy * s + c * gy + (2.0 / 7.0) * (sy - uy * s)
-                POS[i, j, 2] = PG[i, 2] + vz * s + c * gz + (2.0 / 7.0) * (sz - uz * s)
+                POS[i, j, 0] = OUT[i, ENTRY + 6] + vx * s + c * gx + (2.0 / 7.0) * (sx - ux * s)
+                POS[i, j, 1] = OUT[i, ENTRY + 7] + vy * s + c * gy + (2.0 / 7.0) * (sy - uy * s)
+                POS[i, j, 2] = OUT[i, ENTRY + 8] + vz * s + c * gz + (2.0 / 7.0) * (sz - uz * s)
                 c = 5.0 / 7.0 * s
                 VEL[i, j, 0] = vx + c * gx + (2.0 / 7.0) * (qx - ux)
                 VEL[i, j, 1] = vy + c * gy + (2.0 / 7.0) * (qy - uy)
@@ -517,9 +775,9 @@ def sample_rows(times, N, g, mu_s, mu_r, air, offsets, BT, BP, BV, BW, VG, WG, P
         # roll, then rest
         wn = wx * nx + wy * ny + wz * nz
         t2 = tg + ts
-        ex, ey, ez = GOUT[i, 1], GOUT[i, 2], GOUT[i, 3]
-        rx, ry, rz = GOUT[i, 4], GOUT[i, 5], GOUT[i, 6]
-        tr = GOUT[i, 7]
+        ex, ey, ez = OUT[i, 1], OUT[i, 2], OUT[i, 3]
+        rx, ry, rz = OUT[i, 4], OUT[i, 5], OUT[i, 6]
+        tr = OUT[i, 7]
         j0 = k
         k = nt
         if k > j0:

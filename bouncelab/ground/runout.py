@@ -4,8 +4,7 @@ r"""From landing to rest: bounces, flights, skid and roll, for many landings at 
 time 0) with a velocity and a spin, and follows it to rest on a :class:`Surface`:
 
 1. **Bounce.** A landing (velocity into the ground) bounces with the surface's law, lifted
-   to 3-D (:mod:`bouncelab.ground.bounce3d`). All shots landing in the same round go to
-   ``law.predict`` in one batch.
+   to 3-D as the law states (:mod:`bouncelab.ground.bounce3d`).
 2. **Flight** under gravity (9.81 m/s², along -z; in scaled units :math:`g = 9.81/R`
    radii/s²), in closed form; optionally with air (:class:`Air`: quadratic drag and a
    Magnus lift, integrated with RK4). The spin is constant in flight. The next landing is
@@ -49,9 +48,13 @@ powers of :math:`\tan(\psi/2)`, :math:`\psi` the angle between :math:`q` and :ma
 (derived in :func:`bouncelab.ground._kernels.glide`; it agrees with
 ``scipy.integrate.solve_ivp`` to 1e-9 of the run, tested).
 
-Every step of a shot is its own row in compiled loops with IEEE arithmetic in a fixed order
-(:data:`bouncelab.core._jit.ROW_FLAGS`) and the law's compiled prediction, so a shot gives the same
-bits whatever the batch it is in, its position there and the number of threads.
+A law with a compiled kernel (every built-in law) runs each shot from its landing to rest in
+one compiled kernel, the law's 3-D lift inside it, the shots shared between threads
+(:func:`bouncelab.ground._kernels.run_loop`); a law written in NumPy bounces all the shots
+landing in the same round in one ``law.predict``, with the same compiled pieces around it.
+The kernels use IEEE arithmetic in a fixed order (:data:`bouncelab.core._jit.ROW_FLAGS`), so
+a shot gives the same bits whatever the batch it is in, its position there and the number of
+threads. The path (:attr:`RunResult.path`) runs the shots once more to record their bounces.
 """
 
 from __future__ import annotations
@@ -72,8 +75,16 @@ from bouncelab.core.errors import (
     NonphysicalLiftoffWarning,
     ParameterError,
 )
-from bouncelab.ground._inputs import Units, as_vectors, broadcast_rows, normal_text, positive, unit_normals
-from bouncelab.ground.bounce3d import from_plane, to_plane
+from bouncelab.ground._inputs import (
+    Units,
+    as_vectors,
+    broadcast_rows,
+    normal_text,
+    positive,
+    unit_normals,
+    within_limit,
+)
+from bouncelab.ground.bounce3d import compiled_lift, flags_3d, from_plane, lift_plane, to_plane
 from bouncelab.ground.surface import GRAVITY, Surface, preset
 
 if TYPE_CHECKING:
@@ -204,12 +215,14 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
         z up: backspin for travel in +x is a negative y spin. A velocity into the ground
         (``v . n < 0``) is a landing; one along the ground (``|v . n| <= 1e-9 |v|``) starts
         on the ground, skidding or rolling as its contact-point velocity says. A velocity
-        away from the ground is refused.
+        away from the ground is refused, and so is any component beyond
+        :data:`~bouncelab.core.validation.STATE_LIMIT` in scaled units (radii/s, rad/s).
     surface
         A :class:`~bouncelab.ground.Surface` or the name of a preset
         (:data:`bouncelab.ground.surface.PRESET_NAMES`).
     normal
-        The ground's normal, (3,) or (n, 3) (normalised here; z > 0): a planar slope.
+        The ground's normal, (3,) or (n, 3) (normalised here, of any magnitude; z > 0): a
+        planar slope.
     units
         None (scaled: radii/s, rad/s, lengths in ball radii) or ``{"velocity": "m/s",
         "spin": "rpm"}`` (lengths then in metres), for inputs and results.
@@ -233,10 +246,14 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
     Raises
     ------
     DataError
-        Bad shapes or values, a velocity away from the ground, a normal not pointing up, a
-        slope too steep for the ball to stop on this surface (row named), unknown units.
+        Bad shapes or values (absurd magnitudes included), a velocity away from the ground, a
+        normal not pointing up, a slope too steep for the ball to stop on this surface (row
+        named), unknown units.
     ParameterError
-        A bad surface, ``rate``, ``min_apex_m`` or ``max_bounces``.
+        A bad surface, ``rate``, ``min_apex_m`` or ``max_bounces``; a law giving a non-finite
+        lift-off.
+    LawDefinitionError
+        A law stating a lift the ground does not know (:mod:`bouncelab.ground.bounce3d`).
 
     Warns
     -----
@@ -271,8 +288,10 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
     w, _ = as_vectors(spin, "spin")
     nrm, _ = unit_normals(normal, upward=True)
     n = broadcast_rows([("velocity", v), ("spin", w), ("normal", nrm)])
-    v = np.ascontiguousarray(np.broadcast_to(u.velocity_in(v), (n, 3)), dtype=float)
-    w = np.ascontiguousarray(np.broadcast_to(u.spin_in(w), (n, 3)), dtype=float)
+    v = within_limit(u.velocity_in(v), "velocity", v, u.velocity_unit)
+    w = within_limit(u.spin_in(w), "spin", w, u.spin_unit)
+    v = np.ascontiguousarray(np.broadcast_to(v, (n, 3)), dtype=float)
+    w = np.ascontiguousarray(np.broadcast_to(w, (n, 3)), dtype=float)
     nrm = np.ascontiguousarray(np.broadcast_to(nrm, (n, 3)))
     _check_slopes(nrm, surface)
     vn = _dot(v, nrm)
@@ -284,9 +303,7 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
                         f"{u.velocity_out(vn[row]):.6g} {u.velocity_unit} > 0): a run starts with a landing "
                         f"(v . n < 0) or on the ground (v . n = 0)", column="velocity", row=row + 1)
     sim = _Simulation(surface, radius, GRAVITY / radius, hmin_m / radius, int(max_bounces),
-                      None if air is None else air.kernel_parameters(radius))
-    sim.bounce_all(v, w, nrm, vn < -tol)
-    sim.to_rest()
+                      None if air is None else air.kernel_parameters(radius), v, w, nrm, vn < -tol)
     if sim.limit.any():
         rows = np.flatnonzero(sim.limit)
         warnings.warn(f"{len(rows)} of {n} shots were still bouncing after max_bounces={max_bounces} (first: row "
@@ -296,10 +313,15 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
 
 
 class _Simulation:
-    """The scaled state of a run: bounces (in CSR form, per shot), ground entry and ground phase."""
+    """The scaled state of a run: per shot its results (the module layout of ``_kernels``: ``out``, ``counts``),
+    and its bounces for the path (:meth:`records`).
+
+    A law with a compiled kernel runs each shot to rest in one compiled loop (``_kernels.run_loop``);
+    a law written in NumPy bounces in rounds, all the shots landing in a round in one ``law.predict``.
+    """
 
     def __init__(self, surface: Surface, radius: float, g: float, hmin: float, max_bounces: int,
-                 air: np.ndarray | None) -> None:
+                 air: np.ndarray | None, v: np.ndarray, w: np.ndarray, nrm: np.ndarray, landing: np.ndarray) -> None:
         self.surface = surface
         self.radius = radius
         self.g = g
@@ -308,78 +330,130 @@ class _Simulation:
         self.air = np.empty(0) if air is None else air
         self.mu_s = surface.sliding_friction
         self.mu_r = surface.rolling_resistance
-
-    def bounce_all(self, v: np.ndarray, w: np.ndarray, nrm: np.ndarray, landing: np.ndarray) -> None:
-        """Bounce every landing shot in rounds (one ``law.predict`` per round) until all stay on the ground."""
-        k = _kernels()
-        n = len(v)
-        self.n = n
+        self.n = len(v)
         self.normal = nrm
         self.v0, self.w0 = v, w
-        # Ground entry (balls that start on the ground: their velocity without its tiny normal part).
-        vn = _dot(v, nrm)
-        self.vg = v - vn[:, None] * nrm
-        self.wg = w.copy()
-        self.pg = np.zeros((n, 3))
-        self.tg = np.zeros(n)
-        self.limit = np.zeros(n, dtype=bool)
+        self.landing = landing.astype(np.int8)
+        self._records: tuple[np.ndarray, ...] | None = None
+        self._lift = compiled_lift(surface.law)
+        if self._lift is not None:  # the kernel writes every value read (the first lift-off only of shots that bounce)
+            self.out = np.empty((self.n, _kernels().OUT_COLUMNS))
+            self.counts = np.empty((self.n, 4), dtype=np.int64)
+            self._run(self.out, self.counts, np.zeros(1, dtype=np.int64), *_no_records())
+        else:
+            self.out = np.zeros((self.n, _kernels().OUT_COLUMNS))
+            self.counts = np.zeros((self.n, 4), dtype=np.int64)
+            self._records = self._rounds()
+        out = self.out
+        if not np.isfinite(out[:, :_kernels().ENTRY]).all():
+            row = int(np.flatnonzero(~np.isfinite(out[:, :_kernels().ENTRY]).all(axis=1))[0])
+            raise ParameterError(f"{type(surface.law).__name__} gave shot {row + 1} a non-finite lift-off: its run to "
+                                 f"rest has no finite answer", parameter="law")
+
+    # ----------------------------------------------------------------- per shot (compiled laws)
+    def _run(self, out: np.ndarray, counts: np.ndarray, offsets: np.ndarray, bt: np.ndarray, bp: np.ndarray,
+             bv: np.ndarray, bw: np.ndarray) -> None:
+        lift, args = self._lift
+        keep = self.surface.pivot_retention
+        _rows(_kernels().run_loop(lift), self.n, self.v0, self.w0, self.normal, self.landing, args, keep, self.g,
+              self.hmin, self.max_bounces, self.air, self.mu_s, self.mu_r, out, counts, offsets, bt, bp, bv, bw)
+
+    def records(self) -> tuple[np.ndarray, ...]:
+        """``(offsets, bt, bp, bv, bw)``: the bounces of shot i at rows ``offsets[i]:offsets[i+1]``, their landing
+        times and positions, lift-off velocities and spins (a compiled run runs again to record them)."""
+        if self._records is None:
+            offsets = np.concatenate([[0], np.cumsum(self.nb)]).astype(np.int64)
+            m = int(offsets[-1])
+            rec = (np.empty(m), np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3)))
+            if m:
+                self._run(np.empty_like(self.out), np.empty_like(self.counts), offsets, *rec)
+            self._records = (offsets, *rec)
+        return self._records
+
+    # ----------------------------------------------------------------- in rounds (laws written in NumPy)
+    def _rounds(self) -> tuple[np.ndarray, ...]:
+        """Bounce every landing shot in rounds (one ``law.predict`` per round), then skid and roll (compiled rows)."""
+        k = _kernels()
+        n, nrm, v, w = self.n, self.normal, self.v0, self.w0
+        law = self.surface.law
+        plane = lift_plane(law)
+        keep = self.surface.pivot_retention
+        entry = np.zeros((n, 10))
+        entry[:, 0:3] = v - _dot(v, nrm)[:, None] * nrm  # balls on the ground: without the tiny normal part
+        entry[:, 3:6] = w
         rounds = []
-        idx = np.flatnonzero(landing)
+        idx = np.flatnonzero(self.landing)
         t = np.zeros(len(idx))
         p = np.zeros((len(idx), 3))
         vc, wc, nc = v[idx], w[idx], nrm[idx]
-        keep = np.full(n, self.surface.pivot_retention)
-        law = self.surface.law
         r = 0
         while idx.size:
             m = len(idx)
-            p2, frames = to_plane(vc, wc, nc)
+            p2, frames = to_plane(vc, wc, nc, plane)
             with warnings.catch_warnings():  # flagged per bounce below; the run handles them (module notes)
                 warnings.simplefilter("ignore", NonphysicalLiftoffWarning)
-                out, flags = law.predict(p2, plausible=None, return_flags=True)
-            out = np.asarray(out, dtype=float)
+                out = np.asarray(law.predict(p2, plausible=None), dtype=float)
             if not np.isfinite(out).all():
                 raise ParameterError(f"{type(law).__name__} returned a non-finite lift-off for the 2-D landing "
-                                     f"{p2[np.flatnonzero(~np.isfinite(out).all(axis=1))[0]].tolist()}")
-            vf, wf = from_plane(out, frames, nc, keep[:m])
+                                     f"{p2[np.flatnonzero(~np.isfinite(out).all(axis=1))[0]].tolist()}",
+                                     parameter="law")
+            vf, wf = from_plane(out, frames, nc, keep)
+            into, gain = flags_3d(vc, wc, vf, wf, nc)
             leave = np.empty(m, dtype=np.int8)
             t1, p1, v1 = np.empty(m), np.empty((m, 3)), np.empty((m, 3))
             last = r + 1 >= self.max_bounces
             _rows(k.advance_rows, m, vf, wf, nc, t, p, self.g, self.hmin, last, self.air, leave, t1, p1, v1)
-            rounds.append((idx, t, p, vf, wf, np.asarray(flags.into_ground), np.asarray(flags.energy_gain)))
+            rounds.append((idx, t, p, vf, wf))
+            self.counts[idx, 1] += into
+            self.counts[idx, 2] += gain
             stay = leave != 1
             where = idx[stay]
-            self.vg[where] = v1[stay]
-            self.wg[where] = wf[stay]
-            self.pg[where] = p1[stay]
-            self.tg[where] = t1[stay]
-            self.limit[idx[leave == 2]] = True
+            entry[where, 0:3] = v1[stay]
+            entry[where, 3:6] = wf[stay]
+            entry[where, 6:9] = p1[stay]
+            entry[where, 9] = t1[stay]
+            self.counts[idx[leave == 2], 3] = 1
             go = leave == 1
             idx, t, p, vc, wc, nc = idx[go], t1[go], p1[go], v1[go], wf[go], nc[go]
             r += 1
-        self.nb = np.zeros(n, dtype=np.int64)
         for ridx, *_ in rounds:
-            self.nb[ridx] += 1
-        self.offsets = np.concatenate([[0], np.cumsum(self.nb)])
-        total = int(self.offsets[-1])
-        self.bt, self.bp = np.empty(total), np.empty((total, 3))
-        self.bv, self.bw = np.empty((total, 3)), np.empty((total, 3))
-        self.into_ground = np.zeros(n, dtype=np.int64)
-        self.energy_gain = np.zeros(n, dtype=np.int64)
-        for r, (ridx, t, p, vf, wf, ig, eg) in enumerate(rounds):
-            pos = self.offsets[ridx] + r
-            self.bt[pos], self.bp[pos], self.bv[pos], self.bw[pos] = t, p, vf, wf
-            self.into_ground[ridx] += ig
-            self.energy_gain[ridx] += eg
-        self.first = np.full(n, -1, dtype=np.int64)
-        self.first[self.nb > 0] = self.offsets[:-1][self.nb > 0]
+            self.counts[ridx, 0] += 1
+        offsets = np.concatenate([[0], np.cumsum(self.counts[:, 0])]).astype(np.int64)
+        total = int(offsets[-1])
+        bt, bp, bv, bw = np.empty(total), np.empty((total, 3)), np.empty((total, 3)), np.empty((total, 3))
+        for r, (ridx, t, p, vf, wf) in enumerate(rounds):
+            pos = offsets[ridx] + r
+            bt[pos], bp[pos], bv[pos], bw[pos] = t, p, vf, wf
+        first = self.counts[:, 0] > 0
+        self.out[first, k.FIRST:k.FIRST + 3] = bv[offsets[:-1][first]]
+        self.out[first, k.FIRST + 3:k.FIRST + 6] = bw[offsets[:-1][first]]
+        self.out[:, k.ENTRY:k.ENTRY + 10] = entry
+        _rows(k.ground_rows, n, entry, nrm, self.g, self.mu_s, self.mu_r, self.out)
+        return offsets, bt, bp, bv, bw
 
-    def to_rest(self) -> None:
-        """Skid and roll every shot from its ground entry to rest (compiled, row by row)."""
-        k = _kernels()
-        self.gout = np.empty((self.n, 12))
-        _rows(k.ground_rows, self.n, self.vg, self.wg, self.pg, self.tg, self.normal, self.g, self.mu_s,
-              self.mu_r, self.gout)
+    # ----------------------------------------------------------------- what the results read
+    @property
+    def nb(self) -> np.ndarray:
+        return self.counts[:, 0]
+
+    @property
+    def limit(self) -> np.ndarray:
+        return self.counts[:, 3].astype(bool)
+
+    @property
+    def entry_position(self) -> np.ndarray:
+        k = _kernels().ENTRY
+        return self.out[:, k + 6:k + 9]
+
+    @property
+    def entry_time(self) -> np.ndarray:
+        return self.out[:, _kernels().ENTRY + 9]
+
+    def first_liftoff(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Which shots bounced, and the velocity and spin of their first lift-off."""
+        k = _kernels().FIRST
+        has = self.nb > 0
+        return has, self.out[has, k:k + 3], self.out[has, k + 3:k + 6]
 
     def sample(self, times: np.ndarray) -> tuple[np.ndarray, ...]:
         """Positions, velocities, spins (n, len(times), 3) and phases (n, len(times)) at ``times`` (scaled)."""
@@ -389,10 +463,14 @@ class _Simulation:
         vel = np.empty((self.n, nt, 3))
         spin = np.empty((self.n, nt, 3))
         phase = np.empty((self.n, nt), dtype=np.int8)
+        offsets, bt, bp, bv, bw = self.records()
         _rows(k.sample_rows, self.n, np.ascontiguousarray(times, dtype=float), self.normal, self.g, self.mu_s,
-              self.mu_r, self.air, self.offsets, self.bt, self.bp, self.bv, self.bw, self.vg, self.wg, self.pg,
-              self.tg, self.gout, pos, vel, spin, phase)
+              self.mu_r, self.air, offsets, bt, bp, bv, bw, self.out, pos, vel, spin, phase)
         return pos, vel, spin, phase
+
+
+def _no_records() -> tuple[np.ndarray, ...]:
+    return np.empty(0), np.empty((0, 3)), np.empty((0, 3)), np.empty((0, 3))
 
 
 class RunResult:
@@ -419,8 +497,8 @@ class RunResult:
         self.rate = rate
         self.air = air
         self.surface = sim.surface
-        self.rest_position = units.length_out(sim.gout[:, 8:11].copy())
-        self.rest_time = sim.gout[:, 11].copy()
+        self.rest_position = units.length_out(sim.out[:, 8:11].copy())
+        self.rest_time = sim.out[:, 11].copy()
 
     def __len__(self) -> int:
         return self._sim.n
@@ -438,7 +516,8 @@ class RunResult:
 
     @property
     def heading(self) -> np.ndarray:
-        """(n, 3) unit heading of each shot: its landing velocity along the ground (the contact frame's t if none)."""
+        """(n, 3) unit heading of each shot: its landing velocity along the ground (if none, the fall-back tangent of
+        the plane of travel, as the bounce takes it: the x axis projected on the ground)."""
         s = self._sim
         vt = s.v0 - _dot(s.v0, s.normal)[:, None] * s.normal
         h = np.empty_like(vt)
@@ -447,8 +526,8 @@ class RunResult:
         norm = np.sqrt(_dot(vt, vt))
         none = norm == 0
         h[~none] = vt[~none] / norm[~none, None]
-        if none.any():
-            _, frames = to_plane(s.v0[none], s.w0[none], s.normal[none])
+        if none.any():  # the plane of travel's fall-back tangent, as the bounce takes it
+            _, frames = to_plane(s.v0[none], s.w0[none], s.normal[none], "travel")
             h[none] = frames[:, :3]
         return h
 
@@ -464,8 +543,9 @@ class RunResult:
         back); ``total_run`` = bounce_carry + roll (the rest position along the heading);
         ``lateral``, the rest position across it (positive to the left, along
         ``n x heading``); ``skid_time``, ``roll_time``, ``time_to_rest`` (s);
-        ``into_ground`` and ``energy_gain``, how many of its bounces the law sent into the
-        ground or gave more energy (its ``LiftoffFlags``); ``bounce_limit``, whether it was
+        ``into_ground`` and ``energy_gain``, how many of its 3-D bounces the law sent into the
+        ground (``vF . n <= 0``) or gave more energy (``|v|^2 + 2/5 |omega|^2``, beyond
+        :data:`~bouncelab.laws.nonphysical.ENERGY_RTOL`); ``bounce_limit``, whether it was
         still bouncing at ``max_bounces``.
         """
         import pandas as pd
@@ -476,24 +556,22 @@ class RunResult:
         speed = np.full(s.n, np.nan)
         angle = np.full(s.n, np.nan)
         back = np.full(s.n, np.nan)
-        has = s.first >= 0
+        has, vf, wf = s.first_liftoff()
         if has.any():
-            vf = np.ascontiguousarray(s.bv[s.first[has]])
-            wf = s.bw[s.first[has]]
             out = np.empty((len(vf), 2))
             _rows(_kernels().angle_rows, len(vf), vf, np.ascontiguousarray(s.normal[has]), h[has], out)
             speed[has] = u.velocity_out(out[:, 0])
             angle[has] = out[:, 1]
             back[has] = u.spin_out(-_dot(wf, side[has]))  # omega . (h x n) = -omega . (n x h)
-        rest = s.gout[:, 8:11]
-        carry = _dot(s.pg, h)
+        rest = s.out[:, 8:11]
+        carry = _dot(s.entry_position, h)
         run_ = _dot(rest, h)
         return pd.DataFrame({
             "liftoff_speed": speed, "liftoff_angle_deg": angle, "liftoff_backspin": back,
             "bounces": s.nb, "bounce_carry": u.length_out(carry), "roll": u.length_out(run_ - carry),
             "total_run": u.length_out(run_), "lateral": u.length_out(_dot(rest, side)),
-            "skid_time": s.gout[:, 0], "roll_time": s.gout[:, 7], "time_to_rest": s.gout[:, 11],
-            "into_ground": s.into_ground, "energy_gain": s.energy_gain, "bounce_limit": s.limit,
+            "skid_time": s.out[:, 0], "roll_time": s.out[:, 7], "time_to_rest": s.out[:, 11],
+            "into_ground": s.counts[:, 1], "energy_gain": s.counts[:, 2], "bounce_limit": s.limit,
         }, index=pd.RangeIndex(s.n, name="shot"))
 
     @cached_property
@@ -532,17 +610,18 @@ class RunResult:
         ev_p = np.full((s.n, nev, 3), np.nan)
         mrow = s.nb
         r = np.arange(s.n)
+        offsets, bt, bp, _, _ = s.records()
         shot = np.repeat(r, mrow)  # the bounces, shot by shot, in time order
-        col = np.arange(len(shot)) - np.repeat(s.offsets[:-1], mrow)
-        ev_t[shot, col] = s.bt
-        ev_p[shot, col] = s.bp
+        col = np.arange(len(shot)) - np.repeat(offsets[:-1], mrow)
+        ev_t[shot, col] = bt
+        ev_p[shot, col] = bp
         ev_k[shot, col] = 0
-        ev_t[r, mrow] = s.tg + s.gout[:, 0]
+        ev_t[r, mrow] = s.entry_time + s.out[:, 0]
         ev_k[r, mrow] = 1
-        ev_p[r, mrow] = s.gout[:, 1:4]
-        ev_t[r, mrow + 1] = s.gout[:, 11]
+        ev_p[r, mrow] = s.out[:, 1:4]
+        ev_t[r, mrow + 1] = s.out[:, 11]
         ev_k[r, mrow + 1] = 2
-        ev_p[r, mrow + 1] = s.gout[:, 8:11]
+        ev_p[r, mrow + 1] = s.out[:, 8:11]
         length = u.length
         ds = xr.Dataset(
             {

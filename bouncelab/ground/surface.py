@@ -18,9 +18,10 @@ landing to rest:
   (pivot friction; 1 keeps it all).
 
 Presets (:func:`preset`, :data:`PRESET_NAMES`) are documented in ``docs/simulators.md``
-("The surfaces"): the paper's two turfs as its published laws, and slow, medium and fast
-greens. Their green speeds are general guidance and their sliding friction an assumption,
-not measurements of ours.
+("The surfaces"): the paper's two turfs as its published laws (their tilt faded at small
+speeds along the ground, :data:`PRESET_FADE_XDOT`), and slow, medium and fast greens.
+Their green speeds are general guidance and their sliding friction an assumption, not
+measurements of ours.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ __all__ = [
     "ASSUMED_SLIDING_FRICTION",
     "ASSUMED_TURF_STIMP_M",
     "GRAVITY",
+    "PRESET_FADE_XDOT",
     "PRESET_NAMES",
     "STIMP_SPEED_M_S",
     "Surface",
@@ -54,6 +56,12 @@ _FT = 0.3048
 #: Sliding friction of a ball skidding on grass used by the presets: an ASSUMPTION of the order of
 #: the coefficients quoted for a ball skidding on a putting green, not a measurement of ours.
 ASSUMED_SLIDING_FRICTION = 0.4
+#: Horizontal speed (radii/s; 1.07 m/s) below which the presets' Penner tilt fades to zero (the law's ``fade_xdot``):
+#: an ASSUMPTION of bouncelab. The published laws tilt the ground against the direction of travel even for a
+#: vertical drop, whose direction of travel is undefined: it would bounce off sideways, in a direction set by a
+#: rounding error. Campaign A measured no landing that slow along the ground (its slowest: 74.9 radii/s);
+#: campaign B's slowest was 1.10 radii/s (a landing at 89.5 degrees).
+PRESET_FADE_XDOT = 50.0
 #: Stimpmeter-equivalent reading of the paper's teeing turfs used by the turf presets (metres, about 5 ft):
 #: an ASSUMPTION (grass cut longer than a green rolls slower); the paper measured bounces only.
 ASSUMED_TURF_STIMP_M = 1.5
@@ -231,21 +239,23 @@ def load_surface(path: str | Path) -> Surface:
 
 
 # ------------------------------------------------------------------------------ presets
+_FADE_TEXT = ("Its tilt fades below 50 radii/s (1.07 m/s) of speed along the ground (fade_xdot), an assumption, so "
+              "that a vertical drop stays put.")
 _GREEN_SOURCE = ("Green speed: general guidance on Stimpmeter readings (about 7 ft is called very slow, 9 ft moderate, "
                  "11 ft and more fast; sources in docs/simulators.md), not measured by bouncelab. Bounce law: the "
                  "paper's published PennerVarying law of campaign B (a natural-grass teeing area), an assumption: the "
-                 "paper measured no green. Sliding friction 0.4: an assumption.")
+                 "paper measured no green. " + _FADE_TEXT + " Sliding friction 0.4: an assumption.")
 
 #: name -> (law class name, campaign, stimp in metres, description)
 _PRESETS: dict[str, tuple[str, str, float, str]] = {
     "turf-A": ("PennerVarying", "A", ASSUMED_TURF_STIMP_M,
                "The paper's campaign A: premium artificial teeing turf, 30 mm thick, on wood. Bounce law: its "
-               "published PennerVarying law (Table 3: r=0.448, mu=0.969, k_p=1.543e-4). Rolling (stimp 1.5 m) "
-               "and sliding friction (0.4): assumptions, the paper measured bounces only."),
+               "published PennerVarying law (Table 3: r=0.448, mu=0.969, k_p=1.543e-4). " + _FADE_TEXT + " Rolling "
+               "(stimp 1.5 m) and sliding friction (0.4): assumptions, the paper measured bounces only."),
     "turf-B": ("PennerVarying", "B", ASSUMED_TURF_STIMP_M,
                "The paper's campaign B: a well-maintained natural-grass teeing area. Bounce law: its published "
-               "PennerVarying law (Table 3: r=0.222, mu=0.999, k_p=2.973e-4). Rolling (stimp 1.5 m) and sliding "
-               "friction (0.4): assumptions, the paper measured bounces only."),
+               "PennerVarying law (Table 3: r=0.222, mu=0.999, k_p=2.973e-4). " + _FADE_TEXT + " Rolling (stimp "
+               "1.5 m) and sliding friction (0.4): assumptions, the paper measured bounces only."),
     "green-slow": ("PennerVarying", "B", 7.5 * _FT, "A slow green, Stimpmeter 7.5 ft (2.29 m). " + _GREEN_SOURCE),
     "green-medium": ("PennerVarying", "B", 9.0 * _FT,
                      "A medium green, Stimpmeter 9 ft (2.74 m). " + _GREEN_SOURCE),
@@ -270,5 +280,5 @@ def preset(name: str) -> Surface:
         raise ParameterError(f"no preset surface {name!r}; presets: {list(PRESET_NAMES)}", parameter="surface",
                              value=name)
     law_name, campaign, stimp, text = _PRESETS[name]
-    law = getattr(laws, law_name).published(campaign)
+    law = getattr(laws, law_name).published(campaign).replace(fade_xdot=PRESET_FADE_XDOT)
     return Surface(name=name, law=law, sliding_friction=ASSUMED_SLIDING_FRICTION, stimp_m=stimp, description=text)

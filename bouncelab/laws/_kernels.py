@@ -172,6 +172,80 @@ def penner_varying_kernel(xd, yd, w, r, mu, k_p, fade_xdot):
     return _penner(xd, yd, w, r, mu, beta)
 
 
+# ------------------------------------------------------------------------------ the rigid family in 3-D
+# A law's own 3-D bounce (CompiledLaw.kernel_3d, used by bouncelab.ground): the landing in the frame of the
+# plane of travel (h along the velocity on the ground, b = n x h, n the ground's normal; see
+# bouncelab.ground.bounce3d), ``(x, y, w, vb, wh, wn) = (v.h, v.n, -omega.b, v.b, omega.h, omega.n)``, and the
+# same arguments as the law's 2-D kernel; it returns the lift-off in that frame. ``(x, y, w)`` is the paper's
+# 2-D landing, so an in-plane landing (vb = wh = wn = 0) gives the 2-D kernel's lift-off bit for bit.
+
+
+@jit(inline="always")
+def impulse_3d(vt, vb, vn, w, wt, r, mu, et):
+    """The 3-D rigid bounce on a plane, in its frame (t, b, n): velocity (vt, vb, vn), spin (wt, -w, wn).
+
+    The contact point (at -n, unit radius) slips at ``(vt + w, vb + wt)`` along (t, b). A tangential
+    impulse J per unit mass changes the velocity by J and the spin by ``-5/2 n x J``, so the slip by
+    ``7/2 J``, parallel to J: the impulse that stops the slip is ``-slip / 3.5`` along both axes; Walton's
+    gripping ball (tangential restitution ``et``) takes ``(1 + et)`` times it, and Coulomb friction caps its
+    length at ``mu (1 + r) |vn|``, along the slip. The normal velocity becomes ``-r vn`` and the spin
+    about n is unchanged. Returns ``(vtF, vbF, vnF, wF, wtF)``. With ``vb + wt = 0`` (no slip across t)
+    this is :func:`_impulse` bit for bit: ``|J| = sqrt(J_t^2)`` is exactly ``|J_t|`` and ``J_t / |J_t|``
+    exactly +-1, so a capped impulse is exactly +-cap.
+    """
+    cap = -mu * (1.0 + r) * vn  # mu (1 + r) |vn|, as vn < 0
+    jt = (1.0 + et) * (-(vt + w) / 3.5)
+    jb = (1.0 + et) * (-(vb + wt) / 3.5)
+    m = math.sqrt(jt * jt + jb * jb)
+    if m > cap:
+        jt = jt / m * cap
+        jb = jb / m * cap
+    return vt + jt, vb + jb, -r * vn, w + 2.5 * jt, wt + 2.5 * jb
+
+
+@jit(inline="always")
+def _penner_3d(x, y, w, vb, wh, wn, r, mu, beta):
+    """The 3-D rigid bounce on the ground tilted by beta (radians) towards the incoming ball, in the plane of travel.
+
+    The tilted plane's axes are ``t' = c h + s n`` and ``n' = c n - s h`` (b unchanged): the 2-D rotation
+    of :func:`_penner` for a ball moving in +x, and the spin's h and n components rotate with it.
+    """
+    s, c = sincos_quadrant(beta)
+    vt = x * c + y * s
+    vn = y * c - x * s
+    wt = wh * c + wn * s
+    wnn = wn * c - wh * s
+    vtf, vbf, vnf, wf, wtf = impulse_3d(vt, vb, vn, w, wt, r, mu, 0.0)
+    return vtf * c - vnf * s, vtf * s + vnf * c, wf, vbf, wtf * c - wnn * s, wtf * s + wnn * c
+
+
+@jit
+def rigid_kernel_3d(x, y, w, vb, wh, wn, r, mu):
+    """Eq. (rigid_bounce) in 3-D: the exact rigid bounce with Coulomb friction along the slip."""
+    vtf, vbf, vnf, wf, wtf = impulse_3d(x, vb, y, w, wh, r, mu, 0.0)
+    return vtf, vnf, wf, vbf, wtf, wn
+
+
+@jit
+def tangential_kernel_3d(x, y, w, vb, wh, wn, r, mu, e_t):
+    """Walton's law in 3-D: the gripping ball's slip reversed to -e_t times itself, along the slip."""
+    vtf, vbf, vnf, wf, wtf = impulse_3d(x, vb, y, w, wh, r, mu, e_t)
+    return vtf, vnf, wf, vbf, wtf, wn
+
+
+@jit
+def penner_fixed_kernel_3d(x, y, w, vb, wh, wn, r, mu, beta_deg, fade_xdot):
+    """:func:`penner_fixed_kernel` in 3-D: the rigid bounce on the plane tilted by its angle towards the ball."""
+    return _penner_3d(x, y, w, vb, wh, wn, r, mu, beta_deg * DEG * fade(x, fade_xdot))
+
+
+@jit
+def penner_varying_kernel_3d(x, y, w, vb, wh, wn, r, mu, k_p, fade_xdot):
+    """:func:`penner_varying_kernel` in 3-D (beta = k_p s phi of the landing in the plane of travel)."""
+    beta = min(k_p * speed_times_angle(x, y) * fade(x, fade_xdot), HALF_PI)
+    return _penner_3d(x, y, w, vb, wh, wn, r, mu, beta)
+
+
 @jit(nogil=True)
 def penner_tilt_factors(P, varying, scale):
     """Per landing, the factor multiplying the law's angle parameter: fade (x s phi for PennerVarying)."""

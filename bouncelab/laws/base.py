@@ -116,6 +116,12 @@ class BounceModel:
     regimes: ClassVar[tuple[str, ...]] = ()
     #: Method :func:`bouncelab.fit` uses when none is named.
     default_fit_method: ClassVar[str] = "global"
+    #: How :func:`bouncelab.ground.bounce` lifts the law to a 3-D landing (see :mod:`bouncelab.ground.bounce3d`):
+    #: the plane in which its 2-D maths acts, ``"travel"`` (the normal and the velocity along the ground: the
+    #: default, continuous in the spin wherever the 2-D law is) or ``"slip"`` (the normal and the contact point's
+    #: slip: exact for a law whose tangential contact is isotropic). A compiled law may instead give its own 3-D
+    #: bounce (:attr:`CompiledLaw.kernel_3d <bouncelab.laws.CompiledLaw.kernel_3d>`).
+    lift_plane: ClassVar[str] = "travel"
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -153,6 +153,13 @@ class CompiledLaw(BounceModel):
 
     #: ``numba.njit`` function ``(xdot0, ydot0, omega0, *parameters) -> (xdotF, ydotF, omegaF, code)``.
     kernel: ClassVar[Any] = None
+    #: The law's own 3-D bounce for :mod:`bouncelab.ground` (default None: the 2-D ``kernel`` lifted in the law's
+    #: :attr:`~bouncelab.BounceModel.lift_plane`): a ``numba.njit`` function
+    #: ``kernel_3d(x, y, w, vb, wh, wn, *kernel arguments) -> (xF, yF, wF, vbF, whF, wnF)`` of the landing in the
+    #: frame of the plane of travel, ``(v.h, v.n, -omega.b, v.b, omega.h, omega.n)`` (see
+    #: :mod:`bouncelab.ground.bounce3d`), taking the same arguments as ``kernel``. The rigid family's is the exact
+    #: 3-D rigid bounce (Penner's laws: on their tilted plane).
+    kernel_3d: ClassVar[Any] = None
     _fused_value_check = True  # the row loops check the landings (see _Loops)
     _abstract_law = True  # a base for laws, not a law: not registered
 

@@ -144,6 +144,7 @@ class CompliantImpact(CompiledLaw):
     kappa = Parameter(bounds=(0.3, 6.0), physical=(0.05, 100.0), unit="1",
                       doc="tangential-to-normal frequency ratio sqrt(7 k_t / (2 k_n))")
     regimes = ("slip", "grip", "reversed")
+    lift_plane = "slip"  # an isotropic tangential spring and slider: the 3-D contact is the 2-D one along the slip
 
     @property
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba

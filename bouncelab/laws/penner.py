@@ -52,6 +52,15 @@ _PENNER_DOC = r"""
     :math:`\min(|\dot x_0| / \text{fade\_xdot}, 1)`, so it fades linearly to zero as
     :math:`\dot x_0 \to 0` and is unchanged for :math:`|\dot x_0| \ge` ``fade_xdot``;
     the law is then continuous at :math:`\dot x_0 = 0` (it is the rigid bounce there).
+
+    **In 3-D** (:func:`bouncelab.ground.bounce`, :func:`bouncelab.ground.run`) the law is
+    what it describes: the 3-D rigid bounce with Coulomb friction along the contact point's
+    slip, on the ground tilted by :math:`\beta` towards the incoming ball in the vertical plane
+    of its velocity along the ground (``kernel_3d``, with :math:`\dot x_0` that velocity's
+    size). It is continuous wherever that rigid bounce is, in the spin everywhere; an
+    in-plane landing gives this 2-D law's lift-off bit for bit; and, as in 2-D, it jumps
+    where the direction of travel does (a landing with no velocity along the ground) unless
+    the tilt fades (``fade_xdot``).
 """
 
 
@@ -160,6 +169,10 @@ class PennerFixed(_Penner):
     def kernel(self):  # type: ignore[override]
         return _kernels().penner_fixed_kernel
 
+    @property
+    def kernel_3d(self):  # type: ignore[override]
+        return _kernels().penner_fixed_kernel_3d
+
     @classmethod
     def published(cls, campaign: str) -> PennerFixed:
         """Table 3: campaign "A" (r=0.420, mu=0.852, beta=12.9 deg) or "B" (0.147, 0.998, 18.4 deg)."""
@@ -199,6 +212,10 @@ class PennerVarying(_Penner):
     @property
     def kernel(self):  # type: ignore[override]
         return _kernels().penner_varying_kernel
+
+    @property
+    def kernel_3d(self):  # type: ignore[override]
+        return _kernels().penner_varying_kernel_3d
 
     def beta_deg(self, landing) -> np.ndarray:
         """Penner's angle beta (degrees) for each landing, as the law uses it (capped at 90 degrees, faded)."""

@@ -74,6 +74,12 @@ class Rigid(CompiledLaw):
     def kernel(self):  # type: ignore[override]  # loaded on first use: importing a law does not import numba
         return _rigid_kernel()
 
+    @property
+    def kernel_3d(self):  # type: ignore[override]  # the exact 3-D rigid bounce (bouncelab.ground)
+        from bouncelab.laws._kernels import rigid_kernel_3d
+
+        return rigid_kernel_3d
+
     @classmethod
     def published(cls, campaign: str) -> Rigid:
         """Table 3 of the paper: campaign "A" (r=0.544, mu=0.997) or "B" (r=0.260, mu=0.998)."""

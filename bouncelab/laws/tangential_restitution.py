@@ -71,3 +71,9 @@ class TangentialRestitution(CompiledLaw):
         from bouncelab.laws._kernels import tangential_kernel
 
         return tangential_kernel
+
+    @property
+    def kernel_3d(self):  # type: ignore[override]  # the exact 3-D bounce, along the slip (bouncelab.ground)
+        from bouncelab.laws._kernels import tangential_kernel_3d
+
+        return tangential_kernel_3d

@@ -24,6 +24,14 @@ print("heading 30 deg, sidespin:", v3.round(3), w3.round(1))
 print("half the sidespin kept:", bounce(law, rot @ v, rot @ w + [0.0, 0.0, 800.0], units=si,
                                         pivot_retention=0.5)[1].round(1))
 
+# Penner's laws in 3-D are the rigid bounce on the ground tilted towards the incoming ball, in the plane of its
+# travel: continuous in the spin. A straight shot along x whose contact point does not slip, spins 2e-6 rad/s
+# apart (taking the frame along the slip, the tilt turned with a rounding error: 590 radii/s apart for PennerFixed).
+for p_law in (bl.PennerFixed.published("B"), bl.PennerVarying.published("B")):
+    a = bounce(p_law, [1000.0, 0.0, -800.0], [1e-6, 1000.0, 0.0])[0]
+    b = bounce(p_law, [1000.0, 0.0, -800.0], [-1e-6, 1000.0, 0.0])[0]
+    print(f"{type(p_law).__name__}: lift-offs {np.abs(a - b).max():.1e} radii/s apart")
+
 # On a 5-degree slope rising towards +x (normal tilted back, towards -x), the same landing:
 n = [-np.sin(np.radians(5.0)), 0.0, np.cos(np.radians(5.0))]
 v3, w3 = bounce(law, v, w, normal=n, units=si)
