@@ -31,7 +31,9 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     Touch-down and lift-off come from the lowest visible point and the states
     from :func:`bouncelab.analysis.measurement.measure_bounce` (its ``method``,
     ``interval``, ``guard`` and ``min_frames``), on the longest run of
-    consecutive frames where the ball was found. Spin samples that could not
+    consecutive frames where the ball was found, at the frames' times (frames
+    a camera dropped, which a ``.cine``'s times show, leave a gap of whole
+    frame periods: ``missing_frames=True``). Spin samples that could not
     be measured (too few matched features) are left out of the spin estimate
     (:func:`~bouncelab.analysis.measurement.estimate_spin`) rather than
     stopping the measurement.
@@ -76,7 +78,7 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     n = stop - start
     try:
         m = measure_bounce(run.assign(spin=run["spin"].fillna(0.0)), method=method, interval=interval,
-                           guard=guard, min_frames=min_frames)
+                           guard=guard, min_frames=min_frames, missing_frames=True)  # a camera's dropped frames
     except DataError as exc:
         dropped = track.attrs.get("dropped_frames", [])
         where = f"frames {start}..{stop - 1} (ball lost in frames {_ranges(dropped)})" if dropped else \
