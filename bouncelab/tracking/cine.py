@@ -11,8 +11,8 @@ Layout (all little-endian)
   ``TriggerTime`` (a ``TIME64``: uint32 fraction of a second in units of 2^-32 s,
   then uint32 seconds since 1970, UTC).
 * ``BITMAPINFOHEADER`` (40 bytes at ``OffImageHeader``): ``biWidth``,
-  ``biHeight`` (negative: rows stored top-down), ``biBitCount`` (8, 16; 24 and
-  48 for colour), ``biCompression`` (0: one pixel a byte or a 16-bit word;
+  ``biHeight`` (negative: rows stored top-down), ``biBitCount`` (8 or 16 for
+  grey; 24 and 48 are colour), ``biCompression`` (0: one pixel a byte or a 16-bit word;
   256: 10-bit packed; 1024: 12-bit packed), ``biSizeImage``.
 * ``SETUP`` (at ``OffSetup``; its ``Length`` at byte 142, after the mark
   ``"ST"``): ``FrameRate16`` (uint16 at 0), ``FrameRate`` (uint32 at 768),
@@ -34,8 +34,8 @@ Pixels: 8-bit; 16-bit little-endian words holding ``RealBPP`` bits (12, 14 or
 (:mod:`bouncelab.tracking.packing`). Rows of 8- and 16-bit images are stored
 bottom-up (the first row in the file is the bottom of the picture) unless
 ``biHeight`` is negative; packed images are read top-down, as ``pims`` and
-FFmpeg read them. Colour images (24 or 48 bits, interpolated) are read as grey;
-JPEG-compressed and raw colour (Bayer) files are refused.
+FFmpeg read them. Colour, JPEG-compressed and raw colour (Bayer) files are refused
+(the tracker works on grey frames: save the clip grey in the camera software).
 
 Times. A file with a 1002 block gives each frame its own time, so frames the
 camera dropped show as a gap; without it, image ``i`` is at ``(FirstImageNo +
@@ -106,7 +106,7 @@ class CineFile:
         Bits a pixel holds (``RealBPP``; ``biBitCount`` for old files).
     storage
         ``"8"`` (a byte a pixel), ``"16"`` (16-bit words), ``"10p"``/``"12p"``
-        (packed), ``"24"``/``"48"`` (colour, read as grey).
+        (packed).
     bottom_up
         Whether the first row stored is the bottom of the picture.
     frame_rate
@@ -155,7 +155,7 @@ class CineFile:
     @property
     def dtype(self) -> np.dtype:
         """The dtype of the frames :meth:`frame` returns."""
-        return np.dtype(np.uint8) if self.storage in ("8", "24") else np.dtype(np.uint16)
+        return np.dtype(np.uint8) if self.storage == "8" else np.dtype(np.uint16)
 
     def frame(self, k: int, label: str | None = None) -> np.ndarray:
         """Image ``k`` (0-based in the file) as an (h, w) array, top row first, read by memory map."""
@@ -196,12 +196,8 @@ class CineFile:
             img = np.array(buf).reshape(h, w)
         elif self.storage == "16":
             img = np.frombuffer(buf, dtype="<u2").reshape(h, w).astype(np.uint16)
-        elif self.storage in ("10p", "12p"):
+        else:
             img = unpack(buf, int(self.storage[:2])).reshape(h, w)
-        else:  # interpolated colour, stored blue-green-red: grey by the usual weights
-            bgr = np.frombuffer(buf, dtype=np.uint8 if self.storage == "24" else "<u2").reshape(h, w, 3)
-            grey = bgr.astype(np.float64) @ np.array([0.114, 0.587, 0.299])
-            img = np.rint(grey).astype(self.dtype)
         return np.ascontiguousarray(img[::-1]) if self.bottom_up else img
 
     @property
@@ -275,8 +271,6 @@ def read_cine(path: str | Path, *, name: str | None = None) -> CineFile:
             (storage in ("10p", "12p") and bit_depth > bits_stored):
         raise _error(f"it declares {bit_depth} bits a pixel (RealBPP) for {storage}-bit storage", label,
                      field="RealBPP")
-    if storage in ("24", "48"):
-        bit_depth = 8 if storage == "24" else min(bit_depth, 16)
     n_pixels = h * w
     if storage in ("10p", "12p"):
         group = 4 if storage == "10p" else 2
@@ -285,7 +279,7 @@ def read_cine(path: str | Path, *, name: str | None = None) -> CineFile:
                          field="biWidth")
         frame_bytes = packed_bytes(n_pixels, bits_stored)
     else:
-        frame_bytes = n_pixels * {"8": 1, "16": 2, "24": 3, "48": 6}[storage]
+        frame_bytes = n_pixels * (1 if storage == "8" else 2)
     if bi_size_image and bi_size_image < frame_bytes:
         raise _error(f"its image header declares {bi_size_image} bytes an image; {w} x {h} pixels as {storage} "
                      f"take {frame_bytes}", label, field="biSizeImage")
@@ -387,7 +381,7 @@ def _read_setup(data: bytes, label: str) -> dict[str, Any]:
 
 
 def _storage(bit_count: int, bi_compression: int, compression: int, setup: dict, label: str) -> tuple[str, int]:
-    """How pixels are stored ("8", "16", "10p", "12p", "24", "48") and the bits each takes."""
+    """How pixels are stored ("8", "16", "10p", "12p") and the bits each takes."""
     if compression == 2 and setup.get("CFA", 0) != 0:
         raise _error("an uninterpolated colour (raw Bayer) cine; save it interpolated in the camera software", label,
                      field="Compression")
@@ -398,9 +392,12 @@ def _storage(bit_count: int, bi_compression: int, compression: int, setup: dict,
     if bi_compression != 0:
         raise _error(f"unknown pixel packing biCompression {bi_compression} (0, 256: 10-bit packed, 1024: 12-bit "
                      "packed)", label, field="biCompression")
-    if bit_count in (8, 16, 24, 48):
+    if bit_count in (8, 16):
         return str(bit_count), bit_count
-    raise _error(f"{bit_count} bits a pixel in an unpacked image (biBitCount 8, 16, 24 or 48)", label,
+    if bit_count in (24, 48):
+        raise _error(f"a colour cine ({bit_count} bits a pixel); the tracker reads grey frames: save the clip grey "
+                     "in the camera software", label, field="biBitCount")
+    raise _error(f"{bit_count} bits a pixel in an unpacked image (biBitCount 8 or 16 for grey)", label,
                  field="biBitCount")
 
 
@@ -504,8 +501,8 @@ def write_cine(
         raise DataError("8-bit frames are written with bit_depth 8 and no packing", option="bit_depth")
     if arr.dtype == np.uint16 and int(arr.max(initial=0)) >= 1 << bits:
         raise DataError(f"frames hold values up to {int(arr.max())}, more than {bits} bits", option="bit_depth")
-    if times is None:
-        times = (first_image_no + np.arange(n) * decimation) / float(fps)
+    if times is None:  # a Decimation of 0 (old files) is none
+        times = (first_image_no + np.arange(n) * max(decimation, 1)) / float(fps)
     times = np.asarray(times, dtype=float)
     trigger_time = trigger_time or _dt.datetime(2024, 5, 1, 12, 0, 0, tzinfo=_dt.timezone.utc)
     epoch = trigger_time.timestamp()
@@ -514,7 +511,7 @@ def write_cine(
     trig_ticks = (trig_s << 32) + trig_f
     stamps = np.array([trig_ticks + round(float(t) * _FRACTION) for t in times], dtype=np.uint64)
     if exposure is None:
-        exposure = max(decimation / float(fps) - 1e-6, 1e-6)
+        exposure = max(max(decimation, 1) / float(fps) - 1e-6, 1e-6)
     exp_ticks = np.broadcast_to(np.rint(np.asarray(exposure, dtype=float) * _FRACTION), (n,)).astype("<u4")
     black, white = levels if levels is not None else (0, (1 << bits) - 1)
 

@@ -467,8 +467,7 @@ def _cine_metadata(f) -> dict[str, Any]:
         "format": "Phantom cine",
         "first_image_no": f.first_image_no,
         "trigger_time": f.trigger_time.isoformat(timespec="microseconds"),
-        "storage": {"8": "8-bit", "16": "16-bit words", "10p": "10-bit packed", "12p": "12-bit packed",
-                    "24": "8-bit colour (read as grey)", "48": "16-bit colour (read as grey)"}[f.storage],
+        "storage": {"8": "8-bit", "16": "16-bit words", "10p": "10-bit packed", "12p": "12-bit packed"}[f.storage],
         "header_frame_rate": f.frame_rate,
         "decimation": f.decimation,
         "time_source": f.time_source,
@@ -582,6 +581,61 @@ class Clip:
         rate = "" if self.fps is None else f" at {self.fps:g} frames/s"
         bits = "" if self.bit_depth is None or self.bit_depth == 8 else f", {self.bit_depth}-bit"
         return f"<Clip {self.name!r}: {n} frames of {w} x {h}{rate}{bits}>"
+
+    def describe(self) -> str:
+        """The clip's header in a few lines: size, frames, rate, bit depth, trigger, exposure, dropped frames
+        (what ``bouncelab info clip.cine`` prints)."""
+        n, h, w = self.shape
+        meta = self.metadata
+        lines = [f"{self.name}: {meta.get('format', 'clip')}"]
+        numbers = ""
+        if "first_image_no" in meta:
+            numbers = f" (images {meta['first_image_no']} to {meta['first_image_no'] + n - 1})"
+        elif "start_frame" in meta:
+            numbers = f" (frames {meta['start_frame']} to {meta['start_frame'] + n - 1})"
+        lines.append(f"  frames: {n} of {w} x {h} pixels{numbers}")
+        if self.fps is not None:
+            rate = f"  frame rate: {self.fps:.6g} frames/s"
+            header = meta.get("header_frame_rate")
+            if self.time_source == "TIME64 block":
+                rate += " (from the times of its TIME64 block"
+                rate += f"; header {header:.6g} frames/s" if header else ""
+                rate += f", decimation {meta['decimation']}" if meta.get("decimation", 1) > 1 else ""
+                rate += ")"
+            elif self.time_source == "frame rate":
+                rate += " (its header's; no per-frame times: frame numbers over the rate)"
+            lines.append(rate)
+        if self.times is not None and n:
+            lines.append(f"  times: {self.times[0]:.6g} s to {self.times[-1]:.6g} s from the trigger")
+        if self.bit_depth is not None:
+            bits = f"  bit depth: {self.bit_depth} bits"
+            if "storage" in meta:
+                bits += f" ({meta['storage']})"
+            if "levels" in meta:
+                bits += f"; black and white levels {meta['levels'][0]:g} and {meta['levels'][1]:g}"
+            lines.append(bits)
+        if "trigger_time" in meta:
+            lines.append(f"  trigger: {meta['trigger_time']}")
+        if "exposure_s" in meta:
+            lines.append(f"  exposure: {meta['exposure_s'] * 1e6:.4g} us")
+        elif "Shutter Speed(s)" in meta:
+            lines.append(f"  shutter: {meta['Shutter Speed(s)']} s")
+        if self.time_source == "TIME64 block":
+            gaps = self.gaps
+            if gaps:
+                where = ", ".join(f"{m} after frame {k} ({self.times[k]:.6g} s)" for k, m in gaps)
+                lines.append(f"  dropped frames: {sum(m for _, m in gaps)} ({where})")
+            else:
+                lines.append("  dropped frames: none")
+        elif self.times is not None:
+            lines.append("  dropped frames: not recorded (the file has no per-frame times)")
+        if "rows" in meta:
+            lines.append(f"  rows stored: {meta['rows']}")
+        camera = [f"{k} {meta[k]}" for k in ("Camera Type", "Serial", "CameraVersion", "SoftwareVersion")
+                  if k in meta]
+        if camera:
+            lines.append("  camera: " + ", ".join(camera))
+        return "\n".join(lines)
 
     @property
     def gaps(self) -> list[tuple[int, int]]:

@@ -345,10 +345,12 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
     own = check_fps(frames.fps, label, "clip file")
     if fps is not None and abs(fps / own - 1.0) > FPS_AGREEMENT:
         what = _SOURCE_TEXT[fps_source]
+        origin = {"TIME64 block": "the times of its TIME64 block"}.get(str(frames.time_source),
+                                                                         "its header's frame rate")
         raise FrameRateError(
-            f"{what} {fps:g} frames/s disagrees with the frame times the file records ({own:g} frames/s, from its "
-            f"{frames.time_source}); the file's times are the camera's: leave the frame rate out to use them",
-            fps=fps, source=fps_source, file=label, hints=[Hint("fps", None, "None: the file's own times")])
+            f"{what} {fps:g} frames/s disagrees with the frame times the file records ({own:g} frames/s, from "
+            f"{origin}); the file's times are the camera's: leave the frame rate out to use them",
+            fps=fps, source=fps_source, file=label)
     return np.asarray(frames.times, dtype=float), own, str(frames.time_source)
 
 
