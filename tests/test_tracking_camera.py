@@ -17,14 +17,14 @@ import pytest
 
 pytest.importorskip("cv2")
 
-from bouncelab.analysis.measurement import estimate_velocity, measure_bounce  # noqa: E402
-from bouncelab.analysis.trajectories import simulate_tracked_bounce  # noqa: E402
-from bouncelab.core.errors import DataError  # noqa: E402
-from bouncelab.tracking import FrameRateError, open_clip, read_frames, track_clip  # noqa: E402
-from bouncelab.tracking.camera import CameraFileError, frame_gaps  # noqa: E402
-from bouncelab.tracking.cine import read_cine, write_cine  # noqa: E402
-from bouncelab.tracking.packing import pack, unpack  # noqa: E402
-from bouncelab.tracking.photron import read_mraw, write_mraw  # noqa: E402
+from bouncelab.analysis.measurement import estimate_velocity, measure_bounce
+from bouncelab.analysis.trajectories import simulate_tracked_bounce
+from bouncelab.core.errors import DataError
+from bouncelab.tracking import FrameRateError, open_clip, read_frames, track_clip
+from bouncelab.tracking.camera import CameraFileError, frame_gaps
+from bouncelab.tracking.cine import read_cine, write_cine
+from bouncelab.tracking.packing import pack, unpack
+from bouncelab.tracking.photron import read_mraw, write_mraw
 
 RNG = np.random.default_rng(32)
 
