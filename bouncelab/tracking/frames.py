@@ -7,8 +7,13 @@ not grow with the clip's length. A clip whose frames fit in the memory budget
 with room to spare is kept in memory after its first full pass, so a short clip
 is decoded once. :func:`read_frames` reads a whole clip into one array.
 
-Video files (AVI, MP4, MOV, MKV, ... as the camera software exports them) are
-read with OpenCV's FFmpeg-backed ``VideoCapture``; image folders (PNG, TIFF,
+Video files (AVI, MP4, MOV, MKV, ... as the camera software exports them, and
+any other file FFmpeg reads) are decoded by PyAV where it is installed (the
+``video`` extra; :mod:`bouncelab.tracking.pyav`), with the stream's timestamps
+(:attr:`Clip.times`, ``time_source`` ``"stream timestamps"``: a container's,
+often at a playback rate, so the camera's frame rate is still needed) and
+streams of more than 8 bits as 16-bit grey; else by OpenCV's FFmpeg-backed
+``VideoCapture`` (:data:`VIDEO_READER` chooses); image folders (PNG, TIFF,
 BMP, JPEG) with ``cv2.imread``, in the order of the frame number in each file
 name (the last group of digits), so ``frame_2.png`` comes before
 ``frame_10.png``; ``.npy`` files frame by frame from the file, ``.npz`` files
@@ -76,6 +81,10 @@ CAMERA_SUFFIXES = (".cine", ".mraw", ".cihx", ".cih")
 #: Containers that store their frame count (a shortfall of more than one frame is a truncated file); others
 #: (MPEG streams, WMV) only estimate it from the duration.
 _COUNTED_VIDEO = (".avi", ".mp4", ".mov", ".m4v", ".mkv")
+
+#: Which library decodes video files: ``"auto"`` (PyAV where it is installed, else OpenCV), ``"pyav"`` or
+#: ``"opencv"``. PyAV gives the stream's timestamps and reads streams of more than 8 bits as 16-bit grey.
+VIDEO_READER: str = "auto"
 
 #: Memory, in bytes, that the frames of one clip may take in one process (1 GiB). Read at each call, so
 #: setting it (``bouncelab.tracking.frames.MEMORY_BUDGET = 4 << 30``) applies to later calls.
@@ -419,6 +428,30 @@ class _VideoSource(_Source):
             cap.release()
 
 
+class _PyAVSource(_Source):
+    """Any video FFmpeg reads, decoded by PyAV (:mod:`bouncelab.tracking.pyav`), with its stream timestamps."""
+
+    def __init__(self, path: Path, label: str, prefetch, keep_bytes: int) -> None:
+        from bouncelab.tracking.pyav import AVVideo
+
+        self.video = video = AVVideo(path, label, prefetch, keep_bytes)
+        self.n, self.h, self.w = video.n, video.h, video.w
+        _frame_layout((self.n, self.h, self.w), label)
+        self.dtype = video.dtype
+        self.kind = "u"
+        self.kept = video.kept
+        video.kept = None
+        self.times = video.times
+        self.time_source = None if video.times is None else "stream timestamps"
+        self.bit_depth = video.bit_depth
+        self.levels = (0.0, 65535.0) if video.deep else None  # deeper streams are read as 16-bit grey
+        self.metadata = {"format": "video (read by PyAV/FFmpeg)", "container_frame_rate": video.container_fps,
+                         "time_base": video.time_base}
+
+    def raw(self, wanted):
+        yield from self.video.frames(wanted)
+
+
 class _CameraSource(_Source):
     """A camera file (Phantom ``.cine``, Photron ``.mraw``): frames by memory map, with their times."""
 
@@ -564,12 +597,12 @@ class Clip:
         self._cache: np.ndarray | None = None
         if isinstance(source, _ArraySource) and source.arr.dtype == np.uint8 and source.channels is None:
             self._cache = source.arr  # already 8-bit grey frames in memory
-        elif isinstance(source, _VideoSource) and source.kept is not None:
+        elif isinstance(source, _VideoSource | _PyAVSource) and source.kept is not None:
             if any(f.shape != (source.h, source.w) for f in source.kept):
                 raise DataError(f"the video's frames are not all {source.w} x {source.h} pixels", file=name)
-            self._cache = np.empty(self.shape, np.uint8)
+            self._cache = np.empty(self.shape, self.dtype)
             for k in range(source.n):  # frame by frame, freeing each decoded frame: never twice the clip
-                self._cache[k] = source.kept[k]
+                self._cache[k] = self._convert(source.kept[k])
                 source.kept[k] = None
             source.kept = None
 
@@ -845,8 +878,11 @@ def open_clip(source, *, name: str | None = None, memory_budget: float | None = 
             src = _ArraySource(_read_image(path, label)[None], label)
         else:
             from bouncelab.tracking.detect import background_indices
+            from bouncelab.tracking.pyav import have_pyav
 
-            src = _VideoSource(path, label, prefetch=background_indices, keep_bytes=budget // 2)
+            reader = _PyAVSource if VIDEO_READER == "pyav" or (VIDEO_READER == "auto" and have_pyav()) \
+                else _VideoSource
+            src = reader(path, label, prefetch=background_indices, keep_bytes=budget // 2)
     except PermissionError:
         raise DataError("permission denied: the file cannot be read", file=label) from None
     except IsADirectoryError:  # pragma: no cover - checked above

@@ -125,7 +125,9 @@ def track_clip(
         too few features matched), ``found`` (bool), ``col``, ``row``,
         ``radius_px`` (pixels, row down), ``n_inliers`` (matched features
         kept). attrs: ``clip``, ``fps``, ``time_source`` (``"TIME64 block"``,
-        ``"frame rate"``: the file's header; ``"fps"``: the rate given),
+        ``"frame rate"``: the file's header; ``"fps"``: the rate given;
+        ``"fps and stream timestamps"``: the rate given, with the frames a
+        video's timestamps show missing),
         ``missing_after`` and ``missing_counts`` (frames the camera did not
         record: ``missing_counts[i]`` after frame ``missing_after[i]``),
         ``radius_px`` (scale), ``surface_row``, ``dropped_frames`` (list of
@@ -330,7 +332,8 @@ def _rotation_windows(frames, crops: _Crops | None, pairs: list[int], col, row, 
 def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "argument"
                 ) -> tuple[np.ndarray, float, str]:
     """(times in s, frame rate, where they come from) of a clip's frames: the times a camera file records
-    (``fps``, if given, must agree with them), else ``frame / fps``.
+    (``fps``, if given, must agree with them), else ``frame / fps`` (a frame missing from a video's
+    timestamps counted in).
 
     Raises
     ------
@@ -339,9 +342,16 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
         :data:`FPS_AGREEMENT`; a file rate outside :data:`FPS_RANGE`.
     """
     n = len(frames)
-    if frames.times is None:
+    if frames.times is None or frames.time_source == "stream timestamps":
         fps = check_fps(fps, label, fps_source)
-        return np.arange(n) / fps, fps, "fps"
+        gaps = frames.gaps
+        if not gaps:
+            return np.arange(n) / fps, fps, "fps"
+        # A container's timestamps are at its own (playback) rate, but a gap in them is a missing frame.
+        periods = np.ones(n - 1)
+        for k, missing in gaps:
+            periods[k] += missing
+        return np.r_[0.0, np.cumsum(periods)] / fps, fps, "fps and stream timestamps"
     own = check_fps(frames.fps, label, "clip file")
     if fps is not None and abs(fps / own - 1.0) > FPS_AGREEMENT:
         what = _SOURCE_TEXT[fps_source]
