@@ -55,7 +55,7 @@ import numpy as np
 
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError
-from bouncelab.tracking.camera import CameraFileError, frame_gaps
+from bouncelab.tracking.camera import CameraFileError, MappedFile, frame_gaps
 from bouncelab.tracking.packing import pack, packed_bytes, unpack
 
 __all__ = ["CINE_SUFFIXES", "CineFile", "read_cine", "write_cine"]
@@ -151,54 +151,42 @@ class CineFile:
     frame_bytes: int
     header: dict[str, Any] = field(default_factory=dict)
     setup: dict[str, Any] = field(default_factory=dict)
+    mapped: MappedFile | None = field(default=None, repr=False, compare=False)
 
     @property
     def dtype(self) -> np.dtype:
         """The dtype of the frames :meth:`frame` returns."""
         return np.dtype(np.uint8) if self.storage == "8" else np.dtype(np.uint16)
 
-    def frame(self, k: int, label: str | None = None) -> np.ndarray:
-        """Image ``k`` (0-based in the file) as an (h, w) array, top row first, read by memory map."""
-        label = label or str(self.path)
+    def frame(self, k: int) -> np.ndarray:
+        """Image ``k`` (0-based in the file) as an (h, w) array, top row first, read through the file's memory
+        map (its pages released once decoded)."""
+        m = self.mapped
         off = int(self.image_offsets[k])
-        with open(self.path, "rb") as fp:
-            fp.seek(off)
-            head = fp.read(4)
-            if len(head) < 4:
-                raise _error(f"the file ends inside the annotation of image {k} (truncated)", label,
-                             frame=k)
-            ann = struct.unpack("<I", head)[0]
-            if ann < 8:
-                raise _error(f"image {k}'s annotation declares {ann} bytes (at least 8: its size and the "
-                             "image's)", label, field="AnnotationSize", frame=k)
-            fp.seek(off + ann - 4)
-            tail = fp.read(4)
-        size = os.path.getsize(self.path)
-        start = off + ann
-        if len(tail) < 4 or start + self.frame_bytes > size:
-            raise _error(f"the file ends inside image {k}: its pixels would end at byte "
-                         f"{start + self.frame_bytes:,}, the file holds {size:,} (truncated)", label, frame=k)
-        image_size = struct.unpack("<I", tail)[0]
+        ann = int(m.view(off, 4, k).view("<u4")[0])
+        if ann < 8:
+            raise _error(f"image {k}'s annotation declares {ann} bytes (at least 8: its size and the image's)",
+                         m.label, field="AnnotationSize", frame=k)
+        image_size = int(m.view(off + ann - 4, 4, k, recheck=False).view("<u4")[0])
         if image_size and image_size < self.frame_bytes:
             raise _error(f"image {k} declares {image_size} bytes of pixels; {self.width} x {self.height} "
-                         f"pixels stored as {self.storage} take {self.frame_bytes}", label, field="ImageSize",
+                         f"pixels stored as {self.storage} take {self.frame_bytes}", m.label, field="ImageSize",
                          frame=k)
-        mm = np.memmap(self.path, dtype=np.uint8, mode="r", offset=start, shape=(self.frame_bytes,))
-        try:
-            out = self._decode(mm)
-        finally:
-            del mm
+        start = off + ann
+        out = self._decode(m.view(start, self.frame_bytes, k, recheck=False))
+        m.release(off, ann + self.frame_bytes)
         return out
 
     def _decode(self, buf: np.ndarray) -> np.ndarray:
         h, w = self.height, self.width
         if self.storage == "8":
-            img = np.array(buf).reshape(h, w)
+            img = buf.reshape(h, w)
         elif self.storage == "16":
-            img = np.frombuffer(buf, dtype="<u2").reshape(h, w).astype(np.uint16)
+            img = buf.view("<u2").reshape(h, w)
         else:
-            img = unpack(buf, int(self.storage[:2])).reshape(h, w)
-        return np.ascontiguousarray(img[::-1]) if self.bottom_up else img
+            return unpack(buf, int(self.storage[:2])).reshape(h, w)  # a new array, top row first
+        # One copy out of the map, the rows turned the right way up on the way.
+        return np.array(img[::-1] if self.bottom_up else img, dtype=self.dtype, order="C")
 
     @property
     def gaps(self) -> list[tuple[int, int]]:
@@ -339,7 +327,7 @@ def read_cine(path: str | Path, *, name: str | None = None) -> CineFile:
                     storage=storage, bottom_up=bottom_up and storage not in ("10p", "12p"), frame_rate=rate,
                     decimation=decimation, times=np.asarray(times, dtype=float), time_source=time_source,
                     exposures=exposures, trigger_time=trigger_time, levels=levels, image_offsets=offsets,
-                    frame_bytes=frame_bytes, header=header, setup=setup)
+                    frame_bytes=frame_bytes, header=header, setup=setup, mapped=MappedFile(path, label, "cine"))
 
 
 def _check_header(header: dict[str, int], size: int, label: str) -> None:

@@ -492,7 +492,7 @@ class _CameraSource(_Source):
 
     def raw(self, wanted):
         for k in range(self.n) if wanted is None else wanted:
-            yield k, self.file.frame(k, self.label)
+            yield k, self.file.frame(k)
 
 
 def _cine_metadata(f) -> dict[str, Any]:

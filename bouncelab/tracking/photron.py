@@ -25,7 +25,6 @@ Record Rate`` seconds from the trigger.
 
 from __future__ import annotations
 
-import os
 import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -36,7 +35,7 @@ import numpy as np
 
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError
-from bouncelab.tracking.camera import CameraFileError
+from bouncelab.tracking.camera import CameraFileError, MappedFile
 from bouncelab.tracking.packing import pack, packed_bytes, unpack
 
 __all__ = ["PHOTRON_SUFFIXES", "MrawFile", "read_mraw", "write_mraw"]
@@ -101,6 +100,7 @@ class MrawFile:
     shift: int
     times: np.ndarray
     header: dict[str, Any] = field(default_factory=dict)
+    mapped: MappedFile | None = field(default=None, repr=False, compare=False)
 
     @property
     def frame_bytes(self) -> int:
@@ -115,26 +115,21 @@ class MrawFile:
     def levels(self) -> tuple[float, float]:
         return 0.0, float((1 << self.bit_depth) - 1)
 
-    def frame(self, k: int, label: str | None = None) -> np.ndarray:
-        """Frame ``k`` (0-based) as an (h, w) array, read by memory map."""
-        label = label or str(self.path)
+    def frame(self, k: int) -> np.ndarray:
+        """Frame ``k`` (0-based) as an (h, w) array, read through the file's memory map (its pages released
+        once decoded)."""
         start = k * self.frame_bytes
-        size = os.path.getsize(self.path)
-        if start + self.frame_bytes > size:
-            raise CameraFileError(f"the file ends inside frame {k} (truncated: {size:,} bytes)", file=label,
-                                  format="mraw", frame=k)
-        mm = np.memmap(self.path, dtype=np.uint8, mode="r", offset=start, shape=(self.frame_bytes,))
-        try:
-            if self.storage_bits == 8:
-                img = np.array(mm)
-            elif self.storage_bits == 16:
-                img = np.frombuffer(mm, dtype="<u2").astype(np.uint16)
-                if self.shift:
-                    img >>= np.uint16(self.shift)
-            else:
-                img = unpack(mm, 12)
-        finally:
-            del mm
+        buf = self.mapped.view(start, self.frame_bytes, k)
+        if self.storage_bits == 8:
+            img = np.array(buf)
+        elif self.storage_bits == 16:
+            img = buf.view("<u2").astype(np.uint16)
+            if self.shift:
+                img >>= np.uint16(self.shift)
+        else:
+            img = unpack(buf, 12)
+        del buf
+        self.mapped.release(start, self.frame_bytes)
         return img.reshape(self.height, self.width)
 
 
@@ -263,10 +258,11 @@ def read_mraw(path: str | Path, *, name: str | None = None) -> MrawFile:
                             "Record Rate(fps)")
     if bits == 12 and (width * height) % 2:
         raise _header_error(f"{width} x {height} pixels cannot be packed two in three bytes", hdr, fmt, "Image Width")
+    label = name or str(mraw)
     clip = MrawFile(path=mraw, header_path=hdr, width=width, height=height, frame_count=count, start_frame=start,
                     frame_rate=rate, storage_bits=bits, bit_depth=depth, shift=shift,
-                    times=(start + np.arange(count)) / rate, header=fields)
-    label = name or str(mraw)
+                    times=(start + np.arange(count)) / rate, header=fields,
+                    mapped=MappedFile(mraw, label, "mraw"))
     try:
         size = mraw.stat().st_size
     except OSError as exc:
