@@ -52,7 +52,11 @@ class AVVideo:
 
     def __init__(self, path: Path, label: str, prefetch: Callable[[int], Iterable[int]] | None,
                  keep_bytes: int) -> None:
-        import av
+        try:
+            import av
+        except ImportError:
+            raise ImportError("reading video with PyAV needs it installed: pip install 'bouncelab[video]' (av), "
+                              "or set bouncelab.tracking.frames.VIDEO_READER = 'opencv'") from None
 
         self.path, self.label = path, label
         errors = _ffmpeg_errors()
