@@ -1,14 +1,20 @@
-"""Peak memory of tracking a long full-HD clip (issue 22, item 7): 600 frames of 1920 x 1080 in an MJPG AVI.
+"""Peak memory of tracking a long full-HD clip (issue 22, item 7): 600 frames of 1920 x 1080 in an MJPG AVI,
+or (issue 32) in a 12-bit Phantom .cine (16-bit words, 2.5 GB), read by memory map and tracked at full bit depth.
 
 Renders one bounce (ball 80 px across, 20,000 fps, 297 frames a side) with
 :func:`bouncelab.tracking.render_clip`, writes it as an MJPG AVI with OpenCV's
-``VideoWriter`` (grey, quality 95), and tracks it in a fresh process, reporting
-the process's peak resident memory (``resource.getrusage``) and the time.
-Measure the whole command from outside with GNU time as well::
+``VideoWriter`` (grey, quality 95) or, for a path ending in ``.cine``, as a 12-bit
+``.cine`` (:func:`bouncelab.tracking.cine.write_cine`), and tracks it in a fresh
+process, reporting the process's peak resident memory (``resource.getrusage``) and
+the time. Measure the whole command from outside with GNU time as well::
 
     python benchmarks/bench_tracking_memory.py make /tmp/hd/clip.avi      # about a minute
     /usr/bin/time -v bouncelab track /tmp/hd/clip.avi --fps 20000 --out /tmp/hd/clip.nc --quiet
     python benchmarks/bench_tracking_memory.py track /tmp/hd/clip.avi     # peak RSS and time of track_clip
+
+    python benchmarks/bench_tracking_memory.py make /tmp/hd/clip.cine     # a 12-bit .cine
+    /usr/bin/time -v bouncelab track /tmp/hd/clip.cine --out /tmp/hd/cine.nc --quiet
+    python benchmarks/bench_tracking_memory.py track /tmp/hd/clip.cine
 """
 
 from __future__ import annotations
@@ -29,9 +35,17 @@ def make(path: Path, n_side: int = 297) -> None:
     from bouncelab.tracking import render_clip
 
     t0 = time.perf_counter()
+    cine = path.suffix.lower() == ".cine"
     clip = render_clip(LANDING, LIFTOFF, fps=20000.0, size=(1080, 1920), radius_px=40.0, n_before=n_side,
-                       n_after=n_side, contact_frames=6.0, seed=1)
+                       n_after=n_side, contact_frames=6.0, seed=1, bit_depth=12 if cine else 8)
     path.parent.mkdir(parents=True, exist_ok=True)
+    if cine:
+        from bouncelab.tracking.cine import write_cine
+
+        write_cine(path, clip.frames, fps=clip.fps, bit_depth=12, first_image_no=-n_side)
+        print(f"{path}: {clip.frames.shape[0]} frames of 1920 x 1080, 12 bits in 16-bit words, "
+              f"{path.stat().st_size / 1e6:.1f} MB, rendered and written in {time.perf_counter() - t0:.0f} s")
+        return
     w = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 25, (1920, 1080), False)
     w.set(cv2.VIDEOWRITER_PROP_QUALITY, 95)
     for frame in clip.frames:
@@ -47,7 +61,7 @@ def track(path: Path) -> None:
 
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     t0 = time.perf_counter()
-    tr = track_clip(path, fps=20000.0)
+    tr = track_clip(path, fps=None if path.suffix.lower() == ".cine" else 20000.0)  # a .cine has its times
     m = measure_clip(tr)
     el = time.perf_counter() - t0
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux

@@ -9,11 +9,14 @@ What it shows
     * measuring the bounce (:func:`bouncelab.tracking.measure_clip`): touch-down and lift-off
       from the lowest visible point, the states with the paper's 95 % intervals, printed
       beside the truth the clip was rendered from;
-    * with ``--figure``, the diagnostic figure written to a PNG in a new temporary directory.
+    * with ``--figure``, the diagnostic figure written to a PNG in a new temporary directory;
+    * with ``--cine``, the clip written as a Phantom ``.cine`` first
+      (:func:`bouncelab.tracking.write_cine`, first image number -20, in a new temporary
+      directory) and tracked from that file without a frame rate: the file's own frame times.
 
 Run it from the repository root (a few seconds)::
 
-    python examples/track_clip.py [--figure]
+    python examples/track_clip.py [--figure] [--cine]
 """
 
 from __future__ import annotations
@@ -25,12 +28,13 @@ from pathlib import Path
 
 import numpy as np
 
-from bouncelab.tracking import measure_clip, read_frames, track_clip
+from bouncelab.tracking import measure_clip, read_frames, track_clip, write_cine
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description="Track the shipped example clip.")
     ap.add_argument("--figure", action="store_true", help="write the diagnostic figure (needs matplotlib)")
+    ap.add_argument("--cine", action="store_true", help="track the clip written as a Phantom .cine (no frame rate)")
     args = ap.parse_args()
 
     path = resources.files("bouncelab.tracking") / "files" / "example_clip.npz"
@@ -39,7 +43,14 @@ def main() -> None:
         with np.load(clip_path) as f:
             fps = float(f["fps"])
             truth = {"landing": f["true_landing"], "liftoff": f["true_liftoff"]}
-    track = track_clip(frames, fps=fps, name="example_clip.npz")
+    if args.cine:
+        cine = Path(tempfile.mkdtemp()) / "example_clip.cine"
+        write_cine(cine, frames, fps=fps, first_image_no=-20)
+        track = track_clip(cine)  # the frame times are the file's
+        print(f"written to {cine} and tracked from it: times {track['t'].values[0] * 1e3:.1f} to "
+              f"{track['t'].values[-1] * 1e3:.1f} ms from the trigger ({track.attrs['time_source']})")
+    else:
+        track = track_clip(frames, fps=fps, name="example_clip.npz")
     m = measure_clip(track)
     print(f"{frames.shape[0]} frames of {frames.shape[2]} x {frames.shape[1]} px at {fps:.0f} fps; "
           f"ball radius {track.attrs['radius_px']:.2f} px; frames where it was lost: {track.attrs['dropped_frames']}")

@@ -5,7 +5,7 @@ Commands
 ``bouncelab reproduce``  the paper's whole analysis: tables, fitted laws, figures, index.html
 ``bouncelab fit``        fit one law to a campaign and print the report (optionally save the law)
 ``bouncelab predict``    lift-off states from landing states, in any units
-``bouncelab info``       what a campaign file (or the embedded default) holds
+``bouncelab info``       what a campaign file (or the embedded default) or a camera clip (.cine, .mraw) holds
 ``bouncelab track``      high-speed clips of bounces to a campaign file (cli/track.py)
 ``bouncelab export``     a law as a C99 header or a JavaScript module (cli/export.py)
 
@@ -209,8 +209,9 @@ def build_parser() -> argparse.ArgumentParser:
     pred.add_argument("--radius-mm", type=positive, default=21.35, help="ball radius in mm (default 21.35)")
     add_import_option(pred)
 
-    info = sub.add_parser("info", help="describe a campaign (embedded or a file)")
-    info.add_argument("data", nargs="?", default=None, help="A, B or a data file (default: both embedded)")
+    info = sub.add_parser("info", help="describe a campaign (embedded or a file) or a camera clip's header")
+    info.add_argument("data", nargs="?", default=None,
+                      help="A, B, a data file (default: both embedded), or a camera clip (.cine, .mraw)")
     _add_data_options(info)
 
     from bouncelab.cli.track import add_parser as add_track_parser  # implementation in cli/track.py
@@ -559,6 +560,11 @@ def _check_landings(landing: np.ndarray, args: argparse.Namespace, radius: float
 
 
 def _info(args: argparse.Namespace) -> int:
+    if args.data and Path(args.data).suffix.lower() in (".cine", ".mraw", ".cihx", ".cih"):
+        from bouncelab.tracking import open_clip  # a camera clip: its header
+
+        print(open_clip(args.data).describe())
+        return EXIT_OK
     sources = [args.data] if args.data else ["A", "B"]
     for src in sources:
         ds = _load(src, args)

@@ -1,7 +1,10 @@
 """``bouncelab track``: high-speed clips of bounces to a campaign file.
 
-Each CLIP is a video file, a folder of images or a ``.npz``/``.npy`` of frames (a folder
-holding only clips, not images, is expanded to its clips). Clips that fail are
+Each CLIP is a camera file (Phantom ``.cine``, Photron ``.mraw`` with its ``.cihx`` or ``.cih``),
+a video file, a folder of images or a ``.npz``/``.npy`` of frames (a folder holding only clips,
+not images, is expanded to its clips). Camera files record their frames' times, which the
+measurement uses (frames the camera dropped leave a gap): they need no ``--fps``, and an
+``--fps`` that disagrees with their times is refused. Clips that fail are
 summarised with the reason and do not stop the others. Exit codes: 0 at least
 one clip measured (the campaign is written), 2 bad command line or an output
 that cannot be written (``--out``, ``--figures``), 3 no clip could be measured,
@@ -83,11 +86,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
                     "reads.",
     )
     p.add_argument("clips", nargs="+", metavar="CLIP",
-                   help="video files (AVI, MP4, ...), folders of images (PNG, TIFF, BMP) or .npz/.npy frame files; "
-                        "a folder of such clips is expanded")
+                   help="camera files (Phantom .cine, Photron .mraw beside its .cihx or .cih), video files (AVI, "
+                        "MP4, ...), folders of images (PNG, TIFF, BMP) or .npz/.npy frame files; a folder of such "
+                        "clips is expanded")
     p.add_argument("--fps", type=_fps,
                    help="the camera's recording rate, frames/s, 100 to 1e7 (unless in the manifest, the file names "
-                        "or a .npz clip); not a video's playback rate")
+                        "or a .npz clip); not a video's playback rate. Not needed for .cine and .mraw files, which "
+                        "record their frames' times (if given, it must agree with them)")
     p.add_argument("--ball-radius-mm", type=_ball_radius_mm, default=21.35, help="ball radius, mm (default 21.35)")
     p.add_argument("--pixels-per-mm", type=positive,
                    help="image scale (default: from the ball's detected radius)")
@@ -114,11 +119,12 @@ def expand_clips(paths: list[str]) -> list[str]:
     """The clips named: a folder with images is one clip; a folder without is expanded to its clips."""
     from bouncelab.tracking.frames import ARRAY_SUFFIXES, IMAGE_SUFFIXES, VIDEO_SUFFIXES
 
+    # A Photron clip is named by its .mraw (its header beside it is not another clip).
+    clip_suffixes = (*VIDEO_SUFFIXES, *ARRAY_SUFFIXES, ".cine", ".mraw")
     out: list[str] = []
     for p in map(Path, paths):
         if p.is_dir() and not any(q.suffix.lower() in IMAGE_SUFFIXES for q in p.iterdir()):
-            inner = sorted(q for q in p.iterdir()
-                           if q.suffix.lower() in (*VIDEO_SUFFIXES, *ARRAY_SUFFIXES) or q.is_dir())
+            inner = sorted(q for q in p.iterdir() if q.suffix.lower() in clip_suffixes or q.is_dir())
             out.extend(str(q) for q in inner)
         else:
             out.append(str(p))
@@ -260,7 +266,7 @@ def _search_in_child(regex: re.Pattern[str], names: list[str], seconds: float) -
 def _fps_source(setting) -> str:
     """A clip's frame rate and where it came from, in the command line's words (``--fps 30``)."""
     if setting is None or setting.fps is None:
-        return "the frame rate stored in the .npz clip"
+        return "the frame rate or frame times stored in the clip file"
     if setting.fps_source == "argument":
         return f"--fps {setting.fps:g}"
     where = "its file name (--pattern)" if setting.fps_source == "file name" else "the manifest (--manifest)"
@@ -304,14 +310,15 @@ def run(args: argparse.Namespace) -> int:
     from bouncelab.cli.reproduce import OutputError
     from bouncelab.data.io import save_campaign
     from bouncelab.tracking import FrameRateError, clip_settings, measure_clips
+    from bouncelab.tracking.frames import CAMERA_SUFFIXES
 
     _check_outputs(args.out, args.figures)
     regex = _compile_pattern(args.pattern) if args.pattern is not None else None
     clips = expand_clips(args.clips)
     if args.fps is None and not args.manifest and regex is None \
-            and not any(Path(c).suffix.lower() == ".npz" for c in clips):
+            and not any(Path(c).suffix.lower() in (".npz", *CAMERA_SUFFIXES) for c in clips):
         print("bouncelab track: --fps is needed: the frame rate is not in a manifest, a --pattern or the clips "
-              "(e.g. --fps 5000)", file=sys.stderr)
+              "(.cine and .mraw files record it; e.g. --fps 5000)", file=sys.stderr)
         return EXIT_USAGE
     if not clips:
         print("bouncelab track: no clips found in the folders given", file=sys.stderr)

@@ -2,7 +2,8 @@
 
 The pipeline:
 
-1. :func:`open_clip`: a video file, a folder of images, a ``.npy``/``.npz`` file or an
+1. :func:`open_clip`: a camera file (Phantom ``.cine``, Photron ``.mraw``; with its frame
+   times and full bit depth), a video file, a folder of images, a ``.npy``/``.npz`` file or an
    array, read frame by frame within a memory budget (:func:`read_frames` reads it whole);
 2. :func:`track_clip`: the ball found in each frame (Hough circle, refined to a
    sub-pixel centre and radius), its lowest visible point, and its rotation
@@ -13,10 +14,12 @@ The pipeline:
    (:func:`bouncelab.analysis.measurement.measure_bounce`);
 4. :func:`measure_clips`: many clips to a campaign Dataset, failures reported.
 
-:func:`render_clip` renders synthetic clips with known truth for tests and benchmarks.
-Requires the ``video`` extra (OpenCV).
+:func:`render_clip` renders synthetic clips with known truth for tests and benchmarks;
+:func:`write_cine` and :func:`write_mraw` write frames as camera files.
+Requires the ``video`` extra (OpenCV; PyAV for any video FFmpeg reads).
 """
 
+from bouncelab.tracking.camera import CameraFileError
 from bouncelab.tracking.campaign import (
     ClipFailure,
     ClipSettings,
@@ -25,8 +28,10 @@ from bouncelab.tracking.campaign import (
     measure_clip,
     measure_clips,
 )
+from bouncelab.tracking.cine import read_cine, write_cine
 from bouncelab.tracking.detect import Background, Circle, estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip, read_frames
+from bouncelab.tracking.photron import read_mraw, write_mraw
 from bouncelab.tracking.render import RenderedClip, render_clip
 from bouncelab.tracking.rotation import Rotation, frame_rotation
 from bouncelab.tracking.tracker import FPS_RANGE, FrameRateError, track_clip
@@ -34,6 +39,7 @@ from bouncelab.tracking.tracker import FPS_RANGE, FrameRateError, track_clip
 __all__ = [
     "FPS_RANGE",
     "Background",
+    "CameraFileError",
     "Circle",
     "Clip",
     "ClipFailure",
@@ -49,7 +55,11 @@ __all__ = [
     "measure_clip",
     "measure_clips",
     "open_clip",
+    "read_cine",
     "read_frames",
+    "read_mraw",
     "render_clip",
     "track_clip",
+    "write_cine",
+    "write_mraw",
 ]

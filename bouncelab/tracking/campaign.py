@@ -18,7 +18,7 @@ from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.data.campaign import make_campaign
-from bouncelab.tracking.frames import open_clip, stored_fps
+from bouncelab.tracking.frames import CAMERA_SUFFIXES, open_clip, stored_fps
 from bouncelab.tracking.tracker import FPS_SOURCES, check_fps, track_clip
 
 __all__ = ["ClipFailure", "ClipSettings", "TrackedCampaign", "clip_settings", "measure_clip", "measure_clips"]
@@ -31,7 +31,9 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     Touch-down and lift-off come from the lowest visible point and the states
     from :func:`bouncelab.analysis.measurement.measure_bounce` (its ``method``,
     ``interval``, ``guard`` and ``min_frames``), on the longest run of
-    consecutive frames where the ball was found. Spin samples that could not
+    consecutive frames where the ball was found, at the frames' times (frames
+    a camera dropped, which a ``.cine``'s times show, leave a gap of whole
+    frame periods: ``missing_frames=True``). Spin samples that could not
     be measured (too few matched features) are left out of the spin estimate
     (:func:`~bouncelab.analysis.measurement.estimate_spin`) rather than
     stopping the measurement.
@@ -76,7 +78,7 @@ def measure_clip(track: xr.Dataset, *, method: str = "differences", interval: st
     n = stop - start
     try:
         m = measure_bounce(run.assign(spin=run["spin"].fillna(0.0)), method=method, interval=interval,
-                           guard=guard, min_frames=min_frames)
+                           guard=guard, min_frames=min_frames, missing_frames=True)  # a camera's dropped frames
     except DataError as exc:
         dropped = track.attrs.get("dropped_frames", [])
         where = f"frames {start}..{stop - 1} (ball lost in frames {_ranges(dropped)})" if dropped else \
@@ -296,7 +298,9 @@ def measure_clips(
         Per clip (keyed by ``str(path)``), from :func:`clip_settings`;
         clips not in it use ``fps``.
     fps
-        Frame rate of clips without settings.
+        Frame rate of clips without settings (not needed for camera files,
+        ``.cine`` and ``.mraw``, which record their frames' times; if given
+        it must agree with them).
     campaign, surface
         Names stored in the campaign's attrs.
     method
@@ -394,10 +398,11 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, DataError 
         fps, source = s.fps, s.fps_source if s.fps_source in FPS_SOURCES else "argument"
         if fps is None and (stored := stored_fps(clip)) is not None:
             fps, source = stored, "clip file"  # a rendered .npz clip knows its frame rate
-        fps = check_fps(fps, name, source)  # before reading a long clip for nothing
+        if fps is not None or not records_times(clip):
+            fps = check_fps(fps, name, source)  # before reading a long clip for nothing
         frames = open_clip(clip, name=name, memory_budget=budget)
         track = track_clip(frames, fps=fps, ball_radius_m=s.ball_radius_m, pixels_per_metre=s.pixels_per_metre,
-                           name=name)
+                           name=name, fps_source=source)
         m = measure_clip(track, method=method, energy_check=energy_check)
     except DataError as exc:
         failure = exc
@@ -425,6 +430,11 @@ def _collect(result: TrackedCampaign, rows: list, radii: set, job, out, keep_tra
     result.measurements[name] = m
     rows.append((name, s, m))
     radii.add(s.ball_radius_m)
+
+
+def records_times(clip) -> bool:
+    """Whether ``clip`` is a camera file, which records its frames' times (no frame rate is needed)."""
+    return isinstance(clip, str | Path) and Path(clip).suffix.lower() in CAMERA_SUFFIXES
 
 
 def _longest_run(mask: np.ndarray) -> tuple[int, int]:

@@ -1,4 +1,4 @@
-"""Reading a clip's frames: a video file, a folder of images, a ``.npz``/``.npy`` file or an array.
+"""Reading a clip's frames: a camera file, a video file, a folder of images, a ``.npz``/``.npy`` file or an array.
 
 :func:`open_clip` gives a :class:`Clip`, whose frames are read on demand, one at a
 time, in passes over the clip: tracking holds a few frames at once (and the 31
@@ -7,12 +7,25 @@ not grow with the clip's length. A clip whose frames fit in the memory budget
 with room to spare is kept in memory after its first full pass, so a short clip
 is decoded once. :func:`read_frames` reads a whole clip into one array.
 
-Video files (AVI, MP4, MOV, MKV, ... as the camera software exports them) are
-read with OpenCV's FFmpeg-backed ``VideoCapture``; image folders (PNG, TIFF,
+Video files (AVI, MP4, MOV, MKV, ... as the camera software exports them, and
+any other file FFmpeg reads) are decoded by PyAV where it is installed (the
+``video`` extra; :mod:`bouncelab.tracking.pyav`), with the stream's timestamps
+(:attr:`Clip.times`, ``time_source`` ``"stream timestamps"``: a container's,
+often at a playback rate, so the camera's frame rate is still needed) and
+streams of more than 8 bits as 16-bit grey; else by OpenCV's FFmpeg-backed
+``VideoCapture`` (:data:`VIDEO_READER` chooses); image folders (PNG, TIFF,
 BMP, JPEG) with ``cv2.imread``, in the order of the frame number in each file
 name (the last group of digits), so ``frame_2.png`` comes before
 ``frame_10.png``; ``.npy`` files frame by frame from the file, ``.npz`` files
 (a ``frames`` array) frame by frame from the compressed member.
+
+High-speed cameras' own files, Phantom ``.cine`` (:mod:`bouncelab.tracking.cine`) and
+Photron ``.mraw`` with its ``.cihx`` or ``.cih`` (:mod:`bouncelab.tracking.photron`),
+are read frame by frame by memory map, with their frame times (:attr:`Clip.times`:
+a ``.cine``'s TIME64 block shows frames the camera dropped), frame rate, bit depth
+and header (:attr:`Clip.metadata`). Their frames keep every bit the camera recorded:
+float32 grey levels on the 8-bit scale, mapped from the file's black and white
+levels (a 12-bit value of 4095 is 255.0; one of 1 is 0.0623).
 
 Colour frames are converted to grey. Frames of another type than 8-bit are
 converted to 8 bits for the whole clip alike: floating-point frames within
@@ -48,6 +61,7 @@ from bouncelab.core.errors import DataError, Hint
 from bouncelab.tracking._cv import cv2
 
 __all__ = [
+    "CAMERA_SUFFIXES",
     "IMAGE_SUFFIXES",
     "MEMORY_BUDGET",
     "VIDEO_SUFFIXES",
@@ -61,9 +75,16 @@ IMAGE_SUFFIXES = (".png", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
 VIDEO_SUFFIXES = (".avi", ".mp4", ".mov", ".mkv", ".m4v", ".wmv", ".mpg", ".mpeg")
 #: Files of frames saved with NumPy: a .npz of frames (and its fps) or a .npy array of frames.
 ARRAY_SUFFIXES = (".npz", ".npy")
+#: High-speed cameras' own files, which record their frame times: Phantom .cine, Photron .mraw (with its .cihx or
+#: .cih header beside it; either file names the clip).
+CAMERA_SUFFIXES = (".cine", ".mraw", ".cihx", ".cih")
 #: Containers that store their frame count (a shortfall of more than one frame is a truncated file); others
 #: (MPEG streams, WMV) only estimate it from the duration.
 _COUNTED_VIDEO = (".avi", ".mp4", ".mov", ".m4v", ".mkv")
+
+#: Which library decodes video files: ``"auto"`` (PyAV where it is installed, else OpenCV), ``"pyav"`` or
+#: ``"opencv"``. PyAV gives the stream's timestamps and reads streams of more than 8 bits as 16-bit grey.
+VIDEO_READER: str = "auto"
 
 #: Memory, in bytes, that the frames of one clip may take in one process (1 GiB). Read at each call, so
 #: setting it (``bouncelab.tracking.frames.MEMORY_BUDGET = 4 << 30``) applies to later calls.
@@ -77,6 +98,13 @@ _MORE_MEMORY = Hint("memory_budget", None, "more bytes, if the machine has them 
 #: running quantile and float images (about 15), and the working copies of the frame being searched (about 15).
 #: Measured: tracking a 1920 x 1080 clip peaks about 130 MB above the interpreter (benchmarks/bench_tracking_memory.py).
 WORKING_BYTES_PER_PIXEL: int = 112
+
+
+def working_bytes_per_pixel(dtype: np.dtype) -> int:
+    """Memory taken by tracking, per pixel of one frame, for frames of ``dtype``: :data:`WORKING_BYTES_PER_PIXEL`
+    for 8-bit frames; float32 frames (deep camera files) take 4 bytes a pixel for each of the background's
+    sampled frames and its running quantile."""
+    return WORKING_BYTES_PER_PIXEL + 40 * (np.dtype(dtype).itemsize - 1)
 
 _GREY = np.array([0.299, 0.587, 0.114])
 
@@ -105,13 +133,22 @@ def _budget(memory_budget: float | None) -> int:
 
 
 class _Source:
-    """Raw (h, w) frames of one kind of file, in frame order. ``kind``: the source array's dtype kind."""
+    """Raw (h, w) frames of one kind of file, in frame order. ``kind``: the source array's dtype kind.
+
+    A camera file also gives its frames' ``times`` (s), ``fps``, ``time_source``, ``bit_depth``, the
+    pixel ``levels`` (black, white) that map its values to the clip's grey levels, and its ``metadata``."""
 
     n: int
     h: int
     w: int
     dtype: np.dtype  # of the raw grey frames
     kind: str  # of the values as stored ("u", "i", "f"): decides the [0, 1] rule
+    times: np.ndarray | None = None
+    fps: float | None = None
+    time_source: str | None = None
+    bit_depth: int | None = None
+    levels: tuple[float, float] | None = None
+    metadata: dict[str, Any] = {}  # noqa: RUF012 - replaced, never changed in place
 
     def raw(self, wanted: Iterable[int] | None) -> Iterator[tuple[int, np.ndarray]]:
         raise NotImplementedError
@@ -391,13 +428,117 @@ class _VideoSource(_Source):
             cap.release()
 
 
+class _PyAVSource(_Source):
+    """Any video FFmpeg reads, decoded by PyAV (:mod:`bouncelab.tracking.pyav`), with its stream timestamps."""
+
+    def __init__(self, path: Path, label: str, prefetch, keep_bytes: int) -> None:
+        from bouncelab.tracking.pyav import AVVideo
+
+        self.video = video = AVVideo(path, label, prefetch, keep_bytes)
+        self.n, self.h, self.w = video.n, video.h, video.w
+        _frame_layout((self.n, self.h, self.w), label)
+        self.dtype = video.dtype
+        self.kind = "u"
+        self.kept = video.kept
+        video.kept = None
+        self.times = video.times
+        self.time_source = None if video.times is None else "stream timestamps"
+        self.bit_depth = video.bit_depth
+        self.levels = (0.0, 65535.0) if video.deep else None  # deeper streams are read as 16-bit grey
+        self.metadata = {"format": "video (read by PyAV/FFmpeg)", "container_frame_rate": video.container_fps,
+                         "time_base": video.time_base}
+
+    def raw(self, wanted):
+        yield from self.video.frames(wanted)
+
+
+class _CameraSource(_Source):
+    """A camera file (Phantom ``.cine``, Photron ``.mraw``): frames by memory map, with their times."""
+
+    def __init__(self, path: Path, label: str) -> None:
+        from bouncelab.tracking.cine import CINE_SUFFIXES, read_cine
+        from bouncelab.tracking.photron import read_mraw
+
+        self.label = label
+        if path.suffix.lower() in CINE_SUFFIXES:
+            f: Any = read_cine(path, name=label)
+            self.n = f.image_count
+            self.fps = f.frame_rate / f.decimation if f.frame_rate else None
+            self.metadata = _cine_metadata(f)
+        else:
+            f = read_mraw(path, name=label if path.suffix.lower() == ".mraw" else None)
+            self.n = f.frame_count
+            self.fps = f.frame_rate
+            self.metadata = _mraw_metadata(f)
+        self.file = f
+        self.h, self.w = f.height, f.width
+        _frame_layout((self.n, self.h, self.w), label)
+        self.dtype = f.dtype
+        self.kind = "u"
+        self.times = np.asarray(f.times, dtype=float)
+        self.time_source = getattr(f, "time_source", "frame rate")
+        if self.time_source == "TIME64 block":
+            steps = np.diff(self.times)
+            if steps.size:
+                # The times are the truth; the rate is theirs (a header's rate can be rounded or decimated).
+                from bouncelab.tracking.camera import frame_gaps
+
+                whole = steps.size + sum(m for _, m in frame_gaps(self.times))
+                rate = whole / float(self.times[-1] - self.times[0])
+                if self.fps is None or abs(rate / self.fps - 1.0) > 1e-4:  # the header's, unless the times differ
+                    self.fps = rate
+        self.bit_depth = f.bit_depth
+        self.levels = f.levels
+
+    def raw(self, wanted):
+        for k in range(self.n) if wanted is None else wanted:
+            yield k, self.file.frame(k)
+
+
+def _cine_metadata(f) -> dict[str, Any]:
+    meta: dict[str, Any] = {
+        "format": "Phantom cine",
+        "first_image_no": f.first_image_no,
+        "trigger_time": f.trigger_time.isoformat(timespec="microseconds"),
+        "storage": {"8": "8-bit", "16": "16-bit words", "10p": "10-bit packed", "12p": "12-bit packed"}[f.storage],
+        "header_frame_rate": f.frame_rate,
+        "decimation": f.decimation,
+        "time_source": f.time_source,
+        "rows": "bottom-up" if f.bottom_up else "top-down",
+        "levels": f.levels,
+    }
+    if f.exposures is not None:
+        meta["exposure_s"] = float(np.median(f.exposures))
+    for key in ("Serial", "CameraVersion", "SoftwareVersion", "ShutterNs", "bFlipH", "bFlipV"):
+        if key in f.setup:
+            meta[key] = f.setup[key]
+    return meta
+
+
+def _mraw_metadata(f) -> dict[str, Any]:
+    meta: dict[str, Any] = {
+        "format": "Photron mraw",
+        "header": f.header_path.name,
+        "start_frame": f.start_frame,
+        "storage": {8: "8-bit", 12: "12-bit packed", 16: "16-bit words"}[f.storage_bits],
+        "header_frame_rate": f.frame_rate,
+        "time_source": "frame rate",
+        "rows": "top-down",
+        "levels": f.levels,
+    }
+    for key in ("Camera Type", "Date", "Time", "Shutter Speed(s)"):
+        if key in f.header:
+            meta[key] = f.header[key]
+    return meta
+
+
 # ---------------------------------------------------------------------------------------------------------
 # The clip
 # ---------------------------------------------------------------------------------------------------------
 
 
 class Clip:
-    """A clip's frames as 8-bit grey images, read on demand (from :func:`open_clip`).
+    """A clip's grey frames, read on demand (from :func:`open_clip`), with its times and header.
 
     Frames come in passes over the clip (:meth:`frames`), so tracking holds a
     few frames at a time, not the clip. A clip whose frames take at most half
@@ -405,35 +546,63 @@ class Clip:
     (``clip[k]``, ``clip[[0, 5, 9]]``, ``clip[2:6]``) reads those frames;
     :meth:`read` reads them all.
 
+    Frames are grey levels on the 8-bit scale, 0 (black) to 255 (white): uint8
+    for 8-bit sources, and float32 for a camera file of more bits (``.cine``,
+    ``.mraw``), mapped from its black and white levels without rounding, so
+    that detection sees every bit the camera recorded.
+
     Attributes
     ----------
     name
         The clip's name in errors.
     shape
         ``(t, h, w)``: frames, height and width (pixels).
+    dtype
+        uint8, or float32 for a camera file of more than 8 bits.
     memory_budget
         Bytes the clip's frames may take (see :data:`MEMORY_BUDGET`).
+    times
+        Each frame's time, s, as the file records it (a ``.cine``'s TIME64
+        block, from the trigger; a ``.mraw``'s start frame over its record
+        rate), or None (the file records none: give the frame rate).
+    fps
+        The file's frame rate, frames/s (from its times where it has them), or None.
+    time_source
+        Where ``times`` come from: ``"TIME64 block"``, ``"frame rate"`` (the
+        header's rate and frame numbers), or None.
+    bit_depth
+        Bits a pixel holds in the file (8 for 8-bit sources; None when not known).
+    metadata
+        The header's facts (format, trigger time, storage, exposure, camera...).
     """
 
     ndim = 3
-    dtype = np.dtype(np.uint8)
 
     def __init__(self, source: _Source, name: str, memory_budget: int) -> None:
         self._src = source
         self.name = name
         self.shape = (source.n, source.h, source.w)
         self.memory_budget = memory_budget
+        self.times = None if source.times is None else np.asarray(source.times, dtype=float)
+        self.fps = source.fps
+        self.time_source = source.time_source
+        self.bit_depth = source.bit_depth if source.bit_depth is not None else (
+            8 if source.dtype == np.uint8 else None)
+        self.metadata = dict(source.metadata)
         self._scale: float | None = None
-        self._checked = source.dtype == np.uint8
+        self._levels = source.levels
+        deep = source.levels is not None and not (source.dtype == np.uint8 and tuple(source.levels) == (0, 255))
+        self.dtype = np.dtype(np.float32) if deep else np.dtype(np.uint8)
+        self._checked = source.dtype == np.uint8 or source.levels is not None
         self._cache: np.ndarray | None = None
         if isinstance(source, _ArraySource) and source.arr.dtype == np.uint8 and source.channels is None:
             self._cache = source.arr  # already 8-bit grey frames in memory
-        elif isinstance(source, _VideoSource) and source.kept is not None:
+        elif isinstance(source, _VideoSource | _PyAVSource) and source.kept is not None:
             if any(f.shape != (source.h, source.w) for f in source.kept):
                 raise DataError(f"the video's frames are not all {source.w} x {source.h} pixels", file=name)
-            self._cache = np.empty(self.shape, np.uint8)
+            self._cache = np.empty(self.shape, self.dtype)
             for k in range(source.n):  # frame by frame, freeing each decoded frame: never twice the clip
-                self._cache[k] = source.kept[k]
+                self._cache[k] = self._convert(source.kept[k])
                 source.kept[k] = None
             source.kept = None
 
@@ -442,7 +611,72 @@ class Clip:
 
     def __repr__(self) -> str:
         n, h, w = self.shape
-        return f"<Clip {self.name!r}: {n} frames of {w} x {h}>"
+        rate = "" if self.fps is None else f" at {self.fps:g} frames/s"
+        bits = "" if self.bit_depth is None or self.bit_depth == 8 else f", {self.bit_depth}-bit"
+        return f"<Clip {self.name!r}: {n} frames of {w} x {h}{rate}{bits}>"
+
+    def describe(self) -> str:
+        """The clip's header in a few lines: size, frames, rate, bit depth, trigger, exposure, dropped frames
+        (what ``bouncelab info clip.cine`` prints)."""
+        n, h, w = self.shape
+        meta = self.metadata
+        lines = [f"{self.name}: {meta.get('format', 'clip')}"]
+        numbers = ""
+        if "first_image_no" in meta:
+            numbers = f" (images {meta['first_image_no']} to {meta['first_image_no'] + n - 1})"
+        elif "start_frame" in meta:
+            numbers = f" (frames {meta['start_frame']} to {meta['start_frame'] + n - 1})"
+        lines.append(f"  frames: {n} of {w} x {h} pixels{numbers}")
+        if self.fps is not None:
+            rate = f"  frame rate: {self.fps:.6g} frames/s"
+            header = meta.get("header_frame_rate")
+            if self.time_source == "TIME64 block":
+                rate += " (from the times of its TIME64 block"
+                rate += f"; header {header:.6g} frames/s" if header else ""
+                rate += f", decimation {meta['decimation']}" if meta.get("decimation", 1) > 1 else ""
+                rate += ")"
+            elif self.time_source == "frame rate":
+                rate += " (its header's; no per-frame times: frame numbers over the rate)"
+            lines.append(rate)
+        if self.times is not None and n:
+            lines.append(f"  times: {self.times[0]:.6g} s to {self.times[-1]:.6g} s from the trigger")
+        if self.bit_depth is not None:
+            bits = f"  bit depth: {self.bit_depth} bits"
+            if "storage" in meta:
+                bits += f" ({meta['storage']})"
+            if "levels" in meta:
+                bits += f"; black and white levels {meta['levels'][0]:g} and {meta['levels'][1]:g}"
+            lines.append(bits)
+        if "trigger_time" in meta:
+            lines.append(f"  trigger: {meta['trigger_time']}")
+        if "exposure_s" in meta:
+            lines.append(f"  exposure: {meta['exposure_s'] * 1e6:.4g} us")
+        elif "Shutter Speed(s)" in meta:
+            lines.append(f"  shutter: {meta['Shutter Speed(s)']} s")
+        if self.time_source == "TIME64 block":
+            gaps = self.gaps
+            if gaps:
+                where = ", ".join(f"{m} after frame {k} ({self.times[k]:.6g} s)" for k, m in gaps)
+                lines.append(f"  dropped frames: {sum(m for _, m in gaps)} ({where})")
+            else:
+                lines.append("  dropped frames: none")
+        elif self.times is not None:
+            lines.append("  dropped frames: not recorded (the file has no per-frame times)")
+        if "rows" in meta:
+            lines.append(f"  rows stored: {meta['rows']}")
+        camera = [f"{k} {meta[k]}" for k in ("Camera Type", "Serial", "CameraVersion", "SoftwareVersion")
+                  if k in meta]
+        if camera:
+            lines.append("  camera: " + ", ".join(camera))
+        return "\n".join(lines)
+
+    @property
+    def gaps(self) -> list[tuple[int, int]]:
+        """``(k, missing)``: frames the camera did not record between frame ``k`` and ``k + 1``, from the
+        file's times (empty without times)."""
+        from bouncelab.tracking.camera import frame_gaps
+
+        return [] if self.times is None else frame_gaps(self.times)
 
     @property
     def in_memory(self) -> bool:
@@ -451,9 +685,9 @@ class Clip:
 
     @property
     def nbytes(self) -> int:
-        """Bytes of all the clip's frames (8-bit)."""
+        """Bytes of all the clip's frames (as :attr:`dtype`)."""
         n, h, w = self.shape
-        return n * h * w
+        return n * h * w * self.dtype.itemsize
 
     def frames(self, indices: Iterable[int] | None = None) -> Iterator[tuple[int, np.ndarray]]:
         """``(k, frame)`` for the frames ``indices`` (default: all), in increasing order, in one pass.
@@ -471,9 +705,9 @@ class Clip:
             return
         self._check_values()
         fill = want is None and self.nbytes <= self.memory_budget // 2
-        cache = np.empty(self.shape, np.uint8) if fill else None
+        cache = np.empty(self.shape, self.dtype) if fill else None
         for k, raw in self._src.raw(want):
-            frame = self._to_uint8(raw)
+            frame = self._convert(raw)
             if cache is not None:
                 cache[k] = frame
             yield k, frame
@@ -481,7 +715,7 @@ class Clip:
             self._cache = cache  # a complete pass: later passes read memory, not the file
 
     def take(self, indices: Iterable[int]) -> np.ndarray:
-        """The frames ``indices`` (in the order given) as a (len, h, w) uint8 array."""
+        """The frames ``indices`` (in the order given) as a (len, h, w) array of :attr:`dtype`."""
         order = [self._index(k) for k in indices]
         if self._cache is None and self.nbytes <= self.memory_budget // 2:
             for _ in self.frames():  # a clip that will be kept: read it whole now, once
@@ -490,7 +724,7 @@ class Clip:
         for i, k in enumerate(order):
             at.setdefault(k, []).append(i)
         _, h, w = self.shape
-        out = np.empty((len(order), h, w), np.uint8)
+        out = np.empty((len(order), h, w), self.dtype)
         for k, frame in self.frames(order):  # straight into place: no second copy of the frames
             out[at[k]] = frame
         return out
@@ -507,7 +741,7 @@ class Clip:
             yield frame
 
     def read(self) -> np.ndarray:
-        """All frames as a (t, h, w) uint8 array.
+        """All frames as a (t, h, w) array of :attr:`dtype` (uint8, or float32 for a deeper camera file).
 
         Raises
         ------
@@ -523,7 +757,7 @@ class Clip:
                             f"the memory budget of {_size(self.memory_budget)}; track_clip and measure_clips read "
                             "a clip frame by frame (give them the file)", file=self.name, option="memory_budget",
                             hints=[_MORE_MEMORY])
-        out = np.empty(self.shape, np.uint8)
+        out = np.empty(self.shape, self.dtype)
         for k, frame in self.frames():
             out[k] = frame
         return out
@@ -531,14 +765,15 @@ class Clip:
     def check_working_memory(self) -> None:
         """DataError if tracking frames of this size needs more than the memory budget (saying how much)."""
         n, h, w = self.shape
-        need = WORKING_BYTES_PER_PIXEL * h * w + 128 * n  # + the track's per-frame arrays
+        per_pixel = working_bytes_per_pixel(self.dtype)
+        need = per_pixel * h * w + 128 * n  # + the track's per-frame arrays
         if need > self.memory_budget:
             raise DataError(f"tracking frames of {w} x {h} pixels takes about {_size(need)} of memory "
-                            f"({WORKING_BYTES_PER_PIXEL} bytes a pixel: the background's sampled frames and working "
+                            f"({per_pixel} bytes a pixel: the background's sampled frames and working "
                             f"copies of a frame), more than the memory budget of {_size(self.memory_budget)}",
                             file=self.name, option="memory_budget", hints=[_MORE_MEMORY])
 
-    # -------------------------------------------------------------- conversion to 8 bits
+    # -------------------------------------------------------------- conversion to grey levels
     def _index(self, k: int) -> int:
         n = len(self)
         kk = int(k)
@@ -576,7 +811,13 @@ class Clip:
             self._scale = 255.0 / hi  # 16-bit (or wider) frames: scale by the clip's largest value
         self._checked = True
 
-    def _to_uint8(self, raw: np.ndarray) -> np.ndarray:
+    def _convert(self, raw: np.ndarray) -> np.ndarray:
+        if self.dtype == np.float32:  # a deep camera file: its levels to 0..255, every bit kept
+            black, white = self._levels
+            out = raw.astype(np.float32)
+            out -= np.float32(black)
+            out *= np.float32(255.0 / (white - black))
+            return out
         if raw.dtype == np.uint8:
             return np.ascontiguousarray(raw)
         a = raw.astype(np.float64)
@@ -591,7 +832,8 @@ def open_clip(source, *, name: str | None = None, memory_budget: float | None = 
     Parameters
     ----------
     source
-        A video file, a folder of images, an image, a ``.npy`` file, a
+        A Phantom ``.cine``, a Photron ``.mraw`` (or its ``.cihx``/``.cih``
+        header), a video file, a folder of images, an image, a ``.npy`` file, a
         ``.npz`` file holding a ``frames`` array, an array (t, h, w) or
         (t, h, w, 3) (RGB), or a :class:`Clip` (returned as it is).
     name
@@ -608,7 +850,10 @@ def open_clip(source, *, name: str | None = None, memory_budget: float | None = 
     DataError
         A missing, unreadable, truncated or damaged file or folder (naming the
         file and, for a folder, the image that failed), an unknown format, an
-        array of the wrong shape or type, or a bad ``memory_budget``.
+        array of the wrong shape or type, or a bad ``memory_budget``; a
+        :class:`~bouncelab.tracking.camera.CameraFileError` (a DataError naming
+        the file, its format and the header field or frame at fault) for a
+        camera file.
     """
     if isinstance(source, Clip):
         return source
@@ -623,16 +868,21 @@ def open_clip(source, *, name: str | None = None, memory_budget: float | None = 
         return Clip(_FolderSource(path, label), label, budget)
     suffix = path.suffix.lower()
     try:
-        if suffix == ".npy":
-            src: _Source = _NpySource(path, label)
+        if suffix in CAMERA_SUFFIXES:
+            src: _Source = _CameraSource(path, label)
+        elif suffix == ".npy":
+            src = _NpySource(path, label)
         elif suffix == ".npz":
             src = _NpzSource(path, label)
         elif suffix in IMAGE_SUFFIXES:
             src = _ArraySource(_read_image(path, label)[None], label)
         else:
             from bouncelab.tracking.detect import background_indices
+            from bouncelab.tracking.pyav import have_pyav
 
-            src = _VideoSource(path, label, prefetch=background_indices, keep_bytes=budget // 2)
+            reader = _PyAVSource if VIDEO_READER == "pyav" or (VIDEO_READER == "auto" and have_pyav()) \
+                else _VideoSource
+            src = reader(path, label, prefetch=background_indices, keep_bytes=budget // 2)
     except PermissionError:
         raise DataError("permission denied: the file cannot be read", file=label) from None
     except IsADirectoryError:  # pragma: no cover - checked above
@@ -659,7 +909,8 @@ def read_frames(source, *, name: str | None = None, memory_budget: float | None 
     Returns
     -------
     numpy.ndarray
-        (t, h, w) uint8 grey frames.
+        (t, h, w) grey frames: uint8, or float32 on the same 0-255 scale for a
+        camera file of more than 8 bits (:class:`Clip`).
 
     Raises
     ------

@@ -23,7 +23,9 @@ Geometry and conventions
   visible front hemisphere turns rigidly by the orientation angle ``theta(t)``;
   the dots and the seam are drawn on the sphere (foreshortened near the limb).
 * Pixels are anti-aliased by supersampling; the limb by an analytic coverage
-  ramp. Sensor noise is Gaussian (grey levels) and the frames are 8-bit.
+  ramp. Sensor noise is Gaussian (grey levels) and the frames are 8-bit, or of
+  ``bit_depth`` bits (uint16 frames, the same scene and noise on a finer scale,
+  as a 12-bit camera records it).
   Optional motion blur averages sub-frame renders over the exposure.
 """
 
@@ -56,7 +58,7 @@ class RenderedClip:
     Attributes
     ----------
     frames
-        (t, h, w) uint8 grey frames.
+        (t, h, w) grey frames: uint8, or uint16 of ``settings["bit_depth"]`` bits.
     fps
         Frame rate, frames/s.
     radius_px
@@ -138,6 +140,7 @@ def render_clip(
     seam_width: float = 0.05,
     supersample: int = 3,
     frame_offset: float | None = None,
+    bit_depth: int = 8,
     seed: int | np.random.Generator | None = None,
 ) -> RenderedClip:
     """Render a high-speed clip of one bounce with known truth.
@@ -175,6 +178,10 @@ def render_clip(
         Angular radius of the dots and half-width of the seam, rad.
     supersample
         Samples per pixel side inside the ball.
+    bit_depth
+        Bits of the frames, 8 (uint8, default) to 16 (uint16): the scene's grey
+        levels (and ``noise``), given on the 8-bit scale, times
+        ``(2**bit_depth - 1) / 255``, rounded.
     seed
         Seed of the noise, the turf texture and (if not given) the frame offset.
 
@@ -202,6 +209,9 @@ def render_clip(
         raise DataError(f"radius_px must be in [2, {min(h, w) / 2}); got {radius_px!r}", option="radius_px")
     if not (np.isfinite(noise) and noise >= 0):
         raise DataError(f"noise must be a non-negative number of grey levels; got {noise!r}", option="noise")
+    if isinstance(bit_depth, bool) or not isinstance(bit_depth, int | np.integer) or not 8 <= bit_depth <= 16:
+        raise DataError(f"bit_depth must be a whole number of bits from 8 to 16; got {bit_depth!r}",
+                        option="bit_depth")
     if not (np.isfinite(motion_blur) and 0 <= motion_blur <= 1):
         raise DataError(f"motion_blur must be in [0, 1]; got {motion_blur!r}", option="motion_blur")
     track = simulate_tracked_bounce(
@@ -235,7 +245,9 @@ def render_clip(
     # partly covered (pixel centres at integer rows).
     turf_cover = np.clip(rows + 0.5 - surface_row, 0.0, 1.0)
     n = x.size
-    frames = np.empty((n, h, w), dtype=np.uint8)
+    top = (1 << int(bit_depth)) - 1
+    gain = top / 255.0
+    frames = np.empty((n, h, w), dtype=np.uint8 if bit_depth == 8 else np.uint16)
     subs = 1 if motion_blur == 0 else 5
     for k in range(n):
         img = np.full((h, w), BACKGROUND_LEVEL, dtype=np.float32)
@@ -253,7 +265,7 @@ def render_clip(
         img = turf_cover * turf + (1.0 - turf_cover) * img
         if noise > 0:
             img = img + noise * rng.standard_normal((h, w)).astype(np.float32)
-        frames[k] = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+        frames[k] = np.clip(np.rint(img if bit_depth == 8 else img * gain), 0, top).astype(frames.dtype)
     truth = track.drop_vars(["spin", "lowest"]).assign(
         theta=("frame", theta, {"units": "rad", "long_name": "orientation, anticlockwise in the lab frame"}),
         col=("frame", col, {"units": "px", "long_name": "ball-centre column"}),
@@ -261,7 +273,7 @@ def render_clip(
     )
     settings = {"fps": float(fps), "size": (h, w), "radius_px": float(radius_px), "noise": float(noise),
                 "motion_blur": float(motion_blur), "surface_row": surface_row, "dot_radius": dot_radius,
-                "seam_width": seam_width}
+                "seam_width": seam_width, "bit_depth": int(bit_depth)}
     truth.attrs.update(settings | {"size": f"{h}x{w}"})
     return RenderedClip(frames=frames, fps=float(fps), radius_px=float(radius_px), truth=truth, settings=settings)
 

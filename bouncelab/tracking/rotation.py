@@ -70,7 +70,9 @@ def frame_rotation(
     Parameters
     ----------
     prev, cur
-        (h, w) grey frames (uint8).
+        (h, w) grey frames: uint8, or float32 grey levels on the 8-bit scale
+        (a deep camera file's; the features are matched on them rounded to
+        8 bits, the angle refined on the full values).
     centre_prev, centre_cur
         Ball centres ``(col, row)`` in each frame, pixels.
     radius
@@ -133,9 +135,11 @@ def _window_rotation(prev_window: np.ndarray, cur_window: np.ndarray, origin: tu
     rel = p - pc
     init = (qc + np.column_stack([cg * rel[:, 0] - sg * rel[:, 1], sg * rel[:, 0] + cg * rel[:, 1]])).astype(np.float32)
     crit = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 40, 0.003)
-    q, st, _ = cv2.calcOpticalFlowPyrLK(a, b, p.reshape(-1, 1, 2), init.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN),
-                                        maxLevel=0, criteria=crit, flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
-    back, st2, _ = cv2.calcOpticalFlowPyrLK(b, a, q, p.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN), maxLevel=0,
+    a8, b8 = _eight_bit(a), _eight_bit(b)  # Lucas-Kanade takes 8-bit images
+    q, st, _ = cv2.calcOpticalFlowPyrLK(a8, b8, p.reshape(-1, 1, 2), init.reshape(-1, 1, 2).copy(),
+                                        winSize=(_WIN, _WIN), maxLevel=0, criteria=crit,
+                                        flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
+    back, st2, _ = cv2.calcOpticalFlowPyrLK(b8, a8, q, p.reshape(-1, 1, 2).copy(), winSize=(_WIN, _WIN), maxLevel=0,
                                             criteria=crit, flags=cv2.OPTFLOW_USE_INITIAL_FLOW)
     q = q.reshape(-1, 2)
     good = (st.ravel() == 1) & (st2.ravel() == 1) & (np.hypot(*(back.reshape(-1, 2) - p).T) < 0.3)
@@ -163,6 +167,12 @@ def _window_rotation(prev_window: np.ndarray, cur_window: np.ndarray, origin: tu
         turf = None if surface_row is None else surface_row - r0
         angle = _refine_angle(a, b, pc, qc, radius, angle, turf)
     return Rotation(angle, n_matches, int(keep.sum()))
+
+
+def _eight_bit(img: np.ndarray) -> np.ndarray:
+    if img.dtype == np.uint8:
+        return img
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
 
 
 def _refine_angle(a: np.ndarray, b: np.ndarray, pc, qc, radius: float, angle: float, turf_row: float | None) -> float:

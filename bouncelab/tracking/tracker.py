@@ -21,7 +21,7 @@ from bouncelab.tracking.detect import estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip
 from bouncelab.tracking.rotation import _window_rotation, rotation_window
 
-__all__ = ["FPS_RANGE", "FPS_SOURCES", "FrameRateError", "check_fps", "track_clip"]
+__all__ = ["FPS_AGREEMENT", "FPS_RANGE", "FPS_SOURCES", "FrameRateError", "check_fps", "frame_times", "track_clip"]
 
 #: Frame rates a clip may have, frames/s: from 1 (slower is not video) to 10^7 (the fastest framing cameras
 #: record some 10^7 frames/s; a golf ball then moves a few micrometres a frame). Beyond them the frame rate is
@@ -33,6 +33,11 @@ FPS_RANGE = FRAME_RATE_RANGE
 #: (``--fps`` on the command line), the manifest's ``fps`` column, the file name (through the pattern's ``fps``
 #: group) or the clip file itself (the ``fps`` entry of a rendered ``.npz``).
 FPS_SOURCES = ("argument", "manifest", "file name", "clip file")
+
+#: Largest relative difference between a frame rate given for a camera file and the rate of the times it
+#: records (0.1 %): more is another rate (a typing mistake, the playback rate, a decimated recording), and
+#: the file's times are not silently overruled.
+FPS_AGREEMENT = 1e-3
 
 
 class FrameRateError(DataError):
@@ -57,12 +62,13 @@ class FrameRateError(DataError):
 def track_clip(
     source,
     *,
-    fps: float | None,
+    fps: float | None = None,
     ball_radius_m: float = BALL_RADIUS_M,
     pixels_per_metre: float | None = None,
     radius_range: tuple[float, float] | None = None,
     name: str | None = None,
     memory_budget: float | None = None,
+    fps_source: str = "argument",
 ) -> xr.Dataset:
     """Track the ball through a clip.
 
@@ -76,12 +82,19 @@ def track_clip(
     Parameters
     ----------
     source
-        A video file, a folder of images, a ``.npy`` file, a ``.npz`` with
+        A Phantom ``.cine``, a Photron ``.mraw`` (or its header), a video
+        file, a folder of images, a ``.npy`` file, a ``.npz`` with
         ``frames``, an array (t, h, w) or (t, h, w, 3), or a
         :class:`~bouncelab.tracking.frames.Clip`.
     fps
-        Frame rate, frames/s, within :data:`FPS_RANGE` (required: video
-        containers often store a playback rate, not the camera's).
+        Frame rate, frames/s, within :data:`FPS_RANGE`. Not needed for a
+        camera file, which records its frames' times
+        (:attr:`~bouncelab.tracking.frames.Clip.times`): the track is measured
+        at those times, so frames the camera dropped leave a gap rather than
+        shifting every later frame; an ``fps`` given with such a file must
+        agree with its times (within :data:`FPS_AGREEMENT`). Required for
+        other sources (video containers often store a playback rate, not the
+        camera's).
     ball_radius_m
         Ball radius, m (default 21.35 mm); with ``pixels_per_metre`` it sets
         the scale.
@@ -97,24 +110,34 @@ def track_clip(
     memory_budget
         Bytes the clip's frames may take (default
         :data:`bouncelab.tracking.frames.MEMORY_BUDGET`, 1 GiB).
+    fps_source
+        Where ``fps`` came from, one of :data:`FPS_SOURCES`, for the errors.
 
     Returns
     -------
     xarray.Dataset
-        Over ``frame`` (every frame of the clip) with coordinate ``t`` (s):
+        Over ``frame`` (every frame of the clip) with coordinate ``t`` (s; a
+        camera file's own times, from its trigger, else ``frame / fps``):
         ``x``, ``y`` (ball centre, radii; y up, surface at 0), ``lowest``
         (height of the lowest visible point, radii), ``spin`` (rotation from
         the previous frame over the frame period, rad/s anticlockwise; NaN
         for the first frame, after a frame where the ball was lost and where
         too few features matched), ``found`` (bool), ``col``, ``row``,
         ``radius_px`` (pixels, row down), ``n_inliers`` (matched features
-        kept). attrs: ``clip``, ``fps``, ``radius_px`` (scale), ``surface_row``,
-        ``dropped_frames`` (list of frames where the ball was not found).
+        kept). attrs: ``clip``, ``fps``, ``time_source`` (``"TIME64 block"``,
+        ``"frame rate"``: the file's header; ``"fps"``: the rate given;
+        ``"fps and stream timestamps"``: the rate given, with the frames a
+        video's timestamps show missing),
+        ``missing_after`` and ``missing_counts`` (frames the camera did not
+        record: ``missing_counts[i]`` after frame ``missing_after[i]``),
+        ``radius_px`` (scale), ``surface_row``, ``dropped_frames`` (list of
+        frames where the ball was not found).
 
     Raises
     ------
     FrameRateError
-        A missing frame rate, or one outside :data:`FPS_RANGE` (a
+        A missing frame rate, one outside :data:`FPS_RANGE`, or one that
+        disagrees with the times a camera file records (a
         :class:`~bouncelab.core.errors.DataError` with the value and its source).
     DataError
         Unreadable, truncated or damaged source, frames that would take more
@@ -126,7 +149,8 @@ def track_clip(
         label = source.name
     else:
         label = "array" if isinstance(source, np.ndarray) else str(source)
-    fps = check_fps(fps, label)
+    if fps is not None:
+        fps = check_fps(fps, label, fps_source)
     if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
         raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label,
                         option="ball_radius_m")
@@ -134,6 +158,7 @@ def track_clip(
         raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label,
                         option="pixels_per_metre")
     frames = open_clip(source, name=label, memory_budget=memory_budget)
+    times, fps, time_source = frame_times(frames, fps, label, fps_source)
     frames.check_working_memory()
     n, h, _w = frames.shape
     if radius_range is None:
@@ -154,7 +179,9 @@ def track_clip(
     for k, frame in frames.frames():
         predicted = None
         if k >= 2 and np.isfinite(col[k - 1]) and np.isfinite(col[k - 2]):
-            predicted = (2 * col[k - 1] - col[k - 2], 2 * row[k - 1] - row[k - 2], rad[k - 1])
+            ahead = (times[k] - times[k - 1]) / (times[k - 1] - times[k - 2])  # 1 unless frames are missing
+            predicted = (col[k - 1] + ahead * (col[k - 1] - col[k - 2]),
+                         row[k - 1] + ahead * (row[k - 1] - row[k - 2]), rad[k - 1])
         c = find_ball(frame, bg, radius_range=radius_range, near=near, predicted=predicted)
         if c is None:
             near = None
@@ -183,21 +210,26 @@ def track_clip(
 
     spin = np.full(n, np.nan)
     inl = np.zeros(n, dtype=int)
-    dt = 1.0 / fps
-    guess = 0.0
+    dts = np.diff(times, prepend=times[0] - 1.0 / fps)  # each frame's interval from the last (s)
+    guess = 0.0  # rad/s
     pairs = (np.flatnonzero(found[1:] & found[:-1]) + 1).tolist()  # frames whose rotation from the last is measured
     for k, a, b, origin in _rotation_windows(frames, crops, pairs, col, row, r_scale):
-        rot = _window_rotation(a, b, origin, (col[k - 1], row[k - 1]), (col[k], row[k]), r_scale, guess=guess,
-                               surface_row=bg.surface_row, max_features=40, min_inliers=4, refine=True)
+        rot = _window_rotation(a, b, origin, (col[k - 1], row[k - 1]), (col[k], row[k]), r_scale,
+                               guess=guess * dts[k], surface_row=bg.surface_row, max_features=40, min_inliers=4,
+                               refine=True)
         inl[k] = rot.n_inliers
         if np.isfinite(rot.angle):
-            spin[k] = rot.angle / dt
-            guess = rot.angle
+            spin[k] = rot.angle / dts[k]
+            guess = spin[k]
 
     ref = bg.surface_row if bg.surface_row is not None else float(h)
+    gaps = frames.gaps if time_source != "fps" else []
     attrs: dict[str, Any] = {
         "clip": label,
         "fps": fps,
+        "time_source": time_source,
+        "missing_after": [k for k, _ in gaps],
+        "missing_counts": [m for _, m in gaps],
         "radius_px": r_scale,
         "scale_from": "pixels_per_metre" if pixels_per_metre is not None else "detected radius",
         "ball_radius_m": float(ball_radius_m),
@@ -218,7 +250,7 @@ def track_clip(
             "radius_px": ("frame", rad, {"units": "px"}),
             "n_inliers": ("frame", inl),
         },
-        coords={"frame": np.arange(n), "t": ("frame", np.arange(n) * dt, {"units": "s"})},
+        coords={"frame": np.arange(n), "t": ("frame", times, {"units": "s"})},
         attrs=attrs,
     )
 
@@ -243,11 +275,12 @@ class _Crops:
         m = int(np.ceil(1.25 * rad[j] + 12 + 1.5 * max(moves, default=0.0)))
         c0, r0 = max(int(col[j]) - m, 0), max(int(row[j]) - m, 0)
         c1, r1 = min(int(col[j]) + m + 1, self.w), min(int(row[j]) + m + 1, self.h)
-        if self.nbytes + (c1 - c0) * (r1 - r0) > self.limit:
+        size = (c1 - c0) * (r1 - r0) * frame.itemsize
+        if self.nbytes + size > self.limit:
             self.full, self.windows = True, {}
             return
         self.windows[j] = (c0, r0, np.array(frame[r0:r1, c0:c1]))
-        self.nbytes += (c1 - c0) * (r1 - r0)
+        self.nbytes += size
 
     def view(self, j: int, window: tuple[int, int, int, int]) -> np.ndarray | None:
         """Pixels ``window`` = (c0, r0, c1, r1) of frame ``j``, or None if not kept."""
@@ -294,6 +327,41 @@ def _rotation_windows(frames, crops: _Crops | None, pairs: list[int], col, row, 
     for k in pairs:
         c0, r0, _, _ = windows[k]
         yield k, views[k][0], views[k][1], (c0, r0)
+
+
+def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "argument"
+                ) -> tuple[np.ndarray, float, str]:
+    """(times in s, frame rate, where they come from) of a clip's frames: the times a camera file records
+    (``fps``, if given, must agree with them), else ``frame / fps`` (a frame missing from a video's
+    timestamps counted in).
+
+    Raises
+    ------
+    FrameRateError
+        No times and no ``fps``; an ``fps`` that disagrees with the file's times by more than
+        :data:`FPS_AGREEMENT`; a file rate outside :data:`FPS_RANGE`.
+    """
+    n = len(frames)
+    if frames.times is None or frames.time_source == "stream timestamps":
+        fps = check_fps(fps, label, fps_source)
+        gaps = frames.gaps
+        if not gaps:
+            return np.arange(n) / fps, fps, "fps"
+        # A container's timestamps are at its own (playback) rate, but a gap in them is a missing frame.
+        periods = np.ones(n - 1)
+        for k, missing in gaps:
+            periods[k] += missing
+        return np.r_[0.0, np.cumsum(periods)] / fps, fps, "fps and stream timestamps"
+    own = check_fps(frames.fps, label, "clip file")
+    if fps is not None and abs(fps / own - 1.0) > FPS_AGREEMENT:
+        what = _SOURCE_TEXT[fps_source]
+        origin = {"TIME64 block": "the times of its TIME64 block"}.get(str(frames.time_source),
+                                                                         "its header's frame rate")
+        raise FrameRateError(
+            f"{what} {fps:g} frames/s disagrees with the frame times the file records ({own:g} frames/s, from "
+            f"{origin}); the file's times are the camera's: leave the frame rate out to use them",
+            fps=fps, source=fps_source, file=label)
+    return np.asarray(frames.times, dtype=float), own, str(frames.time_source)
 
 
 _SOURCE_TEXT = {"argument": "fps", "manifest": "the manifest's fps", "file name": "the fps in the file name",

@@ -41,6 +41,7 @@ def measure_bounce(
     min_frames: int = 5,
     contact: ContactDetection | None = None,
     jitter_rtol: float = JITTER_RTOL,
+    missing_frames: bool = False,
 ) -> xr.Dataset:
     """Landing and lift-off states with their interval half-widths, from one tracked bounce.
 
@@ -75,6 +76,11 @@ def measure_bounce(
         (``lowest`` is then not needed).
     jitter_rtol
         Largest accepted relative deviation of a frame interval from the mean.
+    missing_frames
+        Accept frame times that skip whole frame periods (frames a camera
+        dropped, at the times its file records, as
+        :func:`~bouncelab.tracking.track_clip` gives them for a ``.cine``);
+        by default unequal intervals are refused.
 
     Returns
     -------
@@ -116,10 +122,10 @@ def measure_bounce(
     names = ("t", "x", "y", "spin") + (("lowest",) if contact is None else ())
     arrays = _track_arrays(track, names)
     t = arrays["t"]
-    _frame_interval(t, jitter_rtol=jitter_rtol)
+    _frame_interval(t, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
     n = t.size
     if contact is None:
-        contact = detect_contact(t, arrays["lowest"], jitter_rtol=jitter_rtol)
+        contact = detect_contact(t, arrays["lowest"], jitter_rtol=jitter_rtol, missing_frames=missing_frames)
     i, j = contact.touchdown_index, contact.liftoff_index
     if not (0 <= i <= j < n):
         raise DataError(f"contact frames ({i}, {j}) are not ordered frames of this {n}-frame track", option="contact")
@@ -149,9 +155,9 @@ def measure_bounce(
                 raise DataError(f"{name} is NaN or infinite at frame {frame}, which is used {where}",
                                 column=name)
         vx = estimate_velocity(t[sl], arrays["x"][sl], t_eval, level=level, interval=interval,
-                               method=method, jitter_rtol=jitter_rtol)
+                               method=method, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
         vy = estimate_velocity(t[sl], arrays["y"][sl], t_eval, level=level, interval=interval,
-                               method=method, jitter_rtol=jitter_rtol)
+                               method=method, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
         w = estimate_spin(arrays["spin"][sl], level=level)
         values[key] = np.array([vx.value, vy.value, w.value])
         half[key] = np.array([vx.half_width, vy.half_width, w.half_width])

@@ -30,6 +30,7 @@ def detect_contact(
     min_contact: int = 2,
     contact_model: Literal["flat", "linear"] = "flat",
     jitter_rtol: float = JITTER_RTOL,
+    missing_frames: bool = False,
 ) -> ContactDetection:
     """Find touch-down and lift-off from the height of the lowest visible point of the ball.
 
@@ -51,6 +52,10 @@ def detect_contact(
         constant rate (use it if the visible surface line moves in the image).
     jitter_rtol
         Largest accepted relative deviation of a frame interval from the mean.
+    missing_frames
+        Accept intervals of a whole number of frame periods (frames a camera
+        dropped, at the times its file records); the pieces are fitted at the
+        frames' own times.
 
     Returns
     -------
@@ -113,7 +118,7 @@ def detect_contact(
             f"in contact, {min_flight} after); got {n}", column="t"
         )
     _check_finite(h, "lowest")
-    dt = _frame_interval(tt, jitter_rtol=jitter_rtol)
+    dt = _frame_interval(tt, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
 
     # Work in frame units centred on the clip, heights relative to their mean.
     z = (tt - tt.mean()) / dt

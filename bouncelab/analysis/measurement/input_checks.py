@@ -36,8 +36,12 @@ def _check_finite(arr: np.ndarray, name: str) -> None:
         raise DataError(f"{name} is NaN or infinite at frame {k} ({int(bad.sum())} bad value(s))", column=name)
 
 
-def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL) -> float:
-    """The constant frame interval ``dt`` of times ``t``; DataError if they are not equally spaced."""
+def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL, missing_frames: bool = False) -> float:
+    """The constant frame interval ``dt`` of times ``t``; DataError if they are not equally spaced.
+
+    With ``missing_frames``, an interval may span a whole number of frame periods (frames a camera dropped,
+    whose times the file records): ``dt`` is then the period, each interval within ``jitter_rtol`` of a
+    multiple of it."""
     _check_finite(t, "t")
     if t.size < 2:
         raise DataError(f"need at least 2 frame times; got {t.size}", column="t")
@@ -45,7 +49,12 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL) -> float
     if not (steps > 0).all():
         k = int(np.argmax(steps <= 0))
         raise DataError(f"frame times must increase; t[{k + 1}] <= t[{k}]", column="t")
-    dt = float(t[-1] - t[0]) / (t.size - 1)
+    periods = frame_periods(steps) if missing_frames else None
+    if periods is not None:
+        dt = float(t[-1] - t[0]) / float(periods.sum())
+        steps = steps / periods
+    else:
+        dt = float(t[-1] - t[0]) / (t.size - 1)
     lo, hi = FRAME_RATE_RANGE
     if not 1.0 / hi <= dt <= 1.0 / lo:
         raise DataError(
@@ -55,6 +64,11 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL) -> float
     dev = np.abs(steps - dt) / dt
     if dev.max() > jitter_rtol:
         k = int(np.argmax(dev))
+        if periods is not None:
+            raise DataError(
+                f"frame times are not on one frame period: the interval after frame {k} is "
+                f"{steps[k] * periods[k]:.6g} s, {dev[k]:.1%} off {int(periods[k])} period(s) of {dt:.6g} s "
+                f"(tolerance {jitter_rtol:.1%})", column="t")
         raise DataError(
             f"frame times are not equally spaced: the interval after frame {k} is {steps[k]:.6g} s "
             f"against a mean of {dt:.6g} s ({dev[k]:.1%} off; tolerance {jitter_rtol:.1%}). The "
@@ -62,6 +76,13 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL) -> float
             column="t",
         )
     return dt
+
+
+def frame_periods(steps: np.ndarray) -> np.ndarray:
+    """Whole frame periods each interval ``steps`` spans (1 where no frame is missing), taking the period
+    as the median interval (most frames are not dropped)."""
+    base = float(np.median(steps))
+    return np.maximum(np.rint(steps / base), 1.0) if base > 0 else np.ones_like(steps)
 
 
 def _check_level(level: float) -> float:

@@ -15,6 +15,7 @@ from bouncelab.analysis.measurement.input_checks import (
     _check_finite,
     _check_level,
     _frame_interval,
+    frame_periods,
 )
 from bouncelab.analysis.measurement.results import VelocityEstimate
 from bouncelab.core.errors import DataError
@@ -44,6 +45,7 @@ def estimate_velocity(
     interval: IntervalKind = "prediction",
     method: VelocityMethod = "differences",
     jitter_rtol: float = JITTER_RTOL,
+    missing_frames: bool = False,
 ) -> VelocityEstimate:
     """Velocity at ``t_eval`` from tracked positions, with its interval (paper's method by default).
 
@@ -65,6 +67,11 @@ def estimate_velocity(
         fit of the positions, whose CI is calibrated; see Notes).
     jitter_rtol
         Largest accepted relative deviation of a frame interval from the mean.
+    missing_frames
+        Accept intervals of a whole number of frame periods (frames a camera
+        dropped, at the times its file records). A difference across ``k``
+        periods is divided by its own interval and assigned half a frame
+        after its mid-time, as every other difference is.
 
     Returns
     -------
@@ -135,7 +142,7 @@ def estimate_velocity(
     if tt.size < 4:
         raise DataError(f"need at least 4 frames to estimate a velocity with an interval; got {tt.size}", column="t")
     _check_finite(xx, "pos")
-    dt = _frame_interval(tt, jitter_rtol=jitter_rtol)
+    dt = _frame_interval(tt, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
     try:
         t_e = float(t_eval)
     except (TypeError, ValueError) as exc:
@@ -168,8 +175,13 @@ def estimate_velocity(
 def _fit(tt: np.ndarray, xx: np.ndarray, dt: float, t_e: float, interval: str, method: str):
     """(value, slope, variance, n, degrees of freedom) of the velocity fit (see :func:`estimate_velocity`)."""
     if method == "differences":
-        d = np.diff(xx) / dt
-        tau = tt[1:]
+        steps = np.diff(tt)
+        if (frame_periods(steps) > 1).any():  # dropped frames: each difference over its own interval
+            d = np.diff(xx) / steps
+            tau = tt[1:] - 0.5 * (steps - dt)  # half a frame after its mid-time, as the others
+        else:
+            d = np.diff(xx) / dt
+            tau = tt[1:]
         n = d.size
         tau_bar = tau.mean()
         tc = tau - tau_bar
