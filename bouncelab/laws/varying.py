@@ -17,6 +17,7 @@ import numpy as np
 from bouncelab.core._parallel import run_rows
 from bouncelab.core.errors import ParameterError, row_text
 from bouncelab.core.validation import as_states
+from bouncelab.laws.registry import law_name
 
 __all__ = ["predict_per_bounce"]
 
@@ -95,8 +96,6 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
         Parameters missing, unknown, of the wrong shape, not finite or outside their physical ranges (naming
         the parameter and the row, with a DataFrame's row label).
     """
-    from bouncelab.laws.registry import law_name
-
     carrier = _carrier(law)
     cls = type(carrier)
     name = law_name(cls)
