@@ -24,7 +24,7 @@ COMPILED = [bl.Rigid(r=0.5, mu=0.4), bl.PennerFixed(r=0.42, mu=0.85, beta_deg=12
             bl.PiecewiseAffine.published("A").replace(offset=601.0), bl.CompliantImpact(r=0.5, mu=0.4, kappa=1.5)]
 
 
-class Frictionless(bl.BounceModel):
+class PathNumpyLaw(bl.BounceModel):
     """A law written in NumPy: its hooks are checked by the default path (a scan before ``_predict``)."""
 
     e = bl.Parameter(bounds=(0.0, 1.0), physical=(0.0, 1.0))
@@ -66,7 +66,7 @@ def calls_during(f) -> Counter:
     return seen
 
 
-@pytest.mark.parametrize("law", [*COMPILED, Frictionless(e=0.5)], ids=lambda law: type(law).__name__)
+@pytest.mark.parametrize("law", [*COMPILED, PathNumpyLaw(e=0.5)], ids=lambda law: type(law).__name__)
 def test_the_verdict_of_the_pass_that_predicts_is_the_guards(law):
     """The compiled loops' verdict (valid, and which limits a landing breaks) is bit for bit the NumPy scan's,
     for every fault, rows that are no landing, and -0.0; one comparison, compiled or not."""
@@ -84,7 +84,7 @@ def test_the_verdict_of_the_pass_that_predicts_is_the_guards(law):
                 assert hook(q, values, limits)[1] == expected, (n, bad, hook.__name__)
 
 
-@pytest.mark.parametrize("law", [COMPILED[0], COMPILED[3], Frictionless(e=0.5)], ids=lambda law: type(law).__name__)
+@pytest.mark.parametrize("law", [COMPILED[0], COMPILED[3], PathNumpyLaw(e=0.5)], ids=lambda law: type(law).__name__)
 def test_every_path_refuses_a_landing_alike(law):
     """predict, regime and predict_one name the same row and limit for the same landing."""
     for bad in FAULTY.values():
@@ -199,11 +199,11 @@ def test_a_hook_that_cannot_take_the_parameters_is_refused_where_the_law_is_defi
     assert err.value.method == "_regime" and "no landings p" in str(err.value)
 
     with pytest.raises(LawDefinitionError) as err:  # a subclass that drops a parameter its base's maths needs
-        class Fixed(Frictionless):
+        class PathDropped(PathNumpyLaw):
             e = None
     assert err.value.method == "_predict"
 
-    class Flexible(Frictionless):  # any keyword, a default for what is not a parameter, a static method: fine
+    class PathFlexible(PathNumpyLaw):  # any keyword, a default for what is not a parameter, a static method: fine
         def _predict(self, p, scale=1.0, **parameters):
             return super()._predict(p, **parameters) * scale
 
@@ -211,7 +211,7 @@ def test_a_hook_that_cannot_take_the_parameters_is_refused_where_the_law_is_defi
         def _regime(p, e):
             return np.zeros(len(p), dtype=np.int8)
 
-    assert Flexible(e=0.5).predict_one(1000.0, -800.0, 300.0) == (1000.0, 400.0, 300.0)
+    assert PathFlexible(e=0.5).predict_one(1000.0, -800.0, 300.0) == (1000.0, 400.0, 300.0)
 
 
 def test_option_is_exported_and_all_names_each_name_once():

@@ -10,8 +10,9 @@ A bounce law maps the landing state ``p0 = [xdot0, ydot0, omega0]`` of a ball to
 ``regimes``
     the names of its regimes;
 ``_predict(self, p, **parameters)`` and ``_regime(self, p, **parameters)``
-    the maths, on a validated C-contiguous ``(n, 3)`` float64 array ``p``, the parameters by name;
-    or a compiled ``kernel`` (:class:`~bouncelab.laws.CompiledLaw`);
+    the maths, on a validated C-contiguous ``(n, 3)`` float64 array ``p``, the parameters by name
+    (checked against the declaration when the class is defined); or a compiled ``kernel``
+    (:class:`~bouncelab.laws.CompiledLaw`);
 ``_summary_lines()`` and ``_diagnostics(landing, liftoff)``
     what reports print about it beyond its parameters;
 methods decorated with :func:`~bouncelab.laws.protocol.fit_method`
@@ -19,11 +20,14 @@ methods decorated with :func:`~bouncelab.laws.protocol.fit_method`
 
 :class:`BounceModel` does everything that is the same for every law: the constructor (keywords in
 declaration order, validated), immutability, ``replace``, repr, equality, JSON, and the public
-``predict`` and ``regime``, which check their input once and call the law's maths, in the manner of
-scipy.stats' ``pdf`` → ``_argcheck`` → ``_pdf``. Physical units and polar forms, lazy dask arrays and
-the non-physical-lift-off flags are layers around that core (:mod:`bouncelab.laws._physical_io`,
-:mod:`bouncelab.laws.nonphysical`). Generic code (``fit``, ``compare``, reports, the command line) reads
-everything from the law and never names one.
+``predict``, ``regime`` and ``predict_one``, in the manner of scipy.stats' ``pdf`` → ``_argcheck`` →
+``_pdf``: one path takes the landings once (:class:`~bouncelab.laws._physical_io.Landings`: their kind,
+units, form and shape), calls the law's hook (:meth:`~BounceModel._evaluate_checked`,
+:meth:`~BounceModel._classify_checked`, or for one landing :meth:`~BounceModel._one_entry_point`), which
+checks the values and the unit guard in the pass that computes (a compiled law's loops; a NumPy law's hook
+scans them first), and words a failed verdict; the results go back in the caller's kind, with the
+non-physical-lift-off flags (:mod:`bouncelab.laws.nonphysical`). Generic code (``fit``, ``compare``,
+reports, the command line) reads everything from the law and never names one.
 
 Examples
 --------
