@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core._jit import ROW_FLAGS, jit
 from bouncelab.core._parallel import run_rows
 from bouncelab.core.errors import ParameterError, row_text
 from bouncelab.core.validation import as_states
@@ -37,9 +38,7 @@ def _row_loop(kernel: Any, m: int) -> Any:
     hit = _ROW_LOOPS.get((id(kernel), m))
     if hit is not None and hit[0] is kernel:
         return hit[1]
-    from numba.np.unsafe.ndarray import to_fixed_tuple
-
-    from bouncelab.core._jit import ROW_FLAGS, jit
+    from numba.np.unsafe.ndarray import to_fixed_tuple  # (numba: imported when a loop is first built)
 
     @jit(nogil=True, fastmath=ROW_FLAGS)
     def loop(P, K, out, codes, start, stop):  # pragma: no cover - compiled
