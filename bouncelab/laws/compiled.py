@@ -60,9 +60,8 @@ from bouncelab.core._jit import ROW_FLAGS, jit
 from bouncelab.core._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
 from bouncelab.core.errors import LawDefinitionError
 from bouncelab.core.landing_checks import INVALID, STATE_LIMIT
-from bouncelab.core.plausibility import OPEN_LIMITS, landing_limits
-from bouncelab.core.units import BALL_RADIUS_M
-from bouncelab.laws.base import BounceModel
+from bouncelab.core.plausibility import OPEN_LIMITS
+from bouncelab.laws.base import _DEFAULT_LIMITS, BounceModel
 from bouncelab.laws.registry import law_name
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -144,9 +143,6 @@ class _Loops:
         self.one = one
         self.error_sums = error_sums
 
-
-#: The unit guard's limits of the default ranges and ball (predict_one's).
-_DEFAULT_LIMITS = landing_limits(BALL_RADIUS_M)
 
 #: The bits of STATE_LIMIT as an int64, for the row loops' value check on the landings' bits.
 _LIMIT_BITS = int(np.float64(STATE_LIMIT).view(np.int64))
