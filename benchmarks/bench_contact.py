@@ -1,6 +1,7 @@
 """Speed of the physics-based contact laws, against solve_ivp per bounce at equal accuracy.
 
-Run: ``python benchmarks/bench_contact.py`` (a few minutes; ``--quick`` for a smaller run).
+Run: ``python benchmarks/bench_contact.py`` (a few minutes; ``--quick``: a few landings, no fit, a few seconds
+once the kernels are compiled, for CI).
 Everything is timed in the same run. Prints
 
 1. the speed-up of each law over ``scipy.integrate.solve_ivp`` integrating the same
@@ -63,9 +64,9 @@ def loosest_ivp(ref_fn, p, truth):
 
 def steps_loop(integrate):
     """A compiled loop over landings of ``integrate(xd, yd, w, theta, nsteps)`` (a contact law's integrator)."""
-    from numba import njit
+    from bouncelab.core._jit import jit  # numba.njit with a disk cache that also serves closures
 
-    @njit(nogil=True)
+    @jit(nogil=True)
     def run(P, theta, nsteps, out):
         for i in range(P.shape[0]):
             a, b, c, _ = integrate(P[i, 0], P[i, 1], P[i, 2], theta, nsteps)
@@ -83,7 +84,7 @@ def rk4_against_ivp(name, law, integrate, reference, p, truth, step_choices, def
     ``reference(q, rtol)`` is the solve_ivp lift-off of landing ``q``; ``integrate`` the law's kernel
     integrator, run with the kernel vector of ``law`` and each of ``step_choices`` until within TOL.
     """
-    ktheta = law._kt(law._theta())
+    ktheta = np.array(law._args(law._fitted_values()), dtype=np.float64)  # what its kernel passes the integrator
     run = steps_loop(integrate)
     rtol, err_ivp, t_ivp = loosest_ivp(reference, p, truth)
     for nsteps in step_choices:
@@ -103,12 +104,13 @@ def rk4_against_ivp(name, law, integrate, reference, p, truth, step_choices, def
           f"-> speed-up {t_ivp / t_bl:,.0f}x")
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="fewer bounces everywhere")
-    args = ap.parse_args()
-    n_ivp = 20 if args.quick else 60
-    n_big = 200_000 if args.quick else 1_000_000
+    ap.add_argument("--quick", action="store_true", help="a few bounces everywhere and no fit: checks that the "
+                                                         "benchmark runs (CI)")
+    args = ap.parse_args(argv)
+    n_ivp = 3 if args.quick else 60
+    n_big = 10_000 if args.quick else 1_000_000
     print(f"threads: {bl.laws.num_threads()}  (BOUNCELAB_NUM_THREADS)")
 
     # ---- 1. against solve_ivp at equal accuracy
@@ -117,7 +119,7 @@ def main() -> None:
     ci.predict(p[:2])
     truth = np.array([compliant_reference(q, **COMPLIANT, rtol=1e-12, atol=1e-12) for q in p])
     rtol, err_ivp, t_ivp = loosest_ivp(lambda q, rt: compliant_reference(q, **COMPLIANT, rtol=rt, atol=rt), p, truth)
-    reps = 2000
+    reps = 50 if args.quick else 2000
     big = np.tile(p, (reps, 1))
     out, dt = timed(lambda: ci.predict(big))
     t_bl = dt / len(big)
@@ -164,6 +166,9 @@ def main() -> None:
     print(f"CraterContact.predict:   {m / dt / 1e3:.0f} thousand bounces/s ({m:,} bounces, default 48 steps)")
 
     # ---- 3. fit time
+    if args.quick:
+        print("\n(--quick: no fit)")
+        return
     ds = bl.load_campaign("B", surrogate="published")
     res, dt = timed(lambda: bl.fit(bl.TurfContact, ds, seed=0))
     print(f"\nTurfContact global fit to campaign B ({ds.sizes['bounce']} bounces): {dt:.1f} s, "

@@ -1,10 +1,20 @@
-"""Throughput of ``predict`` for the rigid family on 10^6 bounces, against plain NumPy.
+"""Throughput of ``predict`` on 10^6 bounces: against plain NumPy, the unit guard's cost, and PiecewiseAffine
+against a hand-written numba loop.
 
-Run: ``python benchmarks/bench_predict.py`` (about 20 s). Both sides are timed in the same
-run on the same landings; the table gives million bounces per second (median of repeats)
-and the ratio. Target (issue 3): at least 50 million bounces/s for every rigid-family law.
+Run: ``python benchmarks/bench_predict.py`` (about 30 s; ``--quick``: 10^5 bounces, a few seconds, for CI).
+Everything is timed in the same run on the same landings, as medians of repeated timings, and reported as
+ratios:
 
-``--baseline PATH`` also times the bouncelab found at PATH (a checkout of another version, whose
+1. million bounces per second of ``predict`` for the rigid family against straightforward NumPy
+   (``benchmarks/numpy_reference.py``). Target (issue 3): at least 50 million bounces/s for every
+   rigid-family law.
+2. the unit guard: ``predict`` (every landing held to ``PLAUSIBLE_RANGES``) against
+   ``predict(plausible=None)``, alternating. Target (issue 31): at most 1.25x.
+3. ``PiecewiseAffine.predict`` (unit guard and value checks included) against a hand-written numba loop
+   over the same two affine maps (one thread, no checks), with identical results. Target (issue 34): within
+   2x.
+
+``--baseline PATH`` instead times the bouncelab found at PATH (a checkout of another version, whose
 ``bouncelab`` package is imported from there in a subprocess) on the same landings, alternating
 with this one ``--rounds`` times, and prints this version's throughput as a ratio of it (issue 7's
 target: at least 0.9 of bouncelab 0.1's).
@@ -32,6 +42,12 @@ LAWS = {
 }
 
 
+def piecewise_law() -> bl.PiecewiseAffine:
+    """The published law A's maps with the plane moved by 1 rad/s: a law like any fitted one (the published
+    laws also check every prediction for non-physical lift-offs, and warn)."""
+    return bl.PiecewiseAffine.published("A").replace(offset=601.0)
+
+
 def landings(n: int, seed: int = 0) -> np.ndarray:
     """Landings spanning the paper's Table 1 (both campaigns), in scaled units: golf landings, which predict's
     unit guard accepts (the flattest come in at 5.5 degrees: xdot0 is capped at |ydot0| / tan 5.5 deg)."""
@@ -49,8 +65,40 @@ def best_of(f, repeats: int) -> float:
     return float(np.median(times))
 
 
+def alternating(fs: dict, repeats: int) -> dict[str, float]:
+    """Median seconds of each function, timed in turn (one call of each per round), so that a machine whose
+    load changes during the run weighs on every side alike."""
+    times: dict[str, list[float]] = {name: [] for name in fs}
+    for _ in range(repeats):
+        for name, f in fs.items():
+            t = time.perf_counter()
+            f()
+            times[name].append(time.perf_counter() - t)
+    return {name: float(np.median(ts)) for name, ts in times.items()}
+
+
+def hand_written_piecewise():
+    """The piecewise-affine map as one would write it by hand in numba: a plain loop, no checks, one thread."""
+    from numba import njit
+
+    @njit(nogil=True, cache=False)
+    def run(P, normal, offset, A1, b1, A2, b2, out):
+        for i in range(P.shape[0]):
+            x, y, w = P[i, 0], P[i, 1], P[i, 2]
+            if normal[0] * x + normal[1] * y + normal[2] * w < offset:
+                A, b = A1, b1
+            else:
+                A, b = A2, b2
+            out[i, 0] = A[0, 0] * x + A[0, 1] * y + A[0, 2] * w + b[0]
+            out[i, 1] = A[1, 0] * x + A[1, 1] * y + A[1, 2] * w + b[1]
+            out[i, 2] = A[2, 0] * x + A[2, 1] * y + A[2, 2] * w + b[2]
+        return out
+
+    return run
+
+
 _BASELINE = r"""
-import json, sys, time
+import json, sys, time, warnings
 sys.path.insert(0, sys.argv[1])
 import numpy as np, bouncelab as bl
 assert bl.__file__.startswith(sys.argv[1]), bl.__file__
@@ -60,7 +108,8 @@ xd, yd = rng.uniform(1, 2300, n), -rng.uniform(90, 1900, n)
 p = np.column_stack([np.minimum(xd, -yd / np.tan(np.radians(5.5))), yd, rng.uniform(-410, 1700, n)])
 laws = {"Rigid": bl.Rigid(r=0.544, mu=0.997), "PennerFixed": bl.PennerFixed(r=0.42, mu=0.852, beta_deg=12.9),
         "PennerVarying": bl.PennerVarying(r=0.448, mu=0.969, k_p=1.543e-4),
-        "TangentialRestitution": bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.3)}
+        "TangentialRestitution": bl.TangentialRestitution(r=0.5, mu=0.4, e_t=0.3),
+        "PiecewiseAffine": bl.PiecewiseAffine.published("A").replace(offset=601.0)}
 out = {}
 for name, law in laws.items():
     law.predict(p)
@@ -82,49 +131,91 @@ def baseline_rounds(path: str, n: int, repeats: int) -> dict[str, float]:
     return json.loads(proc.stdout)
 
 
-def main(argv: list[str] | None = None) -> list[dict]:
+def side_by_side(path: str, n: int, repeats: int, rounds: int) -> list[dict]:
+    """This bouncelab's throughput against the one at ``path``, alternating rounds (``--baseline``)."""
+    laws = {name: law for name, (law, _) in LAWS.items()} | {"PiecewiseAffine": piecewise_law()}
+    ours: dict[str, list[float]] = {name: [] for name in laws}
+    theirs: dict[str, list[float]] = {name: [] for name in laws}
+    p = landings(n)
+    for law in laws.values():
+        law.predict(p)
+    for _ in range(rounds):
+        for name, law in laws.items():
+            ours[name].append(n / best_of(lambda law=law: law.predict(p), repeats) / 1e6)
+        for name, value in baseline_rounds(path, n, repeats).items():
+            theirs[name].append(value)
+    print(f"predict on {n:,} bounces, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}: this "
+          f"bouncelab against {path} ({rounds} alternating rounds; million bounces per second, medians)")
+    print(f"{'law':<24}{'this':>10}{'baseline':>10}{'ratio':>8}  >= 0.9")
+    rows = []
+    for name in laws:
+        a, b = float(np.median(ours[name])), float(np.median(theirs[name]))
+        rows.append({"law": name, "bouncelab": a, "baseline": b})
+        print(f"{name:<24}{a:>10.1f}{b:>10.1f}{a / b:>8.2f}  {'met' if a / b >= 0.9 else 'NOT'}")
+    return rows
+
+
+def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("-n", type=int, default=1_000_000)
-    ap.add_argument("--repeats", type=int, default=15)
+    ap.add_argument("-n", type=int, default=None, help="bounces (default 10^6; 10^5 with --quick)")
+    ap.add_argument("--repeats", type=int, default=None, help="timings per measure (default 15; 3 with --quick)")
+    ap.add_argument("--quick", action="store_true", help="a small run that checks the benchmark works (CI)")
     ap.add_argument("--baseline", help="path of another bouncelab checkout to time side by side")
     ap.add_argument("--rounds", type=int, default=3, help="alternations with the baseline")
     args = ap.parse_args(argv)
+    n = args.n or (100_000 if args.quick else 1_000_000)
+    repeats = args.repeats or (3 if args.quick else 15)
     if args.baseline:
-        ours: dict[str, list[float]] = {name: [] for name in LAWS}
-        theirs: dict[str, list[float]] = {name: [] for name in LAWS}
-        p = landings(args.n)
-        for law in LAWS.values():
-            law[0].predict(p)
-        for _ in range(args.rounds):
-            for name, (law, _) in LAWS.items():
-                ours[name].append(args.n / best_of(lambda law=law: law.predict(p), args.repeats) / 1e6)
-            for name, value in baseline_rounds(args.baseline, args.n, args.repeats).items():
-                theirs[name].append(value)
-        print(f"predict on {args.n:,} bounces, {os.cpu_count()} cores: this bouncelab against {args.baseline} "
-              f"({args.rounds} alternating rounds; million bounces per second, medians)")
-        print(f"{'law':<24}{'this':>10}{'baseline':>10}{'ratio':>8}  >= 0.9")
-        rows = []
-        for name in LAWS:
-            a, b = float(np.median(ours[name])), float(np.median(theirs[name]))
-            rows.append({"law": name, "bouncelab": a, "baseline": b})
-            print(f"{name:<24}{a:>10.1f}{b:>10.1f}{a / b:>8.2f}  {'met' if a / b >= 0.9 else 'NOT'}")
-        return rows
-    p = landings(args.n)
+        return {"baseline": side_by_side(args.baseline, n, repeats, 1 if args.quick else args.rounds)}
+    p = landings(n)
+    print(f"predict on {n:,} bounces, {bl.laws.num_threads()} threads, {os.cpu_count()} CPUs, load average "
+          f"{os.getloadavg()[0]:.2f} (medians of {repeats} timings)")
+
+    # ---- 1. against NumPy
     rows = []
     for name, (law, theta) in LAWS.items():
         law.predict(p)  # compile or load the kernel, start the thread pool and touch the memory first
-        ours = best_of(lambda law=law: law.predict(p), args.repeats)
-        peer = best_of(lambda name=name, theta=theta: numpy_reference.predict(name, p, theta),
-                       max(3, args.repeats // 3))
+        ours = best_of(lambda law=law: law.predict(p), repeats)
+        peer = best_of(lambda name=name, theta=theta: numpy_reference.predict(name, p, theta), max(3, repeats // 3))
         same = np.allclose(law.predict(p), numpy_reference.predict(name, p, theta), rtol=1e-10, atol=1e-8)
-        rows.append({"law": name, "bouncelab": args.n / ours / 1e6, "numpy": args.n / peer / 1e6, "agree": same})
-    print(f"predict on {args.n:,} bounces, {os.cpu_count()} cores (million bounces per second, median)")
-    print(f"{'law':<24}{'bouncelab':>12}{'NumPy':>10}{'ratio':>9}  target >= 50  results agree")
+        rows.append({"law": name, "bouncelab": n / ours / 1e6, "numpy": n / peer / 1e6, "agree": same})
+    print(f"\n1. against NumPy (million bounces per second)\n{'law':<24}{'bouncelab':>12}{'NumPy':>10}{'ratio':>9}"
+          "  target >= 50  results agree")
     for r in rows:
         ok = "met" if r["bouncelab"] >= 50 else "NOT MET"
         print(f"{r['law']:<24}{r['bouncelab']:>12.1f}{r['numpy']:>10.1f}{r['bouncelab'] / r['numpy']:>8.1f}x  "
               f"{ok:<12} {r['agree']}")
-    return rows
+
+    # ---- 2. the unit guard's cost
+    guard = []
+    laws = {name: law for name, (law, _) in LAWS.items()} | {"PiecewiseAffine": piecewise_law()}
+    for name, law in laws.items():
+        law.predict(p)
+        t = alternating({"guarded": lambda law=law: law.predict(p),
+                         "unguarded": lambda law=law: law.predict(p, plausible=None)}, repeats)
+        guard.append({"law": name, **t})
+    print("\n2. the unit guard: predict(p) against predict(p, plausible=None), alternating (ms)")
+    print(f"{'law':<24}{'guarded':>10}{'unguarded':>11}{'ratio':>8}  <= 1.25")
+    for r in guard:
+        ratio = r["guarded"] / r["unguarded"]
+        print(f"{r['law']:<24}{r['guarded'] * 1e3:>10.2f}{r['unguarded'] * 1e3:>11.2f}{ratio:>8.2f}  "
+              f"{'met' if ratio <= 1.25 else 'NOT'}")
+
+    # ---- 3. PiecewiseAffine against a hand-written numba loop
+    law = piecewise_law()
+    hand = hand_written_piecewise()
+    args = tuple(np.ascontiguousarray(v, dtype=np.float64) if isinstance(v, np.ndarray) else float(v)
+                 for v in (law.normal, law.offset, law.A1, law.b1, law.A2, law.b2))
+    out = np.empty_like(p)
+    hand(p, *args, out)  # compile outside the timing
+    same = np.array_equal(law.predict(p), hand(p, *args, np.empty_like(p)))
+    t = alternating({"bouncelab": lambda: law.predict(p), "numba": lambda: hand(p, *args, out)}, repeats)
+    ratio = t["bouncelab"] / t["numba"]
+    print(f"\n3. PiecewiseAffine.predict ({bl.laws.num_threads()} threads, guard and checks) against a hand-written "
+          "numba loop (one thread, no checks)")
+    print(f"   bouncelab {t['bouncelab'] * 1e3:.2f} ms, hand-written {t['numba'] * 1e3:.2f} ms: ratio {ratio:.2f}  "
+          f"<= 2: {'met' if ratio <= 2 else 'NOT'}; identical results: {same}")
+    return {"numpy": rows, "guard": guard, "piecewise": [{"ratio": ratio, "identical": same, **t}]}
 
 
 if __name__ == "__main__":

@@ -32,6 +32,7 @@ from bouncelab.laws import (
     CompiledLaw,
     CompliantImpact,
     CraterContact,
+    Option,
     Parameter,
     Parameters,
     PennerFixed,
@@ -83,6 +84,7 @@ __all__ = [
     "FitError",
     "LawDefinitionError",
     "NotFittedError",
+    "Option",
     "Parameter",
     "ParameterError",
     "Parameters",
@@ -94,17 +96,11 @@ __all__ = [
     "TurfContact",
     "__version__",
     "classify_slip_roll",
-    "delta",
-    "delta_q",
-    "error_table",
     "fit_method",
     "load_law",
-    "make_campaign",
     "published",
-    "score",
     "units",
-    "validate_campaign",
-    *_LAZY,
+    *_LAZY,  # (delta, fit, load_campaign...: loaded on first use)
 ]
 
 

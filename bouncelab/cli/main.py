@@ -89,7 +89,9 @@ def _load(source: str, args: argparse.Namespace):
 
 
 def _add_data_options(p: argparse.ArgumentParser) -> None:
-    from bouncelab.data.io.load import EMBEDDED_SURROGATES
+    # the embedded surrogates' names, not the loader's module: building the parser (--help, --version) must not
+    # import the loader, pandas and xarray
+    from bouncelab.data.embedded import SURROGATES as EMBEDDED_SURROGATES
 
     p.add_argument("--columns", help='JSON column mapping, e.g. \'{"landing": ["vx0","vy0","w0"], '
                                       '"liftoff": ["vx1","vy1","w1"], "setting": "cond"}\'; a state given as '

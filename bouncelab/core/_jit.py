@@ -19,15 +19,21 @@ three differences:
   id, so closures never hit the cache. :func:`jit` keys compiled callees by their
   bytecode and source file instead (used by :class:`~bouncelab.laws.CompiledLaw`,
   which builds its loops around a law author's kernel).
+
+It also spares a process that only predicts the import of :mod:`scipy.linalg` (about half a second from
+a cold disk): numba's CPU target asks for scipy's BLAS as it loads its NumPy registries, whether or not
+any compiled function does linear algebra (:func:`_defer_blas`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import hashlib
+import importlib.util
 import inspect
 import os
 import stat
+import sys
 import tempfile
 import warnings
 from collections.abc import Callable
@@ -180,6 +186,36 @@ def _referenced_dispatchers(func: Callable) -> list:
     return out
 
 
+def _defer_blas() -> None:
+    """Let numba load its NumPy registries without importing scipy.linalg until linear algebra is compiled.
+
+    ``numba.np.arraymath`` asks at import whether a BLAS exists (``_HAVE_BLAS``), by importing
+    ``scipy.linalg.cython_blas`` and so all of scipy.linalg. Here it is imported with that probe
+    answered by whether scipy is installed (a dependency of bouncelab); the probe is restored at once,
+    so a compiled ``np.dot`` still imports the BLAS when it is compiled. Numba's internals may move: then
+    nothing is changed.
+    """
+    if "numba.np.arraymath" in sys.modules:
+        return
+    try:
+        import numba.np.linalg as linalg
+
+        probe = linalg.ensure_blas
+        if importlib.util.find_spec("scipy") is None:
+            return
+
+        def installed() -> None:
+            return None
+
+        linalg.ensure_blas = installed
+        try:
+            import numba.np.arraymath  # noqa: F401  (its _HAVE_BLAS probe runs now)
+        finally:
+            linalg.ensure_blas = probe
+    except Exception:  # numba's internals changed: numba does as it always did
+        return
+
+
 def jit(func: Callable | None = None, *, cache: bool = True, **options: Any):
     """``numba.njit`` with a cache that works from read-only installs and recovers from damage.
 
@@ -194,6 +230,7 @@ def jit(func: Callable | None = None, *, cache: bool = True, **options: Any):
     """
     if func is None:
         return lambda f: jit(f, cache=cache, **options)
+    _defer_blas()
     from numba import njit
 
     disp = njit(**options)(func)

@@ -1,5 +1,6 @@
 """Compiled one-pass scans of large state arrays (numba; loaded only for large inputs).
 
+Their comparisons are not written here: they are those of :mod:`bouncelab.core.landing_checks`, compiled.
 On a failure the callers (:mod:`bouncelab.core.validation`, :mod:`bouncelab.core.plausibility`) find and
 name the rows with NumPy; these only say whether to look.
 """
@@ -9,6 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from bouncelab.core._jit import jit
+from bouncelab.core.landing_checks import INVALID, is_landing, landing_fault
+
+#: The two comparisons, inlined into compiled loops.
+is_landing_ = jit(inline="always")(is_landing)
+landing_fault_ = jit(inline="always")(landing_fault)
 
 
 @jit(nogil=True, fastmath={"nsz", "reassoc"})
@@ -22,34 +28,31 @@ def all_valid(P: np.ndarray, landing: bool, limit: float, start: int, stop: int)
     ok = True
     for i in range(start, stop):
         x, y, w = P[i, 0], P[i, 1], P[i, 2]
-        good = (abs(x) <= limit) & (abs(y) <= limit) & (abs(w) <= limit)
         if landing:
-            good = good & (y < 0.0)
-        ok = ok & good
+            ok = ok & is_landing_(x, y, w, limit)
+        else:
+            ok = ok & (abs(x) <= limit) & (abs(y) <= limit) & (abs(w) <= limit)
     return ok
 
 
 @jit(nogil=True)
 def scan_landings(P: np.ndarray, min_s2: float, max_s2: float, max_w: float, tan_a: float, limit: float,
-                  start: int, stop: int) -> tuple[bool, bool]:
-    """Whether some valid landing in rows ``[start, stop)`` breaks a limit of
-    :func:`bouncelab.core.plausibility.landing_faults` (too slow, too fast, spinning too fast, too flat), and
-    whether some row is not a valid landing (not finite, beyond ``limit``, ``ydot >= 0``).
+                  start: int, stop: int) -> int:
+    """The unit guard's verdict on rows ``[start, stop)``: the faults of
+    :func:`~bouncelab.core.landing_checks.landing_fault` of the valid landings, or'ed, with
+    :data:`~bouncelab.core.landing_checks.INVALID` if some row is not a valid landing (left to the value
+    check, which names it). 0: every landing is valid and plausible.
 
-    One pass over memory; on a fault the caller finds the rows with NumPy. Rows that are not valid
-    landings are left to the value check, which names them. No fastmath: the comparisons must see NaN
-    as NaN (``abs(v) <= limit`` is false for NaN and inf).
+    One pass over memory; on a fault the caller finds the rows with NumPy. No fastmath: the
+    comparisons must see NaN as NaN.
     """
-    faulty = False
-    invalid = False
+    status = 0
     for i in range(start, stop):
         x = P[i, 0]
         y = P[i, 1]
         w = P[i, 2]
-        if not (abs(x) <= limit and abs(y) <= limit and abs(w) <= limit and y < 0.0):
-            invalid = True
-            continue
-        s2 = x * x + y * y
-        if s2 < min_s2 or s2 > max_s2 or abs(w) > max_w or -y < abs(x) * tan_a:
-            faulty = True
-    return faulty, invalid
+        if is_landing_(x, y, w, limit):
+            status |= landing_fault_(x, y, w, min_s2, max_s2, max_w, tan_a)
+        else:
+            status |= INVALID
+    return status

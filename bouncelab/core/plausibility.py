@@ -48,9 +48,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bouncelab.core._parallel import run_rows
 from bouncelab.core.errors import Code, DataError, Hint, ParameterError
+from bouncelab.core.landing_checks import FAST, FLAT, INVALID, SLOW, SPIN, STATE_LIMIT, is_landing, landing_fault
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, SPEED_UNITS, SPIN_UNITS, canonical_unit
-from bouncelab.core.validation import STATE_LIMIT, check_values
+from bouncelab.core.validation import check_values
 
 __all__ = [
     "CANDIDATE_UNITS",
@@ -59,11 +61,14 @@ __all__ = [
     "LandingFaults",
     "PlausibleRanges",
     "check_scaled",
+    "guard_limits",
     "implausibility",
     "landing_angle_error",
     "landing_error",
+    "landing_fault",
     "landing_faults",
     "landing_limits",
+    "landing_status",
     "plausible_units",
     "scaled_units_error",
     "widen_hints",
@@ -427,6 +432,9 @@ PAPER_SLOWEST_LANDING = 1.93
 
 _FAULT_LIMITS = {"slow": "min_landing_speed", "fast": "max_speed", "spin": "max_spin", "flat": "min_landing_angle"}
 
+#: Limits that no valid landing breaks (``plausible=None``): the guard's comparisons then always pass.
+OPEN_LIMITS = (-1.0, 1e300, 1e300, -1.0)
+
 
 @dataclass(frozen=True)
 class LandingFaults:
@@ -454,14 +462,48 @@ class LandingFaults:
         return None if not found else (min(found)[2], min(found)[0])
 
 
+#: Largest finite stand-in for an upper limit without a limit (``math.inf``): far beyond any valid landing
+#: (squared speeds up to 2e16), and finite, as the compiled loops assume no infinities.
+_NO_LIMIT = 1e300
+
+
 def landing_limits(radius_m: float = BALL_RADIUS_M,
                    ranges: PlausibleRanges = PLAUSIBLE_RANGES) -> tuple[float, float, float, float]:
     """The per-landing limits in scaled units, with :data:`LIMIT_SLACK`: smallest and largest squared
-    speed ((radii/s)^2), largest ``|omega|`` (rad/s) and the tangent of the smallest angle of incidence."""
+    speed ((radii/s)^2), largest ``|omega|`` (rad/s) and the tangent of the smallest angle of incidence
+    (finite: an upper limit of ``math.inf`` is 1e300)."""
     vmin, vmax = ranges.min_landing_speed / radius_m, ranges.max_speed / radius_m
     tan_a = math.tan(math.radians(ranges.min_landing_angle))
-    return (vmin * vmin * (1.0 - LIMIT_SLACK), vmax * vmax * (1.0 + LIMIT_SLACK),
-            ranges.max_spin * _RPM * (1.0 + LIMIT_SLACK), tan_a * (1.0 - LIMIT_SLACK))
+    return (vmin * vmin * (1.0 - LIMIT_SLACK), min(vmax * vmax * (1.0 + LIMIT_SLACK), _NO_LIMIT),
+            min(ranges.max_spin * _RPM * (1.0 + LIMIT_SLACK), _NO_LIMIT), tan_a * (1.0 - LIMIT_SLACK))
+
+
+def guard_limits(ranges: PlausibleRanges | None, radius_m: float = BALL_RADIUS_M) -> tuple[float, float, float, float]:
+    """:func:`landing_limits`, or :data:`OPEN_LIMITS` for ``ranges=None`` (no guard)."""
+    return OPEN_LIMITS if ranges is None else landing_limits(radius_m, ranges)
+
+
+def landing_status(landing: np.ndarray, limits: tuple[float, float, float, float]) -> int:
+    """The guard's verdict on (n, 3) float64 landings: :func:`~bouncelab.core.landing_checks.landing_fault` of
+    every valid one, or'ed, with ``INVALID`` if a row is not a valid landing (0: all valid and plausible).
+    From :data:`FAST_GUARD_MIN` landings on one compiled pass (tens of ms for 10 million), below it NumPy."""
+    p = np.ascontiguousarray(landing, dtype=np.float64)
+    if len(p) >= FAST_GUARD_MIN:
+        from bouncelab.core._scans import scan_landings  # (compiled: imports numba)
+
+        status = 0
+        for part in run_rows(scan_landings, len(p), p, *limits, STATE_LIMIT):
+            status |= part
+        return status
+    valid, faults = _faults(p, limits)
+    return (0 if valid.all() else INVALID) | int(np.bitwise_or.reduce(faults[valid], initial=0))
+
+
+def _faults(p: np.ndarray, limits: tuple[float, float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """Which rows of ``p`` are valid landings, and the fault bits of each row (NumPy)."""
+    x, y, w = p[:, 0], p[:, 1], p[:, 2]
+    with np.errstate(invalid="ignore", over="ignore"):
+        return is_landing(x, y, w), landing_fault(x, y, w, *limits)
 
 
 def landing_faults(landing: np.ndarray, *, radius_m: float = BALL_RADIUS_M,
@@ -470,49 +512,20 @@ def landing_faults(landing: np.ndarray, *, radius_m: float = BALL_RADIUS_M,
 
     A landing is refused when its speed ``sqrt(xdot0^2 + ydot0^2)`` is below ``min_landing_speed``
     or above ``max_speed``, its ``|omega0|`` above ``max_spin``, or its angle of incidence
-    ``atan(-ydot0 / |xdot0|)`` below ``min_landing_angle``. A few landings are checked in plain
-    Python (a predict of one landing pays a few microseconds for it), more with NumPy, and from
-    :data:`FAST_GUARD_MIN` on in one compiled pass (tens of ms for 10 million); only when that
-    finds a fault are the rows located.
+    ``atan(-ydot0 / |xdot0|)`` below ``min_landing_angle``
+    (:func:`~bouncelab.core.landing_checks.landing_fault`). Large arrays are scanned in one compiled pass
+    first (:func:`landing_status`); only when it finds a fault are the rows located.
     """
     p = np.ascontiguousarray(landing, dtype=np.float64)
     limits = landing_limits(radius_m, ranges)
-    if len(p) <= _SMALL:
-        return _faults_small(p.tolist(), *limits)
     if len(p) >= FAST_GUARD_MIN:
-        from bouncelab.core._parallel import run_rows
-        from bouncelab.core._scans import scan_landings
-
-        parts = run_rows(scan_landings, len(p), p, *limits, STATE_LIMIT)
-        if not any(part[0] for part in parts):
-            return LandingFaults(invalid=any(part[1] for part in parts))
-    min_s2, max_s2, max_w, tan_a = limits
-    x, y, w = p[:, 0], p[:, 1], p[:, 2]
-    with np.errstate(invalid="ignore", over="ignore"):
-        valid = (np.abs(p) <= STATE_LIMIT).all(axis=1) & (y < 0.0)
-        s2 = x * x + y * y
-        masks = (s2 < min_s2, s2 > max_s2, np.abs(w) > max_w, -y < np.abs(x) * tan_a)
-    rows = [int(np.argmax(m)) if (m := mask & valid).any() else -1 for mask in masks]
+        status = landing_status(p, limits)
+        if not status & ~INVALID:
+            return LandingFaults(invalid=bool(status & INVALID))
+    valid, faults = _faults(p, limits)
+    rows = [int(np.argmax(hit)) if (hit := ((faults & bit) != 0) & valid).any() else -1
+            for bit in (SLOW, FAST, SPIN, FLAT)]
     return LandingFaults(*rows, invalid=not bool(valid.all()))
-
-
-#: Up to this many landings, :func:`landing_faults` checks them in plain Python (NumPy costs tens of us a call).
-_SMALL = 8
-
-
-def _faults_small(rows: list[list[float]], min_s2: float, max_s2: float, max_w: float, tan_a: float) -> LandingFaults:
-    """:func:`landing_faults` of a few landings (the same comparisons, one row at a time)."""
-    first = [-1, -1, -1, -1]
-    invalid = False
-    for i, (x, y, w) in enumerate(rows):
-        if not (abs(x) <= STATE_LIMIT and abs(y) <= STATE_LIMIT and abs(w) <= STATE_LIMIT and y < 0.0):
-            invalid = True
-            continue
-        s2 = x * x + y * y
-        for k, bad in enumerate((s2 < min_s2, s2 > max_s2, abs(w) > max_w, -y < abs(x) * tan_a)):
-            if bad and first[k] < 0:
-                first[k] = i
-    return LandingFaults(*first, invalid=invalid)
 
 
 def landing_error(
@@ -577,7 +590,7 @@ def landing_error(
     as_given = {kind: scale_factor(given[kind], kind, radius_m) for kind in given}
     shown = {kind: {"radius/s": "radii/s"}.get(given[kind], given[kind]) for kind in given}
     min_s2, max_s2, max_w, _ = landing_limits(radius_m, ranges)
-    valid = (np.abs(p) <= STATE_LIMIT).all(axis=1) & (p[:, 1] < 0.0)
+    valid = is_landing(p[:, 0], p[:, 1], p[:, 2])
     speeds = np.hypot(p[valid, 0], p[valid, 1])
     spins = np.abs(p[valid, 2])
 

@@ -150,8 +150,11 @@ def rigid_family_parameters(campaign: str, law: str) -> dict[str, float]:
     key = check_campaign(campaign)
     if law not in names:
         raise ParameterError(f"Table 3 has the laws {list(names)}; got {law!r}", law=law)
-    row = _table("TABLE3").loc[(key, law)]
-    return {name: float(row[name]) for name in names[law]}
+    columns = ("r", "mu", "beta_deg", "k_p")
+    # read from the rows, not the DataFrame: a law's published values are asked for on predict (its
+    # non-physical check), which must not import pandas
+    row = next(r for r in _TABLE3_ROWS if r[:2] == (key, law))
+    return {name: float(row[2 + columns.index(name)]) for name in names[law]}
 
 
 def piecewise_parameters(campaign: str) -> dict:

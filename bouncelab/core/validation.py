@@ -13,20 +13,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core._parallel import run_chunked
 from bouncelab.core.errors import DataError
+from bouncelab.core.landing_checks import STATE_LIMIT, is_landing
 from bouncelab.core.units import COMPONENT_UNITS, COMPONENTS
 
 if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = ["NORM_MIN", "STATE_LIMIT", "States", "as_states", "check_downward", "check_same_length", "check_values",
-           "inverse_norms", "is_dataarray", "real_array", "refuse_non_numeric"]
+           "inverse_norms", "is_dataarray", "is_landing", "real_array", "refuse_non_numeric"]
 
 States = Any  # an (..., 3) array-like, a DataFrame with named columns, or an xarray.DataArray
 
-#: Largest magnitude accepted for a state component, in scaled units (1e8 radii/s is 2135 km/s for the
-#: default ball; 1e8 rad/s is 10^9 rpm): beyond it no bounce is physical, and arithmetic could overflow.
-STATE_LIMIT = 1.0e8
 #: Smallest landing norm ||p0|| (radii/s) by which delta and Delta q may divide.
 NORM_MIN = 1.0e-6
 
@@ -53,9 +52,10 @@ def as_states(
     file
         File the data came from, for error messages.
     defer_check
-        For arrays of at least :data:`FAST_CHECK_MIN` bounces, leave the value checks
-        (finite, magnitude, sign of ydot) to the caller, which fuses them into its own
-        compiled pass and calls :func:`check_values` if that pass finds a bad value.
+        Leave the value checks (finite, magnitude, sign of ydot) to the caller, which makes
+        them in its own pass over the values (a law's, :meth:`BounceModel.predict
+        <bouncelab.BounceModel.predict>`) and calls :func:`check_values` to name a bad value.
+        Labelled input (a DataFrame) is checked here all the same, to name its own rows.
 
     Returns
     -------
@@ -96,8 +96,10 @@ def as_states(
             _check_values(flat, name, landing=landing, file=file)
         except DataError as exc:
             raise _in_pandas_terms(exc, labelled, name) from None
-    elif not (defer_check and flat.shape[0] >= FAST_CHECK_MIN):
+    elif not defer_check:
         _check_values(flat, name, landing=landing, file=file)
+    elif flat.shape[0] == 0:  # a shape, not a value: refused whoever checks the values
+        raise DataError(f"{name} holds no bounces", file=file, option=name)
 
     def wrap(result: np.ndarray) -> Any:
         return _relabel(labelled, result.reshape((*lead, *result.shape[1:])))  # a tuple: lead may be ()
@@ -105,11 +107,17 @@ def as_states(
     return flat, wrap
 
 
+def _pandas() -> Any:
+    """pandas if it is imported (a DataFrame exists only then: never imported just to ask), else None."""
+    return sys.modules.get("pandas")
+
+
 def _relabel(like: Any, result: np.ndarray) -> Any:
     """A result of the same kind as the input: a DataFrame (same index, columns xdot, ydot, omega) for a
     DataFrame, a Series for a Series; anything else unchanged."""
-    import pandas as pd
-
+    pd = _pandas()
+    if pd is None:
+        return result
     if isinstance(like, pd.DataFrame):
         if result.ndim == 2:
             return pd.DataFrame(result, index=like.index, columns=list(COMPONENTS))
@@ -121,8 +129,9 @@ def _relabel(like: Any, result: np.ndarray) -> Any:
 
 def _from_labelled(states: Any, name: str, file: str | None) -> Any:
     """A pandas DataFrame or Series read by its column (index) names, not their order."""
-    import pandas as pd
-
+    pd = _pandas()
+    if pd is None or isinstance(states, np.ndarray):
+        return states
     if isinstance(states, pd.DataFrame):
         labels = [str(c) for c in states.columns]
         if isinstance(states.columns, pd.RangeIndex) and len(labels) == 3:
@@ -145,9 +154,8 @@ def _from_labelled(states: Any, name: str, file: str | None) -> Any:
 
 def _in_pandas_terms(exc: DataError, frame: Any, name: str) -> DataError:
     """``exc`` (about the (n, 3) array read from ``frame``) restated with the frame's row label and column name."""
-    import pandas as pd
-
-    if not isinstance(frame, pd.DataFrame) or exc.row is None:
+    pd = _pandas()
+    if pd is None or not isinstance(frame, pd.DataFrame) or exc.row is None:
         return exc
     column = exc.column
     if column is not None and column.startswith(f"{name}."):
@@ -257,8 +265,7 @@ def _check_values(arr: np.ndarray, name: str, *, landing: bool, file: str | None
     if arr.shape[0] == 0:
         raise DataError(f"{name} holds no bounces", file=file, option=name)
     if arr.shape[0] >= FAST_CHECK_MIN:
-        from bouncelab.core._parallel import run_chunked
-        from bouncelab.core._scans import all_valid
+        from bouncelab.core._scans import all_valid  # (compiled: imports numba)
 
         if all(run_chunked(all_valid, arr.shape[0], arr, landing, STATE_LIMIT)):
             return

@@ -18,6 +18,8 @@ import math
 import numpy as np
 
 from bouncelab.core._jit import ROW_FLAGS, jit
+from bouncelab.core._scans import landing_fault_
+from bouncelab.core.landing_checks import INVALID
 
 # Regime codes of the rigid family (lab frame: "forward" is +x).
 SLIP_FORWARD = 0
@@ -287,12 +289,54 @@ def _affine(A, b, x, y, w, code):
             A[2, 0] * x + A[2, 1] * y + A[2, 2] * w + b[2], code)
 
 
-@jit
-def piecewise_kernel(x, y, w, normal, offset, A1, b1, A2, b2):
-    """Side 1 (code 0) where normal . p < offset: A1 p + b1; else side 2 (code 1): A2 p + b2."""
+@jit(inline="always")
+def _piecewise(x, y, w, normal, offset, A1, b1, A2, b2):
     if normal[0] * x + normal[1] * y + normal[2] * w < offset:
         return _affine(A1, b1, x, y, w, 0)
     return _affine(A2, b2, x, y, w, 1)
+
+
+@jit
+def piecewise_kernel(x, y, w, normal, offset, A1, b1, A2, b2):
+    """Side 1 (code 0) where normal . p < offset: A1 p + b1; else side 2 (code 1): A2 p + b2."""
+    return _piecewise(x, y, w, normal, offset, A1, b1, A2, b2)
+
+
+# The piecewise law's loops: the kernel's arithmetic inlined into the row loop (the generic loop calls the
+# kernel as a function of its own, passing six arrays per row, which took most of its time).
+@jit(nogil=True, fastmath=ROW_FLAGS)
+def piecewise_predict_rows(P, normal, offset, A1, b1, A2, b2, out, bits, guard, start, stop):
+    """Lift-offs of rows [start, stop) into ``out``, and the unit guard's verdict on them (:func:`row_status`)."""
+    status = 0
+    for i in range(start, stop):
+        x = P[i, 0]
+        y = P[i, 1]
+        w = P[i, 2]
+        found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+        status |= found
+        if found & INVALID:  # not a landing: the maths never sees it (refused)
+            continue
+        a, b, c, _ = _piecewise(x, y, w, normal, offset, A1, b1, A2, b2)
+        out[i, 0] = a
+        out[i, 1] = b
+        out[i, 2] = c
+    return status
+
+
+@jit(nogil=True, fastmath=ROW_FLAGS)
+def piecewise_regime_rows(P, normal, offset, A1, b1, A2, b2, codes, bits, guard, start, stop):
+    """Regime codes of rows [start, stop) into ``codes`` (as :func:`piecewise_predict_rows`)."""
+    status = 0
+    for i in range(start, stop):
+        x = P[i, 0]
+        y = P[i, 1]
+        w = P[i, 2]
+        found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+        status |= found
+        if found & INVALID:  # not a landing: the maths never sees it (refused)
+            continue
+        codes[i] = _piecewise(x, y, w, normal, offset, A1, b1, A2, b2)[3]
+    return status
 
 
 # Prediction loops of Penner's laws. The generic loops of CompiledLaw call the kernel per bounce with
@@ -315,7 +359,8 @@ _ABS = 0x7FFFFFFFFFFFFFFF  # all bits but the sign
 def valid_bits(x, y, w, limit_bits):
     """A landing's validity from its values' bits (int64): finite and within the limit, ydot < 0.
 
-    For doubles without the sign bit, the integer order of the bits is the order of the values,
+    :func:`bouncelab.core.validation.is_landing` for loops compiled with fast-math assumptions about NaN:
+    for doubles without the sign bit, the integer order of the bits is the order of the values,
     and NaN and infinities lie above every finite value; unlike float comparisons, this cannot be
     changed by fast-math assumptions.
     """
@@ -323,45 +368,81 @@ def valid_bits(x, y, w, limit_bits):
             & (y < 0) & ((y & _ABS) != 0))
 
 
+@jit(inline="always")
+def row_status(x, y, w, bx, by, bw, guard):
+    """The unit guard's verdict on one landing in a row loop: INVALID if it is not a valid landing
+    (:func:`valid_bits` of its bits ``bx, by, bw``), else the limits it breaks
+    (:func:`bouncelab.core.plausibility.landing_fault`); ``guard`` is ``(limit bits, *limits)``
+    (:func:`bouncelab.laws.compiled.row_checks`). A select, not arithmetic, joins the two: the fault bits of
+    a row that is not valid (computed under fast-math from NaN, say) never reach the result."""
+    limit_bits, min_s2, max_s2, max_w, tan_a = guard
+    fault = landing_fault_(x, y, w, min_s2, max_s2, max_w, tan_a)
+    return fault if valid_bits(bx, by, bw, limit_bits) else INVALID
+
+
 @jit(nogil=True, fastmath=ROW_FLAGS)
-def penner_predict_rows(P, r, mu, angle, varying, scale, out, bits, limit_bits, start, stop):
+def penner_predict_rows(P, r, mu, angle, varying, scale, out, bits, guard, start, stop):
     """Lift-off of rows [start, stop) into ``out``; ``angle`` is beta in radians (fixed) or k_p (varying).
 
-    Returns whether every landing of the rows was valid (:func:`valid_bits` of ``bits``, the int64 view of P).
+    Returns the unit guard's verdict on the rows (:func:`row_status`).
     """
-    ok = True
+    status = 0
     if not varying and scale <= 0.0:
         for i in range(start, stop):
-            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, angle)
+            x = P[i, 0]
+            y = P[i, 1]
+            w = P[i, 2]
+            found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+            status |= found
+            if found & INVALID:  # not a landing: the maths never sees it (refused)
+                continue
+            a, b, c, _ = _penner(x, y, w, r, mu, angle)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
     elif scale <= 0.0:  # Penner's angle, published (no fade)
         for i in range(start, stop):
-            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-            beta = min(angle * speed_times_angle(P[i, 0], P[i, 1]), HALF_PI)
-            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)
+            x = P[i, 0]
+            y = P[i, 1]
+            w = P[i, 2]
+            found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+            status |= found
+            if found & INVALID:  # not a landing: the maths never sees it (refused)
+                continue
+            beta = min(angle * speed_times_angle(x, y), HALF_PI)
+            a, b, c, _ = _penner(x, y, w, r, mu, beta)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
     else:
         for i in range(start, stop):
-            ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-            beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
-            a, b, c, _ = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)
+            x = P[i, 0]
+            y = P[i, 1]
+            w = P[i, 2]
+            found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+            status |= found
+            if found & INVALID:  # not a landing: the maths never sees it (refused)
+                continue
+            beta = _penner_beta(x, y, angle, varying, scale)
+            a, b, c, _ = _penner(x, y, w, r, mu, beta)
             out[i, 0] = a
             out[i, 1] = b
             out[i, 2] = c
-    return ok
+    return status
 
 
 @jit(nogil=True, fastmath=ROW_FLAGS)
-def penner_regime_rows(P, r, mu, angle, varying, scale, codes, bits, limit_bits, start, stop):
+def penner_regime_rows(P, r, mu, angle, varying, scale, codes, bits, guard, start, stop):
     """Regime codes of rows [start, stop) into ``codes`` (as :func:`penner_predict_rows`)."""
-    ok = True
+    status = 0
     for i in range(start, stop):
-        ok = ok & valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-        beta = _penner_beta(P[i, 0], P[i, 1], angle, varying, scale)
-        codes[i] = _penner(P[i, 0], P[i, 1], P[i, 2], r, mu, beta)[3]
-    return ok
+        x = P[i, 0]
+        y = P[i, 1]
+        w = P[i, 2]
+        found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+        status |= found
+        if found & INVALID:  # not a landing: the maths never sees it (refused)
+            continue
+        beta = _penner_beta(x, y, angle, varying, scale)
+        codes[i] = _penner(x, y, w, r, mu, beta)[3]
+    return status

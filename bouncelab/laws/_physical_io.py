@@ -1,21 +1,27 @@
-"""The edges of ``predict(..., units=, form=)``: physical landings in, physical lift-offs out.
+"""The edge of a law's public methods: one call's landings, taken once, and its results in the caller's kind.
 
-The law itself only ever sees scaled Cartesian states; these helpers convert at
-the edge with :mod:`bouncelab.core.units` and give the result back in the
-caller's kind (an array of the same leading shape, or a DataFrame with the
-same index and named columns).
+:class:`Landings` is what :meth:`~bouncelab.BounceModel.predict` and :meth:`~bouncelab.BounceModel.regime`
+make of their arguments before the law's maths runs: the landings as a scaled Cartesian ``(n, 3)`` float64
+array (converted at the edge from physical units and polar forms with :mod:`bouncelab.core.units`; their
+shape and type checked), the unit guard's limits, and the way back to the caller's kind (an array of the
+same leading shape, a DataFrame with the same index and named columns, a DataArray). The values are
+checked in the law's own pass (its hooks return the guard's verdict); :meth:`Landings.refuse` words a
+failed verdict. Lazy (dask) DataArrays are predicted chunk by chunk, each chunk through the same path.
 """
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 import numpy as np
 
 from bouncelab.core.errors import Code, DataError, Hint
-from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_error
+from bouncelab.core.landing_checks import INVALID
+from bouncelab.core.plausibility import PlausibleRanges, guard_limits, landing_error
 from bouncelab.core.units import (
     BALL_RADIUS_M,
+    COMPONENT_UNITS,
     COMPONENTS,
     POLAR_COMPONENTS,
     _form_pair,
@@ -24,9 +30,9 @@ from bouncelab.core.units import (
     scaled_to_physical,
     unit_pair,
 )
-from bouncelab.core.validation import check_downward, is_dataarray
+from bouncelab.core.validation import as_states, check_downward, check_values, is_dataarray
 
-__all__ = ["PhysicalIO", "guard_landings", "is_lazy"]
+__all__ = ["Landings", "PhysicalIO", "is_lazy"]
 
 
 def check_plausible_argument(plausible: Any) -> PlausibleRanges | None:
@@ -47,23 +53,52 @@ def radius_of(radius_m: Any) -> float:
     return BALL_RADIUS_M if radius_m is None else ball_radius(radius_m)
 
 
-def guard_landings(p: np.ndarray, plausible: PlausibleRanges | None, radius_m: float, io: PhysicalIO | None = None,
-                   row_labels: Any = None) -> None:
-    """The unit guard of ``predict`` and ``regime``: refuse landings no golf bounce has, whatever their form and units.
+class Landings:
+    """One call's landings, taken once: ``p``, the scaled Cartesian (n, 3) float64 array the law sees, and
+    ``limits``, the unit guard's (:func:`~bouncelab.core.plausibility.guard_limits`).
 
-    ``p`` are the validated scaled Cartesian landings (values not checked yet for a large
-    array: the guard then raises the value check's error); ``io`` says how the caller gave them
-    (None: scaled Cartesian states). See :func:`bouncelab.core.plausibility.landing_error`.
+    Parameters are those of :meth:`~bouncelab.BounceModel.predict`; ``form`` may be a pair (landing form,
+    result form). Shapes, types, units and forms are checked here; the values, and the guard, by the law's
+    pass over them, whose verdict goes to :meth:`refuse`.
     """
-    if plausible is None:
-        return
-    pair = None if io is None else unit_pair(io.units)
-    units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
-    error = landing_error(p, radius_m=radius_m, ranges=plausible, units=units,
-                          form="cartesian" if io is None else io.form_in,
-                          row_labels=row_labels if io is None else io.index)
-    if error is not None:
-        raise error
+
+    def __init__(self, landing: Any, units: Any, form: Any, radius_m: Any, plausible: Any) -> None:
+        self.plausible = check_plausible_argument(plausible)
+        self.io = PhysicalIO(units, form, radius_m) if PhysicalIO.needed(units, form) else None
+        given = landing if self.io is None else self.io.landing(landing)
+        self.p, self._wrap = as_states(given, "landing", landing=True, defer_check=True)
+        if self.plausible is None:
+            self.radius_m = None
+        else:
+            self.radius_m = radius_of(radius_m) if self.io is None else self.io.radius_m
+        self.limits = guard_limits(self.plausible, self.radius_m)
+        # a DataFrame's own row labels, for the guard's messages
+        self.labels = landing.index if self.io is None and hasattr(landing, "columns") else None
+
+    def refuse(self, status: int) -> None:
+        """Raise the error of a failed verdict (``status`` of the law's pass, not 0): a value no landing has
+        first (:func:`~bouncelab.core.validation.check_values`, naming the row and column), then a landing
+        outside the guard's limits (:func:`~bouncelab.core.plausibility.landing_error`, in the units and
+        form the caller gave)."""
+        if status & INVALID:
+            check_values(self.p, "landing", landing=True)
+        if self.plausible is None or not status & ~INVALID:
+            return
+        pair = None if self.io is None else unit_pair(self.io.units)
+        units = {"velocity": "radius/s", "spin": "rad/s"} if pair is None else {"velocity": pair[0], "spin": pair[1]}
+        error = landing_error(self.p, radius_m=self.radius_m, ranges=self.plausible, units=units,
+                              form="cartesian" if self.io is None else self.io.form_in,
+                              row_labels=self.labels if self.io is None else self.io.index)
+        if error is not None:
+            raise error
+
+    def liftoff(self, out: np.ndarray) -> Any:
+        """Scaled (n, 3) lift-offs in the caller's kind (and units and form)."""
+        return self._wrap(out) if self.io is None else self.io.liftoff(out)
+
+    def per_bounce(self, values: np.ndarray) -> Any:
+        """An (n,) result with the landings' leading shape (or index)."""
+        return self._wrap(values) if self.io is None else self.io.per_bounce(values)
 
 
 def is_lazy(x: Any) -> bool:
@@ -72,8 +107,6 @@ def is_lazy(x: Any) -> bool:
 
 
 def _lazy_input(da: Any) -> Any:
-    from bouncelab.core.units import COMPONENTS
-
     if "component" not in da.dims or da.sizes["component"] != 3:
         raise DataError(f"landing DataArray needs a 'component' dimension of size 3; its sizes are "
                         f"{dict(da.sizes)}", option="landing")
@@ -88,8 +121,6 @@ def _lazy_input(da: Any) -> Any:
 def lazy_predict(law: Any, da: Any, plausible: PlausibleRanges | None, radius_m: float | None) -> Any:
     """``predict`` of a dask-backed DataArray: one task per chunk, nothing computed yet (guarded per chunk)."""
     import xarray as xr
-
-    from bouncelab.core.units import COMPONENT_UNITS
 
     out = xr.apply_ufunc(lambda block: law.predict(block, plausible=plausible, radius_m=radius_m),
                          _lazy_input(da), input_core_dims=[["component"]], output_core_dims=[["component"]],
@@ -113,13 +144,11 @@ def lazy_regime(law: Any, da: Any, codes: bool, plausible: PlausibleRanges | Non
 
 
 class PhysicalIO:
-    """Conversion of one ``predict`` call's landings and lift-offs (None when all is scaled Cartesian)."""
+    """Conversion of one call's landings and lift-offs (used when they are not scaled Cartesian states)."""
 
-    def __init__(self, units: Any, form: Any, radius_m: float | None,
-                 plausible: PlausibleRanges | None = PLAUSIBLE_RANGES) -> None:
+    def __init__(self, units: Any, form: Any, radius_m: float | None) -> None:
         unit_pair(units)  # validate early, before any work
         self.units = units
-        self.plausible = check_plausible_argument(plausible)
         self.form_in, self.form_out = _form_pair(form)
         self.radius_m = radius_of(radius_m)
         self.index = None
@@ -132,14 +161,13 @@ class PhysicalIO:
 
     def landing(self, landing: Any) -> np.ndarray:
         """The landings as a scaled Cartesian (..., 3) float array."""
-        import pandas as pd
-
         if is_dataarray(landing):
             raise DataError("units= and form= take arrays or DataFrames; a DataArray states its own units: give it "
                             "in scaled units (see bouncelab.core.units)", option=io_option(self.units, self.form_in),
                             hints=[Hint("landing", Code("landing.values"), "its numbers, in the units and form given")])
         names = COMPONENTS if self.form_in == "cartesian" else POLAR_COMPONENTS
-        if isinstance(landing, pd.DataFrame):
+        pd = sys.modules.get("pandas")  # a DataFrame exists only if pandas was imported
+        if pd is not None and isinstance(landing, pd.DataFrame):
             self.index = landing.index
             cols = [str(c) for c in landing.columns]
             if not isinstance(landing.columns, pd.RangeIndex):
@@ -159,15 +187,15 @@ class PhysicalIO:
         self.lead = arr.shape[:-1]
         if self.form_in == "cartesian":  # named here, in the units given, before the conversion rescales it
             check_downward(arr.reshape(-1, 3)[:, 1], unit=(unit_pair(self.units) or ("radii/s",))[0])
-        # the unit guard (guard_landings) judges the converted landings, as it judges every landing
+        # the unit guard judges the converted landings, as it judges every landing
         return physical_to_scaled(arr, units=self.units, form=self.form_in, kind="landing", radius_m=self.radius_m)
 
     def liftoff(self, out: np.ndarray) -> Any:
         """Scaled (n, 3) lift-offs in the caller's units, form and kind."""
-        import pandas as pd
-
         res = scaled_to_physical(out, units=self.units, form=self.form_out, kind="liftoff", radius_m=self.radius_m)
         if self.index is not None:
+            import pandas as pd  # (imported already: the landings were a DataFrame)
+
             names = COMPONENTS if self.form_out == "cartesian" else POLAR_COMPONENTS
             return pd.DataFrame(res, index=self.index, columns=list(names))
         return res.reshape((*self.lead, 3))

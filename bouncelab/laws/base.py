@@ -10,8 +10,9 @@ A bounce law maps the landing state ``p0 = [xdot0, ydot0, omega0]`` of a ball to
 ``regimes``
     the names of its regimes;
 ``_predict(self, p, **parameters)`` and ``_regime(self, p, **parameters)``
-    the maths, on a validated C-contiguous ``(n, 3)`` float64 array ``p``, the parameters by name;
-    or a compiled ``kernel`` (:class:`~bouncelab.laws.CompiledLaw`);
+    the maths, on a validated C-contiguous ``(n, 3)`` float64 array ``p``, the parameters by name
+    (checked against the declaration when the class is defined); or a compiled ``kernel``
+    (:class:`~bouncelab.laws.CompiledLaw`);
 ``_summary_lines()`` and ``_diagnostics(landing, liftoff)``
     what reports print about it beyond its parameters;
 methods decorated with :func:`~bouncelab.laws.protocol.fit_method`
@@ -19,11 +20,14 @@ methods decorated with :func:`~bouncelab.laws.protocol.fit_method`
 
 :class:`BounceModel` does everything that is the same for every law: the constructor (keywords in
 declaration order, validated), immutability, ``replace``, repr, equality, JSON, and the public
-``predict`` and ``regime``, which check their input once and call the law's maths, in the manner of
-scipy.stats' ``pdf`` → ``_argcheck`` → ``_pdf``. Physical units and polar forms, lazy dask arrays and
-the non-physical-lift-off flags are layers around that core (:mod:`bouncelab.laws._physical_io`,
-:mod:`bouncelab.laws.nonphysical`). Generic code (``fit``, ``compare``, reports, the command line) reads
-everything from the law and never names one.
+``predict``, ``regime`` and ``predict_one``, in the manner of scipy.stats' ``pdf`` → ``_argcheck`` →
+``_pdf``: one path takes the landings once (:class:`~bouncelab.laws._physical_io.Landings`: their kind,
+units, form and shape), calls the law's hook (:meth:`~BounceModel._evaluate_checked`,
+:meth:`~BounceModel._classify_checked`, or for one landing :meth:`~BounceModel._one_entry_point`), which
+checks the values and the unit guard in the pass that computes (a compiled law's loops; a NumPy law's hook
+scans them first), and words a failed verdict; the results go back in the caller's kind, with the
+non-physical-lift-off flags (:mod:`bouncelab.laws.nonphysical`). Generic code (``fit``, ``compare``,
+reports, the command line) reads everything from the law and never names one.
 
 Examples
 --------
@@ -57,15 +61,36 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, LawDefinitionError, NotFittedError, ParameterError
-from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, landing_limits
+from bouncelab.core.atomic import write_output
+from bouncelab.core.errors import (
+    DataError,
+    LargeResultWarning,
+    LawDefinitionError,
+    NotFittedError,
+    OutsideFittedRangeWarning,
+    ParameterError,
+)
+from bouncelab.core.landing_checks import INVALID, is_landing, landing_fault
+from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, guard_limits, landing_limits, landing_status
 from bouncelab.core.units import BALL_RADIUS_M
-from bouncelab.core.validation import STATE_LIMIT, States, as_states, check_values
-from bouncelab.laws import registry
+from bouncelab.core.validation import States, check_values
+from bouncelab.laws import nonphysical, registry
+from bouncelab.laws._physical_io import (
+    Landings,
+    PhysicalIO,
+    check_plausible_argument,
+    io_option,
+    is_lazy,
+    lazy_predict,
+    lazy_regime,
+    radius_of,
+)
+from bouncelab.laws.files import describe, law_from_dict, value_dict
 from bouncelab.laws.parameters import Option, Parameter, Parameters, collect
 from bouncelab.laws.protocol import DEFAULT_LOCAL_ALGORITHM, FitOutcome, FitProblem, fit_method, fit_methods
-from bouncelab.laws.provenance import Provenance
+from bouncelab.laws.provenance import Provenance, outside_ranges
 from bouncelab.laws.registry import law_name
+from bouncelab.laws.varying import predict_per_bounce
 
 __all__ = ["REGIME_NAMES_WARN", "BounceModel"]
 
@@ -95,6 +120,16 @@ class _class_or_instance:
         return functools.partial(self.func, cls if obj is None else obj)
 
 
+class _class_or_instance_property(_class_or_instance):
+    """A read-only property of the class when read on it and of the instance when read on one."""
+
+    def __get__(self, obj: Any, cls: type) -> Any:
+        return self.func(cls if obj is None else obj)
+
+    def __set__(self, obj: Any, value: Any) -> None:  # a data descriptor: an instance cannot shadow it
+        raise AttributeError("params is read-only; use .replace(...) for a law with other values")
+
+
 class BounceModel:
     """Abstract bounce law: landing state in, lift-off state out.
 
@@ -108,7 +143,8 @@ class BounceModel:
     :class:`~bouncelab.NotFittedError` until it is fitted (:func:`bouncelab.fit`) or given values.
     """
 
-    #: The law's parameters in declaration order (collected from the class attributes).
+    #: The law's parameters in declaration order (collected from the class attributes); the declaration that
+    #: :attr:`params` shows with the values, read by bouncelab's generic code.
     parameter_specs: ClassVar[tuple[Parameter, ...]] = ()
     #: The law's options in declaration order.
     option_specs: ClassVar[tuple[Option, ...]] = ()
@@ -140,6 +176,8 @@ class BounceModel:
         cls.__signature__ = inspect.Signature(
             [inspect.Parameter(s.name, either, default=s.default) for s in cls.parameter_specs]
             + [inspect.Parameter(o.name, kw, default=o.default) for o in cls.option_specs])
+        for hook in ("_predict", "_regime"):
+            _check_hook_signature(cls, hook)
         if not (cls.__name__.startswith("_") or cls.__dict__.get("_abstract_law", False)):
             registry.register(cls)
 
@@ -186,31 +224,37 @@ class BounceModel:
         return tuple(o.name for o in cls.option_specs)
 
     def get_params(self, deep: bool = True) -> dict[str, Any]:
-        """The constructor's keyword arguments as stored (scikit-learn convention; ``deep`` changes nothing)."""
+        """scikit-learn's convention: the constructor's keyword arguments as stored, parameters and options
+        (``deep`` changes nothing). To read the parameters, use :attr:`params`."""
         return {**self.__dict__["_values"], **self.__dict__["_options"]}
 
     def __sklearn_clone__(self) -> BounceModel:
         """scikit-learn's ``clone``: a law is an immutable value, so it is its own clone."""
         return self
 
-    @property
-    def params(self) -> Parameters:
-        """The parameters as objects (name, value, bounds, physical range, unit, vary, doc)."""
-        return Parameters(s.replace(value=self.__dict__["_values"][s.name]) for s in self.parameter_specs)
+    @_class_or_instance_property
+    def params(owner: Any) -> Parameters:
+        """The parameters as objects, in declaration order: **the** way to read a law's parameters.
+
+        A read-only mapping name -> :class:`~bouncelab.laws.Parameter` (value, default search bounds,
+        physical range, unit, doc, whether it varies): ``law.params["r"].value``,
+        ``law.params.valuesdict()`` (name -> value), ``law.params.flat()`` (every number by element name,
+        ``A1[0,2]``). On the class, the declarations (``Rigid.params["mu"].bounds``; values ``None``).
+        """
+        if isinstance(owner, type):
+            return Parameters(owner.parameter_specs)
+        return Parameters(s.replace(value=owner.__dict__["_values"][s.name]) for s in owner.parameter_specs)
 
     @property
     def parameters(self) -> dict[str, float | np.ndarray | None]:
-        """Parameter values, name -> float (array for array parameters; ``None`` where not set)."""
+        """``params.valuesdict()``: the values by name (bouncelab's layers above the laws read it; prefer
+        :attr:`params`)."""
         return dict(self.__dict__["_values"])
 
     def flat_parameters(self) -> dict[str, float | None]:
-        """Every number of every parameter, by element name (``A1[0,2]``); for tables of any law."""
-        out: dict[str, float | None] = {}
-        for spec in self.parameter_specs:
-            value = self.__dict__["_values"][spec.name]
-            flat = [None] * spec.size if value is None else np.ravel(value).tolist()
-            out.update(zip(spec.element_names(), flat, strict=True))
-        return out
+        """``params.flat()``: every number by element name (bouncelab's layers above the laws read it; prefer
+        :attr:`params`)."""
+        return self.params.flat()
 
     @property
     def options(self) -> dict[str, Any]:
@@ -329,32 +373,19 @@ class BounceModel:
         >>> law.predict([[20.0, 30.0, 2000.0]], units={"velocity": "m/s", "spin": "rpm"}, form="polar").round(2)
         array([[   12.36,    26.12, -4962.15]])
         """
-        from bouncelab.laws import _physical_io as edge
-        from bouncelab.laws import nonphysical
-
-        values = self._fitted_values()
-        plausible = edge.check_plausible_argument(plausible)
-        if edge.is_lazy(landing):
-            if edge.PhysicalIO.needed(units, form) or return_flags or warn_outside_fitted:
-                at = edge.io_option(units, form) if edge.PhysicalIO.needed(units, form) else \
-                    "return_flags" if return_flags else "warn_outside_fitted"
-                raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only, without "
-                                "units=, form=, return_flags= or warn_outside_fitted=", option=at)
-            return edge.lazy_predict(self, landing, plausible, radius_m)
-        io = edge.PhysicalIO(units, form, radius_m, plausible) if edge.PhysicalIO.needed(units, form) else None
-        p, wrap = self._argcheck(landing, io, plausible, radius_m)
-        out, ok = self._evaluate_checked(p, values)
-        if not ok:
-            check_values(p, "landing", landing=True)  # raises, naming the row and column
-        out = self._liftoff_array(out, len(p))
+        if is_lazy(landing):
+            self._lazy_refusal(units, form, return_flags=return_flags, warn_outside_fitted=warn_outside_fitted)
+            return lazy_predict(self, landing, check_plausible_argument(plausible), radius_m)
+        out, call = self._checked(self._evaluate_checked, landing, units, form, radius_m, plausible)
+        out = self._liftoff_array(out, len(call.p))
         if warn_outside_fitted:
-            self._warn_outside_fitted(p)
-        result = wrap(out) if io is None else io.liftoff(out)
-        flags = nonphysical.flags_of(self, p, out, always=return_flags)
+            self._warn_outside_fitted(call.p)
+        result = call.liftoff(out)
+        flags = nonphysical.flags_of(self, call.p, out, always=return_flags)
         if not return_flags:
             return result
-        per = wrap if io is None else io.per_bounce
-        return result, nonphysical.LiftoffFlags(into_ground=per(flags[0]), energy_gain=per(flags[1]))
+        return result, nonphysical.LiftoffFlags(into_ground=call.per_bounce(flags[0]),
+                                                energy_gain=call.per_bounce(flags[1]))
 
     def predict_one(self, xdot: float, ydot: float, omega: float, *,
                     plausible: PlausibleRanges | None = PLAUSIBLE_RANGES,
@@ -363,7 +394,8 @@ class BounceModel:
 
         The same law, checks and numbers as ``predict([[xdot, ydot, omega]])[0]`` (scaled units, ``ydot < 0``;
         the unit guard ``plausible`` on the one landing, ``radius_m`` the ball it refers to), without the
-        array machinery: a compiled law calls its kernel directly (a few microseconds a bounce).
+        array machinery: a compiled law checks and predicts the landing in one compiled call (well under a
+        microsecond for the closed-form laws).
 
         Raises
         ------
@@ -378,16 +410,16 @@ class BounceModel:
         >>> [round(v, 3) for v in bl.Rigid(r=0.5, mu=0.4).predict_one(1000.0, -800.0, 300.0)]
         [628.571, 400.0, -628.571]
         """
-        self._fitted_values()
-        x, y, w = _one_landing(xdot, ydot, omega)
-        if plausible is not None and not _plausible_one(x, y, w, plausible, radius_m):
-            self.predict([[x, y, w]], plausible=plausible, radius_m=radius_m)  # raises, naming the limit
-        return self._one(x, y, w)
-
-    def _one(self, x: float, y: float, w: float) -> tuple[float, float, float]:
-        """One validated landing's lift-off (laws with a faster way override it)."""
-        out = self._evaluate(np.array([[x, y, w]]))
-        return float(out[0, 0]), float(out[0, 1]), float(out[0, 2])
+        one, rest = self.__dict__.get("_one_entry") or self._one_entry_point()
+        if not (plausible is PLAUSIBLE_RANGES and radius_m is None):  # (rest: the default limits, then the law's)
+            rest = (*_limits_of(plausible, radius_m), rest[-1])
+        try:
+            a, b, c, status = one(xdot, ydot, omega, *rest)
+        except (TypeError, ValueError, OverflowError):  # not a number (the conversion to a float refused it)
+            status = INVALID
+        if status:
+            self._refuse_one(xdot, ydot, omega, plausible, radius_m)
+        return a, b, c
 
     def regime(self, landing: States, units: Mapping[str, str] | str | None = None, *, codes: bool = False,
                form: str | tuple[str, str] = "cartesian", radius_m: float | None = None,
@@ -409,57 +441,83 @@ class BounceModel:
             The law's ``_regime`` is missing, returns anything but one integer code per landing,
             or a code that is not an index into :attr:`regimes`.
         """
-        from bouncelab.laws import _physical_io as edge
-
-        values = self._fitted_values()
-        plausible = edge.check_plausible_argument(plausible)
-        if edge.is_lazy(landing):
-            if edge.PhysicalIO.needed(units, form):
-                raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only, without "
-                                "units= or form=", option=edge.io_option(units, form))
-            return edge.lazy_regime(self, landing, codes, plausible, radius_m)
-        io = edge.PhysicalIO(units, (form, "cartesian") if isinstance(form, str) else form, radius_m, plausible) \
-            if edge.PhysicalIO.needed(units, form) else None
-        p, wrap = self._argcheck(landing, io, plausible, radius_m)
-        c, ok = self._classify_checked(p, values)
-        if not ok:
-            check_values(p, "landing", landing=True)
-        c = self._codes(c, len(p))
-        if io is not None:
-            wrap = io.per_bounce
+        if is_lazy(landing):
+            self._lazy_refusal(units, form, classify=True)
+            return lazy_regime(self, landing, codes, check_plausible_argument(plausible), radius_m)
+        c, call = self._checked(self._classify_checked, landing, units, form, radius_m, plausible)
+        c = self._codes(c, len(call.p))
         if codes:
-            return wrap(c)
+            return call.per_bounce(c)
         names = np.asarray(self.regimes)
         if len(c) >= REGIME_NAMES_WARN:
-            from bouncelab.core.errors import LargeResultWarning
-
             warnings.warn(f"regime names for {len(c):,} landings take {len(c) * names.itemsize / 1e6:.0f} MB; "
                           f"regime(..., codes=True) gives int8 codes into law.regimes ({len(c) / 1e6:.0f} MB)",
                           LargeResultWarning, stacklevel=2)
-        return wrap(names[c])
+        return call.per_bounce(names[c])
 
-    def _argcheck(self, landing: Any, io: Any, plausible: PlausibleRanges | None,
-                  radius_m: float | None) -> tuple[np.ndarray, Callable]:
-        """The public methods' one check: (n, 3) scaled Cartesian landings and the wrap back to the caller's kind.
+    # ----------------------------------------------------------------- the public methods' one path
+    def _checked(self, hook: Callable, landing: Any, units: Any, form: Any, radius_m: Any,
+                 plausible: Any) -> tuple[Any, Landings]:
+        """What ``predict`` and ``regime`` share: the landings taken once (:class:`Landings`: kind, units,
+        form, shape), then the law's hook (:meth:`_evaluate_checked` or :meth:`_classify_checked`), which
+        checks the values and the unit guard in its pass over them; a failed verdict is refused, naming the
+        row. Returns the hook's result and the landings (to give results back in the caller's kind)."""
+        values = self._fitted_values()
+        call = Landings(landing, units, form, radius_m, plausible)
+        out, status = hook(call.p, values, call.limits)
+        if status:
+            call.refuse(status)
+        return out, call
 
-        Shapes and types are checked here; the values (finite, ``ydot0 < 0``) of a large array are checked by a
-        compiled law in the same pass as its maths (:attr:`_fused_value_check`); the unit guard runs here.
+    @staticmethod
+    def _lazy_refusal(units: Any, form: Any, *, return_flags: bool = False, warn_outside_fitted: bool = False,
+                      classify: bool = False) -> None:
+        """DataError for what a dask-backed DataArray cannot be asked for (it is predicted chunk by chunk)."""
+        io = PhysicalIO.needed(units, form)
+        if not (io or return_flags or warn_outside_fitted):
+            return
+        if classify:
+            raise DataError("a dask-backed DataArray is classified lazily in scaled Cartesian states only, without "
+                            "units= or form=", option=io_option(units, form))
+        at = io_option(units, form) if io else "return_flags" if return_flags else "warn_outside_fitted"
+        raise DataError("a dask-backed DataArray is predicted lazily in scaled Cartesian states only, without "
+                        "units=, form=, return_flags= or warn_outside_fitted=", option=at)
+
+    def _refuse_one(self, xdot: Any, ydot: Any, omega: Any, plausible: Any, radius_m: Any) -> None:
+        """The error of ``predict_one`` for a landing its check refused: that of ``predict`` on it."""
+        self.predict(np.array([[xdot, ydot, omega]], dtype=object), plausible=plausible, radius_m=radius_m)
+        raise DataError(f"landing ({xdot!r}, {ydot!r}, {omega!r}) is not three finite numbers with ydot < 0",
+                        option="landing")  # (predict refuses it first)
+
+    def _one_entry_point(self) -> tuple[Callable[..., tuple[float, float, float, int]], tuple]:
+        """The law's one-landing hook and the arguments it takes after the landing under the default guard,
+        built once per law (it is immutable) and kept as a cache.
+
+        ``f(xdot, ydot, omega, min_s2, max_s2, max_w, tan_a, law) -> (xdotF, ydotF, omegaF, status)``: the
+        value check and the guard of :mod:`bouncelab.core.landing_checks` on the floats, then the law's maths
+        (here :meth:`_evaluate` of one row; a compiled law calls its kernel in the same compiled call,
+        ``law`` its kernel's arguments). A status other than 0 is the verdict of
+        :func:`~bouncelab.core.plausibility.landing_status`; a value that is not a number raises TypeError,
+        ValueError or OverflowError.
         """
-        from bouncelab.laws._physical_io import guard_landings, radius_of
+        values = self._fitted_values()
 
-        p, wrap = as_states(landing if io is None else io.landing(landing), "landing", landing=True,
-                            defer_check=self._fused_value_check)
-        if plausible is not None:
-            radius = radius_of(radius_m) if io is None else io.radius_m
-            labels = landing.index if io is None and hasattr(landing, "columns") else None  # a DataFrame's rows
-            guard_landings(p, plausible, radius, io, labels)
-        return p, wrap
+        def one(xdot: Any, ydot: Any, omega: Any, min_s2: float, max_s2: float, max_w: float, tan_a: float,
+                law: BounceModel) -> tuple[float, float, float, int]:
+            x, y, w = float(xdot), float(ydot), float(omega)
+            if not is_landing(x, y, w):
+                return math.nan, math.nan, math.nan, INVALID
+            status = landing_fault(x, y, w, min_s2, max_s2, max_w, tan_a)
+            if status:
+                return math.nan, math.nan, math.nan, status
+            out = law._evaluate(np.array([[x, y, w]]), values)
+            return float(out[0, 0]), float(out[0, 1]), float(out[0, 2]), 0
+
+        self.__dict__["_one_entry"] = found = (one, (*_DEFAULT_LIMITS, self))
+        return found
 
     def _warn_outside_fitted(self, p: np.ndarray) -> None:
         """The warning of ``predict(..., warn_outside_fitted=True)``."""
-        from bouncelab.core.errors import OutsideFittedRangeWarning
-        from bouncelab.laws.provenance import outside_ranges
-
         prov = self.provenance
         if prov is None or not prov.landing_ranges:
             warnings.warn(f"{law_name(self)} carries no record of the landings it was fitted on (it was not fitted "
@@ -474,29 +532,45 @@ class BounceModel:
                           stacklevel=3)
 
     # ------------------------------------------------------------- the law's maths, checked
-    #: Whether :meth:`_evaluate_checked` checks the landings' values in its own pass, so that the public
-    #: methods skip a separate pass over large arrays (compiled laws).
-    _fused_value_check: ClassVar[bool] = False
+    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any],
+                          limits: tuple[float, float, float, float] | None) -> tuple[Any, int]:
+        """The hook of ``predict``: the law's lift-offs of ``p`` and the unit guard's verdict on the landings
+        (:func:`~bouncelab.core.plausibility.landing_status` under ``limits``; 0: all valid and plausible).
 
-    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[Any, bool]:
-        """The law's lift-offs of ``p``, and whether every landing was valid if checked in the same pass."""
-        return self._predict(p, **values), True
+        ``limits`` None: the landings are known to be valid, check nothing. This default checks the landings
+        first, then calls ``_predict``; a compiled law checks them in the pass that predicts them.
+        """
+        if limits is not None:
+            status = landing_status(p, limits)
+            if status:
+                return None, status
+        return self._predict(p, **values), 0
 
-    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[Any, bool]:
-        """The law's regime codes of ``p`` (as :meth:`_evaluate_checked`)."""
-        return self._regime(p, **values), True
+    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any],
+                          limits: tuple[float, float, float, float] | None) -> tuple[Any, int]:
+        """The hook of ``regime``: the law's regime codes of ``p`` and the verdict (as :meth:`_evaluate_checked`)."""
+        if limits is not None:
+            status = landing_status(p, limits)
+            if status:
+                return None, status
+        return self._regime(p, **values), 0
 
     def _evaluate(self, p: np.ndarray, values: Mapping[str, Any] | None = None) -> np.ndarray:
         """(n, 3) lift-offs of validated landings ``p`` with ``values`` (default: the law's own), checked.
 
-        For the fitting machinery and analyses: no unit guard, no flags, no conversion.
+        For the fitting machinery and analyses: no unit guard, no flags, no conversion (a landing that is not
+        one, which a compiled law's loop does not predict, is still refused).
         """
-        out, _ = self._evaluate_checked(p, self._fitted_values() if values is None else values)
+        out, status = self._evaluate_checked(p, self._fitted_values() if values is None else values, None)
+        if status:
+            check_values(p, "landing", landing=True)
         return self._liftoff_array(out, len(p))
 
     def _classify(self, p: np.ndarray, values: Mapping[str, Any] | None = None) -> np.ndarray:
         """(n,) int8 regime codes of validated landings ``p`` with ``values`` (default: the law's own), checked."""
-        c, _ = self._classify_checked(p, self._fitted_values() if values is None else values)
+        c, status = self._classify_checked(p, self._fitted_values() if values is None else values, None)
+        if status:
+            check_values(p, "landing", landing=True)
         return self._codes(c, len(p))
 
     def _liftoff_array(self, out: Any, n: int) -> np.ndarray:
@@ -573,8 +647,6 @@ class BounceModel:
         values are not used). No unit guard: these are a simulation's states. ``codes=True`` also returns
         the regime codes. See :func:`bouncelab.laws.varying.predict_per_bounce`.
         """
-        from bouncelab.laws.varying import predict_per_bounce
-
         return predict_per_bounce(owner, landing, params, codes=codes)
 
     # --------------------------------------------------------------- the objective
@@ -651,15 +723,11 @@ class BounceModel:
     # ------------------------------------------------------------ serialisation
     def to_dict(self, *, metadata: bool = True) -> dict[str, Any]:
         """JSON-safe description, the content of a law file (see :func:`bouncelab.laws.files.describe`)."""
-        from bouncelab.laws.files import describe
-
         return describe(self, metadata=metadata)
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> BounceModel:
         """Rebuild a law from :meth:`to_dict` output (any registered law when called on BounceModel)."""
-        from bouncelab.laws.files import law_from_dict
-
         return law_from_dict(d, expected=None if cls is BounceModel else cls)
 
     def to_json(self, path: str | Path | None = None, **kwargs: Any) -> str:
@@ -674,8 +742,6 @@ class BounceModel:
         """
         text = json.dumps(self.to_dict(), indent=2, **kwargs)
         if path is not None:
-            from bouncelab.core.atomic import write_output
-
             write_output(path, text + "\n", "the law")
         return text
 
@@ -736,48 +802,74 @@ class BounceModel:
         return all(np.array_equal(np.asarray(a[k], dtype=object), np.asarray(b[k], dtype=object)) for k in a)
 
     def __hash__(self) -> int:
-        from bouncelab.laws.files import value_dict
-
         d = value_dict(self)
         return hash((d["law"], json.dumps([d["parameters"], d.get("options")], sort_keys=True, default=str)))
 
 
-def _one_landing(xdot: Any, ydot: Any, omega: Any) -> tuple[float, float, float]:
-    """Three finite floats of one landing moving down, or the array check's DataError naming the component."""
+def _check_hook_signature(cls: type, hook: str) -> None:
+    """LawDefinitionError, at class definition, for a ``_predict`` or ``_regime`` that cannot take what the
+    public methods pass it: the landings ``p`` by position, then every declared parameter by name (and
+    nothing else it requires)."""
+    for klass in cls.__mro__:
+        if hook in vars(klass):
+            raw = vars(klass)[hook]
+            break
+    else:
+        return
+    if klass is BounceModel:  # the default: it says, when called, that the law must define the hook
+        return
+    func = raw.__func__ if isinstance(raw, staticmethod | classmethod) else raw
     try:
-        x, y, w = float(xdot), float(ydot), float(omega)
-    except (TypeError, ValueError):
-        x = y = w = math.nan
-    if not (abs(x) <= STATE_LIMIT and abs(y) <= STATE_LIMIT and abs(w) <= STATE_LIMIT and y < 0.0):
-        as_states(np.array([[xdot, ydot, omega]], dtype=object), "landing", landing=True)  # raises, naming it
-        raise DataError(f"landing ({xdot!r}, {ydot!r}, {omega!r}) is not three finite numbers with ydot < 0")
-    return x, y, w
+        params = list(inspect.signature(func).parameters.values())
+    except (TypeError, ValueError):  # not introspectable (a builtin, a C function): called as it is
+        return
+    if not isinstance(raw, staticmethod):
+        params = params[1:]  # self (or cls)
+    names = [s.name for s in cls.parameter_specs]
+    kinds = inspect.Parameter
+    positional = [q for q in params if q.kind in (kinds.POSITIONAL_ONLY, kinds.POSITIONAL_OR_KEYWORD)]
+    takes_p = bool(positional) or any(q.kind is kinds.VAR_POSITIONAL for q in params)
+    rest = params[1:] if positional and params[0] is positional[0] else params
+    by_name = {q.name for q in rest if q.kind in (kinds.POSITIONAL_OR_KEYWORD, kinds.KEYWORD_ONLY)}
+    any_name = any(q.kind is kinds.VAR_KEYWORD for q in rest)
+    missing = [] if any_name else [n for n in names if n not in by_name]
+    unknown = [q.name for q in rest if q.default is q.empty and q.name not in names
+               and q.kind not in (kinds.VAR_POSITIONAL, kinds.VAR_KEYWORD)]
+    if takes_p and not missing and not unknown:
+        return
+    faults = (["it takes no landings p"] if not takes_p else []) + \
+        ([f"it does not take {missing}"] if missing else []) + \
+        ([f"it requires {unknown}, which the law does not declare"] if unknown else [])
+    raise LawDefinitionError(
+        f"{cls.__name__}.{hook}{inspect.signature(func)} does not match the law's parameters {names}: it is "
+        f"called as {hook}(p, {', '.join(f'{n}=...' for n in names)}), but {' and '.join(faults)}; write "
+        f"def {hook}(self, p, {', '.join(names)}): ...", law=cls.__name__, method=hook)
 
 
 #: Entries of a law's __dict__ that are caches, not state (see BounceModel.__getstate__).
 _CACHES = ("_args_cache", "_one_entry")
 
+#: The unit guard's limits of the default ranges and ball, for predict_one.
+_DEFAULT_LIMITS = landing_limits(BALL_RADIUS_M, PLAUSIBLE_RANGES)
+
 #: (id of the ranges, radius) -> (the ranges, their limits). Holding the ranges keeps their id from being reused
 #: by another object while cached; keying by id keeps the lookup cheap on the single-bounce path.
-_LIMITS: dict[tuple[int, float], tuple[PlausibleRanges, tuple[float, float, float, float]]] = {}
+_LIMITS: dict[tuple[int, Any], tuple[Any, tuple[float, float, float, float]]] = {}
 
 
-def _plausible_one(x: float, y: float, w: float, ranges: PlausibleRanges, radius_m: float | None) -> bool:
-    """Whether one landing passes the unit guard (the comparisons of plausibility.landing_faults, in floats)."""
-    radius = BALL_RADIUS_M if radius_m is None else radius_m
-    key = (id(ranges), radius)
-    cached = _LIMITS.get(key)
+def _limits_of(plausible: Any, radius_m: Any) -> tuple[float, float, float, float]:
+    """The guard's limits of ``plausible=`` and ``radius_m=`` (as :class:`Landings` makes them), cached."""
+    key = (id(plausible), radius_m)
+    try:
+        cached = _LIMITS.get(key)
+    except TypeError:  # an unhashable radius: not cached (radius_of refuses it when the guard needs it)
+        key = cached = None
     if cached is not None:
-        limits = cached[1]
-    else:
-        if radius_m is not None:
-            from bouncelab.laws._physical_io import radius_of
-
-            radius = radius_of(radius_m)
-        limits = landing_limits(radius, ranges)
-        _LIMITS[key] = (ranges, limits)
+        return cached[1]
+    ranges = check_plausible_argument(plausible)
+    limits = guard_limits(ranges, None if ranges is None else radius_of(radius_m))
+    if key is not None:
+        _LIMITS[key] = (plausible, limits)
         if len(_LIMITS) > 64:  # a few ranges and balls in a program: keep the cache small
             _LIMITS.pop(next(iter(_LIMITS)))
-    min_s2, max_s2, max_w, tan_a = limits
-    s2 = x * x + y * y
-    return min_s2 <= s2 <= max_s2 and abs(w) <= max_w and -y >= abs(x) * tan_a
+    return limits

@@ -56,10 +56,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from bouncelab.core._jit import ROW_FLAGS, jit
 from bouncelab.core._parallel import CHUNK, PARALLEL_MIN, num_threads, run_chunked, run_rows, set_num_threads
 from bouncelab.core.errors import LawDefinitionError
-from bouncelab.core.validation import STATE_LIMIT
-from bouncelab.laws.base import BounceModel
+from bouncelab.core.landing_checks import INVALID, STATE_LIMIT
+from bouncelab.core.plausibility import OPEN_LIMITS
+from bouncelab.laws.base import _DEFAULT_LIMITS, BounceModel
 from bouncelab.laws.registry import law_name
 
 __all__ = ["CHUNK", "PARALLEL_MIN", "CompiledLaw", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
@@ -70,32 +72,51 @@ class _Loops:
     """The compiled array loops built around one kernel (its arguments after the landing come as a tuple)."""
 
     def __init__(self, kernel: Any) -> None:
-        from bouncelab.core._jit import ROW_FLAGS, jit
-        from bouncelab.laws._kernels import valid_bits as _valid_bits
+        from bouncelab.core._scans import is_landing_, landing_fault_
+        from bouncelab.laws._kernels import row_status
 
-        # The row loops also report whether every landing in their rows is valid (finite, within
-        # the limit, ydot < 0): for large arrays the public methods fuse that check into this pass
-        # instead of reading the array once more (see bouncelab.core.validation, defer_check). The
-        # check reads the values' bits as integers (``bits`` is a view of P), which fast-math
-        # assumptions about NaN and infinity cannot touch.
+        # The row loops also give the unit guard's verdict on their rows (0: every landing valid and
+        # plausible; see row_status), so that the public methods check the landings in the pass that
+        # predicts them instead of reading the array once or twice more.
         @jit(nogil=True, fastmath=ROW_FLAGS)
-        def predict_rows(P, args, out, bits, limit_bits, start, stop):
-            ok = True
+        def predict_rows(P, args, out, bits, guard, start, stop):
+            status = 0
             for i in range(start, stop):
-                ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-                a, b, c, _ = kernel(P[i, 0], P[i, 1], P[i, 2], *args)
+                x = P[i, 0]
+                y = P[i, 1]
+                w = P[i, 2]
+                found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+                status |= found
+                if found & INVALID:  # not a landing: the maths never sees it (refused)
+                    continue
+                a, b, c, _ = kernel(x, y, w, *args)
                 out[i, 0] = a
                 out[i, 1] = b
                 out[i, 2] = c
-            return ok
+            return status
 
         @jit(nogil=True, fastmath=ROW_FLAGS)
-        def regime_rows(P, args, codes, bits, limit_bits, start, stop):
-            ok = True
+        def regime_rows(P, args, codes, bits, guard, start, stop):
+            status = 0
             for i in range(start, stop):
-                ok = ok & _valid_bits(bits[i, 0], bits[i, 1], bits[i, 2], limit_bits)
-                codes[i] = kernel(P[i, 0], P[i, 1], P[i, 2], *args)[3]
-            return ok
+                x = P[i, 0]
+                y = P[i, 1]
+                w = P[i, 2]
+                found = row_status(x, y, w, bits[i, 0], bits[i, 1], bits[i, 2], guard)
+                status |= found
+                if found & INVALID:  # not a landing: the maths never sees it (refused)
+                    continue
+                codes[i] = kernel(x, y, w, *args)[3]
+            return status
+
+        # One landing (predict_one): the same checks and kernel, on floats. No fast-math here, so the
+        # comparisons see NaN as NaN; the kernel is a compiled function of its own, the same bits as in the loops.
+        @jit
+        def one(x, y, w, min_s2, max_s2, max_w, tan_a, args):
+            if not is_landing_(x, y, w, STATE_LIMIT):
+                return 0.0, 0.0, 0.0, INVALID
+            a, b, c, _ = kernel(x, y, w, *args)
+            return a, b, c, landing_fault_(x, y, w, min_s2, max_s2, max_w, tan_a)
 
         # A plain sum in row order: with no "reassoc" the compiler keeps that order, so the sums (and so
         # every fit) are the same bits on any CPU, whatever its vector width.
@@ -119,12 +140,27 @@ class _Loops:
 
         self.predict_rows = predict_rows
         self.regime_rows = regime_rows
+        self.one = one
         self.error_sums = error_sums
 
 
-def landing_bits(p: np.ndarray) -> tuple[np.ndarray, int]:
-    """The landings' bits as int64 (a view) and the bits of STATE_LIMIT, for the fused value check."""
-    return p.view(np.int64), int(np.float64(STATE_LIMIT).view(np.int64))
+#: The bits of STATE_LIMIT as an int64, for the row loops' value check on the landings' bits.
+_LIMIT_BITS = int(np.float64(STATE_LIMIT).view(np.int64))
+
+
+def row_checks(p: np.ndarray, limits: tuple[float, float, float, float] | None) -> tuple[np.ndarray, tuple]:
+    """What a row loop takes to check the landings ``p`` as it predicts them: their bits (an int64 view of
+    ``p``) and the guard ``(limit bits, *limits)`` of :func:`bouncelab.laws._kernels.row_status` (``limits``
+    None: the value check alone)."""
+    return p.view(np.int64), (_LIMIT_BITS, *(OPEN_LIMITS if limits is None else limits))
+
+
+def verdict(parts: list[int]) -> int:
+    """The status of a whole pass from its parts' (or'ed)."""
+    status = 0
+    for part in parts:
+        status |= part
+    return status
 
 
 _LOOPS: dict[int, tuple[Any, _Loops]] = {}
@@ -160,7 +196,6 @@ class CompiledLaw(BounceModel):
     #: :mod:`bouncelab.ground.bounce3d`), taking the same arguments as ``kernel``. The rigid family's is the exact
     #: 3-D rigid bounce (Penner's laws: on their tilted plane).
     kernel_3d: ClassVar[Any] = None
-    _fused_value_check = True  # the row loops check the landings (see _Loops)
     _abstract_law = True  # a base for laws, not a law: not registered
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -188,30 +223,21 @@ class CompiledLaw(BounceModel):
             return cached
         return self._kernel_args(**values)
 
-    def _one(self, x: float, y: float, w: float) -> tuple[float, float, float]:
-        """One landing: the law's compiled kernel called directly (no array, no loop). A law is immutable, so its
-        kernel's arguments and the kernel's compiled entry point for them are found once (skipping numba's
-        type dispatch on every call)."""
-        entry = self.__dict__.get("_one_entry")
-        if entry is None:
-            entry = self.__dict__["_one_entry"] = self._entry_point()
-        a, b, c, _ = entry(x, y, w)
-        return a, b, c
-
-    def _entry_point(self) -> Callable[[float, float, float], tuple]:
-        kernel = type(self).__dict__.get("_kernel_of_class")
-        if kernel is None:  # a built-in law loads its kernel on first use: keep it on the class
-            self._loops()  # a law without a kernel: the LawDefinitionError saying how to write one
-            kernel = type(self)._kernel_of_class = self.kernel
+    def _one_entry_point(self) -> tuple[Callable[..., tuple[float, float, float, int]], tuple]:
+        """The compiled one-landing function and its last arguments under the default guard (see BounceModel),
+        found once per law (it is immutable): its compiled entry point, skipping numba's type dispatch."""
+        self._fitted_values()
         args = self._args(self.__dict__["_values"])
-        kernel(1.0, -1.0, 0.0, *args)  # compiled (or loaded from the cache) for these argument types
+        one = self._loops().one
+        one(1000.0, -800.0, 0.0, *OPEN_LIMITS, args)  # compiled (or loaded from the cache) for these types
         try:
             from numba import typeof
 
-            compiled = kernel.overloads[tuple(typeof(v) for v in (1.0, -1.0, 0.0, *args))].entry_point
-            return lambda x, y, w: compiled(x, y, w, *args)
+            entry = one.overloads[(*(typeof(1.0),) * 7, typeof(args))].entry_point
         except (AttributeError, KeyError, TypeError):  # numba's internals moved: its dispatch, a little slower
-            return lambda x, y, w: kernel(x, y, w, *args)
+            entry = one
+        self.__dict__["_one_entry"] = found = (entry, (*_DEFAULT_LIMITS, args))
+        return found
 
     def _loops(self) -> _Loops:
         if self.kernel is None:
@@ -223,21 +249,31 @@ class CompiledLaw(BounceModel):
         return loops_for(self.kernel)
 
     def _predict(self, p: np.ndarray, **parameters: Any) -> np.ndarray:
-        return self._evaluate_checked(p, parameters)[0]
+        return self._evaluate_checked(p, parameters, None)[0]
 
     def _regime(self, p: np.ndarray, **parameters: Any) -> np.ndarray:
-        return self._classify_checked(p, parameters)[0]
+        return self._classify_checked(p, parameters, None)[0]
 
-    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
-        """Lift-off states, and whether every landing was valid (checked in the same pass)."""
+    def _row_loops(self, values: Mapping[str, Any]) -> tuple[Callable, Callable, tuple]:
+        """The compiled loops of prediction and regimes, and what they take after the landings: by default the
+        loops built around the kernel and its arguments. A law with loops of its own (the same kernel's maths,
+        arranged for speed) overrides it; each loop is ``f(P, *args, out, bits, guard, start, stop) -> status``
+        (see :func:`row_checks`)."""
+        loops = self._loops()
+        return loops.predict_rows, loops.regime_rows, (self._args(values),)
+
+    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any],
+                          limits: tuple[float, float, float, float] | None) -> tuple[np.ndarray, int]:
+        """Lift-off states, and the unit guard's verdict on the landings (checked in the same pass)."""
+        rows, _, args = self._row_loops(values)
         out = np.empty_like(p)
-        ok = run_rows(self._loops().predict_rows, len(p), p, self._args(values), out, *landing_bits(p))
-        return out, all(ok)
+        return out, verdict(run_rows(rows, len(p), p, *args, out, *row_checks(p, limits)))
 
-    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
+    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any],
+                          limits: tuple[float, float, float, float] | None) -> tuple[np.ndarray, int]:
+        _, rows, args = self._row_loops(values)
         codes = np.empty(len(p), dtype=np.int8)
-        ok = run_rows(self._loops().regime_rows, len(p), p, self._args(values), codes, *landing_bits(p))
-        return codes, all(ok)
+        return codes, verdict(run_rows(rows, len(p), p, *args, codes, *row_checks(p, limits)))
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[Sequence[Any]], Any]:

@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.laws._contact import check_speeds, restitution_line, vertical_restitution
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Option, Parameter, fade_speed
 
@@ -171,22 +172,16 @@ class CraterContact(CompiledLaw):
         """Friction coefficient mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s) at slip speeds ``v`` (radii/s)."""
         values = self._fitted_values()  # NotFittedError if a parameter has no value
         mu_k, mu_s, v_s = values["mu_k"], values["mu_s"], values["v_s"]
-        from bouncelab.laws._contact import check_speeds
-
         v = np.abs(check_speeds(slip_speed, "slip_speed", positive=False))
         return mu_k + (mu_s - mu_k) * np.exp(-v / v_s)
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:
             return []
-        from bouncelab.laws._contact import restitution_line
-
         mu = self.friction([0.0, 100.0, 500.0])
         return [restitution_line(self),
                 f"friction at slip speeds 0 / 100 / 500 radii/s: {mu[0]:.3f} / {mu[1]:.3f} / {mu[2]:.3f}"]
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin, no tilt)."""
-        from bouncelab.laws._contact import vertical_restitution
-
         return vertical_restitution(self, speed)

@@ -17,13 +17,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, ParameterError, UnknownLawError
+from bouncelab.core import __version__
+from bouncelab.core.errors import DataError, ParameterError, SyntheticDataWarning, UnknownLawError
 from bouncelab.core.files import read_regular_file
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, CONVENTIONS
 from bouncelab.laws.provenance import Provenance
 from bouncelab.laws.registry import MAIN_MODULES, is_builtin, law_class, law_name, script_module
 
 if TYPE_CHECKING:
-    from bouncelab.laws.base import BounceModel
+    from bouncelab.laws.interface import Law
 
 __all__ = ["LAW_FORMAT", "LAW_FORMAT_VERSION", "describe", "law_from_dict", "load_law", "value_dict"]
 
@@ -33,7 +35,7 @@ LAW_FORMAT = "bouncelab law"
 LAW_FORMAT_VERSION = 2
 
 
-def value_dict(law: BounceModel) -> dict[str, Any]:
+def value_dict(law: Law) -> dict[str, Any]:
     """``{"law", "parameters", "options"}``: what makes the law the value it is."""
 
     def plain(v: Any) -> Any:
@@ -45,7 +47,7 @@ def value_dict(law: BounceModel) -> dict[str, Any]:
     return d
 
 
-def describe(law: BounceModel, *, metadata: bool = True) -> dict[str, Any]:
+def describe(law: Law, *, metadata: bool = True) -> dict[str, Any]:
     """JSON-safe description of a law, the content of a law file (format :data:`LAW_FORMAT_VERSION`).
 
     ``metadata=False`` gives the law's value alone, in the keys of the first format
@@ -62,9 +64,6 @@ def describe(law: BounceModel, *, metadata: bool = True) -> dict[str, Any]:
     synthetic or measured, the generator of synthetic data, the fit, the landing ranges
     fitted), or None.
     """
-    from bouncelab.core import __version__
-    from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, CONVENTIONS
-
     cls = type(law)
     if not metadata:
         return {**value_dict(law), "bouncelab_version": __version__}
@@ -81,12 +80,12 @@ def describe(law: BounceModel, *, metadata: bool = True) -> dict[str, Any]:
     return d
 
 
-def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = None) -> BounceModel:
-    """Build a law from a law description (:meth:`BounceModel.to_dict`, or a law file's JSON).
+def law_from_dict(d: Mapping[str, Any], expected: type[Law] | None = None) -> Law:
+    """Build a law from a law description (:meth:`~bouncelab.BounceModel.to_dict`, or a law file's JSON).
 
     Every format bouncelab has written loads: the current one (:data:`LAW_FORMAT_VERSION`) and
     the first (``{"law", "parameters", "options", "bouncelab_version"}``, with no format
-    version). The law's :attr:`~BounceModel.provenance` is restored when the description has one.
+    version). The law's :attr:`~bouncelab.BounceModel.provenance` is restored when the description has one.
     A law of a script run as ``__main__`` is found once the script's module is imported (see
     :func:`law_class`).
 
@@ -162,8 +161,8 @@ def law_from_dict(d: Mapping[str, Any], expected: type[BounceModel] | None = Non
     return law
 
 
-def load_law(path: str | Path) -> BounceModel:
-    """Read a law written by :meth:`BounceModel.to_json` (any format bouncelab has written).
+def load_law(path: str | Path) -> Law:
+    """Read a law written by :meth:`~bouncelab.BounceModel.to_json` (any format bouncelab has written).
 
     A law fitted to synthetic bounces (the embedded surrogates, a simulation) comes with a
     :class:`~bouncelab.core.errors.SyntheticDataWarning` saying so, and ``print(law)`` says it too
@@ -211,8 +210,6 @@ def load_law(path: str | Path) -> BounceModel:
                              hints=exc.hints) from None
     note = None if law.provenance is None else law.provenance.synthetic_note()
     if note is not None:
-        from bouncelab.core.errors import SyntheticDataWarning
-
         warnings.warn(f"{file}: {note}", SyntheticDataWarning, stacklevel=2)
     return law
 

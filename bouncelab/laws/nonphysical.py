@@ -27,7 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import NonphysicalLiftoffWarning
+from bouncelab.core._jit import jit
+from bouncelab.core._parallel import run_chunked
+from bouncelab.core.errors import NonphysicalLiftoffWarning, ParameterError
 from bouncelab.core.units import INERTIA_FACTOR
 
 __all__ = [
@@ -107,11 +109,7 @@ def any_flagged(landing: np.ndarray, liftoff: np.ndarray) -> bool:
     check a published law makes on every ``predict`` costs a fraction of the prediction, not several times it."""
     global _any_flagged_compiled
     if _any_flagged_compiled is None:
-        from bouncelab.core._jit import jit
-
         _any_flagged_compiled = jit(nogil=True)(_any_flagged)  # no fastmath: the same arithmetic as NumPy's
-    from bouncelab.core._parallel import run_chunked
-
     p0, pf = np.ascontiguousarray(landing, dtype=np.float64), np.ascontiguousarray(liftoff, dtype=np.float64)
     return any(run_chunked(_any_flagged_compiled, len(p0), p0, pf, INERTIA_FACTOR, ENERGY_RTOL))
 
@@ -121,8 +119,6 @@ def published_campaign(law: Any) -> str | None:
     cached = law.__dict__.get("_published_as", False)
     if cached is not False:
         return cached
-    from bouncelab.core.errors import ParameterError
-
     found = None
     for campaign in ("A", "B"):
         try:

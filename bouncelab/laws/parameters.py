@@ -342,8 +342,24 @@ class Parameters(Mapping[str, Parameter]):
         return len(self._params)
 
     def valuesdict(self) -> dict[str, float | np.ndarray | None]:
-        """name -> value."""
+        """name -> value (a float, an array for an array parameter; ``None`` where not set)."""
         return {k: p.value for k, p in self._params.items()}
+
+    def flat(self) -> dict[str, float | None]:
+        """Every number of every parameter by element name (``A1[0,2]``), in declaration order: for tables of
+        any law.
+
+        Examples
+        --------
+        >>> import bouncelab as bl
+        >>> list(bl.PiecewiseAffine.published("A").params.flat())[:4]
+        ['normal[0]', 'normal[1]', 'normal[2]', 'offset']
+        """
+        out: dict[str, float | None] = {}
+        for p in self._params.values():
+            flat = [None] * p.size if p.value is None else np.ravel(p.value).tolist()
+            out.update(zip(p.element_names(), flat, strict=True))
+        return out
 
     def pretty(self, digits: int = 6) -> str:
         """A table: name, value, stderr, bounds, unit, vary, doc."""

@@ -11,7 +11,7 @@ import numpy as np
 
 from bouncelab.core import published as _published
 from bouncelab.core.validation import as_states
-from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, landing_bits, run_chunked, run_rows
+from bouncelab.laws.compiled import PARALLEL_MIN, CompiledLaw, run_chunked
 from bouncelab.laws.parameters import Option, Parameter, fade_speed
 from bouncelab.laws.rigid import MU, R
 
@@ -89,15 +89,9 @@ class _Penner(CompiledLaw):
 
     # Dedicated loops (same scalar functions as the kernel): a fixed tilt's sine and cosine are
     # computed once per call, not once per bounce.
-    def _evaluate_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
-        out = np.empty_like(p)
-        ok = run_rows(_kernels().penner_predict_rows, len(p), p, *self._scalars(values), out, *landing_bits(p))
-        return out, all(ok)
-
-    def _classify_checked(self, p: np.ndarray, values: Mapping[str, Any]) -> tuple[np.ndarray, bool]:
-        codes = np.empty(len(p), dtype=np.int8)
-        ok = run_rows(_kernels().penner_regime_rows, len(p), p, *self._scalars(values), codes, *landing_bits(p))
-        return codes, all(ok)
+    def _row_loops(self, values: Mapping[str, Any]) -> tuple[Callable, Callable, tuple]:
+        k = _kernels()
+        return k.penner_predict_rows, k.penner_regime_rows, self._scalars(values)
 
     def _error_function(self, landing: np.ndarray, liftoff: np.ndarray,
                         inv_norm: np.ndarray) -> Callable[[Sequence[Any]], Any]:

@@ -7,10 +7,13 @@ bouncelab's search for the delta-optimal plane) are in
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from typing import Any
+
 import numpy as np
 
 from bouncelab.core import published as _published
-from bouncelab.core.errors import FitError, Hint, ParameterError
+from bouncelab.core.errors import FitError, Hint, NotFittedError, ParameterError
 from bouncelab.core.units import COMPONENTS
 from bouncelab.laws import plane_fitting as pf_
 from bouncelab.laws.compiled import CompiledLaw
@@ -30,10 +33,10 @@ _INF = float("inf")
 _GLOBAL = Hint("method", "global", "the generic search, which holds any parameter and takes any objective")
 
 
-def _kernel():
-    from bouncelab.laws._kernels import piecewise_kernel
+def _kernels():
+    from bouncelab.laws import _kernels  # (compiled: imports numba on first use, not with the law)
 
-    return piecewise_kernel
+    return _kernels
 
 
 class PiecewiseAffine(CompiledLaw):
@@ -114,7 +117,12 @@ class PiecewiseAffine(CompiledLaw):
 
     @property
     def kernel(self):  # type: ignore[override]
-        return _kernel()
+        return _kernels().piecewise_kernel
+
+    def _row_loops(self, values: Mapping[str, Any]) -> tuple[Callable, Callable, tuple]:
+        # the kernel's arithmetic inlined into loops of its own (see bouncelab.laws._kernels)
+        k = _kernels()
+        return k.piecewise_predict_rows, k.piecewise_regime_rows, self._args(values)
 
     # ------------------------------------------------------------------ the plane
     def plane_unit_form(self) -> tuple[np.ndarray, float]:
@@ -163,8 +171,6 @@ class PiecewiseAffine(CompiledLaw):
 
     def _require_plane(self) -> None:
         if self.normal is None or self.offset is None:
-            from bouncelab.core.errors import NotFittedError
-
             missing = [k for k in ("normal", "offset") if getattr(self, k) is None]
             raise NotFittedError("PiecewiseAffine has no plane yet; give normal and offset or fit the law",
                                  law=law_name(self), missing=missing)

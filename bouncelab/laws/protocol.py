@@ -19,7 +19,7 @@ import numpy as np
 from bouncelab.core.errors import ParameterError
 
 if TYPE_CHECKING:
-    from bouncelab.laws.base import BounceModel
+    from bouncelab.laws.interface import Law
 
 __all__ = ["DEFAULT_LOCAL_ALGORITHM", "FitOutcome", "FitProblem", "fit_method", "fit_methods"]
 
@@ -74,13 +74,13 @@ class FitProblem(Protocol):
     test: tuple[np.ndarray, np.ndarray] | None
     sample_weight: np.ndarray | None
 
-    def value(self, law: BounceModel) -> float:
+    def value(self, law: Law) -> float:
         """The objective (the weighted mean error, delta by default) of ``law`` on the bounces fitted."""
 
     def search(self, f: Callable[[np.ndarray], float], x0: np.ndarray, **options: Any) -> Any:
         """Minimise ``f`` over the unit box ``[0, 1]^d`` from ``x0`` (NLopt global stage + local polish)."""
 
-    def run_global(self, law: BounceModel, **options: Any) -> FitOutcome:
+    def run_global(self, law: Law, **options: Any) -> FitOutcome:
         """The generic method: global search over the free parameters of ``law`` in ``box`` (options:
         ``algorithm``, ``local_algorithm``, ``maxeval``, ``hold`` (name -> value held in this call),
         ``criterion`` (a function of the parameters by keyword to minimise instead of the objective))."""
@@ -115,7 +115,7 @@ class FitOutcome:
         Method-specific results (e.g. support-vector indices), for programs.
     """
 
-    model: BounceModel
+    model: Law
     objective_value: float
     algorithm: str
     n_global: int = 0

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core import __version__
 from bouncelab.core.errors import ParameterError
 from bouncelab.core.units import BALL_RADIUS_M
 
@@ -138,8 +139,6 @@ class Provenance:
                seed: int | None = None) -> Provenance:
         """The provenance of a law fitted to ``landing`` (the bounces actually fitted) from ``data``
         (a campaign Dataset, whose attrs say what it is, or bare arrays, which say nothing)."""
-        from bouncelab.core import __version__
-
         attrs: Mapping[str, Any] = getattr(data, "attrs", None) or {}
         is_dataset = hasattr(data, "data_vars")
         kind = str(attrs.get("data_kind", "unknown")) if is_dataset else "unknown"

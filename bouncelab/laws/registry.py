@@ -18,11 +18,11 @@ from typing import TYPE_CHECKING
 from bouncelab.core.errors import ParameterError, UnknownLawError
 
 if TYPE_CHECKING:
-    from bouncelab.laws.base import BounceModel
+    from bouncelab.laws.interface import Law
 
 __all__ = ["MAIN_MODULES", "is_builtin", "law_class", "law_name", "register", "registered_laws", "script_module"]
 
-_REGISTRY: dict[str, type[BounceModel]] = {}
+_REGISTRY: dict[str, type[Law]] = {}
 _REGISTRY_LOCK = threading.Lock()
 
 
@@ -56,7 +56,7 @@ def script_module(cls: type) -> tuple[str | None, str | None]:
     return None, file
 
 
-def law_name(cls: type[BounceModel] | BounceModel) -> str:
+def law_name(cls: type[Law] | Law) -> str:
     """The name a law is known by: the class name for bouncelab's own laws, ``module:QualName`` otherwise.
 
     A class defined in a script run as ``__main__`` (``python myscript.py``) is named by the
@@ -71,12 +71,12 @@ def law_name(cls: type[BounceModel] | BounceModel) -> str:
     return f"{module}:{cls.__qualname__}"
 
 
-def registered_laws() -> dict[str, type[BounceModel]]:
+def registered_laws() -> dict[str, type[Law]]:
     """Every concrete law class known, by :func:`law_name`; user laws also by class name when unambiguous."""
     with _REGISTRY_LOCK:
         classes = list(_REGISTRY.values())
     out = {law_name(c): c for c in classes}
-    short: dict[str, list[type[BounceModel]]] = {}
+    short: dict[str, list[type[Law]]] = {}
     for c in classes:
         short.setdefault(c.__name__, []).append(c)
     for name, cands in short.items():
@@ -85,7 +85,7 @@ def registered_laws() -> dict[str, type[BounceModel]]:
     return out
 
 
-def law_class(name: str, *, case_sensitive: bool = True, script: str | None = None) -> type[BounceModel]:
+def law_class(name: str, *, case_sensitive: bool = True, script: str | None = None) -> type[Law]:
     """The law class known by ``name`` (see :func:`law_name`).
 
     A short name always means bouncelab's own law of that name, never a user's
@@ -144,8 +144,8 @@ def law_class(name: str, *, case_sensitive: bool = True, script: str | None = No
     raise UnknownLawError(f"unknown law {name!r}; known laws: {known}", law_name=name)
 
 
-def _qualified_class(name: str, classes: list[type[BounceModel]], same: Callable[[str, str], bool],
-                     script: str | None) -> type[BounceModel]:
+def _qualified_class(name: str, classes: list[type[Law]], same: Callable[[str, str], bool],
+                     script: str | None) -> type[Law]:
     """The class of a ``module:QualName`` name (see :func:`law_class`)."""
     module, _, qualname = name.partition(":")
     hits = [c for c in classes if same(f"{c.__module__}:{c.__qualname__}", name)]
@@ -191,7 +191,7 @@ def _defined_in(cls: type, script: str) -> bool:
         return False
 
 
-def register(cls: type[BounceModel]) -> None:
+def register(cls: type[Law]) -> None:
     """Make a concrete law class known by its names (called when the class is defined)."""
     with _REGISTRY_LOCK:
         _REGISTRY[f"{cls.__module__}:{cls.__qualname__}"] = cls

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from bouncelab.core import _parallel
+from bouncelab.laws._contact import restitution_line, vertical_restitution
 from bouncelab.laws.compiled import CompiledLaw
 from bouncelab.laws.parameters import Parameter
 from bouncelab.laws.rigid import MU
@@ -183,13 +184,9 @@ class TurfContact(CompiledLaw):
 
     def restitution(self, speed: Any) -> np.ndarray:
         """Normal restitution |ydotF / ydot0| of vertical landings at ``speed`` radii/s (no spin)."""
-        from bouncelab.laws._contact import vertical_restitution
-
         return vertical_restitution(self, speed)
 
     def _summary_lines(self) -> list[str]:
         if not self.is_fitted:
             return []
-        from bouncelab.laws._contact import restitution_line
-
         return [restitution_line(self)]

@@ -14,9 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core._jit import ROW_FLAGS, jit
 from bouncelab.core._parallel import run_rows
 from bouncelab.core.errors import ParameterError, row_text
 from bouncelab.core.validation import as_states
+from bouncelab.laws.registry import law_name
 
 __all__ = ["predict_per_bounce"]
 
@@ -36,9 +38,7 @@ def _row_loop(kernel: Any, m: int) -> Any:
     hit = _ROW_LOOPS.get((id(kernel), m))
     if hit is not None and hit[0] is kernel:
         return hit[1]
-    from numba.np.unsafe.ndarray import to_fixed_tuple
-
-    from bouncelab.core._jit import ROW_FLAGS, jit
+    from numba.np.unsafe.ndarray import to_fixed_tuple  # (numba: imported when a loop is first built)
 
     @jit(nogil=True, fastmath=ROW_FLAGS)
     def loop(P, K, out, codes, start, stop):  # pragma: no cover - compiled
@@ -95,8 +95,6 @@ def predict_per_bounce(law: Any, landing: Any, params: Any, *, codes: bool = Fal
         Parameters missing, unknown, of the wrong shape, not finite or outside their physical ranges (naming
         the parameter and the row, with a DataFrame's row label).
     """
-    from bouncelab.laws.registry import law_name
-
     carrier = _carrier(law)
     cls = type(carrier)
     name = law_name(cls)

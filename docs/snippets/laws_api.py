@@ -1,7 +1,7 @@
 import bouncelab as bl
 
 law = bl.Rigid(r=0.5, mu=0.4)
-print(law, law.parameters, law.is_fitted, bl.Rigid.default_bounds())
+print(law, law.params.valuesdict(), law.is_fitted, bl.Rigid.default_bounds())
 print(law.params)                               # parameters as objects: value, bounds, unit, vary, description
 print(law.replace(mu=0.2))                      # laws are values: replace() returns a changed copy
 try:

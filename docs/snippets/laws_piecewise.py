@@ -5,7 +5,7 @@ print(law.printed_plane())
 print(law.plane_equation())
 print(law.plane_unit_equation())                  # always finite, also for planes parallel to the omega axis
 print(law.normal, law.offset)
-print(law.parameters["A1"])                       # parameters are arrays; flat_parameters() names every number
-print(list(law.flat_parameters())[:6], "...")
+print(law.params["A1"].value)                     # parameters are arrays; params.flat() names every number
+print(list(law.params.flat())[:6], "...")
 landing = [[1000.0, -800.0, 600.0], [300.0, -200.0, -300.0]]
 print(law.regime(landing), law.predict(landing).round(1))
