@@ -1,11 +1,11 @@
 """From one :class:`~bouncelab.data.io.read.Table` to numbers in known units: one pipeline of small functions.
 
 A :class:`Role` (state, component) says what a column holds; :func:`select_auto` or :func:`select_explicit`
-picks a :class:`Column` of the file for each role; :func:`read_columns` drops or refuses missing cells, finds
-the decimal mark, parses each column (:func:`~bouncelab.data.io.names.to_numbers`), finds its unit
-(``units=``, the header, a units row, else assumed) and scales it. :func:`campaign_from_table` goes on to the
-polar states, the intervals and the unit guard (:mod:`bouncelab.core.plausibility`); the landings of
-``bouncelab predict`` and the launch-monitor shots ask the same steps for their own columns. Every refusal is a
+picks a :class:`Column` of the file for each; :func:`read_columns` drops or refuses rows with a missing cell,
+finds the decimal mark and parses each column (:func:`~bouncelab.data.io.names.to_numbers`); :func:`with_units`
+finds each unit (``units=``, the header, a units row, else assumed) and scales. :func:`campaign_from_table` goes
+on to the polar states, the intervals and the unit guard (:mod:`bouncelab.core.plausibility`); the landings of
+``bouncelab predict`` and the launch-monitor shots ask the same steps for their own columns. Each refusal is a
 :class:`~bouncelab.core.errors.DataError` naming the file, the column as spelled there and the data row, with
 the options that would put it right as :class:`~bouncelab.core.errors.Hint` s (docs/data.md).
 """
@@ -28,7 +28,7 @@ from bouncelab.core import plausibility, units
 from bouncelab.core.errors import DataError, DroppedRowsWarning, Hint
 from bouncelab.core.units import COMPONENTS, Z95
 from bouncelab.core.validation import as_states
-from bouncelab.data.campaign import build_campaign
+from bouncelab.data.campaign import build_campaign, validate_campaign
 from bouncelab.data.io import names as syn
 from bouncelab.data.io.read import MISSING, Table, is_empty
 
@@ -49,7 +49,7 @@ _INT64_MAX = np.iinfo(np.int64).max
 
 
 class Role(NamedTuple):
-    """What a column holds: a state (``landing``, ``liftoff_pi``...) and a component (``xdot``, ``speed``...)."""
+    """What a column holds: a state (``landing``, ``liftoff_pi``, ``setting``...) and a component (``xdot``...)."""
 
     state: str
     comp: str = ""
@@ -65,17 +65,14 @@ class Role(NamedTuple):
     def pi(self) -> bool:
         return self.state.endswith("_pi")
 
-    def of_state(self, state: str) -> Role:
-        return Role(state, self.comp)
-
 
 SETTING = Role("setting")
 
 
 @dataclass(frozen=True)
 class Column:
-    """The column of the file read for a role: its name as spelled, whether its whole header matched (a bracket
-    in it may be part of the name), its unit and where that came from, its numbers as written and scaled."""
+    """The file's column read for a role: its name as spelled, whether its whole header matched (a bracket in it may
+    be part of the name), its unit and where that came from (``origin``), its numbers as written and scaled."""
 
     name: str
     whole: bool = True
@@ -87,7 +84,7 @@ class Column:
 
 @dataclass(frozen=True)
 class Rows:
-    """The table being read: its named columns, the file's data row of each row kept, the ball radius."""
+    """The table being read: its named columns, the file's data row (0-based) of each row kept, the ball radius."""
 
     t: Table
     frame: pd.DataFrame
@@ -97,34 +94,34 @@ class Rows:
     decimal_comma: bool = False
 
     @property
-    def file(self) -> str:
-        return self.t.file
-
-    @property
     def names(self) -> list[str]:
         return list(self.frame.columns)
 
     def err(self, message: str, column: str | None = None, i: int | None = None, hints=()) -> DataError:
-        """A DataError at row ``i`` (0-based, of the rows kept) of ``column``: the file's line or cell in the message,
-        a DataFrame's row label as a field."""
+        """A DataError at row ``i`` (of the rows kept) of ``column``: the file's line or cell in the message."""
         if i is None:
-            return DataError(message, file=self.file, column=column, hints=hints)
+            return DataError(message, file=self.t.file, column=column, hints=hints)
         row = int(self.rows[i])
         where = f" ({self.t.locate(row, column)})" if self.t.locate is not None else ""
-        return DataError(message + where, file=self.file, column=column, row=row + 1, hints=hints,
+        return DataError(message + where, file=self.t.file, column=column, row=row + 1, hints=hints,
                          row_label=None if self.t.labels is None else self.t.labels[row])
 
     def cell(self, name: str, i: int, unit: str | None = None) -> str:
         """A cell as written in the file, with its unit (``'3.404 m/s'``): never a converted number."""
-        row = int(self.rows[i])
-        v = self.t.text(name)[row] if self.t.text is not None else self.t.cells[name].iloc[row]
+        v = self.t.text(name)[self.rows[i]] if self.t.text is not None else self.t.cells[name].iloc[self.rows[i]]
         text = v.strip() if isinstance(v, str) else repr(v.item() if isinstance(v, np.generic) else v)
         return text if unit is None else f"{text} {unit}"
 
-    def unit_text(self, name: str) -> tuple[str | None, str]:
-        """The unit a column's header, units row or units attribute gives, and where."""
-        unit = syn.split_header(name)[1]
-        return (unit, "header") if unit is not None else self.t.units.get(name, (None, ""))
+
+def start(t: Table, radius_m: float = units.BALL_RADIUS_M, plausible=plausibility.PLAUSIBLE_RANGES) -> Rows:
+    """The rows of a table, its unnamed columns left out; a header unit the units row contradicts refused."""
+    for name in t.cells.columns:
+        unit, row = syn.split_header(name)[1], t.units.get(name)
+        if unit and row and row[1] == "units row" and not _same_unit(unit, row[0]):
+            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
+                            "them agree or remove one", file=t.file, column=name)
+    frame = t.cells if all(t.cells.columns) else t.cells.loc[:, [bool(n) for n in t.cells.columns]]
+    return Rows(t, frame, np.arange(len(frame)), radius_m, plausible)
 
 
 def warn(message: str, category: type[Warning] = UserWarning) -> None:
@@ -155,17 +152,6 @@ def check_units_arg(given: Any, file: str) -> dict[str, str]:
     return out
 
 
-def start(t: Table, radius_m: float = units.BALL_RADIUS_M, plausible=plausibility.PLAUSIBLE_RANGES) -> Rows:
-    """The rows of a table, its unnamed columns left out; a header unit the units row contradicts refused."""
-    for name in t.cells.columns:
-        unit, row = syn.split_header(name)[1], t.units.get(name)
-        if unit and row and row[1] == "units row" and not _same_unit(unit, row[0]):
-            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
-                            "them agree or remove one", file=t.file, column=name)
-    frame = t.cells if all(t.cells.columns) else t.cells.loc[:, [bool(n) for n in t.cells.columns]]
-    return Rows(t, frame, np.arange(len(frame)), radius_m, plausible)
-
-
 # ------------------------------------------------------------------------------------------------ which column
 
 def find(r: Rows, requested: str, role: str) -> Column:
@@ -178,7 +164,7 @@ def find(r: Rows, requested: str, role: str) -> Column:
         return Column(found[0], syn.normalize(found[0]) in keys)
     raise DataError(f"{requested!r} (asked for as {role}) matches several columns: {found}; give the exact name of "
                     "the one to use" if found else f"no column matches {requested!r} (asked for as {role}); the "
-                    f"file's columns are {r.names}", file=r.file, column=requested)
+                    f"file's columns are {r.names}", file=r.t.file, column=requested)
 
 
 def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, list[Column]]:
@@ -190,73 +176,62 @@ def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, li
     return found
 
 
-def _said(cols: Mapping[Role, Column]) -> dict[Role, str]:
-    return {role: (syn.synonym_role(c.name) or ("",))[0] for role, c in cols.items() if role != SETTING}
-
-
 def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
     """The columns named by ``columns=``, refusing a half-width named as a state's column (or the reverse) and a
     speed or angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
-    keys = (*STATES, *PI_STATES)
+    keys, file = (*STATES, *PI_STATES), r.t.file
     if not isinstance(columns, Mapping) or [k for k in columns if k not in (*keys, "setting")]:
         raise DataError(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}, e.g. "
-                        f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}", file=r.file)
+                        f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}", file=file)
     cols: dict[Role, Column] = {}
     for key in (k for k in keys if columns.get(k) is not None or k in STATES):
         if (roles := _state_roles(columns.get(key))) is None:
             raise DataError(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) "
                             f"or a mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}",
-                            file=r.file)
+                            file=file)
         cols.update({Role(key, c): find(r, n, f"{key} {c}") for c, n in roles.items()})
     if columns.get("setting") is not None:
         cols[SETTING] = find(r, str(columns["setting"]), "setting")
-    said = _said(cols)
-    for role in (k for k, t in said.items() if "." in t and ("_pi." in t) != k.pi):
-        key, polar = role.state, Role(role.state, "speed") in cols
-        raise DataError(f"the columns given for {key!r} include one of the wrong kind: {cols[role].name!r} says it "
-                        f"holds {_what(Role.of(said[role]))}, not {_what(role, polar, asked=True)}; a state's own "
-                        f"columns go under {key.removesuffix('_pi')!r}, their half-widths under"
-                        f" {key.removesuffix('_pi') + '_pi'!r} (or rename the column if it holds what is asked)",
-                        file=r.file, column=cols[role].name, hints=[Hint("columns")])
+    said = {k: Role.of((syn.synonym_role(c.name) or ("",))[0] or ".") for k, c in cols.items() if k != SETTING}
+    for k in (k for k, s in said.items() if s.comp and s.pi != k.pi):
+        base = k.state.removesuffix("_pi")
+        raise DataError(f"the columns given for {k.state!r} include one of the wrong kind: {cols[k].name!r} says it "
+                        f"holds {_what(said[k])}, not {_what(k, Role(k.state, 'speed') in cols, asked=True)}; a "
+                        f"state's own columns go under {base!r}, their half-widths under {base + '_pi'!r} (or rename "
+                        "the column if it holds what is asked)", file=file, column=cols[k].name, hints=[Hint("columns")])
     for key in keys:
         if key in PI_STATES and Role(key, "speed") in cols and Role(key[:-3], "speed") not in cols:
-            raise DataError(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the "
-                            f"{_SAID[key[:-3]]} is read from Cartesian columns (xdot, ydot, omega): they are "
-                            f"propagated through the polar state they belong to; give the {_SAID[key[:-3]]} as "
-                            f"{{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} as a list of its xdot, "
-                            "ydot, omega half-widths", file=r.file, hints=[Hint("columns")])
-        wrong = [c for c in COMPONENTS if not isinstance(columns.get(key), Mapping) and Role(key, c) in said
-                 and said[Role(key, c)].split(".")[-1] in ("speed", "angle")]
-        if wrong:
-            def pick(comp: str, key: str = key) -> str:  # the column whose name says it is ``comp``
-                found = [cols[Role(key, c)].name for c in COMPONENTS if said[Role(key, c)] == f"{key}.{comp}"]
-                found += [cols[Role(key, "omega")].name] if comp == "omega" and not said[Role(key, "omega")] else []
-                return found[0] if found else f"<{key} {'spin' if comp == 'omega' else comp} column>"
-
-            role = Role(key, wrong[0])
-            raise DataError(
-                f"the column name {cols[role].name!r} says it holds {_what(Role.of(said[role]))}, but the list given "
-                f"for {key!r} reads it as {_what(role, asked=True)}: speed, angle and spin"
-                f"{' half-widths' if key in PI_STATES else ''} are named by a mapping (a list is read as xdot, ydot, "
-                "omega), or rename the column if it holds what is asked", file=r.file, column=cols[role].name,
-                hints=[Hint("columns", {key: {k: pick(c) for k, c in zip(("speed", "angle", "spin"), POLAR,
-                                                                          strict=True)}})])
+            s = _SAID[key[:-3]]
+            raise DataError(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the {s} is read from "
+                            f"Cartesian columns (xdot, ydot, omega): they are propagated through the polar state they "
+                            f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} as "
+                            "a list of its xdot, ydot, omega half-widths", file=file, hints=[Hint("columns")])
+        if isinstance(columns.get(key), Mapping) or not (
+                wrong := [c for c in COMPONENTS if Role(key, c) in said and said[Role(key, c)].comp in POLAR[:2]]):
+            continue
+        named = {s.comp: cols[k].name for k, s in said.items() if k.state == key and s.state == key}
+        named.setdefault("omega", cols[Role(key, "omega")].name if not said[Role(key, "omega")].comp else None)
+        k = Role(key, wrong[0])
+        raise DataError(f"the column name {cols[k].name!r} says it holds {_what(said[k])}, but the list given for "
+                        f"{key!r} reads it as {_what(k, asked=True)}: speed, angle and spin"
+                        f"{' half-widths' if key in PI_STATES else ''} are named by a mapping (a list is read as xdot, "
+                        "ydot, omega), or rename the column if it holds what is asked", file=file, column=cols[k].name,
+                        hints=[Hint("columns", {key: {w: named.get(c) or f"<{key} {w} column>" for w, c in zip(
+                            ("speed", "angle", "spin"), POLAR, strict=True)}})])
     return cols
 
 
 def select_auto(r: Rows) -> dict[Role, Column]:
     """The columns found by their names' synonyms, Cartesian or polar for each state, and their intervals."""
-    found = candidates(r)
+    found, cols, problems = candidates(r), {}, []
     forms = {s: _form(found, s) for s in STATES}
-    problems: list[str] = []
     for s, other in zip(STATES, reversed(STATES), strict=True):
         if not any(found[Role(s, c)] for c in ("xdot", "ydot", "speed", "angle")):
             forms[s] = forms[other]  # nothing found: suggest the form the other state has
         if forms[s] == "cartesian" and any(len(found[Role(s, c)]) != 1 for c in ("xdot", "ydot")) and any(
                 found[Role(s, c)] for c in ("speed", "angle")):
-            problems.append(f"{s}: both Cartesian columns {[c.name for r_ in ('xdot', 'ydot') for c in found[Role(s, r_)]]}"
-                            f" and polar ones {[c.name for r_ in ('speed', 'angle') for c in found[Role(s, r_)]]}")
-    cols: dict[Role, Column] = {}
+            problems.append(f"{s}: both Cartesian columns {_names(found, s, ('xdot', 'ydot'))} and polar ones "
+                            f"{_names(found, s, ('speed', 'angle'))}")
     for role in (*(Role(s, c) for s in STATES for c in (COMPONENTS if forms[s] == "cartesian" else POLAR)), SETTING):
         if len(found[role]) == 1:
             cols[role] = found[role][0]
@@ -267,12 +242,12 @@ def select_auto(r: Rows) -> dict[Role, Column]:
     hint = Hint("columns", _columns_call(found, forms), "replace each <...>")
     if problems:
         note = ("; a state given as speed, angle and spin is named by a mapping {'speed': ..., 'angle': ..., "
-                "'spin': ...}, not a list" if any(forms[s] == "cartesian" and any(found[Role(s, c)] for c in (
-                    "speed", "angle")) for s in STATES) else "")
+                "'spin': ...}, not a list" if any(forms[s] == "cartesian" and _names(found, s, ("speed", "angle"))
+                                                  for s in STATES) else "")
         raise DataError(f"cannot tell which columns hold the bounce data ({'; '.join(problems)}); the file's "
-                        f"columns are {r.names}{note}", file=r.file, hints=[hint])
+                        f"columns are {r.names}{note}", file=r.t.file, hints=[hint])
     if faults:
-        raise DataError(faults[0], file=r.file, hints=[hint])
+        raise DataError(faults[0], file=r.t.file, hints=[hint])
     return cols
 
 
@@ -282,40 +257,34 @@ def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: 
     Cartesian half-widths are read; polar ones of a Cartesian state (nothing to propagate them through) and a lone
     spin's are ignored with a warning; a polar state's need all three and no Cartesian ones beside them."""
     pi, said = f"{state}_pi", _SAID[state]
-    if several := [f"{pi}.{c}: several candidates {[ch.name for ch in found[Role(pi, c)]]}"
-                   for c in (*COMPONENTS, "speed", "angle") if len(found[Role(pi, c)]) > 1]:
+    if several := [f"{pi}.{c}: several candidates {_names(found, pi, (c,))}" for c in (*COMPONENTS, *POLAR[:2])
+                   if len(found[Role(pi, c)]) > 1]:
         problems.extend(several)
         return None
-
-    def names(comps: Sequence[str]) -> list[str]:
-        return [found[Role(pi, c)][0].name for c in comps if found[Role(pi, c)]]
-
-    cartesian = [c for c in COMPONENTS if found[Role(pi, c)]]
-    polar = [c for c in ("speed", "angle") if found[Role(pi, c)]]
+    cartesian, polar = ([c for c in comps if found[Role(pi, c)]] for comps in (COMPONENTS, POLAR[:2]))
     missing = [k for k, c in zip(("speed", "angle", "spin"), POLAR, strict=True) if not found[Role(pi, c)]]
     where = "in the column mapping (columns= in Python, --columns on the command line)"
     if len(cartesian) == 3 and (form == "cartesian" or not polar):
         cols.update({Role(pi, c): found[Role(pi, c)][0] for c in COMPONENTS})
     elif polar and form == "cartesian":  # ignoring them loses the intervals, never gives a wrong number
-        warn(f"{r.file}: ignoring the {pi} columns {names((*polar, *cartesian))}: the {said} is read from its "
-             f"Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle "
-             f"({', '.join(names(polar))}) are propagated only through a polar state; loaded without {said} "
-             f"intervals. To use them, name the {said} as speed, angle and spin and {pi!r} as a mapping, or its "
-             f"xdot, ydot, omega half-widths as a list, {where}")
+        warn(f"{r.t.file}: ignoring the {pi} columns {_names(found, pi, (*polar, *cartesian))}: the {said} is read "
+             f"from its Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle "
+             f"({', '.join(_names(found, pi, polar))}) are propagated only through a polar state; loaded without "
+             f"{said} intervals. To use them, name the {said} as speed, angle and spin and {pi!r} as a mapping, or "
+             f"its xdot, ydot, omega half-widths as a list, {where}")
     elif polar and {"xdot", "ydot"} & set(cartesian):
-        return (f"the {said} has both Cartesian half-widths {names(('xdot', 'ydot'))} and polar ones "
-                f"{names(polar)}; say which to read ({pi!r} as a list of xdot, ydot, omega or a mapping of "
-                "speed, angle, spin)")
+        return (f"the {said} has both Cartesian half-widths {_names(found, pi, ('xdot', 'ydot'))} and polar ones "
+                f"{_names(found, pi, polar)}; say which to read ({pi!r} as a list of xdot, ydot, omega or a mapping "
+                "of speed, angle, spin)")
     elif polar and missing:
-        return (f"the {said} has polar half-widths {names(POLAR)} but none for its {' and '.join(missing)}: all "
-                "three (speed, angle, spin) are needed to propagate them to xdot, ydot, omega; add the missing "
-                f"column, or name it (or leave {pi!r} out to load without intervals)")
+        return (f"the {said} has polar half-widths {_names(found, pi, POLAR)} but none for its "
+                f"{' and '.join(missing)}: all three (speed, angle, spin) are needed to propagate them to xdot, ydot, "
+                f"omega; add the missing column, or name it (or leave {pi!r} out to load without intervals)")
     elif polar:
         cols.update({Role(pi, c): found[Role(pi, c)][0] for c in POLAR})
     elif cartesian:
-        which = "xdot, ydot, omega" + ("; or speed, angle, spin" if form == "polar" else "")
-        warn(f"{r.file}: ignoring the incomplete {pi} columns {names(COMPONENTS)}; name all three ({which}) "
-             f"{where} to use them")
+        warn(f"{r.t.file}: ignoring the incomplete {pi} columns {_names(found, pi, COMPONENTS)}; name all three "
+             f"(xdot, ydot, omega{'; or speed, angle, spin' if form == 'polar' else ''}) {where} to use them")
     return None
 
 
@@ -327,31 +296,29 @@ def check_absolute_units(r: Rows, cols: Mapping[Role, Column]) -> None:
         row_unit = r.t.units.get(col.name, (None, "header"))
         if role == SETTING or (unit := syn.relative_unit(col.name, row_unit[0])) is None:
             continue
-        what = _what(role, Role(role.state, "speed") in cols, asked=True).removeprefix("the ").removesuffix(
-            " half-width")
+        what = _what(role, Role(role.state, "speed") in cols, asked=True)[4:].removesuffix(" half-width")
         where = "header" if syn.split_header(col.name)[1] is not None else row_unit[1]
         raise DataError(
             f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads half-widths "
-            "only in an absolute unit (that of the value or one of its kind); convert the column first, "
-            "multiplying each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), and give it "
-            "the value's unit" if role.pi else f"the {where} gives the {what} in {unit!r}, a relative unit: a "
-            f"measured {what} needs an absolute unit (m/s, rpm, deg...); convert the column, or name the one holding "
-            "the value", file=r.file, column=col.name)
+            "only in an absolute unit (that of the value or one of its kind); convert the column first, multiplying "
+            "each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), and give it the value's unit"
+            if role.pi else f"the {where} gives the {what} in {unit!r}, a relative unit: a measured {what} needs an "
+            "absolute unit (m/s, rpm, deg...); convert the column, or name the one holding the value",
+            file=r.t.file, column=col.name)
 
 
 def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None) -> dict[Role, float]:
     """The factor that makes each interval column a 95 % half-width: 1, or Z95 for a standard deviation.
     ``intervals=None`` lets the names say; an ``err``/``unc`` name, which could be either, is refused."""
-    scales: dict[Role, float] = {}
-    unsure: list[str] = []
+    scales, unsure = {}, []
     meaning = {"pi95": "a 95 % half-width", "sd": "one standard deviation"}
     for role, col in ((k, c) for k, c in cols.items() if k.pi):
         marker = syn.interval_marker(col.name)
         says = "pi95" if marker in syn.PI95_MARKERS else "sd" if marker in syn.SD_MARKERS else None
         if intervals is not None and says is not None and says != intervals:
-            raise DataError(f"the interval columns are said to hold {meaning[intervals]}, but the name of "
-                            f"{col.name!r} ({marker!r}) says it holds {meaning[says]} (rename the column if it "
-                            "does not)", file=r.file, column=col.name, hints=[Hint("intervals", says, "as the name says")])
+            raise DataError(f"the interval columns are said to hold {meaning[intervals]}, but the name of {col.name!r} "
+                            f"({marker!r}) says it holds {meaning[says]} (rename the column if it does not)",
+                            file=r.t.file, column=col.name, hints=[Hint("intervals", says, "as the name says")])
         if intervals is None and marker in syn.AMBIGUOUS_MARKERS:
             unsure.append(col.name)
         else:
@@ -360,7 +327,7 @@ def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None)
         raise DataError(
             f"the interval column{'s' if len(unsure) > 1 else ''} {unsure} may hold one standard deviation or the "
             "half-width of a 95 % interval, and the name does not say which (a standard deviation read as a "
-            "half-width would give intervals 1.96 times too narrow)", file=r.file, column=unsure[0],
+            "half-width would give intervals 1.96 times too narrow)", file=r.t.file, column=unsure[0],
             hints=[Hint("intervals", "sd", f"standard deviations, multiplied by {Z95:.2f} to 95 % half-widths"),
                    Hint("intervals", "pi95", "95 % half-widths, as a campaign stores them")])
     return scales
@@ -377,20 +344,19 @@ def missing_rows(r: Rows, names: Sequence[str]) -> dict[int, tuple[str, Any]]:
 
 
 def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
-    """The rows without a missing cell in ``names``, and the file's data rows dropped (with a warning naming them)."""
+    """The rows without a missing cell in ``names``, and the file's data rows dropped (a warning names them)."""
     if not (bad := missing_rows(r, names)):
         return r, []
     if len(bad) == len(r.frame):
         raise DataError(f"every row has a missing value (e.g. column {bad[0][0]!r}, row 1): nothing is left to "
-                        "load", file=r.file)
+                        "load", file=r.t.file)
 
     def show(i: int, name: str, v: Any) -> str:
         where = (f"{r.t.locate(i, name)}: " if r.t.locate else "" if r.t.labels is None else
                  f"row label {r.t.labels[i]!r}: ")
-        what = "NaN" if isinstance(v, float) else "empty" if is_empty(v) else repr(v.strip())
-        return f"row {i + 1} ({where}{name!r} is {what})"
+        return f"row {i + 1} ({where}{name!r} is {'NaN' if isinstance(v, float) else 'empty' if is_empty(v) else repr(v.strip())})"
 
-    warn(f"{r.file}: dropped {len(bad)} incomplete row(s) of {len(r.frame)}: "
+    warn(f"{r.t.file}: dropped {len(bad)} incomplete row(s) of {len(r.frame)}: "
          + "; ".join(show(i, *cell) for i, cell in bad.items()), DroppedRowsWarning)
     keep = np.setdiff1d(np.arange(len(r.frame)), list(bad))
     return replace(r, frame=r.frame.iloc[keep], rows=r.rows[keep]), list(bad)
@@ -422,9 +388,9 @@ def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
         if (comma is not None and "." in t) or (dot is not None and "," in t):
             why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
                    f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
-        elif comma is None and dot is None and ("," in t or r.t.delimiter == ";"):  # a semicolon file: a
+        elif comma is None and dot is None and ("," in t or r.t.delimiter == ";"):  # a decimal-comma locale's
             why = (f"nothing else in the file says whether the {'comma' if ',' in t else 'dot'} is a decimal mark "
-                   "or a thousands separator")  # decimal-comma locale's export, where 1.500 may well be 1500
+                   "or a thousands separator")  # export (semicolons), where 1.500 may well be 1500
         else:
             continue
         raise r.err(f"{t!r} is ambiguous: {why}; write it without the separator "
@@ -447,10 +413,9 @@ def numbers(r: Rows, name: str, what: str = "bounce") -> tuple[np.ndarray, DataE
     out = syn.to_numbers(s.to_numpy(), r.decimal_comma)
     if (bad := np.flatnonzero(np.isnan(out))).size:
         i, v = int(bad[0]), s.iloc[int(bad[0])]
-        if is_empty(v):
-            return out, r.err(f"empty cell; every {what} needs a value", name, i, [_DROP])
-        if isinstance(v, str) and v.strip().lower() in MISSING:
-            return out, r.err(f"missing value {v.strip()!r}; every {what} needs a value", name, i, [_DROP])
+        if is_empty(v) or (isinstance(v, str) and v.strip().lower() in MISSING):
+            said = "empty cell" if is_empty(v) else f"missing value {v.strip()!r}"
+            return out, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
         return out, r.err(f"non-numeric value {v!r}", name, i)
     return out, None
 
@@ -469,8 +434,8 @@ def setting(r: Rows, name: str) -> np.ndarray:
             shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str) else v)
             raise r.err(f"missing setting label ({shown}); every bounce needs one", name, i, [_DROP])
         if isinstance(v, str) and np.isinf(parsed[i]):
-            raise r.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a "
-                        "label", name, i)
+            raise r.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a label",
+                        name, i)
     labels = [v.strip() if isinstance(v, str) else v for v in cells]
     numbers_ = [_label_number(v, x) for v, x in zip(labels, parsed, strict=True)]
     if all(isinstance(x, int) for x in numbers_):  # beyond int64: kept exact as text
@@ -481,47 +446,18 @@ def setting(r: Rows, name: str) -> np.ndarray:
     return np.array([str(int(v)) if isinstance(v, float) and v.is_integer() else str(v) for v in labels])
 
 
-def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
-                default: Mapping[str, str] = DEFAULT_UNITS) -> tuple[str, str]:
-    """The unit of a column and where it came from (``units=``, header, assumed)."""
-    text, where = r.unit_text(col.name)
-    known = {} if text is None else syn.unit_of(text)
-    header = known.get(kind)
-    if text is not None and header is None and (known or not (col.whole and where == "header")):
-        what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
-        try:
-            units.canonical_unit(text, kind)
-        except DataError as exc:
-            raise DataError(f"the {where} gives the unit {text!r}, {what}; {exc.message}", file=r.file,
-                            column=col.name) from None
-    if kind in given and header is not None and header != given[kind]:
-        raise DataError(f"the header says {header} but the {kind} unit given is {given[kind]}; remove one of them "
-                        "or make them agree", file=r.file, column=col.name,
-                        hints=[Hint("units", {kind: header}, "as the header says")])
-    if kind in given:
-        return given[kind], "units="
-    return (header, "header") if header is not None else (default[kind], "assumed")
-
-
-def scale(r: Rows, col: Column, kind: str) -> np.ndarray:
-    """A column's numbers in scaled units (radii/s, rad/s; angles in degrees)."""
-    if kind == "velocity":
-        return units.velocity_to_scaled(col.raw, col.unit, radius_m=r.radius)
-    return units.spin_to_scaled(col.raw, col.unit) if kind == "spin" else np.rad2deg(col.raw) if (
-        col.unit == "rad") else col.raw
-
-
-def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: str = "bounce") -> tuple[Rows, dict[Role, Column], list[int]]:
-    """The chosen columns' numbers and units: rows with a missing cell dropped (``missing="drop"``) or the first bad
-    cell in row order refused; the file's data rows dropped."""
+def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: str = "bounce"
+                 ) -> tuple[Rows, dict[Role, Column], list[int]]:
+    """The chosen columns' numbers as written: rows with a missing cell dropped (``missing="drop"``) or the first
+    bad cell in row order refused; also the file's data rows dropped."""
     used: dict[str, Role] = {}
     for role, col in cols.items():
         if used.setdefault(col.name, role) != role:
-            raise DataError(f"the same column is asked for as {used[col.name]} and as {role}", file=r.file,
+            raise DataError(f"the same column is asked for as {used[col.name]} and as {role}", file=r.t.file,
                             column=col.name)
     lengths = {n: r.t.lengths[n] for n in used} if r.t.lengths is not None else {}
     if len(set(lengths.values())) > 1:
-        raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each", file=r.file,
+        raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each", file=r.t.file,
                         column=max(lengths, key=lambda k: lengths[k]))
     r, dropped = drop_missing(r, list(used)) if missing == "drop" else (r, [])
     r = decimal_convention(r, [c.name for role, c in cols.items() if role != SETTING])
@@ -535,32 +471,55 @@ def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: st
         out[role] = replace(col, raw=raw)
     if errors:  # the first bad cell in row order
         raise min(errors, key=lambda e: e.row or 0)
-    return r, {**cols, **out}, dropped
+    return r, out, dropped
 
 
-# ------------------------------------------------------------------------------------------------ the states
+def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
+                default: Mapping[str, str] = DEFAULT_UNITS) -> tuple[str, str]:
+    """The unit of a column and where it came from (``units=``, header, assumed)."""
+    text, where = (u, "header") if (u := syn.split_header(col.name)[1]) is not None else r.t.units.get(col.name, (None, ""))
+    known = {} if text is None else syn.unit_of(text)
+    if text is not None and (header := known.get(kind)) is None and (known or not (col.whole and where == "header")):
+        what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
+        try:
+            units.canonical_unit(text, kind)
+        except DataError as exc:
+            raise DataError(f"the {where} gives the unit {text!r}, {what}; {exc.message}", file=r.t.file,
+                            column=col.name) from None
+    if kind in given and (header := known.get(kind)) is not None and header != given[kind]:
+        raise DataError(f"the header says {header} but the {kind} unit given is {given[kind]}; remove one of them "
+                        "or make them agree", file=r.t.file, column=col.name,
+                        hints=[Hint("units", {kind: header}, "as the header says")])
+    if kind in given:
+        return given[kind], "units="
+    return (known[kind], "header") if kind in known else (default[kind], "assumed")
+
 
 def with_units(r: Rows, cols: dict[Role, Column], given: Mapping[str, str],
                scales: Mapping[Role, float] | None = None) -> dict[Role, Column]:
-    """Each state or interval column's unit and scaled numbers; a half-width without a unit has its value's."""
+    """Each state or interval column's unit and scaled numbers (radii/s, rad/s; angles in degrees); a half-width
+    without a unit has its value's."""
     out = dict(cols)
     for role in sorted((k for k in cols if k != SETTING), key=lambda k: k.pi):  # states first: intervals follow them
-        unit, origin = column_unit(r, cols[role], KINDS[role.comp], given)
-        state = role.of_state(role.state.removesuffix("_pi"))
-        if state != role and state not in out and role.comp in ("xdot", "ydot"):
-            state = Role(state.state, "speed")  # the Cartesian interval of a polar state
+        unit, origin = column_unit(r, cols[role], kind := KINDS[role.comp], given)
+        state = Role(role.state.removesuffix("_pi"), role.comp)
+        state = Role(state.state, "speed") if state not in out and role.comp in ("xdot", "ydot") else state
         if origin == "assumed" and state != role and out[state].origin != "assumed":
-            unit, origin = out[state].unit, "its state column"
-        col = replace(cols[role], unit=unit, origin=origin)
-        out[role] = replace(col, scaled=scale(r, col, KINDS[role.comp]) * (scales or {}).get(role, 1.0))
+            unit, origin = out[state].unit, "its state column"  # (a Cartesian interval of a polar state: its speed's)
+        raw = cols[role].raw
+        scaled = (units.velocity_to_scaled(raw, unit, radius_m=r.radius) if kind == "velocity" else
+                  units.spin_to_scaled(raw, unit) if kind == "spin" else np.rad2deg(raw) if unit == "rad" else raw)
+        out[role] = replace(cols[role], unit=unit, origin=origin, scaled=scaled * (scales or {}).get(role, 1.0))
     return out
 
+
+# ------------------------------------------------------------------------------------------------ the states
 
 def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Column]:
     """A state given as speed, angle and spin with its xdot, ydot, refusing what is not a bounce: speeds >= 0, the
     ball moving in +x, the angle positive below the horizontal for a landing, above it for a lift-off."""
     sp, an, om = (cols[Role(state, c)] for c in POLAR)
-    speed, angle, said = sp.raw, an.scaled, _SAID[state]
+    speed, angle, said, landing = sp.raw, an.scaled, _SAID[state], state == "landing"
     if (infinite := ~np.isfinite(np.column_stack([speed, an.raw, om.raw]))).any():
         i, k = (int(v) for v in np.argwhere(infinite)[0])
         col = (sp, an, om)[k]
@@ -569,17 +528,15 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
     if an.origin == "assumed" and len(angle) and np.max(np.abs(angle)) <= _RADIAN_LIKE:
         raise DataError(f"the file gives no unit for the {said} angles and every one is within +-{_RADIAN_LIKE:.2f}: "
                         "read as degrees (the default) they are implausibly flat, they look like radians; say which (a "
-                        f"unit in the header says it too: '{an.name} (rad)' or '(deg)')", file=r.file, column=an.name,
+                        f"unit in the header says it too: '{an.name} (rad)' or '(deg)')", file=r.t.file, column=an.name,
                         hints=[Hint("units", {"angle": "rad"})])
-    landing = state == "landing"
     bad_speed = ~(speed > 0) if landing else ~(speed >= 0)
     bad_angle = ~((angle > 0) & (angle <= 90)) if landing else ~((angle >= 0) & (angle < 180))
-    if (rows := np.flatnonzero(bad_speed | bad_angle)).size:
-        i = int(rows[0])
-        if bad_speed[i]:
-            raise r.err(f"{said} speed {r.cell(sp.name, i, sp.unit)}: a speed must be "
-                        f"{'positive' if landing else 'zero or positive'}; polar files give speeds >= 0 with the ball "
-                        "moving in +x (the angle gives the direction)", sp.name, i)
+    if (rows := np.flatnonzero(bad_speed | bad_angle)).size and bad_speed[i := int(rows[0])]:
+        raise r.err(f"{said} speed {r.cell(sp.name, i, sp.unit)}: a speed must be "
+                    f"{'positive' if landing else 'zero or positive'}; polar files give speeds >= 0 with the ball "
+                    "moving in +x (the angle gives the direction)", sp.name, i)
+    if rows.size:
         raise r.err(f"{said} angle {r.cell(an.name, i, an.unit)} is not plausible: " + (
             "a landing angle is positive below the horizontal, in (0, 90] degrees for a ball coming down in +x (a "
             "file that measures it the other way needs the column negated)" if landing else "a lift-off angle is "
@@ -605,60 +562,82 @@ def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mappi
         why = "is negative" if raw[i, k] < 0 else "is not a finite number" if not np.isfinite(raw[i, k]) else (
             f"is wider than any plausible angle half-width ({_MAX_ANGLE_HW:g} deg spans every direction a landing "
             "can come from): check the column's unit")
-        raise r.err(f"{interval_cell(r, cols, roles[k], i, scales)} {why}", cols[roles[k]].name, i)
+        raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} {why}", cols[roles[k]].name, i)
     polar, hws = (np.column_stack([cols[Role(s, c)].scaled for c in POLAR]) for s in (state, pi))
 
-    def propagate(p: np.ndarray, h: np.ndarray) -> np.ndarray:
-        return units.polar_halfwidths_to_cartesian(p, h, kind=state, speed_unit="radius/s", spin_unit="rad/s",
-                                                   radius_m=r.radius)
+    def propagate(i: int | slice = slice(None)) -> np.ndarray:
+        return units.polar_halfwidths_to_cartesian(polar[i], hws[i], kind=state, speed_unit="radius/s",
+                                                   spin_unit="rad/s", radius_m=r.radius)
 
     try:
-        hw = propagate(polar, hws)
+        hw = propagate()
     except DataError:  # a number too large for floats once scaled: name the row
-        i = next(i for i in range(len(polar)) if _fails(propagate, polar[i], hws[i]))
-        cells = ", ".join(r.cell(cols[k].name, i, cols[k].unit) for k in roles)
-        raise r.err(f"the {_SAID[state]} half-widths {cells} cannot be propagated: "
-                    f"{_fails(propagate, polar[i], hws[i])}", cols[roles[0]].name, i) from None
+        for i in range(len(polar)):
+            try:
+                propagate(i)
+            except DataError as exc:
+                cells = ", ".join(r.cell(cols[k].name, i, cols[k].unit) for k in roles)
+                raise r.err(f"the {_SAID[state]} half-widths {cells} cannot be propagated: {exc.message}",
+                            cols[roles[0]].name, i) from None
+        raise
     out = {**cols, Role(pi, "omega"): replace(cols[Role(pi, "omega")], scaled=hw[:, 2])}
     for k, comp in enumerate(("xdot", "ydot")):  # so that a later message about them names a column of the file
         out[Role(pi, comp)] = replace(cols[Role(pi, "speed")], scaled=hw[:, k])
     return out
 
 
-def _fails(f, *args) -> str | None:
-    try:
-        f(*args)
-    except DataError as exc:
-        return exc.message
-    return None
-
-
-def interval_cell(r: Rows, cols: Mapping[Role, Column], role: Role, i: int, scales: Mapping[Role, float]) -> str:
+def interval_cell(r: Rows, col: Column, i: int, factor: float) -> str:
     """An interval cell for messages, quoting the number that was checked (a standard deviation x 1.96)."""
-    col, factor = cols[role], scales.get(role, 1.0)
-    unit = col.unit or None
-    cell = r.cell(col.name, i, unit)
+    cell, unit = r.cell(col.name, i, col.unit or None), f" {col.unit}" if col.unit else ""
     return f"prediction-interval half-width {cell}" if factor == 1.0 else (
-        f"standard deviation {cell} (x {factor:.2f}: {col.raw[i] * factor:.6g}{'' if unit is None else ' ' + unit} "
-        "as a 95 % half-width)")
+        f"standard deviation {cell} (x {factor:.2f}: {col.raw[i] * factor:.6g}{unit} as a 95 % half-width)")
+
+
+def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarray, scales: Mapping[Role, float]):
+    """Half-widths that are negative, or wider than any plausible value (a unit mistake, not an uncertainty)."""
+    roles = [Role(pi, c) for c in COMPONENTS]
+    if (arr < 0).any():
+        i, k = (int(v) for v in np.argwhere(arr < 0)[0])
+        raise r.err(f"prediction-interval half-width {r.cell(cols[roles[k]].name, i)} is negative", cols[roles[k]].name, i)
+    limit = np.array([r.plausible.max_speed / r.radius] * 2 + [r.plausible.max_spin * 2 * math.pi / 60])
+    if not (arr > limit).any():
+        return
+    i, k = (int(v) for v in np.argwhere(arr > limit)[0])
+    what = f"{r.plausible.max_speed:g} m/s" if k < 2 else f"{r.plausible.max_spin:g} rpm"
+    if k < 2 and Role(pi[:-3], "speed") in cols:  # propagated: blame the column whose term dominates
+        (v, a), (h_v, h_a) = ((cols[Role(s, "speed")].scaled[i], np.deg2rad(cols[Role(s, "angle")].scaled[i]))
+                              for s in (pi[:-3], pi))
+        trig = (abs(math.cos(a)), abs(math.sin(a)))[:: 1 if k == 0 else -1]  # units.polar_halfwidths_to_cartesian
+        cell = {s + c: r.cell(cols[Role(s, c)].name, i, cols[Role(s, c)].unit) for s in (pi, pi[:-3])
+                for c in ("speed", "angle")}
+        culprit = cols[Role(pi, "speed" if trig[0] * h_v >= v * trig[1] * h_a else "angle")].name
+        unit = cols[Role(pi, "speed")].unit
+        value = units.velocity_from_scaled(arr[i, k], unit, radius_m=r.radius)
+        raise r.err(f"the {_SAID[pi[:-3]]} {COMPONENTS[k]} half-width propagated from the speed half-width "
+                    f"{cell[pi + 'speed']} and the angle half-width {cell[pi + 'angle']} (at speed "
+                    f"{cell[pi[:-3] + 'speed']}, angle {cell[pi[:-3] + 'angle']}) is {value:.4g} {unit}, wider than any "
+                    f"plausible value ({what}): check the unit of {culprit!r}", culprit, i)
+    raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} is wider than any plausible value "
+                f"({what}): check the column's unit", cols[roles[k]].name, i)
 
 
 def check_landing_sign(r: Rows, cols: Mapping[Role, Column]) -> None:
     """A Cartesian landing going up, quoted as written (as_states would quote radii/s)."""
     if Role("landing", "speed") in cols:
         return  # a polar landing is checked by its angle
-    up = np.flatnonzero(cols[Role("landing", "ydot")].scaled >= 0)
-    if up.size and np.isfinite([cols[Role("landing", c)].scaled[: up[0] + 1] for c in COMPONENTS]).all():
-        i, col = int(up[0]), cols[Role("landing", "ydot")]
+    col = cols[Role("landing", "ydot")]
+    if (up := np.flatnonzero(col.scaled >= 0)).size and np.isfinite(
+            [cols[Role("landing", c)].scaled[: up[0] + 1] for c in COMPONENTS]).all():
         raise r.err("landing ydot must be negative (y points up, a landing moves down); the file gives "
-                    f"{r.cell(col.name, i, col.unit)} (a file whose y points down needs the column negated)", col.name, i)
+                    f"{r.cell(col.name, int(up[0]), col.unit)} (a file whose y points down needs the column negated)",
+                    col.name, int(up[0]))
 
 
 def states(r: Rows, cols: Mapping[Role, Column], state: str) -> np.ndarray:
     """A state's (n, 3) scaled array, validated once, errors named in the file's terms."""
     try:
         return as_states(np.column_stack([cols[Role(state, c)].scaled for c in COMPONENTS]), state,
-                         landing=state == "landing", file=r.file)[0]
+                         landing=state == "landing", file=r.t.file)[0]
     except DataError as exc:
         col = cols.get(Role.of(exc.column) if "." in (exc.column or "") else Role(exc.column or "", "xdot"))
         raise r.err(exc.message, exc.column if col is None else col.name,
@@ -682,8 +661,7 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
         if (fits := [u for u, why in verdicts.items() if why is None]) == [default]:
             continue
         names = list(dict.fromkeys(cols[k].name for k in assumed))  # a polar speed backs xdot and ydot
-        why = verdicts[default]
-        said = f"the file gives no {kind} unit for {', '.join(map(repr, names))}"
+        why, said = verdicts[default], f"the file gives no {kind} unit for {', '.join(map(repr, names))}"
         header = f"a unit in the column header says it too, e.g. '{names[0]} [{'m/s' if kind == 'velocity' else 'rpm'}]'"
         msg = (f"{said}, and its numbers are plausible in {', '.join(fits[:-1])} and in {fits[-1]}"
                + (f" (not in {default}: {why.reason})" if why is not None else "")
@@ -695,7 +673,7 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
         hints = [Hint("units", {kind: u}) for u in fits or [default]] + ([] if fits else [_WIDEN])
         if why is not None and why.row is not None:
             raise r.err(msg, cols[Role(why.state, why.component)].name, why.row, hints)
-        raise DataError(msg, file=r.file, column=names[0] if len(names) == 1 else None, hints=hints)
+        raise DataError(msg, file=r.t.file, column=names[0] if len(names) == 1 else None, hints=hints)
     if (why := plausibility.implausibility(*arrays, radius_m=r.radius, ranges=r.plausible)) is not None:
         col = cols[Role(why.state, why.component)]
         said = r.cell(col.name, why.row, col.unit) if why.row is not None else f"in {col.unit}"
@@ -703,39 +681,6 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
         raise r.err(f"{said} (unit from {col.origin}): {why.reason}; the {why.kind} unit is wrong (a unit in the "
                     "column header also says it), or the values need wider plausible ranges", col.name, why.row,
                     [*others, _WIDEN])
-
-
-def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarray, scales: Mapping[Role, float]):
-    """Half-widths that are negative, or wider than any plausible value (a unit mistake, not an uncertainty)."""
-    roles = [Role(pi, c) for c in COMPONENTS]
-    if (arr < 0).any():
-        i, k = (int(v) for v in np.argwhere(arr < 0)[0])
-        raise r.err(f"prediction-interval half-width {r.cell(cols[roles[k]].name, i)} is negative", cols[roles[k]].name, i)
-    limit = np.array([r.plausible.max_speed / r.radius] * 2 + [r.plausible.max_spin * 2 * math.pi / 60])
-    if (arr > limit).any():
-        i, k = (int(v) for v in np.argwhere(arr > limit)[0])
-        what = f"{r.plausible.max_speed:g} m/s" if k < 2 else f"{r.plausible.max_spin:g} rpm"
-        if k < 2 and Role(pi[:-3], "speed") in cols:
-            raise _propagated_too_wide(r, cols, pi, COMPONENTS[k], i, what)
-        raise r.err(f"{interval_cell(r, cols, roles[k], i, scales)} is wider than any plausible value ({what}): check "
-                    "the column's unit", cols[roles[k]].name, i)
-
-
-def _propagated_too_wide(r: Rows, cols: Mapping[Role, Column], pi: str, comp: str, i: int, limit: str) -> DataError:
-    """A propagated xdot or ydot half-width beyond the plausible, blamed on the column whose term dominates."""
-    state = pi.removesuffix("_pi")
-    v, a = cols[Role(state, "speed")].scaled[i], np.deg2rad(cols[Role(state, "angle")].scaled[i])
-    h_v, h_a = cols[Role(pi, "speed")].scaled[i], np.deg2rad(cols[Role(pi, "angle")].scaled[i])
-    by_speed, by_angle = (abs(math.cos(a)) * h_v, v * abs(math.sin(a)) * h_a) if comp == "xdot" else (
-        abs(math.sin(a)) * h_v, v * abs(math.cos(a)) * h_a)  # the two terms (units.polar_halfwidths_to_cartesian)
-    culprit, unit = cols[Role(pi, "speed" if by_speed >= by_angle else "angle")].name, cols[Role(pi, "speed")].unit
-    value = units.velocity_from_scaled(cols[Role(pi, comp)].scaled[i], unit, radius_m=r.radius)
-    cell = {c: r.cell(cols[Role(s, c)].name, i, cols[Role(s, c)].unit) for s, c in ((pi, "speed"), (pi, "angle"))}
-    state_cell = {c: r.cell(cols[Role(state, c)].name, i, cols[Role(state, c)].unit) for c in ("speed", "angle")}
-    return r.err(f"the {_SAID[state]} {comp} half-width propagated from the speed half-width {cell['speed']} and "
-                 f"the angle half-width {cell['angle']} (at speed {state_cell['speed']}, angle {state_cell['angle']}) "
-                 f"is {value:.4g} {unit}, wider than any plausible value ({limit}): check the unit of {culprit!r}",
-                 culprit, i)
 
 
 # ------------------------------------------------------------------------------------------------ a campaign
@@ -760,14 +705,14 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
         attrs["interval_source"] = ", ".join(f"{s} " + " and ".join(sorted(read[s])) for s in STATES if s in read)
     if polar := [s for s in STATES if Role(s, "speed") in cols]:
         attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in STATES)
-    for state in polar:
-        cols = polar_state(r, cols, state)
-    if polar_pi := [s for s in STATES if Role(f"{s}_pi", "speed") in cols]:  # derived, not measured, half-widths
+        for state in polar:
+            cols = polar_state(r, cols, state)
+    if polar_pi := [s for s in STATES if Role(f"{s}_pi", "speed") in cols]:  # derived, not measured: say so
         attrs["interval_form"] = ", ".join(
             f"{s} " + ("polar (speed, angle and spin half-widths propagated to first order, speed and angle errors "
                        "independent)" if s in polar_pi else "cartesian") for s in STATES if Role(f"{s}_pi", "omega") in cols)
-    for state in polar_pi:
-        cols = polar_intervals(r, cols, state, scales)
+        for state in polar_pi:
+            cols = polar_intervals(r, cols, state, scales)
     check_landing_sign(r, cols)
     arrays = {s: states(r, cols, s) for s in (*STATES, *PI_STATES) if Role(s, "xdot") in cols}
     for pi in (s for s in PI_STATES if s in arrays):
@@ -775,17 +720,15 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
     check_plausible(r, cols, (arrays["landing"], arrays["liftoff"]))
     if missing == "drop":
         attrs["dropped_rows"] = [i + 1 for i in dropped]  # the file's data rows, 1-based as in errors
-    return build_campaign(arrays["landing"], arrays["liftoff"], setting=cols[SETTING].raw if SETTING in cols else None, landing_pi=arrays.get("landing_pi"),
-                          liftoff_pi=arrays.get("liftoff_pi"), campaign=campaign, surface=surface,
-                          ball_radius_m=ball_radius_m, source=source, data_kind="measured", attrs=attrs)
+    return build_campaign(arrays["landing"], arrays["liftoff"], setting=cols[SETTING].raw if SETTING in cols else None,
+                          landing_pi=arrays.get("landing_pi"), liftoff_pi=arrays.get("liftoff_pi"), campaign=campaign,
+                          surface=surface, ball_radius_m=ball_radius_m, source=source, data_kind="measured", attrs=attrs)
 
 
 def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any, given: Any, campaign: str | None,
                          surface: str | None, ball_radius_m: float, plausible=plausibility.PLAUSIBLE_RANGES,
                          intervals: str | None = None) -> xr.Dataset:
     """A campaign file written by save_campaign: in scaled units, loaded as it is (its arrays checked once)."""
-    from bouncelab.data.campaign import validate_campaign
-
     if columns is not None or given is not None or intervals is not None:
         raise DataError("this is a bouncelab campaign file (scaled units, named variables, 95 % half-widths): it takes "
                         "no column mapping, no units and no interval kind", file=file)
@@ -799,14 +742,12 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
                             "scaled units (radii/s and rad/s, units='scaled'); convert it with "
                             "bouncelab.core.units.to_scaled and save it with save_campaign, or rename the variables to "
                             "load the file as a table", file=file, column=var)
-    if "setting" in ds.data_vars:  # a setting stored as a variable is still the setting
-        ds = ds.set_coords("setting")
+    ds = ds.set_coords("setting") if "setting" in ds.data_vars else ds  # a setting variable is still the setting
     if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_dtype") == "int64":
         try:  # save_campaign's netCDF-3 spelling of int64 settings
             labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
         except (ValueError, OverflowError):
-            raise DataError("the setting labels marked int64 are not all integers", file=file,
-                            column="setting") from None
+            raise DataError("the setting labels marked int64 are not all integers", file=file, column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
     attrs = dict(ds.attrs)  # in their stored order
@@ -815,15 +756,14 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
     out = validate_campaign(ds.assign_attrs(attrs), file=file)
     radius = float(out.attrs.get("ball_radius_m", units.BALL_RADIUS_M))
     p0, pf = out["landing"].values, out["liftoff"].values
-    # one pass for the upper and the lower limits; the messages below only when it finds a fault
+    # one pass for the upper and the lower limits; the messages below only once it finds a fault
     if plausibility.implausibility(p0, pf, radius_m=radius, ranges=plausible, lower=True) is not None:
         if (why := plausibility.implausibility(p0, pf, radius_m=radius, ranges=plausible)) is not None:
             raise DataError(f"{why.state} {why.component} of bounce {why.row}: {why.reason}; the file is not in scaled "
                             "units (radii/s, rad/s) as a campaign file must be", file=file, column=why.state,
                             row=None if why.row is None else why.row + 1, hints=[_WIDEN])
         # the lower limits: all spins tiny, landings far too slow (a damaged file, or m/s)
-        exc = plausibility.scaled_units_error(p0, pf, radius_m=radius, ranges=plausible)
-        if exc is not None:  # a campaign file holds scaled units: no unit to declare, only wider ranges
+        if (exc := plausibility.scaled_units_error(p0, pf, radius_m=radius, ranges=plausible)) is not None:
             raise DataError(f"{exc.message}; a campaign file holds scaled units (radii/s, rad/s)", file=file,
                             column=exc.column, row=exc.row, hints=[h for h in exc.hints if h.option == "plausible"])
     out.attrs.update({k: str(v) for k, v in (("campaign", campaign), ("surface", surface)) if v is not None})
@@ -835,8 +775,8 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
 def _what(role: Role, polar: bool = False, asked: bool = False) -> str:
     """What a role is, in words: ``the landing speed``, ``a half-width of the landing spin (a prediction interval)``;
     ``asked``: ``the landing omega half-width`` (the spin of a polar state)."""
-    comp = role.comp
-    what = f"{_SAID[role.state.removesuffix('_pi')]} {'spin' if comp == 'omega' and (polar or not asked) else comp}"
+    comp = "spin" if role.comp == "omega" and (polar or not asked) else role.comp
+    what = f"{_SAID[role.state.removesuffix('_pi')]} {comp}"
     if asked:
         return f"the {what} half-width" if role.pi else f"the {what}"
     return f"a half-width of the {what} (a prediction interval)" if role.pi else f"the {what} itself"
@@ -850,12 +790,15 @@ def _a(word: str) -> str:
     return ("an " if word[:1].lower() in "aeiou" else "a ") + word
 
 
+def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str]) -> list[str]:
+    return [c.name for comp in comps for c in found[Role(state, comp)]]
+
+
 def _state_roles(names: Any) -> dict[str, str] | None:
     """Component -> requested name for one entry of columns=: a list (xdot, ydot, omega), or a mapping with the keys
     xdot, ydot, omega or speed, angle, spin (or omega)."""
     if isinstance(names, Mapping):
-        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"},
-                                      {"speed", "angle", "omega"})
+        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"}, {"speed", "angle", "omega"})
         return {("omega" if k == "spin" else str(k)): str(v) for k, v in names.items()} if ok else None
     if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
         return None
@@ -864,8 +807,8 @@ def _state_roles(names: Any) -> dict[str, str] | None:
 
 def _form(found: dict[Role, list[Column]], state: str) -> str:
     """``"polar"`` if a state has speed or angle columns and no xdot or ydot ones, else ``"cartesian"``."""
-    polar = any(found[Role(state, c)] for c in ("speed", "angle"))
-    return "polar" if polar and not any(found[Role(state, c)] for c in ("xdot", "ydot")) else "cartesian"
+    polar = _names(found, state, ("speed", "angle")) and not _names(found, state, ("xdot", "ydot"))
+    return "polar" if polar else "cartesian"
 
 
 def _columns_call(found: dict[Role, list[Column]], forms: dict[str, str]) -> dict[str, Any]:
@@ -876,15 +819,15 @@ def _columns_call(found: dict[Role, list[Column]], forms: dict[str, str]) -> dic
             f"<{label or f'{role.state} {role.comp}'} column>")
 
     def polar(state: str) -> dict[str, str]:
-        return {k: pick(Role(state, r), f"{state} {k}") for k, r in zip(("speed", "angle", "spin"), POLAR, strict=True)}
+        return {k: pick(Role(state, c), f"{state} {k}") for k, c in zip(("speed", "angle", "spin"), POLAR, strict=True)}
 
     out: dict[str, Any] = {s: polar(s) if forms[s] == "polar" else [pick(Role(s, c)) for c in COMPONENTS]
                            for s in STATES}
     out |= {"setting": pick(SETTING)} if found[SETTING] else {}
     for s, pi in zip(STATES, PI_STATES, strict=True):
-        if forms[s] == "polar" and any(found[Role(pi, c)] for c in ("speed", "angle")):
+        if forms[s] == "polar" and _names(found, pi, ("speed", "angle")):
             out[pi] = polar(pi)
-        elif any(found[Role(pi, c)] for c in COMPONENTS):
+        elif _names(found, pi, COMPONENTS):
             out[pi] = [pick(Role(pi, c)) for c in COMPONENTS]
     return out
 
@@ -910,8 +853,7 @@ def _describe_units(cols: Mapping[Role, Column]) -> str:
     for kind in ("velocity", "spin", "angle"):
         if not (roles := [k for k in cols if k != SETTING and KINDS[k.comp] == kind]):
             continue  # no angle in a Cartesian file
-        if len({cols[k].unit for k in roles}) == 1:
-            parts.append(f"{kind} {cols[roles[0]].unit}" + (" (assumed)" if cols[roles[0]].origin == "assumed" else ""))
-        else:
-            parts.append(f"{kind} " + ", ".join(f"{cols[k].name}: {cols[k].unit}" for k in roles))
+        same = len({cols[k].unit for k in roles}) == 1
+        parts.append(f"{kind} {cols[roles[0]].unit}" + (" (assumed)" if cols[roles[0]].origin == "assumed" else "")
+                     if same else f"{kind} " + ", ".join(f"{cols[k].name}: {cols[k].unit}" for k in roles))
     return ", ".join(parts)

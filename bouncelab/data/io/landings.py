@@ -108,18 +108,18 @@ def _role(name: str) -> str | None:
 
 def _by_name(r: ip.Rows, given: dict[str, str]) -> LandingTable:
     if len(r.frame) == 0:
-        raise DataError("the file has a header but no landing rows", file=r.file)
+        raise DataError("the file has a header but no landing rows", file=r.t.file)
     found = ip.candidates(r, _BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
     landing = {c: found[Role("landing", c)] for c in _ORDER}
     if several := [(c, cols) for c, cols in landing.items() if len(cols) > 1]:
         c, cols = several[0]
         raise DataError(f"the columns {[col.name for col in cols]} all name the landing's {_SHOWN[c]}; keep one, or "
-                        "rename the others", file=r.file, column=cols[0].name)
+                        "rename the others", file=r.t.file, column=cols[0].name)
     if not (has := {c for c, cols in landing.items() if cols}):
         others = [col.name for role, cols in found.items() if role.state == "liftoff" for col in cols]
         said = f"; {others} are lift-off columns, and only landings are read" if others else ""
         raise DataError(f"no column of the header names a landing: the columns are {r.names}{said}; {_NAMING}",
-                        file=r.file)
+                        file=r.t.file)
     if {"xdot", "ydot", "omega"} <= has:
         form, roles = "cartesian", COMPONENTS  # measured components beside derived speeds: the components
     elif {"speed", "angle", "omega"} <= has and not has & {"xdot", "ydot"}:
@@ -129,7 +129,7 @@ def _by_name(r: ip.Rows, given: dict[str, str]) -> LandingTable:
         raise DataError(f"the header names the landing's {read} but not its "
                         f"{' and '.join(_SHOWN[c] for c in COMPONENTS if c not in has)} (for xdot0, ydot0, omega0) nor "
                         f"its {' and '.join(_SHOWN[c] for c in POLAR_ROLES if c not in has)} (for speed, angle, spin); "
-                        f"the columns are {r.names}: {_NAMING}", file=r.file)
+                        f"the columns are {r.names}: {_NAMING}", file=r.t.file)
     return _read(r, {Role("landing", c): landing[c][0] for c in roles}, given, form)
 
 
@@ -149,7 +149,7 @@ def _read(r: ip.Rows, cols: dict[Role, ip.Column], given: dict[str, str], form: 
     cols = ip.with_units(r, cols, given)
     velocity = {c.name: c.unit for role, c in cols.items() if KINDS[role.comp] == "velocity"}
     if len(set(velocity.values())) > 1:
-        raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=r.file,
+        raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=r.t.file,
                         column=cols[Role("landing", "ydot")].name)
     values, names = np.column_stack([c.raw for c in cols.values()]), tuple(c.name for c in cols.values())
     unit_of = {KINDS[role.comp]: c.unit for role, c in cols.items()}
