@@ -27,8 +27,7 @@ if TYPE_CHECKING:
 SUPPORTED_SUFFIXES = tuple(read.BACKENDS)
 #: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.embedded.SURROGATES).
 EMBEDDED_SURROGATES = SURROGATES
-#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
-DATAFRAME_NAME = "<DataFrame>"
+DATAFRAME_NAME = read.DATAFRAME_NAME
 
 
 def _embedded_file(name: str, surrogate: str):

@@ -199,8 +199,9 @@ def unit_cell(cell: object) -> str:
 
 
 def is_units_row(cells: list, blank) -> bool:
-    """Whether a row under the header gives units (``m/s, m/s, rpm``): no number, at least half of it units."""
-    texts = [unit_cell(c) for c in cells if not blank(c)]
-    if not texts or any(map(is_number, texts)):
+    """Whether a row under the header gives units (``m/s, m/s, rpm``, ``[mph], [yds]``): no number, at least half of
+    it units (known, or written in brackets)."""
+    texts = [str(c).strip() for c in cells if not blank(c)]
+    if not texts or any(is_number(unit_cell(t)) for t in texts):
         return False
-    return sum(bool(unit_of(t)) for t in texts) * 2 >= len(texts)
+    return sum(bool(unit_of(unit_cell(t))) or bool(re.fullmatch(r"\[[^\[\]]*\]", t)) for t in texts) * 2 >= len(texts)

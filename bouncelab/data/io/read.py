@@ -30,6 +30,8 @@ from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.files import read_regular_file
 from bouncelab.data.io.names import is_number, is_units_row, unit_cell
 
+#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
+DATAFRAME_NAME = "<DataFrame>"
 # Cells a person reads as "no value": spreadsheet error codes and the usual placeholders.
 MISSING = frozenset({"", "na", "n/a", "n.a.", "nan", "null", "none", "missing", "-", "--", "?", "#n/a", "#na",
                      "#value!", "#ref!", "#div/0!", "#num!", "#name?", "#null!"})
