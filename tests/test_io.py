@@ -821,7 +821,7 @@ def test_save_campaign_keeps_mode_and_symlinks(tmp_path):
 
 
 def test_plain_number_fast_path_agrees_with_cell_by_cell_parsing(tmp_path):
-    """A large CSV goes through pandas' one-call parse; it must give the same floats as Python's reading of each cell."""
+    """A large CSV goes through pandas' one-call parse: the same floats as Python's reading of each cell."""
     import bouncelab as bl
 
     ds = bl.load_campaign("A")

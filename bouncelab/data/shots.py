@@ -72,6 +72,7 @@ _KEYS = {normalize(name): var for var, names in SHOT_COLUMNS.items() for name in
 _OTHER_UNITS = {"distance": {"m": 1.0, "yd": 0.9144, "ft": u._FT, "cm": 0.01}, "time": {"s": 1.0, "ms": 1e-3}}
 _SPELLINGS = {"meter": "m", "meters": "m", "metre": "m", "metres": "m", "yds": "yd", "yards": "yd", "yard": "yd",
               "feet": "ft", "foot": "ft", "sec": "s", "secs": "s", "second": "s", "seconds": "s"}
+_SUGGEST = {"velocity": ("mph", "m/s"), "spin": ("rpm",)}
 _MAX = {"distance": 550.0, "time": 20.0}  # no golf shot carries 550 m, nor flies 20 s: beyond, a unit mistake
 
 
@@ -166,8 +167,8 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
             raise FileNotFoundError(f"no such file: {where!r}")
         suffix = path.suffix.lower()
         if path.is_dir() or suffix not in (".csv", ".tsv", ".txt", ".xlsx", ".xls"):
-            raise DataError(f"a shot export is a .csv, .tsv, .txt, .xlsx or .xls file; got {path.suffix or path.name!r}",
-                            file=where)
+            raise DataError("a shot export is a .csv, .tsv, .txt, .xlsx or .xls file; got "
+                            f"{path.suffix or path.name!r}", file=where)
         check_regular_file(path, where)
         backend = read.BACKENDS[suffix]
         table = backend.read(path, where, **{k: v for k, v in (("sheet", sheet), ("header_row", header_row))
@@ -259,19 +260,19 @@ def _select(r: ip.Rows, columns: Mapping[str, str] | None) -> dict[ip.Role, ip.C
     if not cols:
         raise DataError(f"no column of the file names a shot's landing speed, landing angle, spin, carry or total; "
                         f"the columns are {r.names}; name them with columns= (e.g. {{'landing_angle': ...}})",
-                        file=r.t.file, hints=[Hint("columns", {"landing_speed": "<column>", "landing_angle": "<column>"})])
+                        file=r.t.file, hints=[Hint("columns", {"landing_angle": "<column>", "total": "<column>"})])
     return cols
 
 
 def _unit(r: ip.Rows, col: ip.Column, kind: str, given: Mapping[str, str]) -> tuple[str, float]:
     """A column's unit (header, units row, ``units=``; angles deg and times s if none) and its factor to SI."""
     if kind in ("velocity", "spin", "angle"):
-        unit, origin = ip.column_unit(r, col, kind, given, {"velocity": "", "spin": "", "angle": "deg"})
+        unit = ip.column_unit(r, col, kind, given, {"velocity": "", "spin": "", "angle": "deg"})[0]
         if not unit:
             raise DataError(f"the file gives no {kind} unit for {col.name!r} (a units row, the header or units= "
                             f"says it; e.g. '{col.name} [{'mph' if kind == 'velocity' else 'rpm'}]'): bouncelab does "
                             "not guess", file=r.t.file, column=col.name,
-                            hints=[Hint("units", {kind: x}) for x in (("mph", "m/s") if kind == "velocity" else ("rpm",))])
+                            hints=[Hint("units", {kind: x}) for x in _SUGGEST[kind]])
         factor = (u.SPEED_UNITS[unit] if kind == "velocity" else u.SPIN_UNITS[unit] if kind == "spin" else 1.0)
         if factor is None:  # radii/s: no speed of a shot is given in ball radii
             raise DataError(f"{col.name!r} is said to be in {unit}, a unit of bounce files, not of shots: give it in "

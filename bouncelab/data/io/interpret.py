@@ -155,7 +155,7 @@ def check_units_arg(given: Any, file: str) -> dict[str, str]:
 # ------------------------------------------------------------------------------------------------ which column
 
 def find(r: Rows, requested: str, role: str) -> Column:
-    """The one column a name given in ``columns=`` matches (exactly, else case-, punctuation- and unit-insensitively)."""
+    """The one column a name in ``columns=`` matches (exactly, else case-, punctuation- and unit-insensitively)."""
     if r.names.count(requested.strip()) == 1:
         return Column(requested.strip())
     keys = {k for k in (syn.normalize(requested), syn.normalize(syn.split_header(requested)[0])) if k}
@@ -198,14 +198,15 @@ def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
         raise DataError(f"the columns given for {k.state!r} include one of the wrong kind: {cols[k].name!r} says it "
                         f"holds {_what(said[k])}, not {_what(k, Role(k.state, 'speed') in cols, asked=True)}; a "
                         f"state's own columns go under {base!r}, their half-widths under {base + '_pi'!r} (or rename "
-                        "the column if it holds what is asked)", file=file, column=cols[k].name, hints=[Hint("columns")])
+                        "the column if it holds what is asked)", file=file, column=cols[k].name,
+                        hints=[Hint("columns")])
     for key in keys:
         if key in PI_STATES and Role(key, "speed") in cols and Role(key[:-3], "speed") not in cols:
             s = _SAID[key[:-3]]
             raise DataError(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the {s} is read from "
                             f"Cartesian columns (xdot, ydot, omega): they are propagated through the polar state they "
-                            f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} as "
-                            "a list of its xdot, ydot, omega half-widths", file=file, hints=[Hint("columns")])
+                            f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} "
+                            "as a list of its xdot, ydot, omega half-widths", file=file, hints=[Hint("columns")])
         if isinstance(columns.get(key), Mapping) or not (
                 wrong := [c for c in COMPONENTS if Role(key, c) in said and said[Role(key, c)].comp in POLAR[:2]]):
             continue
@@ -354,7 +355,8 @@ def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
     def show(i: int, name: str, v: Any) -> str:
         where = (f"{r.t.locate(i, name)}: " if r.t.locate else "" if r.t.labels is None else
                  f"row label {r.t.labels[i]!r}: ")
-        return f"row {i + 1} ({where}{name!r} is {'NaN' if isinstance(v, float) else 'empty' if is_empty(v) else repr(v.strip())})"
+        what = "NaN" if isinstance(v, float) else "empty" if is_empty(v) else repr(v.strip())
+        return f"row {i + 1} ({where}{name!r} is {what})"
 
     warn(f"{r.t.file}: dropped {len(bad)} incomplete row(s) of {len(r.frame)}: "
          + "; ".join(show(i, *cell) for i, cell in bad.items()), DroppedRowsWarning)
@@ -431,7 +433,8 @@ def setting(r: Rows, name: str) -> np.ndarray:
     parsed = syn.to_numbers([v if isinstance(v, str) else "" for v in cells])  # of the labels written as text
     for i, v in enumerate(cells):
         if is_empty(v) or str(v).strip().lower() in MISSING or (isinstance(v, float) and not math.isfinite(v)):
-            shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(v.strip() if isinstance(v, str) else v)
+            shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(
+                v.strip() if isinstance(v, str) else v)
             raise r.err(f"missing setting label ({shown}); every bounce needs one", name, i, [_DROP])
         if isinstance(v, str) and np.isinf(parsed[i]):
             raise r.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a label",
@@ -477,7 +480,8 @@ def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: st
 def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
                 default: Mapping[str, str] = DEFAULT_UNITS) -> tuple[str, str]:
     """The unit of a column and where it came from (``units=``, header, assumed)."""
-    text, where = (u, "header") if (u := syn.split_header(col.name)[1]) is not None else r.t.units.get(col.name, (None, ""))
+    text, where = syn.split_header(col.name)[1], "header"
+    text, where = (text, where) if text is not None else r.t.units.get(col.name, (None, ""))
     known = {} if text is None else syn.unit_of(text)
     if text is not None and (header := known.get(kind)) is None and (known or not (col.whole and where == "header")):
         what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
@@ -598,7 +602,8 @@ def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarr
     roles = [Role(pi, c) for c in COMPONENTS]
     if (arr < 0).any():
         i, k = (int(v) for v in np.argwhere(arr < 0)[0])
-        raise r.err(f"prediction-interval half-width {r.cell(cols[roles[k]].name, i)} is negative", cols[roles[k]].name, i)
+        name = cols[roles[k]].name
+        raise r.err(f"prediction-interval half-width {r.cell(name, i)} is negative", name, i)
     limit = np.array([r.plausible.max_speed / r.radius] * 2 + [r.plausible.max_spin * 2 * math.pi / 60])
     if not (arr > limit).any():
         return
@@ -615,8 +620,8 @@ def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarr
         value = units.velocity_from_scaled(arr[i, k], unit, radius_m=r.radius)
         raise r.err(f"the {_SAID[pi[:-3]]} {COMPONENTS[k]} half-width propagated from the speed half-width "
                     f"{cell[pi + 'speed']} and the angle half-width {cell[pi + 'angle']} (at speed "
-                    f"{cell[pi[:-3] + 'speed']}, angle {cell[pi[:-3] + 'angle']}) is {value:.4g} {unit}, wider than any "
-                    f"plausible value ({what}): check the unit of {culprit!r}", culprit, i)
+                    f"{cell[pi[:-3] + 'speed']}, angle {cell[pi[:-3] + 'angle']}) is {value:.4g} {unit}, wider than "
+                    f"any plausible value ({what}): check the unit of {culprit!r}", culprit, i)
     raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} is wider than any plausible value "
                 f"({what}): check the column's unit", cols[roles[k]].name, i)
 
@@ -662,7 +667,8 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
             continue
         names = list(dict.fromkeys(cols[k].name for k in assumed))  # a polar speed backs xdot and ydot
         why, said = verdicts[default], f"the file gives no {kind} unit for {', '.join(map(repr, names))}"
-        header = f"a unit in the column header says it too, e.g. '{names[0]} [{'m/s' if kind == 'velocity' else 'rpm'}]'"
+        example = "m/s" if kind == "velocity" else "rpm"
+        header = f"a unit in the column header says it too, e.g. '{names[0]} [{example}]'"
         msg = (f"{said}, and its numbers are plausible in {', '.join(fits[:-1])} and in {fits[-1]}"
                + (f" (not in {default}: {why.reason})" if why is not None else "")
                + f"; bouncelab does not guess ({header})" if len(fits) > 1 else
@@ -710,7 +716,8 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
     if polar_pi := [s for s in STATES if Role(f"{s}_pi", "speed") in cols]:  # derived, not measured: say so
         attrs["interval_form"] = ", ".join(
             f"{s} " + ("polar (speed, angle and spin half-widths propagated to first order, speed and angle errors "
-                       "independent)" if s in polar_pi else "cartesian") for s in STATES if Role(f"{s}_pi", "omega") in cols)
+                       "independent)" if s in polar_pi else "cartesian")
+            for s in STATES if Role(f"{s}_pi", "omega") in cols)
         for state in polar_pi:
             cols = polar_intervals(r, cols, state, scales)
     check_landing_sign(r, cols)
@@ -722,7 +729,8 @@ def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campai
         attrs["dropped_rows"] = [i + 1 for i in dropped]  # the file's data rows, 1-based as in errors
     return build_campaign(arrays["landing"], arrays["liftoff"], setting=cols[SETTING].raw if SETTING in cols else None,
                           landing_pi=arrays.get("landing_pi"), liftoff_pi=arrays.get("liftoff_pi"), campaign=campaign,
-                          surface=surface, ball_radius_m=ball_radius_m, source=source, data_kind="measured", attrs=attrs)
+                          surface=surface, ball_radius_m=ball_radius_m, source=source, data_kind="measured",
+                          attrs=attrs)
 
 
 def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any, given: Any, campaign: str | None,
@@ -747,7 +755,8 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
         try:  # save_campaign's netCDF-3 spelling of int64 settings
             labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
         except (ValueError, OverflowError):
-            raise DataError("the setting labels marked int64 are not all integers", file=file, column="setting") from None
+            raise DataError("the setting labels marked int64 are not all integers", file=file,
+                            column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
     attrs = dict(ds.attrs)  # in their stored order
@@ -798,7 +807,8 @@ def _state_roles(names: Any) -> dict[str, str] | None:
     """Component -> requested name for one entry of columns=: a list (xdot, ydot, omega), or a mapping with the keys
     xdot, ydot, omega or speed, angle, spin (or omega)."""
     if isinstance(names, Mapping):
-        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"}, {"speed", "angle", "omega"})
+        ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"},
+                                      {"speed", "angle", "omega"})
         return {("omega" if k == "spin" else str(k)): str(v) for k, v in names.items()} if ok else None
     if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
         return None

@@ -433,8 +433,9 @@ def read_mat(path: Path, file: str, **_: Any) -> Table:
         raise DataError(f"reading it as a MATLAB file took over {MAT_PROBE_TIMEOUT_S:g} s; the file is damaged",
                         file=file) from None
     if proc.returncode != 0:
-        how = (f"signal {signal.Signals(-proc.returncode).name}" if -proc.returncode in signal.Signals._value2member_map_
-               else f"exit status {proc.returncode}")
+        signals = signal.Signals._value2member_map_
+        how = f"signal {signals[-proc.returncode].name}" if -proc.returncode in signals else (
+            f"exit status {proc.returncode}")
         raise DataError(f"the MATLAB reader (scipy.io.loadmat) crashed on it ({how}): the file is damaged; save it "
                         "again from MATLAB or write a CSV", file=file)
     try:
