@@ -169,9 +169,12 @@ def _plain(raw: bytes, at: int, delim: str | None) -> bool:
     return not (delim == "\t" and re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)").search(raw, at))
 
 
-def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None) -> Table:
+def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None,
+              path: Path | None = None, stamp: tuple[int, int] | None = None) -> Table:
     """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. With ``names``
-    the file has no header: every line that is not a comment is a row of these columns, blank-separated."""
+    the file has no header: every line that is not a comment is a row of these columns, blank-separated. ``path``,
+    the file ``raw`` was read from with its (size, mtime) ``stamp``: the cells of a large plain file are read again
+    from it when a message or a label needs their text, so that the bytes need not stay in memory."""
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
     enc = "utf-8"
@@ -251,12 +254,21 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
                 linenos.append(ln.no)
         body, at = "\n".join(kept).encode(enc), 0
 
+    frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
+    if path is None or body is not raw:
+        data = (lambda kept=body: kept)  # noqa: E731 - the lines kept (or the bytes given) stay in memory
+    else:
+        def data() -> bytes:
+            again = read_regular_file(path, file)
+            if (len(again), path.stat().st_mtime_ns) != stamp:
+                raise DataError("the file changed while it was being read; load it again", file=file)
+            return again
+
     def locate(row: int, column: str | None = None) -> str:
-        if not linenos:
-            linenos.extend(ln.no for ln in _lines(body, at, enc, first_no) if ln.text.strip())
+        if not linenos:  # every non-blank line is a row: found when a message asks
+            linenos.extend(ln.no for ln in _lines(data(), at, enc, first_no) if ln.text.strip())
         return f"line {linenos[row]}"
 
-    frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
     extra = frame.iloc[:, width:].ne("").any(axis=1) if frame.shape[1] > width else pd.Series(False, frame.index)
     short = frame.iloc[:, width - 1].eq("") if delim is None and width else pd.Series(False, frame.index)
     if (bad := extra | short).any():
@@ -271,7 +283,7 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
         j = names.index(column)
         if frame.iloc[:, j].dtype.kind == "O" and all(isinstance(v, str) for v in frame.iloc[:, j]):
             return frame.iloc[:, j].tolist()
-        return _parse(file, body, at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
+        return _parse(file, data(), at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
 
     return Table(file, frame, units, locate, text, delimiter=delim)
 
@@ -302,7 +314,8 @@ def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: 
 
 
 def read_text_file(path: Path, file: str, *, header_row: int | None = None, **_: Any) -> Table:
-    return read_text(file, read_regular_file(path, file), header_row=header_row)
+    stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
+    return read_text(file, read_regular_file(path, file), header_row=header_row, path=path, stamp=stamp)
 
 
 # ------------------------------------------------------------------------------------------------ Excel
