@@ -64,8 +64,8 @@ SHOT_COLUMNS: dict[str, tuple[str, ...]] = {
 SHOT_FORMATS: dict[str, tuple[str, ...]] = {
     "TrackMan": ("Carry Flat - Length", "Carry Flat - Land. Angle", "Carry Flat - Ball Speed", "Side Total",
                  "Est. Total Flat - Length", "Max Height - Height", "Dyn. Loft"),
-    "FlightScope": ("Descent V", "Launch V", "Launch H", "Lateral", "Roll"),
-    "GSPro": ("VLA", "HLA", "Offline", "TotalSpin", "BackSpin", "SideSpin", "Peak Height", "Shot Key"),
+    "FlightScope": ("Descent V", "Launch V", "Launch H"),
+    "GSPro": ("VLA", "HLA", "TotalSpin", "BackSpin", "SideSpin"),
 }
 _KEYS = {normalize(name): var for var, names in SHOT_COLUMNS.items() for name in names}
 # Units the loader's table of units does not have: lengths (to metres) and times (to seconds).

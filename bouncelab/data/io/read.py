@@ -81,7 +81,8 @@ def units_row(names: Sequence[str], cells: Sequence, blank: Callable[[Any], bool
     """The units a row under the header gives (``m/s, m/s, rpm``), or {} if it is no units row."""
     if not cells or not is_units_row(list(cells)[: len(names)], blank):
         return {}
-    return {n: (unit_cell(c), "units row") for n, c in zip(names, cells, strict=False) if n and not blank(c)}
+    return {n: (unit_cell(c), "units row") for n, c in zip(names, cells, strict=False)
+            if n and not blank(c) and unit_cell(c)}
 
 
 def looks_like_title(title: list, header: list, first_row: list, blank: Callable[[Any], bool]) -> bool:
