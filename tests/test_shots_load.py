@@ -211,3 +211,15 @@ def test_ground_re_exports_it_without_loading_pandas_on_import():
     code = "import sys, bouncelab.ground; print([m for m in ('pandas', 'xarray') if m in sys.modules])"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True).stdout.strip() == "[]"
+
+
+def test_options_that_do_not_apply_are_refused(tmp_path):
+    path = trackman(tmp_path / "s.csv")
+    with pytest.raises(DataError, match="only Excel files have sheets"):
+        load_shots(path, sheet="Shots")
+    with pytest.raises(DataError, match="missing must be one of"):
+        load_shots(path, missing="skip")
+    with pytest.raises(DataError, match="DataFrame"):
+        load_shots(pd.DataFrame({"Total (yds)": [250.0]}), header_row=2)
+    with pytest.raises(DataError, match=r"a shot export is a \.csv"):
+        load_shots(tmp_path)

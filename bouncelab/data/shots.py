@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.core import units as u
-from bouncelab.core.errors import DataError, Hint
+from bouncelab.core.errors import DataError, Hint, ParameterError
 from bouncelab.core.files import check_regular_file
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.io import interpret as ip
@@ -158,9 +158,12 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
     if missing not in ip.MISSING_POLICIES:
         raise DataError(f"missing must be one of {', '.join(map(repr, ip.MISSING_POLICIES))}; got {missing!r}")
     if not isinstance(plausible, PlausibleRanges):
-        raise DataError(f"plausible must be a PlausibleRanges; got {plausible!r}", option="plausible")
+        raise ParameterError(f"plausible must be a PlausibleRanges, e.g. PLAUSIBLE_RANGES.widened(max_spin=...); got "
+                             f"{plausible!r}")
     given = _units_arg(units, where)
     if frame:
+        if sheet is not None or header_row is not None:
+            raise DataError("sheet and header_row do not apply to a DataFrame", file=where)
         table = read.read_dataframe(source, where)
     else:
         if not (path := Path(where).expanduser()).exists():
@@ -171,6 +174,9 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
                             f"{path.suffix or path.name!r}", file=where)
         check_regular_file(path, where)
         backend = read.BACKENDS[suffix]
+        if sheet is not None and "sheet" not in backend.options:
+            raise DataError(f"sheet {sheet!r} was given, but it does not apply to this file (only Excel files have "
+                            "sheets)", file=where)
         table = backend.read(path, where, **{k: v for k, v in (("sheet", sheet), ("header_row", header_row))
                                              if k in backend.options})
     r = ip.start(table, plausible=None)
