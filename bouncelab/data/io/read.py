@@ -170,6 +170,81 @@ def _plain(raw: bytes, at: int, delim: str | None) -> bool:
     return not (delim == "\t" and re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)").search(raw, at))
 
 
+class _Header(NamedTuple):
+    names: list[str]
+    delim: str | None  # None: runs of blanks
+    units: dict[str, tuple[str, str]]
+    at: int  # the byte where the data lines start
+    first_no: int  # the line number of the first of them
+
+
+def _find_header(file: str, raw: bytes, head: list[_Line], first: int, header_row: int | None) -> _Header:
+    """The header (the line ``header_row`` names, else the first that is neither a comment nor a title), its
+    delimiter, and the units row under it."""
+    if header_row is None:
+        h = _header(head, first)
+    elif (h := next((k for k, ln in enumerate(head) if ln.no == header_row), None)) is None:
+        said = (f"the file has {n} lines" if header_row > (n := _count_lines(raw)) else
+                f"line {header_row} is blank; a header names the columns")
+        raise DataError(f"header row {header_row}: {said}", file=file)
+    below = [ln.text for ln in head[h + 1:h + 50] if not _comment(ln.text)]
+    delim = sniff([head[h].text, *below])
+    try:
+        names = [c.strip() for c in _split(head[h].text, delim)] if delim is not None else [
+            n.replace("\x00", " ") for n in re.sub(r"\s+(?=[\[\(\{][^\s\]\)\}]*[\]\)\}](\s|$))", "\x00",
+                                                 head[h].text).split()]  # "vx0 [m/s]" is one name
+        list(csv.reader(below, delimiter=delim or " "))  # a cell beyond the csv module's limit is no number
+    except csv.Error as exc:
+        raise DataError(f"line {head[h].no}: cannot split the header or the lines under it: {exc}", file=file) from None
+    while names and not names[-1]:
+        names.pop()
+    check_names(names, file)
+    k = next((k for k in range(h + 1, len(head)) if not _comment(head[k].text)), None)
+    if k is not None and not any(_data_shaped(_split(ln.text, delim), len(names)) for ln in head[h + 1:k]):
+        cells = _split(head[k].text, delim)  # a units row is the first row: not under a commented-out row
+        if (delim is not None or len(cells) == len(names)) and (units := units_row(names, cells, lambda c: not c)):
+            return _Header(names, delim, units, head[k].end, head[k].no + 1)
+    return _Header(names, delim, {}, head[h].end, head[h].no + 1)
+
+
+def _count_lines(raw: bytes) -> int:
+    return len(_BREAK.findall(raw)) + (not raw.endswith((b"\n", b"\r")) and len(raw) > 0)
+
+
+def _wrong_width(file: str, hd: _Header, given: bool, lineno: int, n: int, row: int) -> DataError:
+    width = len(hd.names)
+    if given:
+        return DataError(f"line {lineno} has {n} values; a row needs {width} ({' '.join(hd.names)})", file=file,
+                         row=row)
+    if hd.delim is None:  # runs of blanks separate the cells: an empty cell cannot be seen
+        return DataError(f"line {lineno} has {n} values but the header names {width} columns; in a whitespace-"
+                         "separated file an empty cell cannot be told from the separator: write NA in it, or use a "
+                         "comma- or tab-separated file", file=file, row=row)
+    return DataError(f"the row has {n} values but the header names {width} columns (line {lineno})", file=file,
+                     row=row)
+
+
+def _kept_lines(file: str, raw: bytes, enc: str, hd: _Header, given: bool) -> tuple[bytes, list[int]]:
+    """The data lines of a file with comment lines among them (a comment shaped like a row refused), and their
+    line numbers; a blank-separated row must have the header's width."""
+    kept, linenos = [], []
+    for ln in _lines(raw, hd.at, enc, hd.first_no):
+        if ln.text.strip() and _comment(ln.text):
+            if not _data_shaped(cells := _split(ln.text, hd.delim), len(hd.names)):
+                continue
+            if cells[0].strip().lower() not in MISSING:
+                mark = ln.text.lstrip()[0]
+                raise DataError(f"line {ln.no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
+                                f"values like the data: delete the line if it is commented out, or remove the "
+                                f"{mark!r}", file=file, row=len(linenos) + 1)
+        elif hd.delim is None and ln.text.strip() and len(ln.text.split()) != len(hd.names):
+            raise _wrong_width(file, hd, given, ln.no, len(ln.text.split()), len(linenos) + 1)
+        if ln.text.strip():
+            kept.append(ln.text)
+            linenos.append(ln.no)
+    return "\n".join(kept).encode(enc), linenos
+
+
 def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None,
               path: Path | None = None, stamp: tuple[int, int] | None = None) -> Table:
     """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. With ``names``
@@ -192,69 +267,12 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
             break
     if (first := next((k for k, ln in enumerate(head) if not _comment(ln.text)), None)) is None:
         raise DataError("the file is empty (no header, no data)", file=file)
-    units: dict[str, tuple[str, str]] = {}
     given = names is not None
-    if names is not None:
-        delim, at, first_no = None, start, 1
-    else:
-        if header_row is not None:
-            if (h := next((k for k, ln in enumerate(head) if ln.no == header_row), None)) is None:
-                said = (f"the file has {ln.no} lines" if ln.end == len(raw) and header_row > ln.no else
-                        f"line {header_row} is blank; a header names the columns")
-                raise DataError(f"header row {header_row}: {said}", file=file)
-        else:
-            h = _header(head, first)
-        below = [ln.text for ln in head[h + 1:h + 50] if not _comment(ln.text)]
-        delim = sniff([head[h].text, *below])
-        try:
-            names = [c.strip() for c in _split(head[h].text, delim)] if delim is not None else [
-                n.replace("\x00", " ") for n in re.sub(r"\s+(?=[\[\(\{][^\s\]\)\}]*[\]\)\}](\s|$))", "\x00",
-                                                     head[h].text).split()]  # "vx0 [m/s]" is one name
-            list(csv.reader(below, delimiter=delim or " "))  # a cell beyond the csv module's limit is no number
-        except csv.Error as exc:
-            raise DataError(f"line {head[h].no}: cannot split the header or the lines under it: {exc}",
-                            file=file) from None
-        while names and not names[-1]:
-            names.pop()
-        check_names(names, file)
-        at, first_no = head[h].end, head[h].no + 1
-        k = next((k for k in range(h + 1, len(head)) if not _comment(head[k].text)), None)
-        if k is not None and not any(_data_shaped(_split(ln.text, delim), len(names)) for ln in head[h + 1:k]):
-            cells = _split(head[k].text, delim)  # a units row is the first row: not under a commented-out row
-            if (delim is not None or len(cells) == len(names)) and (units := units_row(names, cells, lambda c: not c)):
-                at, first_no = head[k].end, head[k].no + 1
-    width = len(names)
-
-    def wrong_width(lineno: int, n: int, row: int) -> DataError:
-        if given:
-            return DataError(f"line {lineno} has {n} values; a row needs {width} ({' '.join(names)})", file=file,
-                             row=row)
-        if delim is None:  # runs of blanks separate the cells: an empty cell cannot be seen
-            return DataError(f"line {lineno} has {n} values but the header names {width} columns; in a "
-                             "whitespace-separated file an empty cell cannot be told from the separator: write NA "
-                             "in it, or use a comma- or tab-separated file", file=file, row=row)
-        return DataError(f"the row has {n} values but the header names {width} columns (line {lineno})", file=file,
-                         row=row)
-
-    linenos: list[int] = []  # the line of each row (of a plain file: counted when a message asks)
-    body = raw
-    if not _plain(raw, at, delim):  # comment lines: refuse those shaped like data, skip the others
-        kept = []
-        for ln in _lines(raw, at, enc, first_no):
-            if ln.text.strip() and _comment(ln.text):
-                if not _data_shaped(cells := _split(ln.text, delim), width):
-                    continue
-                if cells[0].strip().lower() not in MISSING:
-                    raise DataError(f"line {ln.no} starts with {ln.text.lstrip()[0]!r} like a comment but holds a row "
-                                    f"of {len(cells)} values like the data: delete the line if it is commented out, or "
-                                    f"remove the {ln.text.lstrip()[0]!r}", file=file, row=len(linenos) + 1)
-            elif delim is None and ln.text.strip() and len(ln.text.split()) != width:
-                raise wrong_width(ln.no, len(ln.text.split()), len(linenos) + 1)
-            if ln.text.strip():
-                kept.append(ln.text)
-                linenos.append(ln.no)
-        body, at = "\n".join(kept).encode(enc), 0
-
+    hd = _Header(list(names), None, {}, start, 1) if given else _find_header(file, raw, head, first, header_row)
+    width, delim = len(hd.names), hd.delim
+    body, at, linenos = raw, hd.at, []  # the data: raw from byte at, or the lines kept of it
+    if not _plain(raw, hd.at, delim):  # comment lines: refuse those shaped like data, skip the others
+        (body, linenos), at = _kept_lines(file, raw, enc, hd, given), 0
     frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
     if path is None or body is not raw:
         data = (lambda kept=body: kept)  # noqa: E731 - the lines kept (or the bytes given) stay in memory
@@ -267,26 +285,26 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
 
     def locate(row: int, column: str | None = None) -> str:
         if not linenos:  # every non-blank line is a row: found when a message asks
-            linenos.extend(ln.no for ln in _lines(data(), at, enc, first_no) if ln.text.strip())
+            linenos.extend(ln.no for ln in _lines(data(), at, enc, hd.first_no) if ln.text.strip())
         return f"line {linenos[row]}"
 
     extra = frame.iloc[:, width:].ne("").any(axis=1) if frame.shape[1] > width else pd.Series(False, frame.index)
     short = frame.iloc[:, width - 1].eq("") if delim is None and width else pd.Series(False, frame.index)
     if (bad := extra | short).any():
         i = int(np.argmax(bad.to_numpy()))
-        n = int(frame.iloc[i].ne("").to_numpy().nonzero()[0].max()) + 1 if delim is not None else int(
-            frame.iloc[i].ne("").sum())
-        raise wrong_width(int(locate(i).split()[1]), n, i + 1)
-    frame = frame.iloc[:, :width].set_axis(names, axis=1)
+        cells = frame.iloc[i].ne("").to_numpy()
+        n = int(cells.nonzero()[0].max()) + 1 if delim is not None else int(cells.sum())
+        raise _wrong_width(file, hd, given, int(locate(i).split()[1]), n, i + 1)
+    frame = frame.iloc[:, :width].set_axis(hd.names, axis=1)
 
     @cache
     def text(column: str) -> list[str]:
-        j = names.index(column)
+        j = hd.names.index(column)
         if frame.iloc[:, j].dtype.kind == "O" and all(isinstance(v, str) for v in frame.iloc[:, j]):
             return frame.iloc[:, j].tolist()
         return _parse(file, data(), at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
 
-    return Table(file, frame, units, locate, text, delimiter=delim)
+    return Table(file, frame, hd.units, locate, text, delimiter=delim)
 
 
 def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
