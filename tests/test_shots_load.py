@@ -223,3 +223,17 @@ def test_options_that_do_not_apply_are_refused(tmp_path):
         load_shots(pd.DataFrame({"Total (yds)": [250.0]}), header_row=2)
     with pytest.raises(DataError, match=r"a shot export is a \.csv"):
         load_shots(tmp_path)
+
+
+def test_a_wide_trackman_export_reads_total_before_the_flat_estimate(tmp_path):
+    head = TM_HEAD + ",Est. Total Flat - Length,Est. Total Flat - Side,Smash Factor"
+    units = TM_UNITS + ",[yds],[ft],[]"
+    rows = [TM_ROWS[0] + ",276.9,-15.0,1.47", TM_ROWS[2] + ",171.0,3.5,1.40"]
+    shots = load_shots(trackman(tmp_path / "wide.csv", rows=rows, head=head, units=units))
+    np.testing.assert_allclose(shots.total, [284.0 * YD, 175.2 * YD], rtol=1e-14)
+    assert shots.total.attrs["source_column"] == "Total" and shots.side_total.attrs["source_column"] == "Side Total"
+    twice = tmp_path / "twice.csv"
+    twice.write_text("Total (yds),Total (m),Carry (yds)\n250,228.6,230\n")
+    with pytest.raises(DataError) as exc:
+        load_shots(twice)
+    assert "['Total (yds)', 'Total (m)']" in exc.value.message and exc.value.hints[0].option == "columns"

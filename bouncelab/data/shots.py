@@ -43,8 +43,9 @@ SHOT_VARIABLES: dict[str, tuple[str, str, str]] = {
     "flight_time": ("time", "s", "time from launch to landing"),
 }
 #: The column names recognised for each variable (compared case-, space- and punctuation-insensitively, a unit in
-#: the header aside), from TrackMan's, FlightScope's and GSPro's exports and plain names. ``landing_spin`` names a
-#: spin measured at landing (``spin`` is the launch spin the monitors export).
+#: the header aside), from TrackMan's, FlightScope's and GSPro's exports and plain names; of two columns that
+#: match, the one whose name comes first here is read. ``landing_spin`` names a spin measured at landing (``spin``
+#: is the launch spin the monitors export).
 SHOT_COLUMNS: dict[str, tuple[str, ...]] = {
     "landing_speed": ("Carry Flat - Ball Speed", "Land Speed", "Landing Speed", "Landing Ball Speed",
                       "Ball Speed at Landing", "Descent Speed"),
@@ -67,7 +68,7 @@ SHOT_FORMATS: dict[str, tuple[str, ...]] = {
     "FlightScope": ("Descent V", "Launch V", "Launch H"),
     "GSPro": ("VLA", "HLA", "TotalSpin", "BackSpin", "SideSpin"),
 }
-_KEYS = {normalize(name): var for var, names in SHOT_COLUMNS.items() for name in names}
+_KEYS = {normalize(name): (var, k) for var, names in SHOT_COLUMNS.items() for k, name in enumerate(names)}
 # Units the loader's table of units does not have: lengths (to metres) and times (to seconds).
 _OTHER_UNITS = {"distance": {"m": 1.0, "yd": 0.9144, "ft": u._FT, "cm": 0.01}, "time": {"s": 1.0, "ms": 1e-3}}
 _SPELLINGS = {"meter": "m", "meters": "m", "metre": "m", "metres": "m", "yds": "yd", "yards": "yd", "yard": "yd",
@@ -244,21 +245,23 @@ def _select(r: ip.Rows, columns: Mapping[str, str] | None) -> dict[ip.Role, ip.C
     if columns is not None and (not isinstance(columns, Mapping) or set(columns) - set(known)):
         raise DataError(f"columns must be a mapping of variables {list(known)} to column names; got {columns!r}",
                         file=r.t.file)
-    found: dict[str, list[str]] = {}
+    found: dict[str, list[tuple[int, str]]] = {}  # variable -> (rank of the name matched, column)
     for name in r.names:
         for key in dict.fromkeys((normalize(name), normalize(split_header(name)[0]))):
-            if (var := _KEYS.get(key)) is not None and (var != "club" or key == normalize(name)):  # not Club (mph)
-                found.setdefault(var, []).append(name)
+            if (match := _KEYS.get(key)) is not None and (match[0] != "club" or key == normalize(name)):  # Club (mph)
+                found.setdefault(match[0], []).append((match[1], name))
                 break
     cols = {}
     for var in known:
+        best = sorted(found.get(var, []), key=lambda m: m[0])  # first in SHOT_COLUMNS wins: Total over Est. Total
         if (columns or {}).get(var) is not None:
             cols[ip.Role("shot", var)] = ip.find(r, str(columns[var]), var)
-        elif len(names := list(dict.fromkeys(found.get(var, [])))) > 1:
+        elif len(best) > 1 and best[0][0] == best[1][0]:
+            names = [n for k, n in best if k == best[0][0]]
             raise DataError(f"the columns {names} all name the {var.replace('_', ' ')}; name the one to read",
                             file=r.t.file, column=names[0], hints=[Hint("columns", {var: names[0]})])
-        elif names:
-            cols[ip.Role("shot", var)] = ip.Column(names[0], normalize(names[0]) in _KEYS)
+        elif best:
+            cols[ip.Role("shot", var)] = ip.Column(best[0][1], normalize(best[0][1]) in _KEYS)
     if ip.Role("shot", "spin") in cols and ip.Role("shot", "landing_spin") in cols:
         raise DataError(f"the file has a launch spin {cols[ip.Role('shot', 'spin')].name!r} and a landing spin "
                         f"{cols[ip.Role('shot', 'landing_spin')].name!r}; name the one to read (columns=)",
