@@ -110,8 +110,28 @@ def make_campaign(
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
     check_scaled(p0, pf, radius_m=ball_radius(ball_radius_m), ranges=plausible)
+    pis = {key: None if pi is None else _interval(p0, pi, key) for key, pi in (("landing_pi", landing_pi),
+                                                                             ("liftoff_pi", liftoff_pi))}
     # as_states may return the caller's own array; the campaign must not share memory with it.
-    p0, pf = p0.copy(), pf.copy()
+    return build_campaign(p0.copy(), pf.copy(), setting=setting, **pis, campaign=campaign, surface=surface,
+                          ball_radius_m=ball_radius_m, source=source, data_kind=data_kind, attrs=attrs)
+
+
+def _interval(p0: np.ndarray, pi: Any, key: str) -> np.ndarray:
+    arr, _ = as_states(pi, key)
+    check_same_length(p0, arr, "landing", key)
+    if (arr < 0).any():
+        row = int(np.argmax((arr < 0).any(axis=1)))
+        raise DataError("prediction-interval half-widths must be >= 0", column=key, row=row + 1)
+    return arr.copy()
+
+
+def build_campaign(p0: np.ndarray, pf: np.ndarray, *, setting=None, landing_pi: np.ndarray | None = None,
+                   liftoff_pi: np.ndarray | None = None, campaign: str = "", surface: str = "",
+                   ball_radius_m: float = BALL_RADIUS_M, source: str = "", data_kind: str = "unknown",
+                   attrs: dict[str, Any] | None = None) -> xr.Dataset:
+    """The campaign Dataset of arrays already checked (:func:`make_campaign` checks them; the loader checks them
+    once, in the file's terms) and owned by the campaign."""
     data_kind = (attrs or {}).get("data_kind", data_kind)
     if data_kind not in DATA_KINDS:
         raise DataError(f"data_kind must be one of {DATA_KINDS}; got {data_kind!r}", option="data_kind")
@@ -122,15 +142,8 @@ def make_campaign(
         "liftoff": (dims, pf, {"long_name": "state just after lift-off", "units": "scaled"}),
     }
     for key, pi in (("landing_pi", landing_pi), ("liftoff_pi", liftoff_pi)):
-        if pi is None:
-            continue
-        arr, _ = as_states(pi, key)
-        arr = arr.copy()
-        check_same_length(p0, arr, "landing", key)
-        if (arr < 0).any():
-            row = int(np.argmax((arr < 0).any(axis=1)))
-            raise DataError("prediction-interval half-widths must be >= 0", column=key, row=row + 1)
-        data_vars[key] = (dims, arr, {"long_name": "half-width of the 95% prediction interval", "units": "scaled"})
+        if pi is not None:
+            data_vars[key] = (dims, pi, {"long_name": "half-width of the 95% prediction interval", "units": "scaled"})
     coords: dict[str, Any] = {
         "bounce": ("bounce", np.arange(n), {"long_name": "bounce index (0-based)"}),
         "component": ("component", list(COMPONENTS)),
@@ -222,14 +235,14 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
     pis = {k: ds[k] for k in ("landing_pi", "liftoff_pi") if k in ds.data_vars}
     p0, _ = as_states(ds["landing"].transpose("bounce", "component"), "landing", landing=True, file=file)
     pf, _ = as_states(ds["liftoff"].transpose("bounce", "component"), "liftoff", file=file)
+    check_same_length(p0, pf, "landing", "liftoff")
     kept = {k: v for k, v in ds.attrs.items() if k not in ("conventions",)}
-    out = make_campaign(
-        p0, pf, setting=setting,
-        landing_pi=None if "landing_pi" not in pis else pis["landing_pi"].transpose("bounce", "component"),
-        liftoff_pi=None if "liftoff_pi" not in pis else pis["liftoff_pi"].transpose("bounce", "component"),
-        campaign=kept.pop("campaign", ""), surface=kept.pop("surface", ""),
-        ball_radius_m=float(kept.pop("ball_radius_m", BALL_RADIUS_M)), source=kept.pop("source", ""),
-        data_kind=kept.pop("data_kind", "unknown"), attrs=kept, plausible=None,
+    radius = ball_radius(float(kept.pop("ball_radius_m", BALL_RADIUS_M)))
+    out = build_campaign(  # each array checked once; copied so that the campaign owns its memory
+        p0.copy(), pf.copy(), setting=setting, **{k: _interval(p0, v.transpose("bounce", "component"), k)
+                                                  for k, v in pis.items()},
+        campaign=kept.pop("campaign", ""), surface=kept.pop("surface", ""), ball_radius_m=radius,
+        source=kept.pop("source", ""), data_kind=kept.pop("data_kind", "unknown"), attrs=kept,
     )
     if "bounce" in ds.coords:
         bounce = ds["bounce"].values

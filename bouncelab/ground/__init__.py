@@ -7,6 +7,7 @@
 :func:`preset`              the preset surfaces (the paper's two turfs; slow, medium, fast greens)
 :class:`Air`                optional drag and lift in flight
 :mod:`~.shots`              the reference-shot suite (``python -m bouncelab.ground.shots``)
+:func:`load_shots`          launch-monitor exports in (:func:`bouncelab.data.shots.load_shots`)
 ==========================  ===============================================================
 
 Conventions: right-handed axes, z up on flat ground, spin the angular-velocity vector (so
@@ -39,7 +40,15 @@ __all__ = [
     "RunResult",
     "Surface",
     "bounce",
+    "load_shots",
     "load_surface",
     "preset",
     "run",
 ]
+
+
+def __getattr__(name: str):  # load_shots lives in the data layer; pandas and xarray load only when it is asked for
+    if name == "load_shots":
+        from bouncelab.data.shots import load_shots
+        return load_shots
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

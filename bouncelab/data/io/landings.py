@@ -1,15 +1,15 @@
-"""Landings alone (no lift-offs), as ``bouncelab predict --input`` reads them.
+"""Landings alone (no lift-offs), as ``bouncelab predict --input`` reads them: the loader's pipeline asked for
+landings only.
 
-A file with a header is read as the loader reads a text table (:func:`bouncelab.data.io.read.read_text`)
-and interpreted by its interpreter (:class:`bouncelab.data.io.interpret.Reading`): a landing as ``xdot0,
-ydot0, omega0`` or ``speed, angle, spin`` (any of the loader's names, and names without a phase marker:
-``vx``, ``speed``...), in any order, other columns left alone; units from the header or a units row, else
-``units=``, else the scaled ones and degrees. A file without a header is three numbers a line.
+A file with a header is read by the text backend (:func:`bouncelab.data.io.read.read_text`) and the steps of
+:mod:`bouncelab.data.io.interpret`: a landing as ``xdot0, ydot0, omega0`` or ``speed, angle, spin`` (any of the
+loader's names, and names without a phase marker: ``vx``, ``speed``...), in any order, other columns left
+alone; units from the header or a units row, else ``units=``, else the scaled ones and degrees. A file without a
+header is three numbers a line (blank, comma or semicolon separated): the columns ``xdot0 ydot0 omega0``.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
 from collections.abc import Mapping
@@ -20,9 +20,10 @@ import numpy as np
 
 from bouncelab.core.errors import DataError
 from bouncelab.core.files import check_regular_file, read_regular_file
-from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius, spin_to_scaled, velocity_to_scaled
-from bouncelab.data.io.interpret import DEFAULT_UNITS, KINDS, Reading, check_units_arg
-from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, synonym_role
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius
+from bouncelab.data.io import interpret as ip
+from bouncelab.data.io.interpret import DEFAULT_UNITS, KINDS, Role
+from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, is_number, synonym_role
 from bouncelab.data.io.read import is_empty, read_text
 
 __all__ = ["DEFAULT_UNITS", "LandingTable", "read_landings"]
@@ -54,7 +55,6 @@ class LandingTable:
     columns: tuple[str, ...] = ()
 
 
-
 def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, units: Mapping[str, str] | None = None,
                   radius_m: float = BALL_RADIUS_M) -> LandingTable:
     """Read a text file of landing states (no lift-offs) by column name.
@@ -72,11 +72,9 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
         or non-numeric cell, an unknown or conflicting unit, a landing that does not come down.
     """
     name = os.fspath(file)
-    radius = ball_radius(radius_m, file=name)
-    given = check_units_arg(units, name)
+    radius, given = ball_radius(radius_m, file=name), ip.check_units_arg(units, name)
     if data is None:
-        path = Path(name).expanduser()
-        if not path.exists():
+        if not (path := Path(name).expanduser()).exists():
             raise FileNotFoundError(f"no such file: {name!r}")
         if path.is_dir():
             raise DataError("it is a folder, not a file of landings", file=name)
@@ -86,74 +84,19 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
         text = data.decode("latin-1")  # as the campaign loader reads a file that is not UTF-8
-    if "\x00" in text:
-        raise DataError("the file holds NUL bytes: it is not a text file of landings", file=name)
-    lines = re.split(r"\r\n|\r|\n", text)
-    first = next((k for k, line in enumerate(lines) if line.strip() and not line.lstrip().startswith(("#", "%"))),
-                 None)
-    if first is None:
+    lines = [line if line.lstrip()[:1] in ("#", "%") else re.sub(r"\s+#.*$", "", line)  # a comment after a row
+             for line in re.split(r"\r\n|\r|\n", text)]
+    first = next((k for k, line in enumerate(lines) if line.strip() and line.lstrip()[:1] not in "#%"), None)
+    if first is None and "\x00" not in text:
         raise DataError("no landing rows found (the file is empty or holds only comments)", file=name)
-    if any(_number(c) is not None for c in _cells(lines[first].split("#", 1)[0])):
-        return _rows(name, lines, given, radius)  # no header: a first line with a number is data
-    # A header that names landing columns is the header (not a title above a stray note with more cells);
-    # comments after a row are dropped, as lines of their own are.
-    named = any(_role(c.strip()) for c in re.split(r"[,;\t]|\s+", lines[first]) if c.strip())
-    body = "\n".join(line if line.lstrip().startswith(("#", "%")) else re.sub(r"\s+#.*$", "", line) for line in lines)
-    return _by_name(Reading(read_text(name, body.encode("utf-8"), header_row=first + 1 if named else None), radius,
-                            plausible=None), given)
-
-
-def _cells(text: str) -> list[str]:
-    return text.replace(",", " ").replace(";", " ").split()
-
-
-def _number(text: str) -> float | None:
-    try:
-        return float(text)
-    except ValueError:
-        return None
-
-
-def _rows(file: str, lines: list[str], given: dict[str, str], radius_m: float) -> LandingTable:
-    """A file without header: three numbers a line (comma, semicolon or blank separated), xdot0 ydot0 omega0.
-    Any line that is not three finite numbers is an error naming it: no line is skipped silently."""
-    rows, linenos = [], []
-    for lineno, line in enumerate(lines, start=1):
-        if line.lstrip().startswith(("#", "%")):
-            cells = _cells(line)
-            if len(cells) in (2, 3, 4) and sum(_number(c) is not None for c in cells[1:]) * 2 >= len(cells) - 1:
-                raise DataError(f"line {lineno} starts with {line.lstrip()[0]!r} like a comment but holds a landing "
-                                f"row: {line.strip()!r}; give three numbers, or delete the line", file=file,
-                                row=len(rows) + 1)
-            continue
-        body = line.split("#", 1)[0].strip()
-        if not body:
-            continue
-        parts = _cells(body)
-        if len(parts) != 3:
-            raise DataError(f"line {lineno} has {len(parts)} values; a landing needs 3 (xdot0 ydot0 omega0)",
-                            file=file, row=len(rows) + 1)
-        values = [_number(v) for v in parts]
-        bad = [(k, v) for k, (v, x) in enumerate(zip(parts, values, strict=True)) if x is None or not math.isfinite(x)]
-        if bad:
-            k, v = bad[0]
-            raise DataError(f"line {lineno} is not three finite numbers: {body!r} ({v!r} "
-                            f"{'is not a number' if values[k] is None else 'is not finite'})", file=file,
-                            column=("xdot0", "ydot0", "omega0")[k], row=len(rows) + 1)
-        rows.append(values)
-        linenos.append(lineno)
-    if not rows:
-        raise DataError("no landing rows found", file=file)
-    values = np.array(rows, dtype=float)
-    unit = {kind: given.get(kind, DEFAULT_UNITS[kind]) for kind in ("velocity", "spin")}
-    states = np.column_stack([velocity_to_scaled(values[:, :2], unit["velocity"], radius_m=radius_m),
-                              spin_to_scaled(values[:, 2], unit["spin"])])
-    if (up := np.flatnonzero(~(states[:, 1] < 0))).size:
-        i = int(up[0])
-        raise DataError(f"line {linenos[i]}: a landing comes down, so its ydot0 (the second number) must be negative "
-                        f"(y points up); got {values[i, 1]:g}. If the file gives speed, angle and spin, put a header "
-                        "'speed,angle,spin' over the rows", file=file, column="ydot0", row=i + 1)
-    return LandingTable(states, "rows", values, unit, {kind: "units=" if kind in given else "default" for kind in unit})
+    if first is not None and any(map(is_number, re.split(r"[,;\s]+", lines[first].strip()))):  # no header
+        table = read_text(name, re.sub(r"[,;]", " ", "\n".join(lines)).encode(), names=("xdot0", "ydot0", "omega0"))
+        return _read(ip.start(table, radius, None), {Role("landing", c): ip.Column(n) for c, n in zip(
+            COMPONENTS, ("xdot0", "ydot0", "omega0"), strict=True)}, given, "rows")
+    # A header that names landing columns is the header (not a title above a stray note with more cells).
+    named = first is not None and any(_role(c.strip()) for c in re.split(r"[,;\t]|\s+", lines[first]) if c.strip())
+    table = read_text(name, "\n".join(lines).encode(), header_row=first + 1 if named else None)
+    return _by_name(ip.start(table, radius, None), given)
 
 
 def _role(name: str) -> str | None:
@@ -163,22 +106,20 @@ def _role(name: str) -> str | None:
     return match[0] if match is not None and match[0].startswith("landing.") else None
 
 
-def _by_name(r: Reading, given: dict[str, str]) -> LandingTable:
-    file = r.file
+def _by_name(r: ip.Rows, given: dict[str, str]) -> LandingTable:
     if len(r.frame) == 0:
-        raise DataError("the file has a header but no landing rows", file=file)
-    found = r.candidates(_BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
-    landing = {c: found[f"landing.{c}"] for c in _ORDER}
-    if several := [(c, chs) for c, chs in landing.items() if len(chs) > 1]:
-        c, chs = several[0]
-        raise DataError(f"the columns {[ch.name for ch in chs]} all name the landing's {_SHOWN[c]}; keep one, or "
-                        "rename the others", file=file, column=chs[0].name)
-    has = {c for c, chs in landing.items() if chs}
-    if not has:
-        others = [ch.name for role, chs in found.items() if role.startswith("liftoff.") for ch in chs]
+        raise DataError("the file has a header but no landing rows", file=r.t.file)
+    found = ip.candidates(r, _BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
+    landing = {c: found[Role("landing", c)] for c in _ORDER}
+    if several := [(c, cols) for c, cols in landing.items() if len(cols) > 1]:
+        c, cols = several[0]
+        raise DataError(f"the columns {[col.name for col in cols]} all name the landing's {_SHOWN[c]}; keep one, or "
+                        "rename the others", file=r.t.file, column=cols[0].name)
+    if not (has := {c for c, cols in landing.items() if cols}):
+        others = [col.name for role, cols in found.items() if role.state == "liftoff" for col in cols]
         said = f"; {others} are lift-off columns, and only landings are read" if others else ""
         raise DataError(f"no column of the header names a landing: the columns are {r.names}{said}; {_NAMING}",
-                        file=file)
+                        file=r.t.file)
     if {"xdot", "ydot", "omega"} <= has:
         form, roles = "cartesian", COMPONENTS  # measured components beside derived speeds: the components
     elif {"speed", "angle", "omega"} <= has and not has & {"xdot", "ydot"}:
@@ -188,11 +129,14 @@ def _by_name(r: Reading, given: dict[str, str]) -> LandingTable:
         raise DataError(f"the header names the landing's {read} but not its "
                         f"{' and '.join(_SHOWN[c] for c in COMPONENTS if c not in has)} (for xdot0, ydot0, omega0) nor "
                         f"its {' and '.join(_SHOWN[c] for c in POLAR_ROLES if c not in has)} (for speed, angle, spin); "
-                        f"the columns are {r.names}: {_NAMING}", file=file)
-    r.chosen = {f"landing.{c}": landing[c][0] for c in roles}
-    cols = [ch.name for ch in r.chosen.values()]
-    r.check_absolute_units()
-    if missing := r.missing_rows(cols):
+                        f"the columns are {r.names}: {_NAMING}", file=r.t.file)
+    return _read(r, {Role("landing", c): landing[c][0] for c in roles}, given, form)
+
+
+def _read(r: ip.Rows, cols: dict[Role, ip.Column], given: dict[str, str], form: str) -> LandingTable:
+    """The loader's steps for the landing columns chosen: units, missing and bad cells, polar to Cartesian."""
+    ip.check_absolute_units(r, cols)
+    if missing := ip.missing_rows(r, [c.name for c in cols.values()]):
         i, (col, cell) = next(iter(missing.items()))
         what = "an empty cell" if is_empty(cell) else f"the missing value {str(cell).strip()!r}"
         row = r.frame.iloc[i].tolist()
@@ -200,23 +144,21 @@ def _by_name(r: Reading, given: dict[str, str]) -> LandingTable:
         if other and r.t.delimiter is not None:  # "30;-10;-500" under a comma header: one cell, the rest empty
             raise r.err(f"{what}: the line separates its values with {other[0]!r}, the header with "
                         f"{r.t.delimiter!r}; use one separator throughout", col, i)
-        raise r.err(f"{what}; every landing needs a value: fill it in or delete the row", col, i)
-    r.decimal_convention(cols)
-    parsed = {role: r.numbers(ch.name) for role, ch in r.chosen.items()}
-    if errors := [e for _, e in parsed.values() if e is not None]:
-        raise min(errors, key=lambda e: e.row or 0)
-    r.parsed = {role: v for role, (v, _) in parsed.items()}
-    for role in r.chosen:
-        r.unit_of[role] = r.column_unit(role, given)
-        r.scaled[role] = r.convert(role, r.unit_of[role][0])
-    velocity = {r.col(role): u for role, (u, _) in r.unit_of.items() if KINDS[role.split(".")[1]] == "velocity"}
+        raise r.err(f"{what}; every landing needs a finite value: fill it in or delete the row", col, i)
+    r, cols, _ = ip.read_columns(r, cols, missing="raise", what="landing")
+    cols = ip.with_units(r, cols, given)
+    velocity = {c.name: c.unit for role, c in cols.items() if KINDS[role.comp] == "velocity"}
     if len(set(velocity.values())) > 1:
-        raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=file,
-                        column=r.col("landing.ydot"))
-    values = np.column_stack([r.parsed[role] for role in r.chosen])
-    units = {KINDS[role.split(".")[1]]: u for role, (u, _) in r.unit_of.items()}
-    origins = {KINDS[role.split(".")[1]]: {"assumed": "default"}.get(o, o) for role, (_, o) in r.unit_of.items()}
+        raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=r.t.file,
+                        column=cols[Role("landing", "ydot")].name)
+    values, names = np.column_stack([c.raw for c in cols.values()]), tuple(c.name for c in cols.values())
+    unit_of = {KINDS[role.comp]: c.unit for role, c in cols.items()}
+    origins = {KINDS[role.comp]: {"assumed": "default"}.get(c.origin, c.origin) for role, c in cols.items()}
     if form == "polar":
-        r.polar_state("landing")  # the loader's checks and conversion
-    r.check_landing_sign()
-    return LandingTable(r.states("landing", landing=True), form, values, units, origins, tuple(cols))
+        cols = ip.polar_state(r, cols, "landing")  # the loader's checks and conversion
+    if form == "rows" and (up := np.flatnonzero(~(cols[Role("landing", "ydot")].scaled < 0))).size:
+        raise r.err(f"a landing comes down, so its ydot0 (the second number) must be negative (y points up); got "
+                    f"{r.cell('ydot0', int(up[0]))}. If the file gives speed, angle and spin, put a header "
+                    "'speed,angle,spin' over the rows", "ydot0", int(up[0]))
+    ip.check_landing_sign(r, cols)
+    return LandingTable(ip.states(r, cols, "landing"), form, values, unit_of, origins, names)

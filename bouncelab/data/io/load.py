@@ -14,7 +14,7 @@ import xarray as xr
 
 from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.files import MAX_FILE_BYTES as MAX_FILE_BYTES  # re-exported: the largest file read
-from bouncelab.core.files import check_regular_file, read_regular_file
+from bouncelab.core.files import check_regular_file
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, ball_radius
 from bouncelab.data.embedded import DEFAULT_SURROGATE, EMBEDDED_CAMPAIGNS, SURROGATES, embedded_file_name
@@ -23,12 +23,11 @@ from bouncelab.data.io import interpret, read
 if TYPE_CHECKING:
     import pandas as pd
 
-#: File suffixes :func:`load_campaign` reads (case-insensitive).
-SUPPORTED_SUFFIXES = (".csv", ".tsv", ".txt", ".xlsx", ".xls", ".mat", ".nc", ".netcdf")
+#: File suffixes :func:`load_campaign` reads (case-insensitive), each by its backend (:data:`read.BACKENDS`).
+SUPPORTED_SUFFIXES = tuple(read.BACKENDS)
 #: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.embedded.SURROGATES).
 EMBEDDED_SURROGATES = SURROGATES
-#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
-DATAFRAME_NAME = "<DataFrame>"
+DATAFRAME_NAME = read.DATAFRAME_NAME
 
 
 def _embedded_file(name: str, surrogate: str):
@@ -46,6 +45,9 @@ def _not_for(where: str, file: str | None = None, why: str = "", **given: Any) -
     for option, value in ((k, v) for k, v in given.items() if v is not None):
         raise DataError(f"{option.replace('_', ' ')} {value!r} was given, but it does not apply to {where}{why}",
                         file=file)
+
+
+_WHY_NOT = {"sheet": " (only Excel files have sheets)", "header_row": " (only text and Excel files have one)"}
 
 
 def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Mapping[str, Any] | None = None,
@@ -138,7 +140,7 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     options = {"plausible": plausible, "missing": missing, "intervals": intervals, "ball_radius_m": radius}
     if frame:
         _not_for("a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
-        return interpret.campaign_from_table(read.table_from_dataframe(source, where), columns=columns,
+        return interpret.campaign_from_table(read.read_dataframe(source, where), columns=columns,
                                              given=interpret.check_units_arg(units, where), **options,
                                              campaign="DataFrame" if campaign is None else str(campaign),
                                              surface="" if surface is None else str(surface), source="pandas.DataFrame")
@@ -170,23 +172,17 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     if (suffix := path.suffix.lower()) not in SUPPORTED_SUFFIXES:
         raise DataError(f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
                         f"{', '.join(SUPPORTED_SUFFIXES)}", file=file)
-    if suffix not in read.EXCEL_SUFFIXES:
-        _not_for("this file", file, " (only Excel files have sheets)", sheet=sheet)
-    if suffix not in (*read.EXCEL_SUFFIXES, ".csv", ".tsv", ".txt"):
-        _not_for("this file", file, " (only text and Excel files have one)", header_row=header_row)
+    backend = read.BACKENDS[suffix]
+    for option, value in (("sheet", sheet), ("header_row", header_row)):
+        if option not in backend.options:
+            _not_for("this file", file, _WHY_NOT[option], **{option: value})
     check_regular_file(path, file)
-    if suffix in read.NETCDF_SUFFIXES:
-        ds = read.open_netcdf(path, file)
-        if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
-            return interpret.campaign_from_netcdf(ds, file=file, source=str(path.resolve()), columns=columns,
-                                                  given=units, campaign=campaign, surface=surface, ball_radius_m=radius,
-                                                  plausible=plausible, intervals=intervals)
-        table = read.table_from_dataset(ds, file)
-    elif suffix in read.EXCEL_SUFFIXES:
-        table = read.read_excel(path, file, sheet, header_row=header_row)
-    else:
-        table = read.read_mat(path, file) if suffix == ".mat" else read.read_text(file, read_regular_file(path, file),
-                                                                                   header_row=header_row, path=path)
+    given = {k: v for k, v in (("sheet", sheet), ("header_row", header_row)) if k in backend.options}
+    table = backend.read(path, file, **given)
+    if isinstance(table, xr.Dataset):  # a campaign file
+        return interpret.campaign_from_netcdf(table, file=file, source=str(path.resolve()), columns=columns,
+                                              given=units, campaign=campaign, surface=surface, ball_radius_m=radius,
+                                              plausible=plausible, intervals=intervals)
     return interpret.campaign_from_table(table, columns=columns, given=interpret.check_units_arg(units, file),
                                          campaign=path.stem if campaign is None else str(campaign),
                                          surface="" if surface is None else str(surface), source=str(path.resolve()),

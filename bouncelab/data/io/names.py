@@ -10,6 +10,10 @@ from __future__ import annotations
 import re
 import unicodedata
 from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import pandas as pd
 
 from bouncelab.core.errors import DataError
 from bouncelab.core.units import COMPONENTS, canonical_unit
@@ -175,18 +179,19 @@ def relative_unit(name: str, unit_text: str | None) -> str | None:
             or (relative_word(last[0]) if last and last[0].lower() in _RELATIVE_WORDS else None))
 
 
-def parse_number(text: str, *, decimal_comma: bool = False) -> float | None:
-    """A cell's number as Python reads it (``1_0`` is none), with a decimal comma if allowed; else None."""
-    s = text.strip().replace("\u2212", "-")
-    if "_" in s:
-        return None
-    try:
-        return float(s)
-    except ValueError:
-        pass
-    if decimal_comma and re.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", s):
-        return float(s.replace(",", "."))
-    return None
+def to_numbers(cells: Any, decimal_comma: bool = False) -> np.ndarray:
+    """Cells of text as floats, by :func:`pandas.to_numeric` (the loader's one number parser): NaN where a cell is no
+    number (``1_0``, ``1.2.3``); ``-0`` a signed zero; ``15,2`` with ``decimal_comma``; U+2212 a minus sign."""
+    text = pd.Series(cells, dtype=object).astype(str).str.strip().str.replace("\u2212", "-", regex=False)
+    vals = pd.to_numeric(text.str.replace(",", ".", regex=False) if decimal_comma else text, errors="coerce")
+    return np.copysign(vals.to_numpy(dtype=float), np.where(text.str.startswith("-"), -1.0, 1.0))
+
+
+def is_number(cell: Any) -> bool:
+    """Whether a cell holds a number (text that :func:`to_numbers` reads, or a number that is not a bool)."""
+    if isinstance(cell, str):
+        return not np.isnan(to_numbers([cell])[0])
+    return isinstance(cell, int | float | np.number) and not isinstance(cell, bool | np.bool_)
 
 
 def unit_cell(cell: object) -> str:
@@ -194,8 +199,9 @@ def unit_cell(cell: object) -> str:
 
 
 def is_units_row(cells: list, blank) -> bool:
-    """Whether a row under the header gives units (``m/s, m/s, rpm``): no number, at least half of it units."""
-    texts = [unit_cell(c) for c in cells if not blank(c)]
-    if not texts or any(parse_number(t) is not None for t in texts):
+    """Whether a row under the header gives units (``m/s, m/s, rpm``, ``[mph], [yds]``): no number, at least half of
+    it units (known, or written in brackets)."""
+    texts = [str(c).strip() for c in cells if not blank(c)]
+    if not texts or any(is_number(unit_cell(t)) for t in texts):
         return False
-    return sum(bool(unit_of(t)) for t in texts) * 2 >= len(texts)
+    return sum(bool(unit_of(unit_cell(t))) or bool(re.fullmatch(r"\[[^\[\]]*\]", t)) for t in texts) * 2 >= len(texts)

@@ -1,14 +1,13 @@
-"""Reading a file into one pandas DataFrame, each format by its library, with where each row is in the file.
+"""The format backends: each reads one kind of file (or a DataFrame) into one :class:`Table`.
 
-``pandas.read_csv`` reads text tables (after the delimiter, the header, title lines, a units row and
-comment lines are found here), ``pandas.read_excel`` workbooks, ``scipy.io.loadmat`` MATLAB files and
-``xarray.open_dataset`` netCDF files. The result is a :class:`Table`; what its cells mean is for
-:mod:`bouncelab.data.io.interpret`.
+A backend finds the header, a units row under it and where each row is in the file; what the cells mean
+is for :mod:`bouncelab.data.io.interpret`. ``pandas.read_csv`` reads text tables (the delimiter is told
+by :class:`csv.Sniffer`), ``pandas.read_excel`` workbooks, ``scipy.io.loadmat`` MATLAB files and
+``xarray.open_dataset`` netCDF files. :data:`BACKENDS` maps each suffix to its backend.
 """
 
 from __future__ import annotations
 
-import codecs
 import csv
 import importlib.util
 import io
@@ -17,25 +16,25 @@ import signal
 import subprocess
 import sys
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from bouncelab.core.errors import DataError, Hint
-from bouncelab.data.io.names import is_units_row, parse_number, unit_cell
+from bouncelab.core.files import read_regular_file
+from bouncelab.data.io.names import is_number, is_units_row, unit_cell
 
-EXCEL_SUFFIXES, NETCDF_SUFFIXES = (".xlsx", ".xls"), (".nc", ".netcdf")
+#: The name a DataFrame has in messages (``file '<DataFrame>', column 'vy0', row 3 (row label 'b7'): ...``).
+DATAFRAME_NAME = "<DataFrame>"
 # Cells a person reads as "no value": spreadsheet error codes and the usual placeholders.
 MISSING = frozenset({"", "na", "n/a", "n.a.", "nan", "null", "none", "missing", "-", "--", "?", "#n/a", "#na",
                      "#value!", "#ref!", "#div/0!", "#num!", "#name?", "#null!"})
-# pandas 3 reads floats exactly (Python's correctly rounded conversion) by default; pandas 2 when asked.
-_EXACT = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
 
 
 def module_available(name: str) -> bool:
@@ -47,34 +46,55 @@ def is_empty(v: Any) -> bool:
     return (isinstance(v, str) and not v.strip()) or (not isinstance(v, str) and bool(pd.isna(v)))
 
 
-@dataclass
+@dataclass(frozen=True)
 class Table:
-    """A file's columns as one DataFrame (one row per data row, names as in the file) and where its rows are.
+    """A file's data rows as one DataFrame (``cells``: names as in the file; numbers where the format or pandas
+    typed a whole column, else the cells as written) and where they came from.
 
-    ``units`` holds units given beside the names (a units row under the header, a netCDF ``units``
-    attribute): column -> (unit text, where). ``where(row, column)`` says where data row ``row``
-    (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``); ``labels`` are a DataFrame's row labels;
-    ``text(column)`` gives a text file's cells as written; ``lengths`` the length of each column of a
-    file of separate arrays (``.mat``, netCDF), padded in ``frame``.
+    ``units``: column -> (unit, where) given beside the names (a units row, a netCDF attribute);
+    ``locate(row, column)``: where data row ``row`` (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``);
+    ``text(column)``: a text file's cells as written; ``labels``: a DataFrame's row labels; ``delimiter``: a text
+    file's (a semicolon, tab or blank-separated one may write decimal commas); ``lengths``: each column's length
+    in a file of separate arrays (``.mat``, netCDF), padded in ``cells``.
     """
 
     file: str
-    frame: pd.DataFrame
-    units: dict[str, tuple[str, str]] = field(default_factory=dict)
-    where: Callable[[int, str | None], str] | None = None
-    labels: list | None = None
-    text_cells: bool = True  # NaN and blank text are empty cells (not an array's NaN)
-    decimal_comma: bool = False  # a semicolon, tab or blank-separated text table may write 1,5
-    delimiter: str | None = None
-    lengths: dict[str, int] | None = None
+    cells: pd.DataFrame
+    units: Mapping[str, tuple[str, str]] = field(default_factory=dict)
+    locate: Callable[[int, str | None], str] | None = None
     text: Callable[[str], list[str]] | None = None
-    refused: DataError | None = None  # a row the reader refused, reported once the header is checked
+    labels: list | None = None
+    delimiter: str | None = ","
+    lengths: Mapping[str, int] | None = None
+
+
+def check_names(names: Sequence[str], file: str) -> None:
+    """A header names each column once."""
+    seen: dict[str, int] = {}
+    for j, name in enumerate(names):
+        if name and seen.setdefault(name, j) != j:
+            raise DataError(f"the header names column {name!r} twice (columns {seen[name] + 1} and {j + 1}); "
+                            "rename one of them", file=file, column=name)
+
+
+def units_row(names: Sequence[str], cells: Sequence, blank: Callable[[Any], bool]) -> dict[str, tuple[str, str]]:
+    """The units a row under the header gives (``m/s, m/s, rpm``), or {} if it is no units row."""
+    if not cells or not is_units_row(list(cells)[: len(names)], blank):
+        return {}
+    return {n: (unit_cell(c), "units row") for n, c in zip(names, cells, strict=False)
+            if n and not blank(c) and unit_cell(c)}
+
+
+def looks_like_title(title: list, header: list, first_row: list, blank: Callable[[Any], bool]) -> bool:
+    """Whether a line above the header is a title or note (``Bounce test 2026-03-14, turf B``). Conservative, so
+    that a data row is never taken for a header: fewer cells than the header under it and no number, the
+    header has no number, and the row under it has one or is a units row."""
+    t, h, d = ([c for c in row if not blank(c)] for row in (title, header, first_row))
+    return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(is_number, t)) and not any(map(is_number, h))
+            and (any(map(is_number, d)) or is_units_row(first_row, blank)))
 
 
 # ------------------------------------------------------------------------------------------------ text tables
-
-_BREAK = re.compile(rb"\r\n|\r|\n")  # lines end at these only, as in spreadsheets
-
 
 def _comment(line: str) -> bool:
     return line.lstrip().startswith(("#", "%"))
@@ -84,18 +104,14 @@ def _split(line: str, delim: str | None) -> list[str]:
     return line.split() if delim is None else next(csv.reader([line], delimiter=delim))
 
 
-def _sniff(lines: list[str]) -> str | None:
-    """The delimiter most lines agree on: tab, semicolon or comma; ``None`` for runs of blanks."""
-    best: tuple[str, int] | None = None
-    for d in ("\t", ";", ","):
-        try:
-            counts = [len(_split(line, d)) for line in lines]
-        except csv.Error:
-            continue
-        n = counts[0]
-        if n >= 2 and not (len(counts) > 1 and sum(c == n for c in counts[1:]) * 2 < len(counts) - 1):
-            best = (d, n) if best is None or n > best[1] else best
-    return None if best is None else best[0]
+def sniff(lines: list[str]) -> str | None:
+    """The delimiter of a table's lines: tab, semicolon or comma as :class:`csv.Sniffer` tells it (else the one that
+    splits the header most); None for runs of blanks."""
+    try:
+        delim = csv.Sniffer().sniff("\n".join(lines), delimiters="\t;,").delimiter
+    except csv.Error:
+        delim = max("\t;,", key=lines[0].count)
+    return delim if lines[0].count(delim) else None
 
 
 def _data_shaped(cells: list[str], width: int) -> bool:
@@ -103,34 +119,39 @@ def _data_shaped(cells: list[str], width: int) -> bool:
     the header's width (trailing separators not counted), at least half of it numbers."""
     while cells and not cells[-1]:
         cells = cells[:-1]
-    numeric = sum(parse_number(c) is not None for c in cells[1:])
-    return width >= 2 and abs(len(cells) - width) <= 1 and numeric * 2 >= len(cells) - 1
+    return width >= 2 and abs(len(cells) - width) <= 1 and sum(map(is_number, cells[1:])) * 2 >= len(cells) - 1
 
 
-def looks_like_title(title: list, header: list, first_row: list, blank: Callable[[Any], bool]) -> bool:
-    """Whether a line above the header is a title or note (``Bounce test 2026-03-14, turf B``). Conservative, so
-    that a data row is never taken for a header: fewer cells than the header under it and no number, the
-    header has no number, and the row under it has one or is a units row."""
-    def numeric(c: Any) -> bool:
-        return not isinstance(c, bool | np.bool_) and (isinstance(c, int | float | np.number) or (
-            isinstance(c, str) and parse_number(c) is not None))
-
-    t, h, d = ([c for c in row if not blank(c)] for row in (title, header, first_row))
-    return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(numeric, t)) and not any(map(numeric, h))
-            and (any(map(numeric, d)) or is_units_row(first_row, blank)))
+class _Line(NamedTuple):
+    no: int  # 1-based
+    text: str
+    end: int  # the byte after its line break
 
 
-def _header_index(lines: list[tuple[int, str, int]], k: int) -> int:
-    """The header: the first line that is not a comment (``k``), or a line below it above which every line
-    is a title (:func:`looks_like_title`)."""
+_BREAK = re.compile(rb"\r\n|\r|\n")  # lines end at these only, as in spreadsheets
+
+
+def _lines(raw: bytes, start: int, enc: str, first: int = 1):
+    """The lines of ``raw`` from byte ``start`` (line ``first``)."""
+    pos, no = start, first
+    for m in _BREAK.finditer(raw, start):
+        yield _Line(no, raw[pos:m.start()].decode(enc), m.end())
+        pos, no = m.end(), no + 1
+    if pos < len(raw):
+        yield _Line(no, raw[pos:].decode(enc), len(raw))
+
+
+def _header(lines: list[_Line], k: int) -> int:
+    """The header: the first line that is not a comment (``k``), or one below it above which every line is a
+    title (:func:`looks_like_title`)."""
     for h in range(k + 1, min(k + 11, len(lines) - 1)):
-        below = [t for _, t, _ in lines[h:h + 50] if not _comment(t)]
-        above = [t for _, t, _ in lines[k:h] if not _comment(t)]
-        if len(below) < 2 or _comment(lines[h][1]):
+        below = [ln.text for ln in lines[h:h + 50] if not _comment(ln.text)]
+        if len(below) < 2 or _comment(lines[h].text):
             continue
-        delim = _sniff(below)
+        delim = sniff(below)
         try:
-            header, first, *titles = (_split(t, delim) for t in (below[0], below[1], *above))
+            header, first, *titles = (_split(t, delim) for t in (*below[:2], *(ln.text for ln in lines[k:h]
+                                                                               if not _comment(ln.text))))
         except csv.Error:
             continue
         if all(looks_like_title(t, header, first, lambda c: not c.strip()) for t in titles):
@@ -138,20 +159,9 @@ def _header_index(lines: list[tuple[int, str, int]], k: int) -> int:
     return k
 
 
-def _lines(raw: bytes, start: int, enc: str):
-    """(line number, text, end) of each line of ``raw`` from byte ``start`` (line 1)."""
-    pos, no = start, 0
-    for m in _BREAK.finditer(raw, start):
-        no += 1
-        yield no, raw[pos:m.start()].decode(enc), m.end()
-        pos = m.end()
-    if pos < len(raw):
-        yield no + 1, raw[pos:].decode(enc), len(raw)
-
-
 def _plain(raw: bytes, at: int, delim: str | None) -> bool:
     """Whether pandas reads each non-blank line of ``raw`` from ``at`` as a row: no comment line, no tab-only line."""
-    for mark in (b"#", b"%"):
+    for mark in (b"#", b"%"):  # bytes.find: a scan of a large file at memory speed
         k = raw.find(mark, at)
         while k >= 0:
             if not raw[max(raw.rfind(b"\n", at, k), raw.rfind(b"\r", at, k), at - 1) + 1:k].strip():
@@ -160,162 +170,157 @@ def _plain(raw: bytes, at: int, delim: str | None) -> bool:
     return not (delim == "\t" and re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)").search(raw, at))
 
 
-def read_text(file: str, raw: bytes, header_row: int | None = None, path: Path | None = None) -> Table:
-    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. ``path``, the
-    file ``raw`` was read from, lets pandas read a large plain file from the disk (in parallel, pandas 3)."""
+class _Header(NamedTuple):
+    names: list[str]
+    delim: str | None  # None: runs of blanks
+    units: dict[str, tuple[str, str]]
+    at: int  # the byte where the data lines start
+    first_no: int  # the line number of the first of them
+
+
+def _find_header(file: str, raw: bytes, head: list[_Line], first: int, header_row: int | None) -> _Header:
+    """The header (the line ``header_row`` names, else the first that is neither a comment nor a title), its
+    delimiter, and the units row under it."""
+    if header_row is None:
+        h = _header(head, first)
+    elif (h := next((k for k, ln in enumerate(head) if ln.no == header_row), None)) is None:
+        said = (f"the file has {n} lines" if header_row > (n := _count_lines(raw)) else
+                f"line {header_row} is blank; a header names the columns")
+        raise DataError(f"header row {header_row}: {said}", file=file)
+    below = [ln.text for ln in head[h + 1:h + 50] if not _comment(ln.text)]
+    delim = sniff([head[h].text, *below])
+    try:
+        names = [c.strip() for c in _split(head[h].text, delim)] if delim is not None else [
+            n.replace("\x00", " ") for n in re.sub(r"\s+(?=[\[\(\{][^\s\]\)\}]*[\]\)\}](\s|$))", "\x00",
+                                                 head[h].text).split()]  # "vx0 [m/s]" is one name
+        list(csv.reader(below, delimiter=delim or " "))  # a cell beyond the csv module's limit is no number
+    except csv.Error as exc:
+        raise DataError(f"line {head[h].no}: cannot split the header or the lines under it: {exc}", file=file) from None
+    while names and not names[-1]:
+        names.pop()
+    check_names(names, file)
+    k = next((k for k in range(h + 1, len(head)) if not _comment(head[k].text)), None)
+    if k is not None and not any(_data_shaped(_split(ln.text, delim), len(names)) for ln in head[h + 1:k]):
+        cells = _split(head[k].text, delim)  # a units row is the first row: not under a commented-out row
+        if (delim is not None or len(cells) == len(names)) and (units := units_row(names, cells, lambda c: not c)):
+            return _Header(names, delim, units, head[k].end, head[k].no + 1)
+    return _Header(names, delim, {}, head[h].end, head[h].no + 1)
+
+
+def _count_lines(raw: bytes) -> int:
+    return len(_BREAK.findall(raw)) + (not raw.endswith((b"\n", b"\r")) and len(raw) > 0)
+
+
+def _wrong_width(file: str, hd: _Header, given: bool, lineno: int, n: int, row: int) -> DataError:
+    width = len(hd.names)
+    if given:
+        return DataError(f"line {lineno} has {n} values; a row needs {width} ({' '.join(hd.names)})", file=file,
+                         row=row)
+    if hd.delim is None:  # runs of blanks separate the cells: an empty cell cannot be seen
+        return DataError(f"line {lineno} has {n} values but the header names {width} columns; in a whitespace-"
+                         "separated file an empty cell cannot be told from the separator: write NA in it, or use a "
+                         "comma- or tab-separated file", file=file, row=row)
+    return DataError(f"the row has {n} values but the header names {width} columns (line {lineno})", file=file,
+                     row=row)
+
+
+def _kept_lines(file: str, raw: bytes, enc: str, hd: _Header, given: bool) -> tuple[bytes, list[int]]:
+    """The data lines of a file with comment lines among them (a comment shaped like a row refused), and their
+    line numbers; a blank-separated row must have the header's width."""
+    kept, linenos = [], []
+    for ln in _lines(raw, hd.at, enc, hd.first_no):
+        if ln.text.strip() and _comment(ln.text):
+            if not _data_shaped(cells := _split(ln.text, hd.delim), len(hd.names)):
+                continue
+            if cells[0].strip().lower() not in MISSING:
+                mark = ln.text.lstrip()[0]
+                raise DataError(f"line {ln.no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
+                                f"values like the data: delete the line if it is commented out, or remove the "
+                                f"{mark!r}", file=file, row=len(linenos) + 1)
+        elif hd.delim is None and ln.text.strip() and len(ln.text.split()) != len(hd.names):
+            raise _wrong_width(file, hd, given, ln.no, len(ln.text.split()), len(linenos) + 1)
+        if ln.text.strip():
+            kept.append(ln.text)
+            linenos.append(ln.no)
+    return "\n".join(kept).encode(enc), linenos
+
+
+def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None,
+              path: Path | None = None, stamp: tuple[int, int] | None = None) -> Table:
+    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. With ``names``
+    the file has no header: every line that is not a comment is a row of these columns, blank-separated. ``path``,
+    the file ``raw`` was read from with its (size, mtime) ``stamp``: the cells of a large plain file are read again
+    from it when a message or a label needs their text, so that the bytes need not stay in memory."""
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
     enc = "utf-8"
     if not raw.isascii():
         try:
-            raw.decode("utf-8")
+            raw.decode("utf-8-sig")
         except UnicodeDecodeError:
             enc = "latin-1"
-    start = 3 if enc == "utf-8" and raw.startswith(codecs.BOM_UTF8) else 0
-    lines: list[tuple[int, str, int]] = []  # the head of the file: its non-blank lines
-    first, n_lines = None, 0
-    for no, text, end in _lines(raw, start, enc):
-        n_lines = no
-        if text.strip():
-            lines.append((no, text, end))
-            first = len(lines) - 1 if first is None and not _comment(text) else first
-        if first is not None and len(lines) > first + 62 and no > (header_row or 0) + 51:
-            n_lines = None  # not read to the end
+    start = 3 if enc == "utf-8" and raw.startswith(b"\xef\xbb\xbf") else 0
+    head: list[_Line] = []  # the head of the file: its non-blank lines
+    for ln in _lines(raw, start, enc):
+        head += [ln] if ln.text.strip() else []
+        if len(head) > 63 and ln.no > (header_row or 0) + 51:
             break
-    if first is None:
+    if (first := next((k for k, ln in enumerate(head) if not _comment(ln.text)), None)) is None:
         raise DataError("the file is empty (no header, no data)", file=file)
-    if header_row is not None:
-        if n_lines is not None and header_row > n_lines:
-            raise DataError(f"header row {header_row}: the file has {n_lines} lines", file=file)
-        h = next((j for j, (no, _, _) in enumerate(lines) if no == header_row), None)
-        if h is None:
-            raise DataError(f"header row {header_row}: line {header_row} is blank; a header names the columns",
-                            file=file)
+    given = names is not None
+    hd = _Header(list(names), None, {}, start, 1) if given else _find_header(file, raw, head, first, header_row)
+    width, delim = len(hd.names), hd.delim
+    body, at, linenos = raw, hd.at, []  # the data: raw from byte at, or the lines kept of it
+    if not _plain(raw, hd.at, delim):  # comment lines: refuse those shaped like data, skip the others
+        (body, linenos), at = _kept_lines(file, raw, enc, hd, given), 0
+    frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
+    if path is None or body is not raw:
+        data = (lambda kept=body: kept)  # noqa: E731 - the lines kept (or the bytes given) stay in memory
     else:
-        h = _header_index(lines, first)
-    header_no, header_line, pos = lines[h]
-    delim = _sniff([header_line] + [t for _, t, _ in lines[h + 1:h + 50] if not _comment(t)])
-    try:
-        names = [c.strip() for c in _split(header_line, delim)]
-    except csv.Error as exc:
-        raise DataError(f"line {header_no}: cannot split the header: {exc}", file=file) from None
-    if delim is None:  # "vx0 [m/s]" in a blank-separated header is one name
-        merged: list[str] = []
-        for n in names:
-            if merged and re.fullmatch(r"[\[\(\{].*[\]\)\}]", n):
-                merged[-1] += " " + n
-            else:
-                merged.append(n)
-        names = merged
-    while names and not names[-1]:
-        names.pop()
-    units: dict[str, tuple[str, str]] = {}
-    k = next((k for k in range(h + 1, len(lines)) if not _comment(lines[k][1])), None)
-    below = None if k is None or any(_data_shaped(_split(t, delim), len(names)) for _, t, _ in lines[h + 1:k]) else (
-        lines[k])  # a units row is the first row: not under a commented-out row
-    first_line = header_no + 1
-    cells = _split(below[1], delim) if below is not None else []
-    if cells and (delim is not None or len(cells) == len(names)) and is_units_row(cells[: len(names)], lambda c: not c):
-        units = {n: (unit_cell(c), "units row") for n, c in zip(names, cells, strict=False) if n and unit_cell(c)}
-        pos, first_line = below[2], below[0] + 1
-    width = len(names)
+        def data() -> bytes:
+            again = read_regular_file(path, file)
+            if (len(again), path.stat().st_mtime_ns) != stamp:
+                raise DataError("the file changed while it was being read; load it again", file=file)
+            return again
 
-    def wrong_width(lineno: int, n: int, row: int) -> DataError:
-        if delim is None:  # runs of blanks separate the cells: an empty cell cannot be seen
-            return DataError(f"line {lineno} has {n} values but the header names {width} columns; in a "
-                             "whitespace-separated file an empty cell cannot be told from the separator: write NA "
-                             "in it, or use a comma- or tab-separated file", file=file, row=row)
-        return DataError(f"the row has {n} values but the header names {width} columns (line {lineno})", file=file,
-                         row=row)
-
-    body, at = raw, pos  # the data lines: raw from byte pos, or the lines kept of them
-    linenos: list[int] = []
-    if not _plain(raw, pos, delim):  # comment lines: refuse those shaped like data, skip the others
-        kept = []
-        for no, text, _ in _lines(raw, pos, enc):
-            if text.strip() and _comment(text):
-                cells = _split(text, delim)
-                if not _data_shaped(cells, len(names)):
-                    continue
-                if cells[0].strip().lower() not in MISSING:
-                    raise DataError(f"line {no + first_line - 1} starts with {text.lstrip()[0]!r} like a comment but "
-                                    f"holds a row of {len(cells)} values like the data: delete the line if it is "
-                                    f"commented out, or remove the {text.lstrip()[0]!r}", file=file,
-                                    row=len(linenos) + 1)
-            elif delim is None and text.strip() and len(text.split()) != width:
-                raise wrong_width(no + first_line - 1, len(text.split()), len(linenos) + 1)
-            if text.strip():
-                kept.append(text)
-                linenos.append(no + first_line - 1)
-        body, at = "\n".join(kept).encode(enc), 0
-
-    store: list[bytes | None] = [body]  # the data text() and line() read again: these bytes, or None: the file
-    stamp = (0, 0)
-
-    def data() -> bytes:
-        if store[0] is None and (path.stat().st_size, path.stat().st_mtime_ns) != stamp:
-            raise DataError("the file changed while it was being read; load it again", file=file)
-        return path.read_bytes() if store[0] is None else store[0]
-
-    def line(row: int, column: str | None = None) -> str:
-        if not linenos:  # every non-blank line is a row: find them when a message asks
-            linenos.extend(no + first_line - 1 for no, text, _ in _lines(data(), at, enc) if text.strip())
+    def locate(row: int, column: str | None = None) -> str:
+        if not linenos:  # every non-blank line is a row: found when a message asks
+            linenos.extend(ln.no for ln in _lines(data(), at, enc, hd.first_no) if ln.text.strip())
         return f"line {linenos[row]}"
 
-    frame = None
-    if path is not None and body is raw and enc == "utf-8" and raw.find(b"\r") < 0 and first_line - 1 == sum(
-            no < first_line for no, _, _ in lines):  # every line above the data is one pandas skips
-        stamp = (path.stat().st_size, path.stat().st_mtime_ns)
-        frame = _parse(file, path, first_line - 1, delim, width, enc, as_text=delim != ",")
-        rows = raw.count(b"\n", pos) + (not raw.endswith(b"\n") and len(raw) > pos)
-        frame = frame if len(frame) == rows and stamp[0] == len(raw) else None  # blank lines, a changed file: memory
-        store[0] = None if frame is not None else body  # the bytes need not stay in memory beside the table
-    if frame is None:
-        frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
     extra = frame.iloc[:, width:].ne("").any(axis=1) if frame.shape[1] > width else pd.Series(False, frame.index)
     short = frame.iloc[:, width - 1].eq("") if delim is None and width else pd.Series(False, frame.index)
-    refused = None
     if (bad := extra | short).any():
         i = int(np.argmax(bad.to_numpy()))
-        n = int(frame.iloc[i].ne("").to_numpy().nonzero()[0].max()) + 1 if delim is not None else int(
-            frame.iloc[i].ne("").sum())
-        refused = wrong_width(int(line(i).split()[1]), n, i + 1)
-    frame = frame.iloc[:, :width].set_axis(names, axis=1)
+        cells = frame.iloc[i].ne("").to_numpy()
+        n = int(cells.nonzero()[0].max()) + 1 if delim is not None else int(cells.sum())
+        raise _wrong_width(file, hd, given, int(locate(i).split()[1]), n, i + 1)
+    frame = frame.iloc[:, :width].set_axis(hd.names, axis=1)
 
     @cache
     def text(column: str) -> list[str]:
-        j = names.index(column)
+        j = hd.names.index(column)
         if frame.iloc[:, j].dtype.kind == "O" and all(isinstance(v, str) for v in frame.iloc[:, j]):
             return frame.iloc[:, j].tolist()
         return _parse(file, data(), at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
 
-    zeros = {j: z for j in range(width) if frame.iloc[:, j].dtype.kind in "if" and (z := frame.iloc[:, j].to_numpy()
-                                                                                      == 0).any()}
-    for j, zero in zeros.items() if zeros and body.find(b"-0", at) >= 0 else ():  # "-0" is a number's sign, lost
-        neg = zero & np.array([t.lstrip().startswith("-") for t in text(names[j])])  # where pandas read an integer
-        if neg.any():
-            frame.isetitem(j, np.where(neg, -0.0, frame.iloc[:, j].to_numpy(dtype=float)))
-    return Table(file, frame, units, line, decimal_comma=delim != ",", delimiter=delim, text=text, refused=refused)
+    return Table(file, frame, hd.units, locate, text, delimiter=delim)
 
 
-def _parse(file: str, body: bytes | Path, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
+def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
            usecols: list[int] | None = None) -> pd.DataFrame:
-    """pandas' reading of the data lines (``body`` from byte ``at``, or the file ``body`` from line ``at``): every cell
-    as written (``as_text``) or numbers where a column holds only numbers; nothing taken as missing (``NA`` stays
-    text); a longer row widens ``width``."""
+    """pandas' reading of the data lines (``body`` from byte ``at``): every cell as written (``as_text``) or numbers
+    where a column holds only numbers; nothing taken as missing (``NA`` stays text); a longer row widens ``width``."""
     while True:
-        source = str(body) if isinstance(body, Path) else io.BytesIO(body)  # shares the bytes
-        if not isinstance(body, Path):
-            source.seek(at)
+        source = io.BytesIO(body)  # shares the bytes
+        source.seek(at)
         try:
             with warnings.catch_warnings():  # pandas types a long file chunk by chunk: a mixed column is cells
                 warnings.simplefilter("ignore", pd.errors.DtypeWarning)
                 warnings.simplefilter("error", pd.errors.ParserWarning)  # cells beyond ``width`` would be lost
                 return pd.read_csv(source, sep=r"\s+" if delim is None else delim, header=None, index_col=False,
-                                   skiprows=at if isinstance(body, Path) else None,
                                    names=range(width), usecols=usecols, dtype=str if as_text else None,
-                                   na_filter=False, encoding=enc, quoting=csv.QUOTE_NONE if delim is None else 0,
-                                   **_EXACT)
+                                   na_filter=False, encoding=enc, quoting=csv.QUOTE_NONE if delim is None else 0)
         except pd.errors.EmptyDataError:
             return pd.DataFrame(columns=range(width), dtype=object)
         except pd.errors.ParserWarning:  # the first row is the longer one
@@ -325,6 +330,11 @@ def _parse(file: str, body: bytes | Path, at: int, delim: str | None, width: int
             if more is None or int(more.group(1)) <= width:
                 raise DataError(f"cannot read it as a text table ({exc})", file=file) from None
             width = int(more.group(1))
+
+
+def read_text_file(path: Path, file: str, *, header_row: int | None = None, **_: Any) -> Table:
+    stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
+    return read_text(file, read_regular_file(path, file), header_row=header_row, path=path, stamp=stamp)
 
 
 # ------------------------------------------------------------------------------------------------ Excel
@@ -337,7 +347,7 @@ def _col_letter(j: int) -> str:
     return out
 
 
-def read_excel(path: Path, file: str, sheet: str | int | None, header_row: int | None = None) -> Table:
+def read_excel(path: Path, file: str, *, sheet: str | int | None = None, header_row: int | None = None) -> Table:
     """One sheet of an ``.xlsx`` (openpyxl) or ``.xls`` (xlrd) workbook: the first visible one, or ``sheet``."""
     for suffix, package, more in ((".xlsx", "openpyxl", ""), (".xls", "xlrd", ", or save it as .xlsx")):
         if path.suffix.lower() == suffix and not module_available(package):
@@ -347,13 +357,12 @@ def read_excel(path: Path, file: str, sheet: str | int | None, header_row: int |
     try:
         with pd.ExcelFile(path) as xf:
             names, book = list(xf.sheet_names), xf.book
-            hidden = {ws.title for ws in getattr(book, "worksheets", []) if getattr(ws, "sheet_state", "") == "hidden"
-                      or getattr(ws, "sheet_state", "") == "veryHidden"}  # openpyxl
+            hidden = {ws.title for ws in getattr(book, "worksheets", []) if getattr(ws, "sheet_state", "") in (
+                "hidden", "veryHidden")}  # openpyxl
             if hasattr(book, "sheet_by_index"):  # xlrd
                 hidden |= {sh.name for sh in book.sheets() if getattr(sh, "visibility", 0)}
             if sheet is None:
-                visible = [k for k, n in enumerate(names) if n not in hidden]
-                if not visible:
+                if not (visible := [k for k, n in enumerate(names) if n not in hidden]):
                     raise DataError(f"every sheet of the workbook is hidden ({names}); name the one to read", file=file,
                                     hints=[Hint("sheet", names[0])])
                 sheet = visible[0]  # the first sheet a person sees in Excel
@@ -370,8 +379,7 @@ def read_excel(path: Path, file: str, sheet: str | int | None, header_row: int |
         raise
     except Exception as exc:
         raise DataError(f"cannot read it as an Excel workbook ({type(exc).__name__}: {exc})", file=file) from None
-    keep = [k for k, r in enumerate(grid) if not all(map(is_empty, r))]
-    if not keep:
+    if not (keep := [k for k, r in enumerate(grid) if not all(map(is_empty, r))]):
         raise DataError(f"sheet {sheet_name!r} is empty (no header, no data)", file=file)
     if header_row is not None:
         if header_row > len(grid) or header_row - 1 not in keep:
@@ -386,32 +394,31 @@ def read_excel(path: Path, file: str, sheet: str | int | None, header_row: int |
         header.pop()
     rows = [(grid[k] + [None] * len(header))[: len(header)] for k in keep[1:]]
     sheet_rows = [k + 1 for k in keep[1:]]
-    units: dict[str, tuple[str, str]] = {}
-    if rows and is_units_row(rows[0], is_empty):
-        units = {n: (unit_cell(c), "units row") for n, c in zip(header, rows[0], strict=True) if n and not is_empty(c)}
+    if rows and (units := units_row(header, rows[0], is_empty)):
         rows, sheet_rows = rows[1:], sheet_rows[1:]
 
-    def where(row: int, column: str | None = None) -> str:
+    def locate(row: int, column: str | None = None) -> str:
         if column in header:
             return f"cell {_col_letter(header.index(column))}{sheet_rows[row]} of sheet {sheet_name!r}"
         return f"row {sheet_rows[row]} of sheet {sheet_name!r}"
 
-    return Table(file, pd.DataFrame(rows, columns=header, dtype=object), units, where)
+    check_names(header, file)
+    return Table(file, pd.DataFrame(rows, columns=header, dtype=object), units, locate, delimiter=",")
 
 
 # ------------------------------------------------------------------------------------------------ a DataFrame
 
-def table_from_dataframe(df: pd.DataFrame, file: str) -> Table:
+def read_dataframe(df: pd.DataFrame, file: str) -> Table:
     """A DataFrame read as a file: its column names are the header (a units row under it counts), its rows the data."""
     names = [" ".join(map(str, c)).strip() if isinstance(df.columns, pd.MultiIndex) else str(c).strip()
              for c in df.columns]
     if not names:
         raise DataError("the DataFrame has no columns", file=file)
-    frame, labels, units = df.set_axis(names, axis=1).reset_index(drop=True), list(df.index), {}
-    if len(frame) and is_units_row(frame.iloc[0].tolist(), is_empty):
-        units = {n: (unit_cell(c), "units row") for n, c in zip(names, frame.iloc[0], strict=True) if not is_empty(c)}
+    check_names(names, file)
+    frame, labels = df.set_axis(names, axis=1).reset_index(drop=True), list(df.index)
+    if len(frame) and (units := units_row(names, frame.iloc[0].tolist(), is_empty)):
         frame, labels = frame.iloc[1:].reset_index(drop=True).astype(object), labels[1:]
-    return Table(file, frame, units, labels=labels)
+    return Table(file, frame, units if len(frame) else {}, labels=labels)
 
 
 # ------------------------------------------------------------------------------------------------ arrays
@@ -422,7 +429,7 @@ def _arrays(file: str, columns: list[tuple[str, Any]], units: dict[str, tuple[st
         raise DataError("the file holds no 1-D variables (columns)", file=file)
     frame = pd.concat([pd.Series(v, name=n, dtype=None if isinstance(v, np.ndarray) else object)
                        for n, v in columns], axis=1)
-    return Table(file, frame, units, text_cells=False, lengths={n: len(v) for n, v in columns})
+    return Table(file, frame, units, lengths={n: len(v) for n, v in columns})
 
 
 def _scalar(v: Any) -> Any:
@@ -444,7 +451,7 @@ _LOADMAT = dict(squeeze_me=True, struct_as_record=False, chars_as_strings=True)
 _PROBE = f"import sys, scipy.io\ntry: scipy.io.loadmat(sys.argv[1], **{_LOADMAT!r})\nexcept BaseException: pass\n"
 
 
-def read_mat(path: Path, file: str) -> Table:
+def read_mat(path: Path, file: str, **_: Any) -> Table:
     """A MATLAB v5/v7 file: vectors, (n, k) matrices (``M_1`` ... ``M_k``), cell arrays of strings and the fields
     of structs and struct arrays as columns (``S.vx0`` where two structs share a field name)."""
     import scipy.io
@@ -459,8 +466,8 @@ def read_mat(path: Path, file: str) -> Table:
                         file=file) from None
     if proc.returncode != 0:
         signals = signal.Signals._value2member_map_
-        how = (f"signal {signal.Signals(-proc.returncode).name}" if -proc.returncode in signals
-               else f"exit status {proc.returncode}")
+        how = f"signal {signals[-proc.returncode].name}" if -proc.returncode in signals else (
+            f"exit status {proc.returncode}")
         raise DataError(f"the MATLAB reader (scipy.io.loadmat) crashed on it ({how}): the file is damaged; save it "
                         "again from MATLAB or write a CSV", file=file)
     try:
@@ -516,9 +523,12 @@ def open_netcdf(path: Path, file: str) -> xr.Dataset:
         raise DataError(f"cannot read it as netCDF: {exc}{hint}", file=file) from None
 
 
-def table_from_dataset(ds: xr.Dataset, file: str) -> Table:
-    """A netCDF file that is not a campaign: each 1-D variable a column (an (n, k) one ``V_1`` ... ``V_k``), its
-    unit from its name or else its CF ``units`` attribute."""
+def read_netcdf(path: Path, file: str, **_: Any) -> Table | xr.Dataset:
+    """A netCDF file: a bouncelab campaign (variables ``landing``, ``liftoff``) as its Dataset; any other, each 1-D
+    variable a column (an (n, k) one ``V_1`` ... ``V_k``), its unit from its name or its CF ``units`` attribute."""
+    ds = open_netcdf(path, file)
+    if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
+        return ds
     columns, units = [], {}
     for name, var in ds.variables.items():
         vals = var.values
@@ -526,8 +536,24 @@ def table_from_dataset(ds: xr.Dataset, file: str) -> Table:
             vals = np.array([v.decode("utf-8", "replace") for v in vals.reshape(-1)]).reshape(vals.shape)
         split = [(f"{name}_{k + 1}", vals[:, k]) for k in range(vals.shape[1])] if vals.ndim == 2 else []
         for col, v in [(str(name), vals)] if vals.ndim == 1 else split:
-            cf = var.attrs.get("units")
-            if isinstance(cf, str) and cf.strip():
+            if isinstance(cf := var.attrs.get("units"), str) and cf.strip():
                 units[col] = (cf.strip(), "units attribute")
             columns.append((col, v.astype(float) if v.dtype.kind == "f" else v if v.dtype.kind in "iu" else list(v)))
     return _arrays(file, columns, units)
+
+
+class Backend(NamedTuple):
+    """How one kind of file is read, and the options that apply to it (``sheet``, ``header_row``)."""
+
+    read: Callable[..., Table | xr.Dataset]
+    options: tuple[str, ...] = ()
+
+
+#: The backend of each suffix :func:`~bouncelab.data.io.load_campaign` reads (case-insensitive).
+BACKENDS: dict[str, Backend] = {
+    **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text_file, ("header_row",))),
+    **dict.fromkeys((".xlsx", ".xls"), Backend(read_excel, ("sheet", "header_row"))),
+    ".mat": Backend(read_mat),
+    **dict.fromkeys((".nc", ".netcdf"), Backend(read_netcdf)),
+}
+NETCDF_SUFFIXES = (".nc", ".netcdf")
