@@ -48,8 +48,8 @@ def lab(tmp_path) -> Path:
 
 def test_reproduce_is_at_the_top_level_and_loads_lazily():
     code = ("import sys, bouncelab as bl; light = 'bouncelab.report' not in sys.modules and 'pandas' not in "
-            "sys.modules; import bouncelab.report as r; print(light, bl.reproduce is r.reproduce, bl.Report is r.Report,"
-            " 'reproduce' in dir(bl))")
+            "sys.modules; import bouncelab.report as r; "
+            "print(light, bl.reproduce is r.reproduce, bl.Report is r.Report, 'reproduce' in dir(bl))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert out.stdout.split() == ["True", "True", "True", "True"]
 
