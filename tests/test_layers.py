@@ -7,6 +7,7 @@ The import graph is read from the source (module- and function-level imports; th
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from collections import defaultdict
@@ -41,6 +42,7 @@ def _type_checking_nodes(tree: ast.AST) -> set[int]:
     return skip
 
 
+@functools.cache  # (read once per kind for the whole file: it parses every module)
 def import_graph(type_checking: bool = False) -> dict[str, set[str]]:
     """Module -> the bouncelab modules it imports (at any level of the file; under ``if TYPE_CHECKING:``
     too when ``type_checking``)."""
