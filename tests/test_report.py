@@ -229,3 +229,28 @@ def test_a_law_that_fits_far_better_than_it_predicts_is_flagged():
     text = rs._overfits("PiecewiseAffine", res, SimpleNamespace(scores={"delta": 0.127, "delta_sd": 0.02}, k=5))
     assert text is not None and "more parameters than these data support" in text and "28 free" in text
     assert rs._overfits("PiecewiseAffine", res, SimpleNamespace(scores={"delta": 0.035, "delta_sd": 0.01}, k=5)) is None
+
+
+def test_the_summary_words_everything_the_report_holds():
+    from bouncelab.cli.reproduce import summarise, summary_lines
+
+    sec = Section(name="x", inputs=Inputs("x.csv", "/data/x.csv", "measured", "velocity m/s, spin rpm", 57, (8, 24)))
+    sec.left_out.append(Skipped("x", "Fig. 6: prediction-interval widths", "no interval columns"))
+    sec.caveats.append("PiecewiseAffine: trust the cross-validation")
+    sec.skipped.append(Skipped("x", "Repeatability", "no repeated setting"))
+    report = Report(out=Path("/r"), sections={"x": sec}, seed=3, laws=("Rigid", "PiecewiseAffine"), bootstrap=0)
+    lines = summary_lines(report, "rep")
+    assert lines == [
+        "report written to rep/index.html",
+        "campaign x: x.csv (/data/x.csv), measured, 57 bounces",
+        "  units read: velocity m/s, spin rpm",
+        "  rows dropped: 2 (a missing value), data rows 8, 24",
+        "  prediction intervals: none in the data",
+        "seed 3; laws: Rigid, PiecewiseAffine; bootstrap: left out (0)",
+        "not made (1, by choice or for want of what they need in the data):",
+        "  x: Fig. 6: prediction-interval widths: no interval columns",
+        "what to trust:",
+        "  x: PiecewiseAffine: trust the cross-validation",
+        "partial report: 1 step(s) could not run on the data and were skipped (exit code 5):",
+        "  x: Repeatability: no repeated setting"]
+    assert summarise(report, "rep") == EXIT_PARTIAL
