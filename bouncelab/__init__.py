@@ -72,6 +72,8 @@ _LAZY = {
     "Posterior": "bouncelab.fitting.hierarchical",
     "load_posterior": "bouncelab.fitting.hierarchical",
     "BounceRegressor": "bouncelab.estimators",
+    "reproduce": "bouncelab.report",
+    "Report": "bouncelab.report",
 }
 
 __all__ = [
@@ -104,8 +106,9 @@ __all__ = [
 ]
 
 
-# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.cli, bl.simulation).
-_SUBPACKAGES = ("analysis", "cli", "core", "data", "estimators", "fitting", "ground", "laws", "plots", "simulation")
+# Subpackages that load on first attribute access (bl.fitting, bl.analysis, bl.plots, bl.report, bl.cli...).
+_SUBPACKAGES = ("analysis", "cli", "core", "data", "estimators", "fitting", "ground", "laws", "plots", "report",
+                "simulation")
 #: Modules of the ground floor known by their short names: ``bl.errors.DataError``, ``bl.units.to_scaled``.
 _CORE = ("errors", "plausibility", "published", "units")
 

@@ -1,7 +1,7 @@
 """`bouncelab reproduce` writes only inside --out, and leaves a complete report or the previous one.
 
 The analysis itself is tested in test_cli.py; here ``_campaign`` (the per-campaign analysis) is
-replaced by a fast stand-in that writes files the way the real one does, so these tests run in
+replaced by a fast stand-in that returns a section the way the real one does, so these tests run in
 well under a second each and exercise the naming, the staging folder and the swap.
 """
 
@@ -21,20 +21,20 @@ import pandas as pd
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli import reproduce as rp
 from bouncelab.cli.main import main
 from bouncelab.cli.messages import EXIT_DATA, EXIT_OK, EXIT_USAGE
+from bouncelab.report import folder as rf
+from bouncelab.report import pipeline as rp
+from bouncelab.report import steps as rs
+from bouncelab.report.model import LawFile, Section, Table
 
 
-def _fake_campaign(name, ds, out, seed, figures, step, files, units=None, **_):
-    """Writes one table and one law per campaign, named as the real analysis names them."""
-    tables = out / "tables"
-    rp._write_table(pd.DataFrame({"n": [ds.sizes["bounce"]]}), f"### {name}\n", tables / f"{name}_table3", files)
-    (out / "laws").mkdir(exist_ok=True)
-    path = out / "laws" / f"{name}_Rigid.json"
-    bl.Rigid(r=0.5, mu=0.3).to_json(path)
-    files.append(path)
-    return {"notes": [], "tables": {"t": f"### {name}\n"}, "figures": {}, "laws": {"Rigid": path}}
+def _fake_campaign(name, source, ds, **_):
+    """One table and one law per campaign, named as the real analysis names them."""
+    sec = Section(name=name, inputs=rs.inputs_of(source, ds))
+    sec.tables["table3"] = Table("Table 3", "table3", f"### {name}\n", pd.DataFrame({"n": [ds.sizes["bounce"]]}))
+    sec.laws["Rigid"] = LawFile("Rigid", "Rigid", bl.Rigid(r=0.5, mu=0.3))
+    return sec
 
 
 @pytest.fixture
@@ -81,15 +81,15 @@ def test_labels_and_names_are_cleaned(fast, capsys, tmp_path):
                        tmp_path / "r2", "--no-figures", "--quiet")
     assert code == EXIT_OK, err
     assert {"tables/up_table3.md", "tables/A_table3.md", "tables/campaign_table3.md"} <= files_under(tmp_path / "r2")
-    assert rp.campaign_file_name("turf (wet)") == "turf_wet"
-    assert rp.campaign_file_name("..") == "campaign"
+    assert rs.campaign_file_name("turf (wet)") == "turf_wet"
+    assert rs.campaign_file_name("..") == "campaign"
 
 
 def test_report_has_a_manifest_and_rerun_replaces_it(fast, capsys, tmp_path):
     out = tmp_path / "rep"
     assert run(capsys, "reproduce", "--campaign", "A", "B", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
-    manifest = json.loads((out / rp.MANIFEST).read_text())
-    assert set(manifest["files"]) | {rp.MANIFEST} == files_under(out)
+    manifest = json.loads((out / rf.MANIFEST).read_text())
+    assert set(manifest["files"]) | {rf.MANIFEST} == files_under(out)
     # A second run with fewer campaigns replaces the report as a whole: B's files go.
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
     assert not any(f.startswith("tables/B_") for f in files_under(out))
@@ -101,11 +101,14 @@ def test_failed_run_leaves_previous_report_intact(fast, capsys, tmp_path, monkey
     assert run(capsys, "reproduce", "--campaign", "A", "--out", out, "--no-figures", "--quiet")[0] == EXIT_OK
     before = {f: (out / f).read_bytes() for f in files_under(out)}
 
-    def disk_full(name, ds, out_dir, *args, **_):
-        _fake_campaign(name, ds, out_dir, *args)  # some files are written, then the disk fills up
-        raise OSError(errno.ENOSPC, "No space left on device", str(out_dir / "tables" / f"{name}_x.csv"))
+    real = rf.atomic_write_text
 
-    monkeypatch.setattr(rp, "_campaign", disk_full)
+    def disk_full(path, text, *args, **kw):
+        if Path(path).name == "B_table3.md":  # its CSV is written, then the disk fills up
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return real(path, text, *args, **kw)
+
+    monkeypatch.setattr(rf, "atomic_write_text", disk_full)
     code, _, err = run(capsys, "reproduce", "--campaign", "B", "--out", out, "--no-figures", "--quiet")
     assert code == EXIT_USAGE
     assert "No space left on device" in err and "previous report" in err and "Traceback" not in err
@@ -223,23 +226,23 @@ def test_fit_save_to_a_folder_is_refused_before_fitting(capsys, tmp_path, monkey
 def test_report_files_are_written_atomically(capsys, tmp_path, monkeypatch):
     """Every table goes through bouncelab.core.atomic: a failed write leaves no half-written file."""
     calls = []
-    real = rp.atomic_write_text
+    real = rf.atomic_write_text
 
     def spy(path, text, *a, **k):
         calls.append(Path(path).name)
         return real(path, text, *a, **k)
 
-    monkeypatch.setattr(rp, "atomic_write_text", spy)
-    rp._write_table(pd.DataFrame({"a": [1.0, np.nan]}), "### t\n", tmp_path / "x_table", [])
+    monkeypatch.setattr(rf, "atomic_write_text", spy)
+    rf._write_table(pd.DataFrame({"a": [1.0, np.nan]}), "### t\n", tmp_path / "x_table")
     assert calls == ["x_table.csv", "x_table.md"]
 
 
 def test_figure_units_flag_reaches_the_figures_and_the_report_text(capsys, tmp_path, monkeypatch):
     seen = []
 
-    def campaign(name, ds, out, seed, figures, step, files, units=None, **_):
+    def campaign(name, source, ds, *, units=None, **_):
         seen.append(units)
-        return _fake_campaign(name, ds, out, seed, figures, step, files)
+        return _fake_campaign(name, source, ds)
 
     monkeypatch.setattr(rp, "_campaign", campaign)
     out = tmp_path / "rep"
@@ -302,9 +305,9 @@ def test_read_only_folders_are_refused_before_any_work(fast, capsys, tmp_path, m
 def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypatch, capsys, tmp_path):
     seen = {}
 
-    def record(name, ds, *args, **kw):
+    def record(name, source, ds, **kw):
         seen[name] = ds.attrs.get("surrogate")
-        return _fake_campaign(name, ds, *args, **kw)
+        return _fake_campaign(name, source, ds, **kw)
 
     monkeypatch.setattr(rp, "_campaign", record)
     data = bl.save_campaign(bl.load_campaign("B", surrogate="published"), tmp_path / "mine.nc")
@@ -326,8 +329,8 @@ def test_reproduce_surrogate_option_loads_the_named_embedded_campaigns(monkeypat
 
 def test_reproduce_on_a_campaign_too_small_for_the_svm_still_writes_the_report(tmp_path, monkeypatch):
     """A small tracked campaign (few slipping bounces) gets the report, Table 2 without the SVM plane and a note."""
-    monkeypatch.setattr(rp, "BEYOND_PAPER_LAWS", ())  # the paper's laws are enough here, and much faster
-    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    monkeypatch.setattr(rs, "BEYOND_PAPER_LAWS", ())  # the paper's laws are enough here, and much faster
+    monkeypatch.setattr(rs, "BOOTSTRAP_RESAMPLES", 5)
     ds = bl.load_campaign("A")
     cls = np.asarray(bl.classify_slip_roll(ds.landing.values, ds.liftoff.values))
     keep = np.r_[np.flatnonzero(cls == "roll")[:60], np.flatnonzero(cls == "slip")[:5]]
@@ -346,9 +349,9 @@ def test_reproduce_intervals_applies_to_the_data_files_not_to_the_embedded_campa
     # Review (stop 19): --campaign A --data FILE --intervals sd failed with "does not apply to an embedded campaign".
     seen = {}
 
-    def record(name, ds, *args, **kw):
+    def record(name, source, ds, **kw):
         seen[name] = ds
-        return _fake_campaign(name, ds, *args, **kw)
+        return _fake_campaign(name, source, ds, **kw)
 
     monkeypatch.setattr(rp, "_campaign", record)
     ds = bl.load_campaign("B", surrogate="published")

@@ -40,7 +40,7 @@ API_NAMES = {
                      "bouncelab.analysis.trajectories.simulate_tracked_bounce"],
     "api/plots": ["bouncelab.plots.plot_tangential", "bouncelab.plots.plot_landing_space",
                   "bouncelab.plots.plot_predictions", "bouncelab.plots.save_figure"],
-    "api/cli": ["bouncelab.cli.main.main", "bouncelab.cli.reproduce.reproduce"],
+    "api/cli": ["bouncelab.cli.main.main", "bouncelab.report.pipeline.reproduce", "bouncelab.report.model.Report"],
     "api": ["bouncelab"],
 }
 

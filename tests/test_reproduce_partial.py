@@ -24,13 +24,16 @@ import pandas as pd
 import pytest
 
 import bouncelab as bl
-from bouncelab.cli import reproduce as rp
 from bouncelab.cli.main import main
 from bouncelab.cli.messages import EXIT_FIT, EXIT_OK, EXIT_PARTIAL
 from bouncelab.core.errors import DataError, FitError
 from bouncelab.core.units import polar_from_state, state_from_polar
 from bouncelab.fitting.comparison import generating_law
 from bouncelab.laws.plane_fitting import canonical_plane
+from bouncelab.report import folder as rf
+from bouncelab.report import pipeline as rp
+from bouncelab.report import steps as rs
+from bouncelab.report.model import Section
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -45,10 +48,9 @@ def run(capsys, *argv):
 def quick(monkeypatch):
     """The paper's four laws only and 5 bootstrap resamples: the same steps, in a few seconds. (Module constants,
     so that the old code takes them too.)"""
-    monkeypatch.setattr(rp, "BEYOND_PAPER_LAWS", ())
-    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
-    monkeypatch.setattr(rp, "ASSESS_OPTIONS", {"k": 5, "starts": 2, "profile_points": 5, "local_points": 1},
-                        raising=False)
+    monkeypatch.setattr(rs, "BEYOND_PAPER_LAWS", ())
+    monkeypatch.setattr(rs, "BOOTSTRAP_RESAMPLES", 5)
+    monkeypatch.setattr(rs, "ASSESS_OPTIONS", {"k": 5, "starts": 2, "profile_points": 5, "local_points": 1})
 
 
 def write_lab_file(path: Path) -> Path:
@@ -185,7 +187,7 @@ def test_python_reproduce_records_what_was_skipped(quick, tmp_path):
     steps = {what: why for campaign, what, why in report.skipped if campaign == "clips"}
     assert "need 16" in steps["Table 3: PiecewiseAffine"]
     assert "bootstrap" not in " ".join(steps)  # left out on purpose (bootstrap=0): not a skip
-    assert any("bootstrap is left out" in n for n in report.sections["clips"]["notes"])
+    assert ("clips", "Parameter bootstrap", "bootstrap resamples set to 0") in report.left_out
     # With a law set the data can carry (no PiecewiseAffine), only the repeatability remains impossible.
     report = rp.reproduce(data=[clips], out=tmp_path / "rep2", figures=False, progress=False, law_set=["Rigid"],
                           bootstrap=3)
@@ -205,16 +207,16 @@ def test_a_complete_report_exits_0(quick, capsys, tmp_path):
 def test_laws_option_chooses_the_laws_and_law_adds_one(monkeypatch, capsys, tmp_path):
     seen = {}
 
-    def record(name, ds, out, seed, figures, step, files, units=None, *, laws=(), bootstrap=0, **_):
+    def record(name, source, ds, *, laws=(), bootstrap=0, **_):
         seen["laws"] = [bl.laws.law_name(m) for m in laws]
         seen["bootstrap"] = bootstrap
-        return {"notes": [], "tables": {}, "figures": {}, "laws": {}}
+        return Section(name=name, inputs=rs.inputs_of(source, ds))
 
     monkeypatch.setattr(rp, "_campaign", record)
     base = ["reproduce", "--campaign", "A", "--no-figures", "--quiet"]
     assert run(capsys, *base, "--out", tmp_path / "r1")[0] == EXIT_OK
     assert seen["laws"] == ["Rigid", "PennerVarying", "PennerFixed", "PiecewiseAffine", "TangentialRestitution",
-                            "CompliantImpact", "TurfContact"] and seen["bootstrap"] == rp.BOOTSTRAP_RESAMPLES
+                            "CompliantImpact", "TurfContact"] and seen["bootstrap"] == rs.BOOTSTRAP_RESAMPLES
     assert run(capsys, *base, "--out", tmp_path / "r2", "--laws", "rigid", "PENNERFIXED", "--law", "CraterContact",
                "--law", "Rigid", "--bootstrap", "7")[0] == EXIT_OK
     assert seen["laws"] == ["Rigid", "PennerFixed", "CraterContact"] and seen["bootstrap"] == 7
@@ -367,8 +369,8 @@ def test_a_later_run_removes_what_a_killed_run_left(tmp_path, monkeypatch, capsy
     left = _staging(tmp_path)
     assert len(left) == 1 and left[0].is_dir()
 
-    def fake(name, ds, out, *args, **_):
-        return {"notes": [], "tables": {}, "figures": {}, "laws": {}}
+    def fake(name, source, ds, **_):
+        return Section(name=name, inputs=rs.inputs_of(source, ds))
 
     monkeypatch.setattr(rp, "_campaign", fake)
     rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=True)
@@ -383,8 +385,7 @@ def test_sigterm_handler_is_restored_and_a_previous_handler_still_runs(tmp_path,
     def previous(signum, frame):
         calls.append(signum)
 
-    def terminated(name, ds, out, *args, **_):
-        (out / "tables").mkdir()
+    def terminated(name, source, ds, **_):
         os.kill(os.getpid(), signal.SIGTERM)
         time.sleep(1)  # the handler raises here
         raise AssertionError("SIGTERM did not interrupt the run")
@@ -392,7 +393,7 @@ def test_sigterm_handler_is_restored_and_a_previous_handler_still_runs(tmp_path,
     monkeypatch.setattr(rp, "_campaign", terminated)
     old = signal.signal(signal.SIGTERM, previous)
     try:
-        with pytest.raises(rp._Terminated):
+        with pytest.raises(rf._Terminated):
             rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False)
         assert signal.getsignal(signal.SIGTERM) is previous and calls == [signal.SIGTERM]
     finally:
@@ -418,7 +419,7 @@ def test_stale_folder_cleanup_removes_only_bouncelabs_own_unused_folders(tmp_pat
         return p
 
     stale = folder(".rep.new-abcdefgh")
-    old_report = folder(".rep.old-12345678", files=("index.html", "laws/A_Rigid.json", rp.MANIFEST))
+    old_report = folder(".rep.old-12345678", files=("index.html", "laws/A_Rigid.json", rf.MANIFEST))
     mine = folder(".rep.new-zzzzzzzz", files=("tables/x.md", "notes.txt"))  # a file a report never writes
     other = folder(".other.new-abcdefgh")
     odd = folder(".rep.new-abc")  # not mkdtemp's 8 characters
@@ -430,7 +431,7 @@ def test_stale_folder_cleanup_removes_only_bouncelabs_own_unused_folders(tmp_pat
     fd = os.open(busy, os.O_RDONLY)
     fcntl.flock(fd, fcntl.LOCK_EX)  # a run still working in it
     try:
-        removed = rp.remove_stale_staging(out, before=time.time())
+        removed = rf.remove_stale_staging(out, before=time.time())
     finally:
         os.close(fd)
     assert sorted(removed) == sorted([stale, old_report])
@@ -508,18 +509,18 @@ def test_report_on_a_synthetic_campaign_says_the_papers_values_are_a_reference(q
     assert "(7.27 %)" not in table3
     assert "PiecewiseAffine †" in (tmp_path / "rep" / "tables" / "A_crossvalidation.md").read_text()
     assert report.complete
-    assert json.loads((tmp_path / "rep" / rp.MANIFEST).read_text())["files"]
+    assert json.loads((tmp_path / "rep" / rf.MANIFEST).read_text())["files"]
 
 
 # ------------------------------------------------------------------------------ issue 24: held-out and assessment
 def test_report_shows_held_out_beside_training_and_an_assessment_per_law(quick, tmp_path, monkeypatch):
-    monkeypatch.setattr(rp, "NOT_CROSS_VALIDATED", frozenset({"PennerFixed"}))  # as TurfContact is by default
+    monkeypatch.setattr(rs, "NOT_CROSS_VALIDATED", frozenset({"PennerFixed"}))  # as TurfContact is by default
     report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False, surrogate="published",
                           law_set=["Rigid", "PennerFixed", "PiecewiseAffine"], bootstrap=5)
     assert report.complete
     tables = tmp_path / "rep" / "tables"
     sec = report.sections["A"]
-    cmp = sec["comparison"]
+    cmp = sec.comparison
     # Table 3: the training errors with the paper's in brackets, then free parameters and held-out errors
     t3 = (tables / "A_table3.md").read_text()
     lines = t3.splitlines()
@@ -534,19 +535,19 @@ def test_report_shows_held_out_beside_training_and_an_assessment_per_law(quick, 
     assert ("heldout_delta", "bouncelab") in pd.read_csv(tables / "A_table3.csv", header=[0, 1],
                                                                           index_col=0).columns
     # the assessment: every law of the rigid family asked for, with verdicts; the others named, with the reason
-    assert set(sec["assessments"]) == {"Rigid", "PennerFixed"}
+    assert set(sec.assessments) == {"Rigid", "PennerFixed"}
     md = (tables / "A_assessment.md").read_text()
     assert "5 folds grouped by launcher setting, 5 bootstrap resamples" in md and "profile of each parameter (5 " in md
-    for law, a in sec["assessments"].items():
+    for law, a in sec.assessments.items():
         for par, verdict in a.verdicts.items():
             assert f"| {law} | {par} | " in md and verdict in md
     assert "Not assessed here" in md and "PiecewiseAffine: 28 numbers" in md
     frame = pd.read_csv(tables / "A_assessment.csv", index_col=[0, 1])
-    assert frame.loc[("Rigid", "r"), "verdict"] == sec["assessments"]["Rigid"].verdicts["r"]
-    assert sec["not_assessed"] == {"PiecewiseAffine": rp.NOT_ASSESSED["PiecewiseAffine"]}
+    assert frame.loc[("Rigid", "r"), "verdict"] == sec.assessments["Rigid"].verdicts["r"]
+    assert sec.not_assessed == {"PiecewiseAffine": rs.NOT_ASSESSED["PiecewiseAffine"]}
     # the bootstrap table is the assessment's own bootstrap (no second set of refits)
     boot = pd.read_csv(tables / "A_bootstrap.csv", index_col=[0, 1])
-    summary = sec["assessments"]["Rigid"].bootstrap.summary()
+    summary = sec.assessments["Rigid"].bootstrap.summary()
     assert boot.loc[("Rigid", "r"), "ci_high"] == pytest.approx(summary.loc["r", "ci_high"], rel=1e-12)
     index = (tmp_path / "rep" / "index.html").read_text()
     assert "Assessment of each law, campaign A" in index and "A_assessment.md" in index

@@ -22,7 +22,6 @@ import json
 import os
 import re
 import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,7 +31,6 @@ from bouncelab.cli.messages import (
     EXIT_DATA,
     EXIT_FIT,
     EXIT_OK,
-    EXIT_PARTIAL,
     EXIT_USAGE,
     UsageError,
     message,
@@ -88,7 +86,7 @@ def _load(source: str, args: argparse.Namespace):
                          **options, **surrogate)
 
 
-def _add_data_options(p: argparse.ArgumentParser) -> None:
+def _add_data_options(p: argparse.ArgumentParser, missing: str = "raise") -> None:
     # the embedded surrogates' names, not the loader's module: building the parser (--help, --version) must not
     # import the loader, pandas and xarray
     from bouncelab.data.embedded import SURROGATES as EMBEDDED_SURROGATES
@@ -101,9 +99,9 @@ def _add_data_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--header-row", type=whole(1, "(a line number, counting from 1)"), metavar="N",
                    help="1-based line (text file) or row (Excel) of the header; lines above it are ignored "
                         "(default: the first line that is not a comment or a title)")
-    p.add_argument("--missing", choices=("raise", "drop"), default="raise",
-                   help="rows with an empty or NA cell: raise (default: an error naming the cell) or drop (leave "
-                        "them out, with a warning listing them)")
+    p.add_argument("--missing", choices=("raise", "drop"), default=missing,
+                   help="rows with an empty or NA cell: raise (an error naming the cell) or drop (leave them out, "
+                        f"with a warning listing them); default {missing}")
     p.add_argument("--intervals", choices=("pi95", "sd"),
                    help="what the file's interval columns hold: pi95 (half-widths of 95 %% intervals) or sd (one "
                         "standard deviation, multiplied by 1.96); default: the names say (vx0_pi, vx0_sd), and "
@@ -167,7 +165,7 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--bootstrap", type=whole(0, "resamples"), default=None, metavar="N",
                      help="resamples of the parameter bootstrap (default 100; 0 leaves it out)")
     add_import_option(rep)
-    _add_data_options(rep)
+    _add_data_options(rep, missing="drop")  # the report names every row it drops
 
     fit = sub.add_parser("fit", help="fit one law and print the fit report")
     fit.add_argument("law", help="Rigid, PennerFixed, PennerVarying, PiecewiseAffine, TangentialRestitution, "
@@ -326,7 +324,7 @@ def _figure_units(text: str | None):
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from bouncelab.cli.reproduce import reproduce
+    from bouncelab.cli.reproduce import reproduce, summarise
 
     campaigns = args.campaign if args.campaign is not None else ([] if args.data else ["A", "B"])
     labels = dict(zip(args.data, args.label or [], strict=False))
@@ -354,14 +352,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         progress=not args.quiet, load=load, labels=labels, figure_units=_figure_units(args.figure_units),
         laws=[named_law(name) for name in args.laws], law_set=law_set, bootstrap=args.bootstrap,
     )
-    print(f"report written to {Path(args.out) / report.index.name}")
-    if report.complete:
-        return EXIT_OK
-    print(f"partial report: {len(report.skipped)} step(s) could not run on the data and were skipped "
-          f"(exit code {EXIT_PARTIAL}):")
-    for campaign, what, why in report.skipped:
-        print(f"  {campaign}: {what}: {why}")
-    return EXIT_PARTIAL
+    return summarise(report, args.out)
 
 
 def _method_options(items: list[str]) -> dict[str, Any]:

@@ -1,18 +1,15 @@
-"""Formatting of the ``bouncelab reproduce`` report: markdown tables and the one-page ``index.html``."""
+"""The report's tables as markdown (each ``tables/NAME_*.md`` file, and the page's tables through
+:func:`bouncelab.core._html.markdown`)."""
 
 from __future__ import annotations
 
-import html
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-if TYPE_CHECKING:
-    from bouncelab.cli.reproduce import Report
-
-__all__ = ["assessment_markdown", "frame_markdown", "index_html", "md_to_html", "table2_markdown"]
+__all__ = ["assessment_markdown", "frame_markdown", "table2_markdown"]
 
 
 def frame_markdown(df: pd.DataFrame, percent: bool = False, missing: str = "nan", mark: str | None = None) -> str:
@@ -138,122 +135,3 @@ def assessment_markdown(name: str, assessments: dict[str, Any], options: dict[st
     if footnote is not None and generator in assessments:
         lines.append(f"\n> {footnote}")
     return "\n".join(lines) + "\n"
-
-
-def md_to_html(md: str) -> str:
-    """The small markdown subset written here (headings, tables, lists, quotes, paragraphs) as HTML."""
-    out, table = [], []
-
-    def flush():
-        if table:
-            rows = [r.strip().strip("|").split("|") for r in table if not set(r.strip()) <= set("|-: ")]
-            head, body = rows[0], rows[1:]
-            out.append("<table><thead><tr>" + "".join(f"<th>{html.escape(c.strip())}</th>" for c in head)
-                       + "</tr></thead><tbody>"
-                       + "".join("<tr>" + "".join(f"<td>{html.escape(c.strip())}</td>" for c in r) + "</tr>"
-                                 for r in body) + "</tbody></table>")
-            table.clear()
-
-    for line in md.splitlines():
-        if line.startswith("|"):
-            table.append(line)
-            continue
-        flush()
-        if line.startswith("### "):
-            out.append(f"<h3>{html.escape(line[4:])}</h3>")
-        elif line.startswith("> "):
-            out.append(f"<blockquote>{html.escape(line[2:])}</blockquote>")
-        elif line.startswith("- "):
-            out.append(f"<ul><li>{html.escape(line[2:])}</li></ul>")
-        elif line.strip():
-            out.append(f"<p>{html.escape(line)}</p>")
-    flush()
-    return "\n".join(out)
-
-
-_CSS = """
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
-table { border-collapse: collapse; margin: 0.6em 0 1.2em; font-size: 0.9em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; }
-thead { background: #f2f2f2; }
-img { max-width: 100%; border: 1px solid #ddd; margin: 0.4em 0 1.4em; }
-.warning { background: #fff3cd; border: 1px solid #e0c36c; padding: 0.6em 1em; }
-blockquote { color: #555; border-left: 3px solid #ccc; margin: 0.6em 0; padding-left: 0.8em; }
-nav a { margin-right: 1em; }
-"""
-
-
-def _paper_values(report: Report) -> str:
-    """What the brackets in the tables mean, said only when some campaign has the paper's values."""
-    from bouncelab.core import published
-
-    with_paper = [n for n, sec in report.sections.items() if sec.get("paper_campaign") in published.CAMPAIGNS]
-    if not with_paper:
-        return ("None of these campaigns is one of the paper's, so no published values are shown beside "
-                "the results.")
-    synthetic = [n for n in with_paper if report.sections[n].get("synthetic")]
-    measured = [n for n in with_paper if n not in synthetic]
-    text = ("Values in brackets are the paper's published results on its measured bounces, each beside a figure "
-            "of the same kind only (Table 3's beside errors on the fitted bounces, Table 2's, a test set, beside "
-            "errors on held-out bounces).")
-    if measured:
-        text += f" They are shown for the campaigns labelled as the paper's campaigns A and B: {', '.join(measured)}."
-    if synthetic:
-        text += (f" For {', '.join(synthetic)}, synthetic surrogates of the paper's campaigns, they are a reference, "
-                 "not a validation: agreement or disagreement with them says nothing about real turf.")
-    return text
-
-
-def _figure_units(report: Report) -> str:
-    units = report.figure_units
-    if not units:
-        return ""
-    return f" in the tables (in the figures: velocities in {units['velocity']}, spin in {units['spin']})"
-
-
-def index_html(report: Report) -> str:
-    from bouncelab.core import __version__
-    from bouncelab.core.published import CITATION
-
-    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>bouncelab report</title>",
-             f"<style>{_CSS}</style></head><body>",
-             "<h1>bouncelab: golf-ball bounce laws</h1>",
-             f"<p>The analysis of {html.escape(CITATION.rstrip('.'))}, run on each campaign below. "
-             f"Made by bouncelab {__version__} in {report.elapsed:.1f} s. Errors are the paper's delta and "
-             "Delta q (fractions of the landing state's norm, shown in per cent); velocities are in ball radii per "
-             f"second and spin in rad/s{_figure_units(report)}. {_paper_values(report)}</p>",
-             "<nav>" + "".join(f"<a href='#{html.escape(n)}'>campaign {html.escape(n)}</a>" for n in report.sections)
-             + "</nav>"]
-    skipped = report.skipped
-    if skipped:
-        items = "".join(f"<li>campaign {html.escape(c)}, {html.escape(w)}: {html.escape(r)}</li>"
-                        for c, w, r in skipped)
-        parts.append(f"<div class='warning' id='skipped'><p><b>A partial report:</b> {len(skipped)} step(s) could "
-                     f"not run on these data and were skipped; everything else is below.</p><ul>{items}</ul></div>")
-    for name, sec in report.sections.items():
-        parts.append(f"<h2 id='{html.escape(name)}'>Campaign {html.escape(name)}</h2>")
-        for note in sec["notes"]:
-            parts.append(f"<p class='warning'>{html.escape(note)}</p>")
-        if sec.get("generator"):
-            gen = html.escape(sec["generator"])
-            parts.append(f"<p class='warning'>{gen} generated these data: " + (
-                "in every table of laws it is marked †, and its fit is not a test of it.</p>"
-                if sec["generator"] in sec.get("law_names", ()) else
-                "it is not among the laws fitted here; a fit of it would be no test of it.</p>"))
-        for _title, md in sec["tables"].items():
-            parts.append(md_to_html(md))
-        if sec["laws"]:
-            links = ", ".join(f"<a href='{html.escape(p.relative_to(report.out).as_posix())}'>{html.escape(n)}</a>"
-                              for n, p in sec["laws"].items())
-            parts.append(f"<p>Fitted laws (JSON, load with <code>bouncelab.load_law</code>): {links}</p>")
-        for caption, path in sec["figures"].items():
-            rel = html.escape(path.relative_to(report.out).as_posix())
-            cap = html.escape(caption)
-            parts.append(f"<h3>{cap}</h3><a href='{rel}'><img src='{rel}' alt='{cap}'></a>")
-        for caption, (_label, why) in sec.get("figures_skipped", {}).items():
-            parts.append(f"<h3>{html.escape(caption)}</h3><p class='warning'>Not drawn: {html.escape(why)}</p>")
-    rels = [html.escape(p.relative_to(report.out).as_posix()) for p in report.files]
-    items = "".join(f"<li><a href='{r}'>{r}</a></li>" for r in rels)
-    parts.append(f"<h2>Files</h2><ul>{items}</ul></body></html>")
-    return "\n".join(parts)
