@@ -6,6 +6,7 @@
 :class:`Surface`            a named, serialisable surface: law, sliding friction, green speed
 :func:`preset`              the preset surfaces (the paper's two turfs; slow, medium, fast greens)
 :class:`Air`                optional drag and lift in flight
+:func:`fit_surface`         a surface fitted to launch-monitor shots, held out (:class:`SurfaceFit`)
 :mod:`~.shots`              the reference-shot suite (``python -m bouncelab.ground.shots``)
 ==========================  ===============================================================
 
@@ -15,6 +16,7 @@ unless ``units=`` says otherwise. See ``docs/simulators.md``, "The ground phase"
 """
 
 from bouncelab.ground.bounce3d import bounce
+from bouncelab.ground.fit import SurfaceFit, fit_surface
 from bouncelab.ground.runout import (
     DEFAULT_MAX_BOUNCES,
     DEFAULT_MIN_APEX_M,
@@ -38,7 +40,9 @@ __all__ = [
     "BounceLimitWarning",
     "RunResult",
     "Surface",
+    "SurfaceFit",
     "bounce",
+    "fit_surface",
     "load_surface",
     "preset",
     "run",
