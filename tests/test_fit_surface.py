@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 
 import bouncelab as bl
 from bouncelab.core.errors import DataError, FitError, ParameterError
-from bouncelab.ground import PRESET_NAMES, Surface, SurfaceFit, fit_surface, load_surface, preset, run
+from bouncelab.ground import PRESET_NAMES, Surface, SurfaceFit, fit_surface, load_surface, predict_shots, preset, run
 from bouncelab.ground.fit import _shot_arrays
 
 RPM = 2.0 * math.pi / 60.0
@@ -346,7 +346,7 @@ def test_every_preset_states_its_provenance_in_str_and_json():
 # ------------------------------------------------------------------------------------------ plot
 def test_plot_roll_fit(quick_fit):
     pytest.importorskip("matplotlib")
-    from bouncelab.plots.ground import plot_roll_fit
+    from bouncelab.plots import plot_roll_fit
 
     res, _ = quick_fit
     fig = plot_roll_fit(res)
@@ -358,3 +358,24 @@ def test_plot_roll_fit(quick_fit):
     assert "in-sample" in fig.axes[0].get_title()
     with pytest.raises(ParameterError):
         plot_roll_fit(res.surface)
+
+
+# ------------------------------------------------------------------------------------------ predict_shots
+def test_predict_shots_on_a_preset_is_ground_run_on_the_landings():
+    shots, _ = simulate(30, FIXED, seed=11)
+    again, _ = simulate(30, preset("turf-B"), seed=11, decay=0.03, gain=1.2)
+    pred = predict_shots(shots, "turf-B", spin_decay=0.03, heading_gain=1.2)
+    np.testing.assert_allclose(pred["total"], again["total"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(pred["side_total"], again["side_total"], rtol=0, atol=1e-6)
+    assert not pred["bounce_limit"].any()
+    with pytest.raises(ParameterError) as err:
+        predict_shots(shots, "turf-B")  # launch spin: how fast it decays must be said
+    assert err.value.parameter == "spin_decay"
+    with pytest.raises(ParameterError) as err:
+        predict_shots(shots, "turf-B", spin_decay=0.03, heading_gain=-1.0)
+    assert err.value.parameter == "heading_gain"
+    with pytest.raises(ParameterError) as err:
+        predict_shots(shots, "fairway", spin_decay=0.03)
+    assert err.value.parameter == "surface"
+    landing = predict_shots(shots.drop(columns=["flight_time", "side", "side_total"]), "turf-B", spin_kind="landing")
+    assert list(landing.columns) == ["roll", "total", "bounce_limit"]

@@ -7,6 +7,7 @@
 :func:`preset`              the preset surfaces (the paper's two turfs; slow, medium, fast greens)
 :class:`Air`                optional drag and lift in flight
 :func:`fit_surface`         a surface fitted to launch-monitor shots, held out (:class:`SurfaceFit`)
+:func:`predict_shots`       where launch-monitor shots would stop on a surface
 :mod:`~.shots`              the reference-shot suite (``python -m bouncelab.ground.shots``)
 ==========================  ===============================================================
 
@@ -16,7 +17,7 @@ unless ``units=`` says otherwise. See ``docs/simulators.md``, "The ground phase"
 """
 
 from bouncelab.ground.bounce3d import bounce
-from bouncelab.ground.fit import SurfaceFit, fit_surface
+from bouncelab.ground.fit import SurfaceFit, fit_surface, predict_shots
 from bouncelab.ground.runout import (
     DEFAULT_MAX_BOUNCES,
     DEFAULT_MIN_APEX_M,
@@ -44,6 +45,7 @@ __all__ = [
     "bounce",
     "fit_surface",
     "load_surface",
+    "predict_shots",
     "preset",
     "run",
 ]

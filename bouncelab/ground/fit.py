@@ -44,7 +44,9 @@ pseudo-Huber loss :math:`c^2(\sqrt{1 + d^2/c^2} - 1)` with :math:`c` = ``loss_sc
 :math:`d^2/2` for small errors (smooth at the optimum, where a mean absolute error has a kink
 per shot on which a local search stalls), :math:`c\,d` for large ones (a few wild totals do not
 pull the fit). It is minimised by NLopt's global search (CRS2 with local mutation) in the box
-of the parameters' bounds, then polished locally (BOBYQA). One objective evaluation is one call
+of the parameters' bounds (on a subset of ``global_shots`` shots, each put on the ground after
+at most 15 bounces: this stage only locates the basin), then polished locally (BOBYQA) on the
+subset and on all the shots with the full model. One objective evaluation is one call
 of :func:`~bouncelab.ground.run` on all the shots of the fit. The shots are held out by
 default: ``folds``-fold over shots (or over sessions or clubs, ``groups=``), each fold fitted on the others
 and scored on its own; the surface returned is fitted to all the shots.
@@ -78,7 +80,8 @@ if TYPE_CHECKING:
     from bouncelab.ground.surface import Surface
     from bouncelab.laws import BounceModel
 
-__all__ = ["FIT_MAX_BOUNCES", "SURFACE_PARAMETERS", "ShotArrays", "SurfaceFit", "fit_surface"]
+__all__ = ["FIT_MAX_BOUNCES", "GLOBAL_MAX_BOUNCES", "SURFACE_PARAMETERS", "ShotArrays", "SurfaceFit", "fit_surface",
+           "predict_shots"]
 
 #: The surface's own parameters a fit can vary (beside the law's): search box, physical range, start.
 SURFACE_PARAMETERS: dict[str, Parameter] = {
@@ -112,6 +115,14 @@ MIN_SHOTS = 10
 #: A surface that keeps a landing bouncing longer is not one a fit should find, and parameters that do so
 #: (a tilted law that relaunches a ball for ever) would make each evaluation cost 100 rounds of bounces.
 FIT_MAX_BOUNCES = 40
+#: Identifiability (:attr:`SurfaceFit.identifiable`): a fold's parameters are as good as the final fit's when
+#: their mean error on all the shots is within EQUIVALENT_RELATIVE of it plus EQUIVALENT_M (m); a parameter is
+#: determined when the final fit and those folds agree to within AGREE_FRACTION of its box and the mean error
+#: rises by SENSITIVE_M (m) or more when it alone moves 5 % of its box either way.
+EQUIVALENT_RELATIVE, EQUIVALENT_M, AGREE_FRACTION, SENSITIVE_M = 0.02, 0.01, 0.1, 0.01
+#: Bounces after which the global stage puts a ball on the ground: it only locates the basin (the polish runs
+#: every shot to ``max_bounces``), and each bounce round costs a pass over the shots still bouncing.
+GLOBAL_MAX_BOUNCES = 15
 
 
 # --------------------------------------------------------------------------------------------- shots
@@ -374,34 +385,110 @@ class _Model:
         return Surface(name=self.name, law=law, sliding_friction=values["sliding_friction"],
                        stimp_m=values["stimp_m"], pivot_retention=1.0, description=description)
 
-    def rest(self, values: Mapping[str, float], land: _Landings,
-             limit: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    def rest(self, values: Mapping[str, float], land: _Landings, limit: bool = True,
+             max_bounces: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
         """Predicted roll-out along the target line and to the right (m), and which shots hit ``max_bounces``
         (None unless ``limit``: the search needs no per-shot table)."""
-        from bouncelab.ground.runout import run
+        return _rest(self.surface(values), values.get("spin_decay", 0.0), values.get("heading_gain", 0.0), land,
+                     max_bounces or self.max_bounces, limit)
 
-        decay = values.get("spin_decay", 0.0)
-        if land.flight_time is not None and decay:
-            k = -float(decay)
-            spin = land.spin * np.array([math.exp(k * t) for t in land.flight_time])
-        else:
-            spin = land.spin
-        gain = values.get("heading_gain", 0.0)
-        t = gain * land.ratio  # tan(h)
-        c = 1.0 / np.sqrt(1.0 + t * t)  # cos h
-        sh = t * c  # sin h (to the right)
-        # heading frame: e_h = (c, -sh, 0), left of it e_l = (sh, c, 0)
-        v_h, v_z = land.speed * land.cos_g, -land.speed * land.sin_g
-        w_h = -spin * land.sin_a * land.sin_g
-        w_l = -spin * land.cos_a
-        w_z = -spin * land.sin_a * land.cos_g
-        v = np.column_stack([v_h * c, -v_h * sh, v_z])
-        w = np.column_stack([w_h * c + w_l * sh, -w_h * sh + w_l * c, w_z])
-        # BounceLimitWarning: the fit counts such shots and reports them, and the callers silence the warning
-        # (see _quiet: warnings.catch_warnings is not safe around threads that share the filters).
-        res = run(v, w, self.surface(values), max_bounces=self.max_bounces)
-        rest = res.rest_position * BALL_RADIUS_M
-        return rest[:, 0], -rest[:, 1], np.asarray(res.totals["bounce_limit"]) if limit else None
+
+def _rest(surface: Surface, decay: float, gain: float, land: _Landings, max_bounces: int,
+          limit: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """The model of a shot (module notes): its landing in the target frame, run to rest on ``surface``."""
+    from bouncelab.ground.runout import run
+
+    if land.flight_time is not None and decay:
+        k = -float(decay)
+        spin = land.spin * np.array([math.exp(k * t) for t in land.flight_time])
+    else:
+        spin = land.spin
+    t = gain * land.ratio  # tan(h)
+    c = 1.0 / np.sqrt(1.0 + t * t)  # cos h
+    sh = t * c  # sin h (to the right)
+    # heading frame: e_h = (c, -sh, 0), left of it e_l = (sh, c, 0)
+    v_h, v_z = land.speed * land.cos_g, -land.speed * land.sin_g
+    w_h = -spin * land.sin_a * land.sin_g
+    w_l = -spin * land.cos_a
+    w_z = -spin * land.sin_a * land.cos_g
+    v = np.column_stack([v_h * c, -v_h * sh, v_z])
+    w = np.column_stack([w_h * c + w_l * sh, -w_h * sh + w_l * c, w_z])
+    # BounceLimitWarning: the fit counts such shots and reports them, and the callers silence the warning
+    # (see _quiet: warnings.catch_warnings is not safe around threads that share the filters).
+    res = run(v, w, surface, max_bounces=max_bounces)
+    rest = res.rest_position * BALL_RADIUS_M
+    return rest[:, 0], -rest[:, 1], np.asarray(res.totals["bounce_limit"]) if limit else None
+
+
+def predict_shots(shots: Any, surface: Surface | str, *, spin_decay: float | None = None,
+                  heading_gain: float = 1.0, spin_kind: str | None = None,
+                  max_bounces: int = 100) -> pd.DataFrame:
+    """Where launch-monitor shots would stop on a surface: their landings run to rest (the model of the module notes).
+
+    Parameters
+    ----------
+    shots
+        As for :func:`fit_surface` (``total`` and ``side_total`` are not needed).
+    surface
+        A :class:`~bouncelab.ground.Surface` or a preset's name.
+    spin_decay
+        The spin's decay rate in flight (1/s), required when the shots give the spin at launch
+        (not used for landing spin).
+    heading_gain
+        ``tan(landing heading) / (side / carry)`` (1: the ball lands along the chord from the tee).
+    spin_kind
+        ``"launch"`` or ``"landing"``, if the shots do not say.
+    max_bounces
+        As for :func:`~bouncelab.ground.run`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per shot (indexed by the shots' labels), in metres: ``roll`` (total - carry
+        along the target line), ``total``, ``side_roll`` and ``side_total`` (positive to the
+        right; only where the shots give a side), ``bounce_limit``.
+
+    Raises
+    ------
+    DataError
+        As :func:`fit_surface` for the shots.
+    ParameterError
+        A missing or bad ``spin_decay``, ``heading_gain`` or ``max_bounces``, or an unknown preset.
+    """
+    import pandas as pd
+
+    from bouncelab.ground.surface import Surface, preset
+
+    if isinstance(surface, str):
+        surface = preset(surface)
+    if not isinstance(surface, Surface):
+        raise ParameterError(f"surface must be a bouncelab.ground.Surface or a preset name; got "
+                             f"{type(surface).__name__}", parameter="surface")
+    s = _shot_arrays(shots, spin_kind, outcome=False)
+    if s.spin_kind == "launch" and spin_decay is None:
+        raise ParameterError("the shots give the spin at launch: say how fast it decays in flight (spin_decay, 1/s; "
+                             "0 for none)", parameter="spin_decay", hints=[Hint("spin_decay", 0.05)])
+    decay = 0.0 if s.spin_kind == "landing" else _value(spin_decay, "spin_decay")
+    gain = _value(heading_gain, "heading_gain")
+    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int | np.integer) or max_bounces < 1:
+        raise ParameterError(f"max_bounces must be a whole number >= 1; got {max_bounces!r}", parameter="max_bounces")
+    with _quiet():
+        along, right, limit = _rest(surface, decay, gain, _landings(s), int(max_bounces), True)
+    data = {"roll": along, "total": s.carry + along}
+    if s.side is not None:
+        data.update(side_roll=right, side_total=s.side + right)
+    data["bounce_limit"] = limit
+    return pd.DataFrame(data, index=pd.Index(s.labels, name="shot"))
+
+
+def _value(value: Any, name: str) -> float:
+    """``value`` as a float inside the physical range of :data:`SURFACE_PARAMETERS` ``[name]``."""
+    lo, hi = SURFACE_PARAMETERS[name].physical
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer) or not (
+            lo <= value <= hi):
+        raise ParameterError(f"{name} must be a number in [{lo:g}, {hi:g}] ({SURFACE_PARAMETERS[name].doc}); got "
+                             f"{value!r}", parameter=name, value=value)
+    return float(value)
 
 
 def _quiet() -> Any:
@@ -519,7 +606,8 @@ def _run_task(task: _Task) -> _Outcome:
     """Fit one task: NLopt's CRS2 global search in the unit box of the varied parameters, then a BOBYQA polish.
 
     With more than ``global_shots`` shots the global stage and its polish run on a random
-    subset of that many (drawn with the task's seed), and a last polish on all of them.
+    subset of that many (drawn with the task's seed), and a last polish on all of them. The
+    global stage puts a ball on the ground after :data:`GLOBAL_MAX_BOUNCES` bounces.
     """
     import nlopt
 
@@ -533,13 +621,13 @@ def _run_task(task: _Task) -> _Outcome:
             values[name] = float(lo + w * min(max(xi, 0.0), 1.0))
         return values
 
-    def objective(shots: ShotArrays) -> Any:
+    def objective(shots: ShotArrays, max_bounces: int | None = None) -> Any:
         land = _landings(shots)
 
         def f(x: np.ndarray) -> float:
             calls[0] += 1
             try:
-                along, right, _ = task.model.rest(values_at(x), land, limit=False)
+                along, right, _ = task.model.rest(values_at(x), land, limit=False, max_bounces=max_bounces)
             except (ParameterError, DataError):  # a point where the law or the surface is refused
                 infeasible[0] += 1
                 return math.inf
@@ -558,17 +646,17 @@ def _run_task(task: _Task) -> _Outcome:
         first = task.shots.take(np.sort(pick))
     nlopt.srand(int(task.seed))
     with _quiet():
-        f = objective(first)
-        x, fx, stop = _nlopt(nlopt.GN_CRS2_LM, f, x0, task.maxeval)
+        rough = objective(first, min(GLOBAL_MAX_BOUNCES, task.model.max_bounces))
+        x, fx, stop = _nlopt(nlopt.GN_CRS2_LM, rough, x0, task.maxeval)
         stops = [f"global {stop}"]
         if task.local_maxeval:
-            x, fx, stop = _nlopt(nlopt.LN_BOBYQA, f, x, task.local_maxeval, step=0.02)
+            x, fx, stop = _nlopt(nlopt.LN_BOBYQA, objective(first), x, task.local_maxeval, step=0.02)
             stops.append(f"local {stop}")
         if subset and task.final_maxeval:
             x, fx, stop = _nlopt(nlopt.LN_BOBYQA, objective(task.shots), x, task.final_maxeval, step=0.005)
             stops.append(f"on all shots {stop}")
-        elif subset:
-            fx = objective(task.shots)(x)
+        elif subset or not task.local_maxeval:
+            fx = objective(task.shots)(x)  # the loss of the full model on all the shots
     return _Outcome(values=values_at(x), objective=float(fx), n_evaluations=calls[0], stop="; ".join(stops),
                     elapsed=time.perf_counter() - start, infeasible=infeasible[0])
 
@@ -587,7 +675,8 @@ class SurfaceFit:
         The parameters (:class:`~bouncelab.laws.Parameters`): value, bounds, unit, whether it varied.
     parameters
         A table per parameter: ``value``, ``low``, ``high``, ``unit``, ``vary``, ``fold_min`` and
-        ``fold_max`` (its values in the folds' fits), ``sensitivity`` (how much the mean error, in m,
+        ``fold_max`` (its range over the final fit and the folds as good as it on all the shots;
+        NaN when there are none), ``sensitivity`` (how much the mean error, in m,
         rises when the parameter alone moves by 5 % of its box either way, the smaller rise),
         ``at_bound`` and ``identified`` (see :attr:`identifiable`).
     heldout
@@ -606,7 +695,8 @@ class SurfaceFit:
         on the shots it was fitted to (in-sample).
     folds
         One row per fold: shots fitted and held out, held-out median absolute roll-out error,
-        the loss reached, evaluations, time, and each varied parameter's value.
+        the loss reached, evaluations, time, each varied parameter's value, its parameters'
+        ``mean_error_all_shots`` and whether that is as good as the final fit's (``equivalent``).
     mean_error
         The fitted surface's mean rest-point distance (or absolute roll-out) error on all the
         shots (m).
@@ -647,9 +737,12 @@ class SurfaceFit:
     def identifiable(self) -> dict[str, bool]:
         """Varied parameter -> whether the shots determine it.
 
-        A parameter counts as determined when its fits on the folds agree to within 10 % of its
+        Each fold's parameters are scored on all the shots: a fold whose mean error there is
+        within 2 % (+ 1 cm) of the final fit's is one the shots cannot tell from it; a worse one
+        ended its search in another basin and is left out (``folds["equivalent"]``). A parameter
+        counts as determined when the final fit and those folds agree to within 10 % of its
         search box and the mean error rises by at least 1 cm when it alone moves 5 % of the box
-        either way from the fitted value. Without folds only the second test applies.
+        either way from the fitted value. Without such folds only the second test applies.
         """
         t = self.parameters[self.parameters["vary"]]
         return {str(k): bool(v) for k, v in t["identified"].items()}
@@ -657,13 +750,15 @@ class SurfaceFit:
     def predict(self, shots: Any, *, spin_kind: str | None = None) -> pd.DataFrame:
         """Predicted roll-out and rest point of ``shots`` on the fitted surface.
 
+        :func:`predict_shots` with the fitted surface, spin decay and heading gain.
+
         Parameters
         ----------
         shots
-            As for :func:`fit_surface` (``total`` and ``side_total`` are not used, but a
-            Dataset or DataFrame of :func:`bouncelab.ground.load_shots` has them).
+            As for :func:`fit_surface` (``total`` and ``side_total`` are not needed).
         spin_kind
-            ``"launch"`` or ``"landing"``, if the shots do not say.
+            ``"launch"`` or ``"landing"``, if the shots do not say; it must be the kind the
+            surface was fitted to.
 
         Returns
         -------
@@ -672,19 +767,14 @@ class SurfaceFit:
             along the target line), ``total``, ``side_roll`` and ``side_total`` (positive to the
             right; the side columns only where the shots give a side), ``bounce_limit``.
         """
-        import pandas as pd
-
-        s = _shot_arrays(shots, spin_kind, outcome=False)
-        if s.spin_kind != self.spin_kind:
-            raise DataError(f"the surface was fitted to {self.spin_kind} spin; these shots give {s.spin_kind} spin",
+        kind = _shot_arrays(shots, spin_kind, outcome=False).spin_kind
+        if kind != self.spin_kind:
+            raise DataError(f"the surface was fitted to {self.spin_kind} spin; these shots give {kind} spin",
                             column="spin", option="spin_kind")
-        with _quiet():
-            along, right, limit = self._model.rest(self._values, _landings(s))
-        data = {"roll": along, "total": s.carry + along}
-        if s.side is not None:
-            data.update(side_roll=right, side_total=s.side + right)
-        data["bounce_limit"] = limit
-        return pd.DataFrame(data, index=pd.Index(s.labels, name="shot"))
+        v = self._values
+        return predict_shots(shots, self.surface, spin_decay=v.get("spin_decay", 0.0),
+                             heading_gain=v.get("heading_gain", 0.0), spin_kind=kind,
+                             max_bounces=self._model.max_bounces)
 
     def report(self) -> str:
         """The readable report (also ``str(result)``)."""
@@ -692,8 +782,8 @@ class SurfaceFit:
                  f"{', with side' if self.lateral else ', no side data'}): law {self.law}",
                  f"fitted surface: mean {'rest-point distance' if self.lateral else 'absolute roll-out'} error "
                  f"{self.mean_error:.3f} m on all shots; {self.n_evaluations} evaluations in {self.elapsed:.1f} s",
-                 "", "parameters (fold range: the values fitted on each fold; sensitivity: rise of the mean error, m, "
-                 "at +-5 % of the box):"]
+                 "", "parameters (fold range: the final fit's and the folds' as good as it on all shots; sensitivity: "
+                 "rise of the mean error, m, at +-5 % of the box):"]
         t = self.parameters
         head = f"  {'name':<17}{'value':>11}  {'bounds':<17}{'unit':<7}{'fold range':<21}{'sensitivity':>11}  note"
         lines.append(head)
@@ -1050,9 +1140,16 @@ def _result(model: _Model, s: ShotArrays, params: list[Parameter], outcomes: lis
     fitted_errors = _summary(s.roll, along, s.club, np.full(len(s), np.median(s.roll)))
     if not held:
         errors = fitted_errors
-    folds = pd.DataFrame(fold_rows).set_index("fold") if fold_rows else pd.DataFrame()
-    # parameters: value, fold range, sensitivity, at a bound, determined
     base_obj = float(np.mean(_errors(along, right, s)))  # the mean distance (m), as the report gives it
+    # Each fold's parameters on all the shots: as good as the final fit (the shots cannot tell them apart), or
+    # worse (that fold's search ended in another basin; its values say nothing of what the shots determine).
+    tolerance = EQUIVALENT_RELATIVE * base_obj + EQUIVALENT_M
+    for row, out in zip(fold_rows, outcomes[1:], strict=False):
+        a, r, _ = model.rest(out.values, land, limit=False)
+        row["mean_error_all_shots"] = float(np.mean(_errors(a, r, s)))
+        row["equivalent"] = row["mean_error_all_shots"] <= base_obj + tolerance
+    folds = pd.DataFrame(fold_rows).set_index("fold") if fold_rows else pd.DataFrame()
+    alike = [r for r in fold_rows if r["equivalent"]]
     rows = {}
     for p in params:
         lo, hi = p.bounds
@@ -1072,12 +1169,10 @@ def _result(model: _Model, s: ShotArrays, params: list[Parameter], outcomes: lis
                 row["at_bound"] = "lower"
             elif hi - values[p.name] <= 1e-6 * w:
                 row["at_bound"] = "upper"
-            agree = True
-            if fold_rows:
-                fv = [r[p.name] for r in fold_rows]
+            fv = [values[p.name]] + [r[p.name] for r in alike]
+            if alike:
                 row["fold_min"], row["fold_max"] = min(fv), max(fv)
-                agree = (max(fv) - min(fv)) <= 0.1 * w
-            row["identified"] = bool(agree and row["sensitivity"] >= 0.01)
+            row["identified"] = bool((max(fv) - min(fv)) <= AGREE_FRACTION * w and row["sensitivity"] >= SENSITIVE_M)
         rows[p.name] = row
     table = pd.DataFrame.from_dict(rows, orient="index")
     fitted_params = Parameters(p.replace(value=values[p.name]) for p in params)
@@ -1085,6 +1180,10 @@ def _result(model: _Model, s: ShotArrays, params: list[Parameter], outcomes: lis
     notes = ["The roll-out fitted is the file's total - carry. A launch monitor's total is its own estimate of the "
              "roll, so this surface reproduces the monitor's roll model for these landings, not a measurement of "
              "the turf; fitted to measured (tape or laser) totals it would calibrate the turf."]
+    worse = [r["fold"] for r in fold_rows if not r["equivalent"]]
+    if worse:
+        notes.append(f"The search of fold(s) {worse} ended in a worse basin (their parameters on all shots: mean error "
+                     f"above {base_obj + tolerance:.3g} m); a larger maxeval= may help. Their held-out errors count.")
     not_det = [n for n, r in rows.items() if r["vary"] and not r["identified"]]
     if not_det:
         notes.append(f"Not determined by these shots: {', '.join(not_det)} (the fit's value is one of many that "

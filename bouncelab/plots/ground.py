@@ -12,7 +12,7 @@ from bouncelab.plots._common import scatter_alpha, single_axes
 __all__ = ["plot_roll_fit"]
 
 
-def plot_roll_fit(result: Any, *, ax: Any = None, heldout: bool | None = None) -> Any:
+def plot_roll_fit(result: Any, *, ax: Any = None, heldout: bool | None = None, title: str | None = None) -> Any:
     """Predicted against observed roll-out (total - carry, m) of a :func:`~bouncelab.ground.fit_surface` result.
 
     One point per shot, coloured by club when the shots name clubs, with the line of perfect
@@ -29,6 +29,8 @@ def plot_roll_fit(result: Any, *, ax: Any = None, heldout: bool | None = None) -
     heldout
         True for the held-out predictions (refused when the fit had no folds), False for the
         in-sample ones; None (default): held out when there are any.
+    title
+        The axes' title (default: the law and which predictions are drawn).
 
     Returns
     -------
@@ -72,7 +74,7 @@ def plot_roll_fit(result: Any, *, ax: Any = None, heldout: bool | None = None) -
     ax.set_aspect("equal")
     ax.set_xlabel("observed roll-out, total - carry (m)")
     ax.set_ylabel("predicted roll-out (m)")
-    ax.set_title(f"{result.law} surface: {what}", fontsize="medium")
+    ax.set_title(f"{result.law} surface: {what}" if title is None else title, fontsize="medium")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small", loc="upper left")
     return fig
