@@ -379,3 +379,41 @@ def test_predict_shots_on_a_preset_is_ground_run_on_the_landings():
     assert err.value.parameter == "surface"
     landing = predict_shots(shots.drop(columns=["flight_time", "side", "side_total"]), "turf-B", spin_kind="landing")
     assert list(landing.columns) == ["roll", "total", "bounce_limit"]
+
+
+# ------------------------------------------------------------------------------------------ across CPUs
+_CROSS = r"""
+import hashlib, json, sys
+import pandas as pd
+from bouncelab.ground import fit_surface
+shots = pd.read_pickle(sys.argv[1])
+res = fit_surface(shots, folds=2, maxeval=60, local_maxeval=30, seed=3)
+roll = res.heldout["predicted_roll"].to_numpy()
+print(json.dumps({"params": res.params.valuesdict(), "heldout": hashlib.sha256(roll.tobytes()).hexdigest()}))
+"""
+
+
+@pytest.mark.slow
+def test_a_fit_gives_the_same_bits_under_a_reduced_instruction_set(tmp_path):
+    """The same shots fitted with and without AVX2/AVX-512 and FMA (numba and NumPy): the same bits."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from tests.test_bits import reduced_instruction_set_env
+
+    if os.environ.get("NUMBA_CPU_NAME"):
+        pytest.skip("this run is already under a reduced instruction set")
+    root = Path(__file__).resolve().parents[1]
+    shots, _ = simulate(80, FIXED, seed=12, noise=1.0)  # made once here: the fits read the same numbers
+    shots.to_pickle(tmp_path / "shots.pkl")
+
+    def cross(extra: dict[str, str]) -> dict:
+        env = {**os.environ, "PYTHONPATH": str(root), **extra}
+        proc = subprocess.run([sys.executable, "-c", _CROSS, str(tmp_path / "shots.pkl")], capture_output=True,
+                              text=True, env=env, timeout=1800)
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout.splitlines()[-1])
+
+    assert cross({}) == cross(reduced_instruction_set_env())
