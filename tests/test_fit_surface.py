@@ -298,6 +298,17 @@ def test_values_in_another_unit_are_refused(few):
     rpm = few.copy()
     rpm["spin"] = rpm["spin"] / RPM  # rpm in a column said to be rad/s
     assert _refusal(DataError, rpm).column == "spin"
+    slow = few.copy()
+    slow["spin"] = 1600.0 + 0.1 * (slow["spin"] - slow["spin"].mean()) / RPM  # about 1,600 rpm read as rad/s:
+    # each row possible (15,000 rpm), not as the median of a file
+    e = _refusal(DataError, slow)
+    assert e.column == "spin" and e.row is None and "median" in str(e)
+    fast = few.copy()
+    fast["landing_speed"] = fast["landing_speed"] * 2.237  # mph read as m/s
+    assert _refusal(DataError, fast).column == "landing_speed"
+    ms = few.copy()
+    ms["flight_time"] = ms["flight_time"] * 1000.0
+    assert _refusal(DataError, ms).column == "flight_time"
     mph = few.copy()
     mph.attrs["units"] = {"landing_speed": "furlong/s"}
     e = _refusal(DataError, mph)
@@ -309,6 +320,7 @@ def test_bad_arguments_are_typed_errors_naming_them(few):
     assert _refusal(FitError, few.head(12)).option == "shots"  # 12 shots, 5 folds: each fits 9
     assert _refusal(FitError, few, vary=["tilt"]).option == "vary"
     assert _refusal(FitError, few, folds=1).option == "folds"
+    assert _refusal(FitError, few, folds=41).option == "folds"
     assert _refusal(FitError, few, groups="weekday").option == "groups"
     assert _refusal(FitError, few, groups="session").option == "groups"  # the shots have no sessions
     assert _refusal(FitError, few, bounds={"stimp_m": (-1.0, 2.0)}).option == "bounds"

@@ -109,6 +109,9 @@ _GROUPS = ("auto", "shot", "session", "club")
 _MAX_SPEED = 90.0  # m/s: the unit guard's limits (bouncelab.core.plausibility.PLAUSIBLE_RANGES)
 _MIN_SPEED = 1.0
 _MAX_SPIN = 20_000.0 * 2.0 * math.pi / 60.0  # rad/s
+# Medians no set of golf shots lands with (a drive lands at about 27 m/s with 2,500 rpm; wedges spin up to
+# about 10,000 rpm; the paper's fastest landing is 56 m/s), and the longest flight (a drive hangs 6-7 s).
+_MAX_MEDIAN_SPEED, _MAX_MEDIAN_SPIN_RPM, _MAX_FLIGHT_S = 45.0, 12_000.0, 20.0
 #: Fewest shots a fit takes (per fold's training set too).
 MIN_SHOTS = 10
 #: Bounces after which a fit's runs put a ball on the ground (:func:`~bouncelab.ground.run`'s ``max_bounces``).
@@ -325,13 +328,22 @@ def _check_plausible(s: ShotArrays) -> None:
             "here): radians read as degrees, or degrees read as radians?", units)
     _refuse(s.spin * 60 / (2 * math.pi), np.abs(s.spin) > _MAX_SPIN, "spin", s.labels,
             "a spin above 20,000 rpm (shown in rpm): rpm read as rad/s?", units)
+    # Whole-column guards: values each possible alone but not as a file's median.
+    for name, values, limit, shown, why in (
+            ("landing_speed", s.landing_speed, _MAX_MEDIAN_SPEED, "m/s", "mph or km/h read as m/s?"),
+            ("spin", np.abs(s.spin) * 60 / (2 * math.pi), _MAX_MEDIAN_SPIN_RPM, "rpm", "rpm read as rad/s?")):
+        median = float(np.median(values))
+        if median > limit:
+            raise DataError(f"the shots' median {name} is {median:.4g} {shown}, above the {limit:g} {shown} no set "
+                            f"of golf shots lands with: {why}", column=name, hints=units)
     if s.spin_axis is not None:
         ax = np.degrees(s.spin_axis)
         _refuse(ax, np.abs(ax) >= 90.0, "spin_axis", s.labels, "a spin axis tilted 90 degrees or more (in degrees)",
                 units)
     _refuse(s.carry, s.carry <= 0.0, "carry", s.labels, "a carry of 0 m or less")
     if s.flight_time is not None:
-        _refuse(s.flight_time, s.flight_time <= 0.0, "flight_time", s.labels, "a flight time of 0 s or less")
+        _refuse(s.flight_time, (s.flight_time <= 0.0) | (s.flight_time > _MAX_FLIGHT_S), "flight_time", s.labels,
+                f"a flight time outside (0, {_MAX_FLIGHT_S:g}] s: milliseconds read as seconds?", units)
 
 
 # ---------------------------------------------------------------------------------------- the model
@@ -1083,6 +1095,8 @@ def fit_surface(shots: Any, law: Any = "PennerFixed", vary: Sequence[str] | Mapp
     params = _settle(_parameter_table(base, s.lateral, s.spin_kind), vary, start, bounds, s.spin_kind, s.lateral)
     varied = [p for p in params if p.vary]
     maxeval = 100 * (len(varied) + 1) if maxeval is None else check_count(maxeval, "maxeval", 1)
+    if folds > len(s):
+        raise FitError(f"folds={folds} is more than the {len(s)} shots", option="folds")
     need = max(MIN_SHOTS, 2 * len(varied))
     smallest = len(s) - (math.ceil(len(s) / folds) if folds else 0)
     if smallest < need:
