@@ -45,6 +45,7 @@ def shots(n: int, seed: int = 0) -> pd.DataFrame:
     frame = pd.DataFrame({
         "landing_speed": rng.normal(27.6, 2.0, n), "landing_angle": np.radians(rng.normal(37.7, 3.0, n)),
         "spin": rng.normal(2440.0, 500.0, n) * RPM, "spin_axis": np.radians(rng.normal(0.0, 8.0, n)),
+        "launch_angle": np.radians(rng.normal(12.0, 2.0, n)),
         "carry": rng.normal(230.0, 20.0, n), "side": rng.normal(0.0, 15.0, n),
         "flight_time": rng.normal(6.5, 0.4, n), "club": np.where(rng.random(n) < 0.5, "Driver", "3 Wood")})
     frame.attrs["spin_kind"] = "launch"

@@ -39,18 +39,20 @@ def simulate(n: int, surface: Surface, *, seed: int = 0, noise: float = 0.0, dec
     spin = rng.normal(2440.0, 500.0, n) * RPM
     flight = rng.normal(6.5, 0.4, n)
     axis = np.radians(rng.normal(0.0, 8.0, n))
+    launch = np.radians(rng.normal(12.0, 2.0, n))
     carry = rng.normal(230.0, 20.0, n)
     side = rng.normal(0.0, 15.0, n)
     heading = np.arctan(gain * side / carry)  # to the right
-    d = np.column_stack([np.cos(angle), np.zeros(n), -np.sin(angle)])
-    v = speed[:, None] * d
+    v = speed[:, None] * np.column_stack([np.cos(angle), np.zeros(n), -np.sin(angle)])
     back = np.column_stack([np.zeros(n), -spin * np.exp(-decay * flight), np.zeros(n)])
-    w = Rotation.from_rotvec(axis[:, None] * d).apply(back)  # the spin axis tilted about the velocity
+    # the spin axis: perpendicular to the launch direction, tilted about it by the spin axis, kept in flight
+    d0 = np.column_stack([np.cos(launch), np.zeros(n), np.sin(launch)])
+    w = Rotation.from_rotvec(axis[:, None] * d0).apply(back)
     turn = Rotation.from_rotvec(np.column_stack([np.zeros(n), np.zeros(n), -heading]))
     rest = run(turn.apply(v), turn.apply(w), surface, units={"velocity": "m/s", "spin": "rad/s"}).rest_position
     added = rng.normal(0.0, noise, n) if noise else np.zeros(n)
     frame = pd.DataFrame({"landing_speed": speed, "landing_angle": angle, "spin": spin, "spin_axis": axis,
-                          "carry": carry, "total": carry + rest[:, 0] + added, "side": side,
+                          "launch_angle": launch, "carry": carry, "total": carry + rest[:, 0] + added, "side": side,
                           "side_total": side - rest[:, 1], "flight_time": flight,
                           "club": np.where(rng.random(n) < 0.5, "Driver", "3 Wood")},
                          index=pd.Index([f"s{i}" for i in range(n)], name="shot"))
@@ -60,11 +62,17 @@ def simulate(n: int, surface: Surface, *, seed: int = 0, noise: float = 0.0, dec
     return frame, added
 
 
-def test_the_simulated_spin_axis_curves_right():
-    """The shots' convention: a positive spin axis makes the Magnus force (omega x v) point right (-y)."""
-    d = np.array([1.0, 0.0, 0.0])
-    w = Rotation.from_rotvec(0.2 * d).apply([0.0, -1.0, 0.0])
-    assert np.cross(w, d)[1] < 0
+def test_the_simulated_spin_axis_curves_right_and_kicks_right():
+    """The shots' convention: a positive spin axis makes the Magnus force at launch (omega x v) point right (-y);
+    at landing, its component along the travel makes the contact point slip left, so friction kicks the ball right."""
+    d0 = np.array([np.cos(0.2), 0.0, np.sin(0.2)])
+    w = Rotation.from_rotvec(0.2 * d0).apply([0.0, -1.0, 0.0])
+    assert np.cross(w, d0)[1] < 0
+    assert np.cross(w, [0.0, 0.0, -1.0])[1] > 0  # contact-point velocity omega x (-R z) points left (+y)
+    v = np.array([[20.0, 0.0, -15.0]])
+    out, _ = bl.ground.bounce(bl.Rigid(r=0.3, mu=0.5), v, w[None, :] * 250.0, units={"velocity": "m/s",
+                                                                                     "spin": "rad/s"})
+    assert out[0, 1] < 0  # lift-off to the right
 
 
 @pytest.fixture(scope="module")
@@ -230,6 +238,7 @@ def _dataset(frame: pd.DataFrame) -> xr.Dataset:
                     coords={"shot": frame.index.to_numpy()})
     ds["landing_angle"] = ("shot", np.degrees(frame["landing_angle"].to_numpy()), {"units": "deg"})
     ds["spin_axis"] = ("shot", np.degrees(frame["spin_axis"].to_numpy()), {"units": "deg"})
+    ds["launch_angle"] = ("shot", np.degrees(frame["launch_angle"].to_numpy()), {"units": "deg"})
     ds["spin"] = ("shot", frame["spin"].to_numpy() / RPM, {"units": "rpm", "kind": "launch"})
     ds["landing_speed"].attrs["units"] = "m/s"
     return ds
@@ -238,8 +247,8 @@ def _dataset(frame: pd.DataFrame) -> xr.Dataset:
 def test_a_dataset_in_degrees_and_rpm_reads_as_the_si_frame():
     frame, _ = simulate(20, FIXED, seed=8)
     a, b = _shot_arrays(frame), _shot_arrays(_dataset(frame))
-    for name in ("landing_speed", "landing_angle", "spin", "spin_axis", "carry", "total", "side", "side_total",
-                 "flight_time"):
+    for name in ("landing_speed", "landing_angle", "spin", "spin_axis", "launch_angle", "carry", "total", "side",
+                 "side_total", "flight_time"):
         np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=1e-14, err_msg=name)
     assert b.spin_kind == "launch" and list(b.labels) == list(frame.index) and list(b.club) == list(frame["club"])
     ds = _dataset(frame)

@@ -22,11 +22,17 @@ them). The ball lands at ``(carry, -side)`` with speed :math:`s` at the descent 
 with :math:`g_h` the ``heading_gain`` (1: the ball lands travelling along the chord from the
 tee, as a straight shot does; 2: a ball launched along the target line that curves at a constant
 rate; 0 when the file has no side). The spin vector is the spin rate :math:`\omega` about an axis
-perpendicular to the velocity, tilted by the spin axis :math:`\alpha` (positive: the ball curves
-right, TrackMan's sign; 0 when the file has none): in the frame of the heading,
-:math:`\omega\,(-\sin\alpha\sin\gamma,\; -\cos\alpha,\; -\sin\alpha\cos\gamma)` (pure backspin is
-:math:`-\omega\,\hat y`). A tilted axis makes the contact point slip sideways, so the ball kicks
-to the side of its curve on landing. Where the file gives the spin at launch, the landing spin is
+that keeps its direction in flight (a spinning ball's axis is gyroscopically stable):
+perpendicular to the launch direction, at the launch angle :math:`\theta` above the horizontal
+(``launch_angle``; 0 when the file has none), and tilted by the spin axis :math:`\alpha`
+(positive: the ball curves right, TrackMan's sign; 0 when the file has none). In the frame of the
+landing heading (x along it, y to its left, z up):
+:math:`\omega\,(\sin\alpha\sin\theta,\; -\cos\alpha,\; -\sin\alpha\cos\theta)` (pure backspin is
+:math:`-\omega\,\hat y`; its Magnus force at launch, :math:`\omega \times v`, points right for
+:math:`\alpha > 0`). The axis's component along the travel (:math:`\omega\sin\alpha\sin\theta`)
+makes the contact point slip sideways, so a ball launched upwards with a tilted axis kicks to the
+side of its curve on landing; the component about the vertical does not act on the ground.
+Where the file gives the spin at launch, the landing spin is
 
 .. math:: \omega = \omega_{\text{launch}}\, e^{-k T}
 
@@ -96,11 +102,12 @@ SURFACE_PARAMETERS: dict[str, Parameter] = {
 }
 
 _REQUIRED = ("landing_speed", "landing_angle", "spin", "carry", "total")
-_NUMERIC = (*_REQUIRED, "spin_axis", "side", "side_total", "flight_time")
+_NUMERIC = (*_REQUIRED, "spin_axis", "launch_angle", "side", "side_total", "flight_time")
 # variable -> (kind of unit, the unit assumed when none is given)
 _KINDS = {"landing_speed": ("velocity", "m/s"), "landing_angle": ("angle", "rad"), "spin": ("spin", "rad/s"),
-          "spin_axis": ("angle", "rad"), "carry": ("length", "m"), "total": ("length", "m"),
-          "side": ("length", "m"), "side_total": ("length", "m"), "flight_time": ("time", "s")}
+          "spin_axis": ("angle", "rad"), "launch_angle": ("angle", "rad"), "carry": ("length", "m"),
+          "total": ("length", "m"), "side": ("length", "m"), "side_total": ("length", "m"),
+          "flight_time": ("time", "s")}
 _LENGTH_UNITS = {"m": 1.0, "metre": 1.0, "metres": 1.0, "meter": 1.0, "meters": 1.0, "yd": 0.9144, "yds": 0.9144,
                  "yard": 0.9144, "yards": 0.9144, "ft": 0.3048, "feet": 0.3048, "foot": 0.3048}
 _TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0}
@@ -133,9 +140,9 @@ GLOBAL_MAX_BOUNCES = 15
 class ShotArrays:
     """Shots as SI arrays (m/s, rad, rad/s, m, s), one element per shot.
 
-    ``spin_axis``, ``side``, ``side_total``, ``flight_time``, ``club`` and ``session`` are None
-    where the shots have none; ``labels`` are the shots' labels (the ``shot`` coordinate or the
-    DataFrame's index).
+    ``spin_axis``, ``launch_angle``, ``side``, ``side_total``, ``flight_time``, ``club`` and
+    ``session`` are None where the shots have none; ``labels`` are the shots' labels (the
+    ``shot`` coordinate or the DataFrame's index).
     """
 
     landing_speed: np.ndarray
@@ -146,6 +153,7 @@ class ShotArrays:
     total: np.ndarray
     labels: np.ndarray
     spin_axis: np.ndarray | None = None
+    launch_angle: np.ndarray | None = None
     side: np.ndarray | None = None
     side_total: np.ndarray | None = None
     flight_time: np.ndarray | None = None
@@ -174,7 +182,7 @@ class ShotArrays:
         """The shots at positions ``idx``."""
         changes = {f: (None if getattr(self, f) is None else getattr(self, f)[idx])
                    for f in ("landing_speed", "landing_angle", "spin", "carry", "total", "labels", "spin_axis",
-                             "side", "side_total", "flight_time", "club", "session")}
+                             "launch_angle", "side", "side_total", "flight_time", "club", "session")}
         return replace(self, **changes)
 
 
@@ -298,7 +306,8 @@ def _shot_arrays(shots: Any, spin_kind: str | None = None, *, outcome: bool = Tr
                         hints=[Hint("spin_kind", "landing", "if the spin is the landing spin")])
     out = ShotArrays(landing_speed=cols["landing_speed"], landing_angle=cols["landing_angle"], spin=cols["spin"],
                      spin_kind=kind, carry=cols["carry"], total=cols["total"], labels=labels,
-                     spin_axis=cols.get("spin_axis"), side=cols.get("side"), side_total=cols.get("side_total"),
+                     spin_axis=cols.get("spin_axis"), launch_angle=cols.get("launch_angle"), side=cols.get("side"),
+                     side_total=cols.get("side_total"),
                      flight_time=cols.get("flight_time"),
                      club=_text(get("club")) if "club" in names else None,
                      session=_text(get("session")) if "session" in names else None)
@@ -340,6 +349,10 @@ def _check_plausible(s: ShotArrays) -> None:
         ax = np.degrees(s.spin_axis)
         _refuse(ax, np.abs(ax) >= 90.0, "spin_axis", s.labels, "a spin axis tilted 90 degrees or more (in degrees)",
                 units)
+    if s.launch_angle is not None:
+        la = np.degrees(s.launch_angle)
+        _refuse(la, np.abs(la) >= 90.0, "launch_angle", s.labels, "a launch angle of 90 degrees or more (in degrees)",
+                units)
     _refuse(s.carry, s.carry <= 0.0, "carry", s.labels, "a carry of 0 m or less")
     if s.flight_time is not None:
         _refuse(s.flight_time, (s.flight_time <= 0.0) | (s.flight_time > _MAX_FLIGHT_S), "flight_time", s.labels,
@@ -357,6 +370,8 @@ class _Landings:
     spin: np.ndarray  # rad/s, at launch or landing
     cos_a: np.ndarray
     sin_a: np.ndarray
+    cos_t: np.ndarray  # of the launch angle
+    sin_t: np.ndarray
     flight_time: np.ndarray | None
     ratio: np.ndarray  # side / carry (0 without side)
     carry: np.ndarray
@@ -367,10 +382,12 @@ def _landings(s: ShotArrays) -> _Landings:
     # math's functions (libm) rather than NumPy's SIMD ones: the same bits on every CPU (tests/test_bits.py).
     cos, sin = np.frompyfunc(math.cos, 1, 1), np.frompyfunc(math.sin, 1, 1)
     axis = s.spin_axis if s.spin_axis is not None else np.zeros(len(s))
+    launch = s.launch_angle if s.launch_angle is not None else np.zeros(len(s))
     side = s.side if s.side is not None else np.zeros(len(s))
     return _Landings(speed=s.landing_speed / BALL_RADIUS_M, cos_g=cos(s.landing_angle).astype(float),
                      sin_g=sin(s.landing_angle).astype(float), spin=s.spin, cos_a=cos(axis).astype(float),
-                     sin_a=sin(axis).astype(float), flight_time=s.flight_time, ratio=side / s.carry,
+                     sin_a=sin(axis).astype(float), cos_t=cos(launch).astype(float),
+                     sin_t=sin(launch).astype(float), flight_time=s.flight_time, ratio=side / s.carry,
                      carry=s.carry, side=side)
 
 
@@ -420,9 +437,9 @@ def _rest(surface: Surface, decay: float, gain: float, land: _Landings, max_boun
     sh = t * c  # sin h (to the right)
     # heading frame: e_h = (c, -sh, 0), left of it e_l = (sh, c, 0)
     v_h, v_z = land.speed * land.cos_g, -land.speed * land.sin_g
-    w_h = -spin * land.sin_a * land.sin_g
+    w_h = spin * land.sin_a * land.sin_t  # the axis perpendicular to the launch direction (module notes)
     w_l = -spin * land.cos_a
-    w_z = -spin * land.sin_a * land.cos_g
+    w_z = -spin * land.sin_a * land.cos_t
     v = np.column_stack([v_h * c, -v_h * sh, v_z])
     w = np.column_stack([w_h * c + w_l * sh, -w_h * sh + w_l * c, w_z])
     # BounceLimitWarning: the fit counts such shots and reports them, and the callers silence the warning
@@ -1015,12 +1032,14 @@ def fit_surface(shots: Any, law: Any = "PennerFixed", vary: Sequence[str] | Mapp
     shots
         The Dataset of :func:`bouncelab.ground.load_shots` (dimension ``shot``; variables
         ``landing_speed``, ``landing_angle``, ``spin``, ``carry``, ``total`` and optionally
-        ``spin_axis``, ``side``, ``side_total``, ``flight_time``, ``club``, ``session``; units
+        ``spin_axis``, ``launch_angle``, ``side``, ``side_total``, ``flight_time``, ``club``,
+        ``session``; units
         in each variable's ``attrs["units"]``), or a DataFrame with those columns in SI units
         (m/s, rad, rad/s, m, s) unless ``frame.attrs["units"]`` maps a column to another unit
         (``{"landing_angle": "deg", "spin": "rpm"}``). ``landing_angle`` is the descent angle
         below the horizontal (positive); ``side`` and ``side_total`` are positive to the right;
-        a positive ``spin_axis`` curves the ball right.
+        a positive ``spin_axis`` curves the ball right; ``launch_angle`` (optional) sets the
+        direction of the spin axis, which is perpendicular to the launch.
     law
         The bounce law: a name, a class or an instance (whose values are the starts and the
         values of the parameters held, and whose options, such as ``fade_xdot``, are kept).

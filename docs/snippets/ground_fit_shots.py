@@ -12,6 +12,7 @@ rng = np.random.default_rng(1)
 n = 800
 var = {"landing_speed": (rng.normal(27.6, 2.0, n), "m/s"), "landing_angle": (rng.normal(37.7, 3.0, n), "deg"),
        "spin": (rng.normal(2440.0, 500.0, n), "rpm"), "spin_axis": (rng.normal(0.0, 8.0, n), "deg"),
+       "launch_angle": (rng.normal(12.0, 2.0, n), "deg"),
        "carry": (rng.normal(230.0, 20.0, n), "m"), "side": (rng.normal(0.0, 15.0, n), "m"),
        "flight_time": (rng.normal(6.5, 0.4, n), "s")}
 shots = xr.Dataset({k: ("shot", v, {"units": u}) for k, (v, u) in var.items()}, coords={"shot": np.arange(n)},
