@@ -133,6 +133,8 @@ EQUIVALENT_RELATIVE, EQUIVALENT_M, AGREE_FRACTION, SENSITIVE_M = 0.02, 0.01, 0.1
 #: Bounces after which the global stage puts a ball on the ground: it only locates the basin (the polish runs
 #: every shot to ``max_bounces``), and each bounce round costs a pass over the shots still bouncing.
 GLOBAL_MAX_BOUNCES = 15
+#: Distinct good points of the global stage that are polished locally (the best polished one is kept).
+POLISH_STARTS = 3
 
 
 # --------------------------------------------------------------------------------------------- shots
@@ -599,9 +601,10 @@ class _Outcome:
     infeasible: int
 
 
-def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float | None = None) -> tuple[np.ndarray,
-                                                                                                       float, str]:
-    """One NLopt run in the unit box; the best point it saw, its value and why it stopped."""
+def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float | None = None,
+           seen: list | None = None) -> tuple[np.ndarray, float, str]:
+    """One NLopt run in the unit box; the best point it saw, its value and why it stopped (``seen`` collects
+    every point and value)."""
     import nlopt
 
     d = len(x0)
@@ -612,6 +615,8 @@ def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float 
         v = 1e300 if not math.isfinite(v) else v
         if v < best[1]:
             best[0], best[1] = x.copy(), v
+        if seen is not None:
+            seen.append((v, x.copy()))
         return v
 
     opt = nlopt.opt(algorithm, d)
@@ -629,6 +634,17 @@ def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float 
     except (nlopt.RoundoffLimited, ValueError, RuntimeError) as exc:  # NLopt's failure codes: keep the best point
         stop = f"stopped ({type(exc).__name__})"
     return best[0], best[1], stop
+
+
+def _distinct(seen: list, k: int, distance: float) -> list[np.ndarray]:
+    """Up to ``k`` of the best points seen, pairwise at least ``distance`` apart (max norm), best first."""
+    chosen: list[np.ndarray] = []
+    for _, x in sorted(seen, key=lambda item: item[0]):
+        if all(np.max(np.abs(x - c)) >= distance for c in chosen):
+            chosen.append(x)
+            if len(chosen) == k:
+                break
+    return chosen
 
 
 def _run_task(task: _Task) -> _Outcome:
@@ -676,11 +692,22 @@ def _run_task(task: _Task) -> _Outcome:
     nlopt.srand(int(task.seed))
     with _quiet():
         rough = objective(first, min(GLOBAL_MAX_BOUNCES, task.model.max_bounces))
-        x, fx, stop = _nlopt(nlopt.GN_CRS2_LM, rough, x0, task.maxeval)
+        seen: list = []
+        x, fx, stop = _nlopt(nlopt.GN_CRS2_LM, rough, x0, task.maxeval, seen=seen)
         stops = [f"global {stop}"]
         if task.local_maxeval:
-            x, fx, stop = _nlopt(nlopt.LN_BOBYQA, objective(first), x, task.local_maxeval, step=0.02)
-            stops.append(f"local {stop}")
+            # Polish the best distinct points of the global stage and keep the best: the loss has valleys
+            # (restitution against spin decay, say) in which one local search from one point can stall.
+            fine = objective(first)
+            best = None
+            for k, start in enumerate(_distinct(seen, POLISH_STARTS, 0.1)):
+                xk, fk, stop = _nlopt(nlopt.LN_BOBYQA, fine, start, task.local_maxeval, step=0.02)
+                stops.append(f"local {k + 1} {stop}")
+                if best is None or fk < best[1]:
+                    best = (xk, fk)
+            x, fx = best
+            x, fx, stop = _nlopt(nlopt.LN_BOBYQA, fine, x, task.local_maxeval, step=0.05)  # restart wider
+            stops.append(f"restart {stop}")
         if subset and task.final_maxeval:
             x, fx, stop = _nlopt(nlopt.LN_BOBYQA, objective(task.shots), x, task.final_maxeval, step=0.005)
             stops.append(f"on all shots {stop}")
