@@ -51,8 +51,9 @@ pseudo-Huber loss :math:`c^2(\sqrt{1 + d^2/c^2} - 1)` with :math:`c` = ``loss_sc
 per shot on which a local search stalls), :math:`c\,d` for large ones (a few wild totals do not
 pull the fit). It is minimised by NLopt's global search (CRS2 with local mutation) in the box
 of the parameters' bounds (on a subset of ``global_shots`` shots, each put on the ground after
-at most 15 bounces: this stage only locates the basin), then polished locally (BOBYQA) on the
-subset and on all the shots with the full model. One objective evaluation is one call
+at most 15 bounces: this stage only locates the basin), then its best distinct points polished
+locally (BOBYQA) on the subset, the best restarted, and polished on all the shots with the full
+model. One objective evaluation is one call
 of :func:`~bouncelab.ground.run` on all the shots of the fit. The shots are held out by
 default: ``folds``-fold over shots (or over sessions or clubs, ``groups=``), each fold fitted on the others
 and scored on its own; the surface returned is fitted to all the shots.
@@ -798,7 +799,9 @@ class SurfaceFit:
         ended its search in another basin and is left out (``folds["equivalent"]``). A parameter
         counts as determined when the final fit and those folds agree to within 10 % of its
         search box and the mean error rises by at least 1 cm when it alone moves 5 % of the box
-        either way from the fitted value. Without such folds only the second test applies.
+        either way from the fitted value. Without such folds only the second test applies. The
+        verdict is local: a distant basin that fits almost as well shows only when a fold's
+        search lands in it.
         """
         t = self.parameters[self.parameters["vary"]]
         return {str(k): bool(v) for k, v in t["identified"].items()}
