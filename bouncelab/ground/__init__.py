@@ -6,6 +6,8 @@
 :class:`Surface`            a named, serialisable surface: law, sliding friction, green speed
 :func:`preset`              the preset surfaces (the paper's two turfs; slow, medium, fast greens)
 :class:`Air`                optional drag and lift in flight
+:func:`fit_surface`         a surface fitted to launch-monitor shots, held out (:class:`SurfaceFit`)
+:func:`predict_shots`       where launch-monitor shots would stop on a surface
 :mod:`~.shots`              the reference-shot suite (``python -m bouncelab.ground.shots``)
 :func:`load_shots`          launch-monitor exports in (:func:`bouncelab.data.shots.load_shots`)
 ==========================  ===============================================================
@@ -16,6 +18,7 @@ unless ``units=`` says otherwise. See ``docs/simulators.md``, "The ground phase"
 """
 
 from bouncelab.ground.bounce3d import bounce
+from bouncelab.ground.fit import SurfaceFit, fit_surface, predict_shots
 from bouncelab.ground.runout import (
     DEFAULT_MAX_BOUNCES,
     DEFAULT_MIN_APEX_M,
@@ -39,9 +42,12 @@ __all__ = [
     "BounceLimitWarning",
     "RunResult",
     "Surface",
+    "SurfaceFit",
     "bounce",
+    "fit_surface",
     "load_shots",
     "load_surface",
+    "predict_shots",
     "preset",
     "run",
 ]

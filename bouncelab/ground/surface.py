@@ -84,7 +84,8 @@ class Surface:
         Fraction of the spin about the ground normal kept through a bounce, in [0, 1]
         (default 1: kept).
     description
-        Free text: what the surface is and where its numbers come from.
+        Free text: what the surface is and where its numbers come from (its provenance, shown
+        by ``str(surface)`` and kept in its JSON).
 
     Raises
     ------
@@ -223,6 +224,10 @@ class Surface:
         return (f"Surface(name={self.name!r}, law={self.law!r}, sliding_friction={self.sliding_friction:g}, "
                 f"stimp_m={self.stimp_m:.4g} ({self.stimp_ft:.3g} ft), pivot_retention={self.pivot_retention:g})")
 
+    def __str__(self) -> str:
+        """The surface and, below it, where its numbers come from (its ``description``)."""
+        return repr(self) + (f"\n  provenance: {self.description}" if self.description else "")
+
 
 def load_surface(path: str | Path) -> Surface:
     """Read a surface written by :meth:`Surface.to_json`."""
@@ -243,19 +248,24 @@ _FADE_TEXT = ("Its tilt fades below 50 radii/s (1.07 m/s) of speed along the gro
               "that a vertical drop stays put.")
 _GREEN_SOURCE = ("Green speed: general guidance on Stimpmeter readings (about 7 ft is called very slow, 9 ft moderate, "
                  "11 ft and more fast; sources in docs/simulators.md), not measured by bouncelab. Bounce law: the "
-                 "paper's published PennerVarying law of campaign B (a natural-grass teeing area), an assumption: the "
-                 "paper measured no green. " + _FADE_TEXT + " Sliding friction 0.4: an assumption.")
+                 "paper's published PennerVarying law of campaign B (fitted to bounces on a natural-grass teeing "
+                 "area), an assumption: the paper measured no green. " + _FADE_TEXT + " Sliding friction 0.4: an "
+                 "assumption. Not a measurement of any real green.")
 
 #: name -> (law class name, campaign, stimp in metres, description)
 _PRESETS: dict[str, tuple[str, str, float, str]] = {
     "turf-A": ("PennerVarying", "A", ASSUMED_TURF_STIMP_M,
                "The paper's campaign A: premium artificial teeing turf, 30 mm thick, on wood. Bounce law: its "
-               "published PennerVarying law (Table 3: r=0.448, mu=0.969, k_p=1.543e-4). " + _FADE_TEXT + " Rolling "
-               "(stimp 1.5 m) and sliding friction (0.4): assumptions, the paper measured bounces only."),
+               "published PennerVarying law (Table 3: r=0.448, mu=0.969, k_p=1.543e-4), the paper's fit to bounces "
+               "fired from a launcher onto that mat (330 recorded): a teeing mat on a rigid base, not a fairway or "
+               "a green. " + _FADE_TEXT + " Rolling (stimp 1.5 m) and sliding friction (0.4): assumptions, the "
+               "paper measured bounces only."),
     "turf-B": ("PennerVarying", "B", ASSUMED_TURF_STIMP_M,
                "The paper's campaign B: a well-maintained natural-grass teeing area. Bounce law: its published "
-               "PennerVarying law (Table 3: r=0.222, mu=0.999, k_p=2.973e-4). " + _FADE_TEXT + " Rolling (stimp "
-               "1.5 m) and sliding friction (0.4): assumptions, the paper measured bounces only."),
+               "PennerVarying law (Table 3: r=0.222, mu=0.999, k_p=2.973e-4), the paper's fit to bounces fired "
+               "from a launcher onto that tee (693 recorded): a teeing area, not a fairway or a green. "
+               + _FADE_TEXT + " Rolling (stimp 1.5 m) and sliding friction (0.4): assumptions, the paper measured "
+               "bounces only."),
     "green-slow": ("PennerVarying", "B", 7.5 * _FT, "A slow green, Stimpmeter 7.5 ft (2.29 m). " + _GREEN_SOURCE),
     "green-medium": ("PennerVarying", "B", 9.0 * _FT,
                      "A medium green, Stimpmeter 9 ft (2.74 m). " + _GREEN_SOURCE),

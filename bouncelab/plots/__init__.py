@@ -13,6 +13,7 @@
 :func:`plot_repeatability`  Fig. 9: mean landing vs mean lift-off per setting, 95 % CIs
 :func:`plot_slices`         Fig. 10: all nine landing/lift-off component slices
 :func:`plot_lever_arm`      where the horizontal impulse acts: Δω/Δẋ of data and laws
+:func:`plot_roll_fit`       a surface fitted to launch-monitor shots: predicted vs observed roll-out
 :func:`save_figure`         write a figure to a file
 :func:`figure_units`        the units a ``units=`` argument names
 ==========================  =========================================================
@@ -33,6 +34,7 @@ and the labels are converted; errors such as Delta q stay those of the scaled da
 from bouncelab.plots._common import UNIT_PRESETS, FigureUnits, figure_units, save_figure
 from bouncelab.plots.comparison import plot_predictions, plot_repeatability
 from bouncelab.plots.figures import plot_pi_widths, plot_slices, plot_tangential
+from bouncelab.plots.ground import plot_roll_fit
 from bouncelab.plots.impulse import plot_lever_arm
 from bouncelab.plots.landing import plot_landing_space
 
@@ -45,6 +47,7 @@ __all__ = [
     "plot_pi_widths",
     "plot_predictions",
     "plot_repeatability",
+    "plot_roll_fit",
     "plot_slices",
     "plot_tangential",
     "save_figure",
