@@ -398,6 +398,7 @@ def test_cs_agrees_with_python(cs_program, name, n):
 
 POW_JS = """
 import fs from 'fs';
+const $D = new Float64Array(4);
 %s
 const b = fs.readFileSync(process.argv[2]);
 const v = new Float64Array(b.buffer, b.byteOffset, b.length / 8);
@@ -494,7 +495,7 @@ def comment_text(source: str) -> str:
     return " ".join(" ".join(line.strip().lstrip("*").strip() for line in head.splitlines()).split())
 
 
-@pytest.mark.parametrize("lang", ["c", "js"])
+@pytest.mark.parametrize("lang", ["c", "js", "cs"])
 def test_comment_carries_conventions_units_parameters_and_domain(lang):
     law = bl.PennerFixed.published("B").replace(fade_xdot=50.0)
     text = comment_text(export_law(law, lang))
@@ -511,8 +512,10 @@ def test_comment_carries_conventions_units_parameters_and_domain(lang):
     assert "no record of the landings it was fitted on" in text and "extrapolates" in text
     if lang == "c":
         assert "-ffp-contract=off" in text and "-ffast-math" in text
+    elif lang == "js":
+        assert "Math.exp" in text and "allocated" in text
     else:
-        assert "Math.exp" in text
+        assert "Math.Exp" in text and "h_pow" in text and "Unity, Godot and Mono" in text
 
 
 def test_comment_gives_the_fitted_ranges_and_says_synthetic():
@@ -521,7 +524,7 @@ def test_comment_gives_the_fitted_ranges_and_says_synthetic():
     prov = Provenance(n_bounces=330, data_kind="synthetic surrogate", campaign="A", surrogate="turf",
                       generator="CraterContact", landing_ranges=ranges)
     law = bl.Rigid(r=0.5, mu=0.4)._with_provenance(prov)
-    for lang in ("c", "js"):
+    for lang in ("c", "js", "cs"):
         text = comment_text(export_law(law, lang))
         for name, (lo, hi) in ranges.items():
             assert f"{name} from {lo:.6g} to {hi:.6g}" in text
@@ -766,6 +769,256 @@ def test_lambda_kernel_is_refused():
     assert exc.value.construct == "a function that is not a plain def"
 
 
+# ------------------------------------------------------------------------------ the JavaScript API
+ALLOC_JS = """
+const law = await import(process.argv[2]);
+const [warm, count] = [Number(process.argv[3]), Number(process.argv[4])];
+const out = new Float64Array(3), acc = new Float64Array(1);
+const P = new Float64Array([1000.5, -800.25, 300.125, 600.5, -900.75, 1500.5, -1200.5, -300.25, -50.5,
+                            40.5, -1500.5, 900.5]);
+function loop(n) {
+  for (let i = 0; i < n; i++) {
+    const k = 3 * (i & 3);
+    acc[0] += law.predictOne(P[k], P[k + 1], P[k + 2], out) + out[0];
+  }
+}
+loop(warm);
+console.log("MEASURE");
+loop(count);
+console.log("DONE", acc[0]);
+"""
+
+
+@needs_node
+@pytest.mark.parametrize("name", list(LAWS))
+def test_js_predict_one_allocates_nothing(js_driver, name):
+    """After warming up (V8 compiles it), predictOne runs 10^6 times (10^4 for the integrated laws) without a single
+    garbage collection: it allocates nothing (the module's predictOne allocated two arrays a call before)."""
+    folder = js_driver.parent
+    (folder / "alloc.mjs").write_text(ALLOC_JS)
+    warm, count = (3_000, 10_000) if name in (*INTEGRATED, "compliant") else (100_000, 1_000_000)
+    proc = subprocess.run([NODE, "--trace-gc", "alloc.mjs", f"./{name}.mjs", str(warm), str(count)], cwd=folder,
+                          capture_output=True, text=True, timeout=300, check=True)
+    measured = proc.stdout.split("MEASURE", 1)[1].split("DONE", 1)[0]
+    assert "Scavenge" not in measured and "Mark" not in measured, measured[:500]
+    assert math.isfinite(float(proc.stdout.split("DONE", 1)[1].split()[0]))
+
+
+JS_API = """
+import * as law from './rigid_a.mjs';
+const fails = (f) => { try { f(); return "no error"; } catch (e) { return `${e.name}: ${e.message}`; } };
+const landings = new Float64Array([1000, -800, 300, 600, -900, 1500]);
+const lift = law.predict(landings);
+const same = new Float64Array(landings);
+law.predict(same, same);  // in place
+const code = law.predictOne(600, -900, 1500);  // into LIFTOFF
+console.log(JSON.stringify({
+  lift: Array.from(lift), inPlace: Array.from(same), liftoff: Array.from(law.LIFTOFF), code,
+  codes: Array.from(law.regime(landings)), plain: Array.from(law.predict([1000, -800, 300])),
+  rows: law.predictRows([[1000, -800, 300], [600, -900, 1500]]),
+  nested: fails(() => law.predict([[1000, -800, 300]])), length: fails(() => law.predict(new Float64Array(4))),
+  short: fails(() => law.predict(landings, new Float64Array(3))), notArray: fails(() => law.predict(3)),
+  badRow: fails(() => law.predictRows([[1, 2]])),
+}));
+"""
+
+
+@needs_node
+def test_js_api_on_typed_arrays(js_driver):
+    import json
+
+    folder = js_driver.parent
+    (folder / "api.mjs").write_text(JS_API)
+    out = json.loads(subprocess.run([NODE, "api.mjs"], cwd=folder, capture_output=True, text=True, check=True,
+                                    timeout=60).stdout)
+    law = LAWS["rigid_a"]
+    p = np.array([[1000.0, -800.0, 300.0], [600.0, -900.0, 1500.0]])
+    ref = law.predict(p)
+    assert out["lift"] == ref.ravel().tolist() == out["inPlace"]
+    assert out["liftoff"] == ref[1].tolist() and out["code"] == law.regime(p, codes=True)[1]
+    assert out["codes"] == law.regime(p, codes=True).tolist() and out["plain"] == ref[0].tolist()
+    assert out["rows"] == ref.tolist()
+    assert out["nested"].startswith("TypeError") and "predictRows" in out["nested"]
+    assert out["length"].startswith("RangeError") and "4 numbers" in out["length"]
+    assert out["short"].startswith("RangeError") and "fewer than the 6" in out["short"]
+    assert out["notArray"].startswith("TypeError")
+    assert out["badRow"].startswith("RangeError") and "landing 0" in out["badRow"]
+
+
+# ------------------------------------------------------------------------------ C#
+LITERALS_CS = """
+using System;
+using System.IO;
+
+public static class Literals {
+    static readonly double[] Values = { %s };
+
+    public static void Main(string[] argv) {
+        byte[] raw = new byte[8 * Values.Length];
+        Buffer.BlockCopy(Values, 0, raw, 0, raw.Length);
+        File.WriteAllBytes(argv[0], raw);
+    }
+}
+"""
+
+
+@needs_mono
+def test_cs_literals_are_exact(tmp_path):
+    """Every double is written so that the C# compiler reads it back to the same bits (shortest repr)."""
+    from bouncelab.export.emit.cs import cs_literal
+
+    rng = np.random.default_rng(3)
+    special = [5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 0.1, 1 / 3, -0.0, 0.0, math.inf, -math.inf,
+               1e23, 9007199254740993.0]
+    values = np.concatenate([rng.standard_normal(2000) * 10.0 ** rng.integers(-300, 300, 2000),
+                             rng.uniform(0, 1, 2000), special])
+    (tmp_path / "lit.cs").write_text(LITERALS_CS % ", ".join(cs_literal(float(v)) for v in values))
+    subprocess.run([MCS, *MCS_FLAGS, "lit.cs"], cwd=tmp_path, check=True, timeout=120, capture_output=True)
+    subprocess.run([MONO, "lit.exe", "out.bin"], cwd=tmp_path, check=True, timeout=60)
+    got = np.fromfile(tmp_path / "out.bin")
+    np.testing.assert_array_equal(got.view(np.int64), values.view(np.int64))
+
+
+HELPERS_CS = """
+using System;
+using System.IO;
+
+public static class Helpers {
+%s
+
+    public static void Main(string[] argv) {
+        byte[] raw = File.ReadAllBytes(argv[0]);
+        double[] v = new double[raw.Length / 8];
+        Buffer.BlockCopy(raw, 0, v, 0, raw.Length);
+        int n = v.Length / 2;
+        double[] o = new double[7 * n];
+        for (int i = 0; i < n; i++) {
+            double x = v[2 * i], y = v[2 * i + 1];
+            o[7 * i] = h_hypot(x, y);
+            o[7 * i + 1] = h_log1p(x);
+            o[7 * i + 2] = h_expm1(y);
+            o[7 * i + 3] = h_asinh(x);
+            o[7 * i + 4] = h_acosh(Math.Abs(x) + 1.0);
+            o[7 * i + 5] = h_atanh(y / 1000.0);
+            o[7 * i + 6] = h_copysign(x, y);
+        }
+        byte[] w = new byte[8 * o.Length];
+        Buffer.BlockCopy(o, 0, w, 0, w.Length);
+        File.WriteAllBytes(argv[1], w);
+    }
+}
+"""
+
+
+def ulps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance in units in the last place of b (0 where both are equal, NaN-aware)."""
+    same = (a == b) | (np.isnan(a) & np.isnan(b))
+    return np.where(same, 0.0, np.abs(a - b) / np.spacing(np.abs(b)))
+
+
+@needs_mono
+def test_cs_math_helpers_are_within_a_few_ulps_of_the_c_library(tmp_path):
+    """System.Math (of .NET Framework, Unity's) lacks hypot, log1p, expm1, asinh, acosh, atanh and copysign: the C#
+    output writes them out. Measured against Python's math (the C library's) on values of every magnitude."""
+    from bouncelab.export.emit.cs import _HELPERS
+
+    rng = np.random.default_rng(11)
+    n = 20_000
+    x = rng.choice([-1.0, 1.0], n) * 10.0 ** rng.uniform(-12, 12, n)
+    y = rng.uniform(-700, 700, n)
+    x[:6] = [0.0, -0.0, 1e-310, 1e200, -1e-200, 5.0]
+    y[:6] = [0.0, -0.0, 1e-300, 3.0, 1e-20, -1e-300]
+    code = "\n\n".join(_HELPERS[h] for h in ("copysign", "hypot", "log1p", "expm1", "asinh", "acosh", "atanh"))
+    (tmp_path / "h.cs").write_text(HELPERS_CS % code)
+    np.column_stack([x, y]).tofile(tmp_path / "in.bin")
+    subprocess.run([MCS, *MCS_FLAGS, "h.cs"], cwd=tmp_path, check=True, timeout=120, capture_output=True)
+    subprocess.run([MONO, "h.exe", "in.bin", "out.bin"], cwd=tmp_path, check=True, timeout=60)
+    got = np.fromfile(tmp_path / "out.bin").reshape(n, 7)
+    want = np.array([[math.hypot(a, b), math.log1p(a) if a > -1 else math.nan, math.expm1(b), math.asinh(a),
+                      math.acosh(abs(a) + 1.0), math.atanh(b / 1000.0), math.copysign(a, b)]
+                     for a, b in zip(x, y, strict=True)])
+    worst = [ulps(got[:, k], want[:, k]).max() for k in range(7)]
+    assert worst[6] == 0 and np.array_equal(np.signbit(got[:, 6]), np.signbit(want[:, 6]))
+    assert max(worst[:6]) <= 4, dict(zip(("hypot", "log1p", "expm1", "asinh", "acosh", "atanh"), worst, strict=False))
+
+
+API_CS = """
+using System;
+
+public static class Api {
+    static string Fails(Action a) {
+        try {
+            a();
+            return "no error";
+        } catch (ArgumentException e) {
+            return e.GetType().Name + ": " + e.Message.Replace("\\n", " ");
+        }
+    }
+
+    public static void Main() {
+        double[] landings = { 1000.0, -800.0, 300.0, 600.0, -900.0, 1500.0 };
+        double[] lift = new double[6];
+        Law.Predict(landings, lift);
+        int[] codes = new int[2];
+        Law.Regime(landings, codes);
+        double xf, yf, wf;
+        int code = Law.PredictOne(600.0, -900.0, 1500.0, out xf, out yf, out wf);
+        Console.WriteLine(lift[0].ToString("R") + " " + lift[5].ToString("R") + " " + codes[1] + " " + code + " "
+                          + wf.ToString("R") + " " + Law.RegimeName(code) + " " + Law.RegimeName(7) + " "
+                          + Law.LawName);
+        Console.WriteLine(Fails(delegate { Law.Predict(new double[4], new double[4]); }));
+        Console.WriteLine(Fails(delegate { Law.Predict(landings, new double[3]); }));
+        Console.WriteLine(Fails(delegate { Law.Predict(null, lift); }));
+        Console.WriteLine(Fails(delegate { Law.PredictOne(1.0, -1.0, 0.0, new double[2]); }));
+    }
+}
+"""
+
+
+@needs_mono
+def test_cs_api_checks_its_arrays(tmp_path):
+    law = LAWS["rigid_a"]
+    to_cs(law, tmp_path / "Law.cs", class_name="Law")
+    (tmp_path / "api.cs").write_text(API_CS)
+    subprocess.run([MCS, *MCS_FLAGS, "-out:api.exe", "api.cs", "Law.cs"], cwd=tmp_path, check=True, timeout=120)
+    lines = subprocess.run([MONO, "api.exe"], cwd=tmp_path, capture_output=True, text=True, check=True,
+                           timeout=60).stdout.splitlines()
+    p = np.array([[1000.0, -800.0, 300.0], [600.0, -900.0, 1500.0]])
+    ref, codes = law.predict(p), law.regime(p, codes=True)
+    first = lines[0].split()
+    assert [float(first[0]), float(first[1])] == [ref[0, 0], ref[1, 2]] and int(first[2]) == codes[1]
+    assert int(first[3]) == codes[1] and float(first[4]) == ref[1, 2]
+    assert first[5:] == [law.regimes[codes[1]], "?", "Rigid"]
+    assert "ArgumentException" in lines[1] and "not three a landing" in lines[1]
+    assert "fewer than the 6" in lines[2] and "liftoffs" in lines[2]
+    assert lines[3].startswith("ArgumentNullException") and "landings" in lines[3]
+    assert "liftoff must hold 3 numbers" in lines[4]
+
+
+def test_cs_names_are_checked():
+    law = bl.Rigid(r=0.5, mu=0.3)
+    for bad in ("9Law", "class", "Predict", "LawName", "a-b", ""):
+        with pytest.raises(ParameterError) as exc:
+            to_cs(law, class_name=bad)
+        assert exc.value.parameter == "class_name"
+    for bad in ("Golf..Bounce", "Golf.class", "1x", "Golf.Bounce."):
+        with pytest.raises(ParameterError) as exc:
+            to_cs(law, namespace=bad)
+        assert exc.value.parameter == "namespace"
+    text = to_cs(law, class_name="TurfA", namespace="Golf.Bounce")
+    assert "namespace Golf.Bounce {" in text and "public static class TurfA {" in text
+    assert "namespace" not in to_cs(law).split("*/", 1)[1]  # the global namespace unless told
+    with pytest.raises(ParameterError) as exc:
+        export_law(law, "c", class_name="X")
+    assert exc.value.parameter == "class_name"
+    with pytest.raises(ParameterError) as exc:
+        export_law(law, "cs", prefix="x_")
+    assert exc.value.parameter == "prefix"
+    with pytest.raises(ParameterError) as exc:
+        export_law("Rigid", "c")
+    assert exc.value.parameter == "law"
+
+
 # ------------------------------------------------------------------------------ the command line
 def run(capsys, *argv):
     code = main(list(argv))
@@ -784,6 +1037,10 @@ def test_cli_exports_a_law_file(capsys, tmp_path):
     assert code == EXIT_OK and (tmp_path / "law.mjs").read_text() == to_js(law)
     code, out, _ = run(capsys, "export", "rigid", "--published", "B", "--lang", "js")
     assert code == EXIT_OK and out == to_js(bl.Rigid.published("B"))
+    code, out, _ = run(capsys, "export", str(tmp_path / "law.json"), "--lang", "cs", "-o", str(tmp_path / "Law.cs"),
+                       "--class-name", "PennerA", "--namespace", "Golf.Bounce")
+    assert code == EXIT_OK and "Law.cs (C# class)" in out
+    assert (tmp_path / "Law.cs").read_text() == to_cs(law, class_name="PennerA", namespace="Golf.Bounce")
 
 
 def test_cli_errors(capsys, tmp_path):
@@ -802,6 +1059,10 @@ def test_cli_errors(capsys, tmp_path):
     assert code == EXIT_USAGE and "does not exist" in err and not (tmp_path / "no").exists()
     code, _, err = run(capsys, "export", str(tmp_path / "law.json"), "--lang", "js", "--prefix", "x_")
     assert code == EXIT_USAGE and "--prefix is for --lang c" in err
+    code, _, err = run(capsys, "export", str(tmp_path / "law.json"), "--lang", "c", "--class-name", "X")
+    assert code == EXIT_USAGE and "--class-name is for --lang cs" in err and "--prefix" in err
+    code, _, err = run(capsys, "export", str(tmp_path / "law.json"), "--lang", "cs", "--class-name", "9X")
+    assert code == EXIT_FIT and "class_name must be a C# identifier" in err
     code, _, err = run(capsys, "export", str(tmp_path / "law.json"), "--lang", "c", "--prefix", "1x")
     assert code == EXIT_FIT and "prefix must be a C identifier" in err
     code, _, err = run(capsys, "export", "Rigid", "--lang", "c")

@@ -56,7 +56,7 @@ sealed short sizeof stackalloc static string struct switch this throw true try t
 ushort using virtual void volatile while
 """.split())
 #: The members of an exported class (a class cannot take one of their names) and the namespace it uses.
-_CS_MEMBERS = frozenset({"Law", "RegimeCount", "PredictOne", "Predict", "Regime", "RegimeName", "Check", "System",
+_CS_MEMBERS = frozenset({"LawName", "RegimeCount", "PredictOne", "Predict", "Regime", "RegimeName", "Check", "System",
                          "Math", "BitConverter"})
 _RPM = 2.0 * math.pi / 60.0
 _WHAT = {"c": "a C99 header", "js": "an ES module", "cs": "a C# class"}
@@ -354,13 +354,13 @@ function $landings(landings, what) {{
     throw new TypeError(`${{what}} must be a Float64Array (or an array of numbers), three a landing: ` +
                         "xdot, ydot, omega");
   }}
-  if (landings.length % 3 !== 0) {{
-    throw new RangeError(`${{what}} has ${{landings.length}} numbers, not three a landing (xdot, ydot, omega)`);
-  }}
   if (landings.length > 0 && typeof landings[0] !== "number") {{
     throw new TypeError(`${{what}} holds ${{typeof landings[0]}}s, not numbers: give the landings flat, ` +
                         "three numbers a landing (a Float64Array); for an array of [xdot, ydot, omega] rows " +
                         "call predictRows(rows)");
+  }}
+  if (landings.length % 3 !== 0) {{
+    throw new RangeError(`${{what}} has ${{landings.length}} numbers, not three a landing (xdot, ydot, omega)`);
   }}
   return landings.length / 3;
 }}
@@ -441,7 +441,7 @@ def cs_class(law: Any, class_name: str = DEFAULT_CLASS, namespace: str | None = 
 /// baked in (scaled units: radii/s and rad/s; see the comment at the top of the file).</summary>
 public static class {class_name} {{
     /// <summary>The law's class in bouncelab.</summary>
-    public const string Law = {_cs_string(k.law_name)};
+    public const string LawName = {_cs_string(k.law_name)};
     /// <summary>The number of regime codes (0 to RegimeCount - 1; RegimeName names them).</summary>
     public const int RegimeCount = {len(k.regimes)};
 

@@ -7,7 +7,8 @@ function's numbers go in through the module's scratch ``$A`` and its results com
 :class:`JSEmitter`). The math is ``Math``'s, but ``**`` is
 ``$pow``: C's pow correctly rounded, in double-double arithmetic (Node's ``Math.pow`` differs from the
 C library's pow in the last bit for about 8 % of arguments, enough for TurfContact's event location to
-amplify); ``Math.exp``, ``Math.sin``... may differ from the C library's in the last bit.
+amplify); ``Math.exp``, ``Math.sin``... may differ from the C library's in the last bit. ``math.hypot`` is
+the C# output's ``h_hypot`` (``Math.hypot`` allocates its arguments in V8).
 """
 
 from __future__ import annotations
@@ -26,18 +27,37 @@ __all__ = ["JSEmitter", "js_literal", "js_pow"]
 
 _INTRINSICS = {**{n: f"Math.{n}" for n in ("sqrt", "exp", "log", "log10", "log1p", "expm1", "sin", "cos", "tan",
                                            "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
-                                           "atanh", "atan2", "hypot")},
+                                           "atanh", "atan2")},
                "fabs": "Math.abs", "abs": "Math.abs", "isnan": "Number.isNaN", "isfinite": "Number.isFinite",
-               "pow": "$pow", "copysign": "$copysign", "isinf": "$isinf", "min": "$min", "max": "$max"}
+               "pow": "$pow", "copysign": "$copysign", "isinf": "$isinf", "min": "$min", "max": "$max",
+               "hypot": "$hypot"}
 # Python's min(a, b) is b if b < a else a, its max(a, b) b if b > a else a: not Math.min, which treats NaN
 # and -0 otherwise.
 _HELPERS = {
     "min": "function $min(a, b) { return b < a ? b : a; }",
     "max": "function $max(a, b) { return b > a ? b : a; }",
-    "copysign": "function $copysign(x, y) {\n  const ax = Math.abs(x);\n"
-                "  return (y < 0 || (y === 0 && 1 / y < 0)) ? -ax : ax;\n}",
+    "copysign": "function $copysign() {\n  const ax = Math.abs($D[0]), y = $D[1];\n"
+                "  $D[0] = (y < 0 || (y === 0 && 1 / y < 0)) ? -ax : ax;\n}",
     "isinf": "function $isinf(x) { return x === Infinity || x === -Infinity; }",
+    # Math.hypot is variadic: V8 allocates its arguments. The C# output's hypot (the same operations, the same bits)
+    "hypot": """function $hypot() {
+  let x = Math.abs($D[0]), y = Math.abs($D[1]);
+  if (x === Infinity || y === Infinity) { $D[0] = Infinity; return; }
+  if (Number.isNaN(x) || Number.isNaN(y)) { $D[0] = NaN; return; }
+  if (x < y) { const t = x; x = y; y = t; }
+  let s = 1.0;  // 2^-600 or 2^600: exact
+  if (x > 1e150) s = 2.409919865102884e-181;
+  else if (x < 1e-150) s = 4.149515568880993e+180;
+  x *= s;
+  y *= s;
+  $D[0] = Math.sqrt(x * x + y * y) / s;
+}""",
+    "scratch": "// The numbers of pow, hypot and copysign: ($D[0] = x, $D[1] = y, $pow(), $D[0]).\n"
+               "const $D = new Float64Array(4);",
 }
+#: Helpers of two numbers that take them from $D and leave their result in $D[0] (not as arguments: V8 boxes a
+#: double given to a function it does not inline, and it does not inline these in a large kernel).
+_SCRATCH = frozenset({"pow", "hypot", "copysign"})
 
 
 #: Entry points up to this size (statements and expression nodes) take their numbers as arguments.
@@ -134,19 +154,20 @@ class JSEmitter(Emitter):
         return steps
 
     def expr(self, e: ir.Expr) -> str:
-        if isinstance(e, ir.Intrinsic) and e.name == "pow":  # through $D: see js_pow
-            self.helpers.add("pow")
+        if isinstance(e, ir.Intrinsic) and e.name in _SCRATCH:  # through $D
+            self.helpers.update((e.name, "scratch"))
             steps = []
             texts = []
             for a in e.args:
                 text = strip_parens(self.expr(a))
-                if any(isinstance(x, ir.Call) or (isinstance(x, ir.Intrinsic) and x.name == "pow")
-                       for x in ir.subexprs(a)):  # it writes $D itself (or may): before this pow writes it
+                if any(isinstance(x, ir.Call) or (isinstance(x, ir.Intrinsic) and x.name in _SCRATCH)
+                       for x in ir.subexprs(a)):  # it writes $D itself (or may): before this one writes it
                     tmp = self.temp(a.type)
                     steps.append(f"{tmp} = {text}")
                     text = tmp
                 texts.append(text)
-            return f"({', '.join([*steps, f'$D[0] = {texts[0]}', f'$D[1] = {texts[1]}', '$pow()', '$D[0]'])})"
+            call = f"${e.name}()"
+            return f"({', '.join([*steps, f'$D[0] = {texts[0]}', f'$D[1] = {texts[1]}', call, '$D[0]'])})"
         return super().expr(e)
 
     def call(self, e: ir.Call) -> str:
@@ -255,7 +276,6 @@ const $ATANH = {arr(atanh)};
 const $INVFACT = {arr(fact)};
 const $F64 = new Float64Array(1), $U32 = new Uint32Array($F64.buffer);
 const $HI = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1 ? 1 : 0;
-const $D = new Float64Array(4);
 function $add() {{
   const ah = $D[0], al = $D[1], bh = $D[2], bl = $D[3];
   const s = ah + bh, v = s - ah, e = (ah - (s - v)) + (bh - v);
