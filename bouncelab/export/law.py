@@ -527,7 +527,8 @@ public static class {class_name} {{
 """
     code = inner if namespace is None else f"namespace {namespace} {{\n\n{textwrap.indent(inner, '    ')}}}\n"
     code = "\n".join(line.rstrip() for line in code.split("\n"))
-    return f"{_comment(k, 'cs', class_name=class_name)}\nusing System;\n\n{code}"
+    usings = "".join(f"using {u};\n" for u in em.usings)
+    return f"{_comment(k, 'cs', class_name=class_name)}\n{usings}\n{code}"
 
 
 # ------------------------------------------------------------------------------------------- the comment

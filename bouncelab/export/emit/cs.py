@@ -20,7 +20,10 @@ from decimal import Decimal
 
 from bouncelab.export import ir
 from bouncelab.export.emit.base import Emitter, pow_constants
-from bouncelab.export.inline import inline
+from bouncelab.export.inline import inline, size
+
+#: Methods up to this size (statements and expression nodes) ask the JIT to inline them.
+SMALL = 100
 
 __all__ = ["CSharpEmitter", "cs_literal"]
 
@@ -111,6 +114,8 @@ class CSharpEmitter(Emitter):
 
     def __init__(self, program: ir.Program) -> None:
         super().__init__(inline(program))  # Mono's JIT inlines little (nothing with out parameters)
+        #: The namespaces the methods use (the file's using directives).
+        self.usings = ["System"]
 
     def type_name(self, t: ir.Type) -> str:
         if isinstance(t, ir.ArrayType):
@@ -145,7 +150,12 @@ class CSharpEmitter(Emitter):
             ret = "void"
         else:
             ret = self.type_name(fn.returns[0])
-        return f"private static {ret} {self.function_name(fn.name)}({', '.join(params)}) {{"
+        head = f"private static {ret} {self.function_name(fn.name)}({', '.join(params)}) {{"
+        if size(fn.body) <= SMALL:  # Mono honours it (about 15 % on Rigid's Predict); .NET 4.5 and later have it
+            if "System.Runtime.CompilerServices" not in self.usings:
+                self.usings.append("System.Runtime.CompilerServices")
+            head = f"[MethodImpl(MethodImplOptions.AggressiveInlining)]\n{head}"
+        return head
 
     def prologue(self, fn: ir.Function, read: set[str]) -> list[str]:
         # an out argument must be a variable: the results a caller does not need go to one per type
@@ -175,9 +185,9 @@ def cs_literal(value: object, t: str | None = None) -> str:
     """A constant in C# that every C# compiler reads back to the same double.
 
     A float whose shortest round-trip repr is its exact decimal value (0.5, 3.5, 1024.0) is written so;
-    any other with 17 significant digits: Mono's mcs reads about 0.2 % of shortest reprs one unit in the
-    last place off, and none of 240 000 17-digit forms (tests/test_export.py checks a sample). Integers
-    are ``long``.
+    any other with 17 significant digits. Measured with Mono's mcs 6.8: it read about 0.2 % of shortest
+    reprs one unit in the last place off (two-digit ones among them), and none of 240 000 17-digit forms
+    nor of 68 000 exact decimals (tests/test_export.py checks a sample). Integers are ``long``.
     """
     if isinstance(value, bool):
         return "true" if value else "false"
