@@ -365,11 +365,17 @@ def check_agreement(name: str, n: int, command: list[str], folder: Path) -> None
     np.testing.assert_array_equal(cb, ca)
 
 
+#: Laws whose numba kernel takes long to compile with a cold cache (TurfContact: about 25 s on the 2-core machine,
+#: measured): every test comparing with their law.predict runs with -m slow only.
+COLD = ("turf",)
+
+
 def _params(n: int, slow_ones: tuple[str, ...], fast: bool) -> list:
     out = []
     for name in LAWS:
         if name in slow_ones:
-            out.append(pytest.param(name, n if not fast else N_FAST, marks=[] if fast else [pytest.mark.slow]))
+            slow = not fast or name in COLD
+            out.append(pytest.param(name, n if not fast else N_FAST, marks=[pytest.mark.slow] if slow else []))
         elif not fast:
             out.append(pytest.param(name, n))
     return out
