@@ -58,6 +58,19 @@ def test_simultaneous_assignment_reads_the_old_values_and_dead_code_is_gone():
 
 
 @njit
+def _names(int, int_, f_x):  # names C, JavaScript and C# reserve, and an emitter's prefix
+    double = int * 2.0
+    return double + int_ + f_x
+
+
+def test_reserved_and_prefixed_names_are_renamed_apart():
+    _, fn = translate(_names, FLOAT, FLOAT, FLOAT)
+    names = [n for n, _ in fn.params] + list(fn.locals)
+    assert len(set(names)) == len(names) == 4
+    assert "int" not in names and "double" not in names and not any(n.startswith("f_") for n in names)
+
+
+@njit
 def _tuple_var(xd, k):
     t = (xd, 2.0 * xd, 3.0 * xd)
     u = t[k]  # a variable index into a tuple of one type

@@ -752,8 +752,13 @@ class _Lowerer:
         self.types: dict[str, str] = {}           # IR local -> IR type
         self.arrays: dict[str, ArrayType] = {}    # array parameter -> its type
         self.block: list[ir.Stmt] = []
+        self.idents: dict[str, str] = {}  # Python name -> its identifier (given up front: int and int_ differ)
         for name in sorted(self.fn.locals):
-            self.taken.add(self._ident(name))
+            ident = self._ident(name)
+            while ident in self.taken:
+                ident += "_"
+            self.taken.add(ident)
+            self.idents[name] = ident
 
     # -------------------------------------------------------------- names
     def _ident(self, name: str) -> str:
@@ -785,10 +790,10 @@ class _Lowerer:
         if name not in self.names:
             leaves = leaf_types(t)
             if isinstance(t, TupleType):
-                out = [self.temp(lt, f"{self._ident(name)}_{k}") for k, lt in enumerate(leaves)]
+                out = [self.temp(lt, f"{self.idents[name]}_{k}") for k, lt in enumerate(leaves)]
             else:
-                self.taken.discard(self._ident(name))
-                out = [self.temp(lt, name) for lt in leaves]
+                out = [self.idents[name]]
+                self.types[out[0]] = leaves[0]
             self.names[name] = out
         return self.names[name]
 
@@ -802,8 +807,7 @@ class _Lowerer:
             if isinstance(t, FuncType):
                 continue
             if isinstance(t, ArrayType):
-                self.taken.discard(self._ident(name))
-                pname = self.fresh(name)
+                pname = self.idents[name]
                 self.arrays[name] = t
                 self.names[name] = [pname]
                 params.append((pname, ir.ArrayType(t.shape)))
@@ -812,7 +816,7 @@ class _Lowerer:
                 leaves = self.variable(name, t)
                 params += [(n, self.types[n]) for n in leaves]
             else:  # assigned a wider type: locals of that type take the parameters' values
-                incoming = [self.fresh(f"{self._ident(name)}_in{k if len(leaf_types(t)) > 1 else ''}")
+                incoming = [self.fresh(f"{self.idents[name]}_in{k if len(leaf_types(t)) > 1 else ''}")
                             for k in range(len(leaf_types(t)))]
                 params += list(zip(incoming, leaf_types(t), strict=True))
                 leaves = self.variable(name, final)
