@@ -731,10 +731,6 @@ def leaf_types(t: Any) -> list[str]:
     return [_IR_TYPES[t]]
 
 
-def _ir_param_type(t: Any) -> list[Any]:
-    return [ir.ArrayType(t.shape)] if isinstance(t, ArrayType) else leaf_types(t)
-
-
 def _atom(e: ir.Expr) -> bool:
     return isinstance(e, ir.Const | ir.Var)
 
@@ -750,7 +746,6 @@ class _Lowerer:
         self.taken: set[str] = set()
         self.names: dict[str, list[str]] = {}     # Python variable -> the IR names of its scalars
         self.types: dict[str, str] = {}           # IR local -> IR type
-        self.arrays: dict[str, ArrayType] = {}    # array parameter -> its type
         self.block: list[ir.Stmt] = []
         self.idents: dict[str, str] = {}  # Python name -> its identifier (given up front: int and int_ differ)
         for name in sorted(self.fn.locals):
@@ -808,7 +803,6 @@ class _Lowerer:
                 continue
             if isinstance(t, ArrayType):
                 pname = self.idents[name]
-                self.arrays[name] = t
                 self.names[name] = [pname]
                 params.append((pname, ir.ArrayType(t.shape)))
                 continue

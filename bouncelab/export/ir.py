@@ -278,15 +278,6 @@ class Program:
     def function(self, name: str) -> Function:
         return next(f for f in self.functions if f.name == name)
 
-    def intrinsics(self) -> set[tuple[str, str]]:
-        """The (intrinsic, operand type) pairs the program uses (an emitter writes the helpers they need)."""
-        out: set[tuple[str, str]] = set()
-        for fn in self.functions:
-            for e in walk_exprs(fn.body):
-                if isinstance(e, Intrinsic):
-                    out.add((e.name, e.args[0].type))
-        return out
-
     def max_results(self) -> int:
         return max((len(f.returns) for f in self.functions if f.multi), default=0)
 

@@ -13,6 +13,7 @@ this module adds only each language's entry points around it.
 
 from __future__ import annotations
 
+import hashlib
 import inspect
 import json
 import math
@@ -225,8 +226,6 @@ class _Kernel:
 # ------------------------------------------------------------------------------------------- C
 def c_header(law: Any, prefix: str = DEFAULT_PREFIX) -> str:
     """The law as a self-contained C99 header (see :func:`export_law`)."""
-    import hashlib
-
     if not isinstance(prefix, str) or not _PREFIX.match(prefix):
         raise ParameterError(f"prefix must be a C identifier such as 'bouncelab_' or 'turf_a_'; got {prefix!r}",
                              parameter="prefix", value=prefix)
