@@ -59,12 +59,13 @@ def test_every_to_json_with_a_path_words_a_failed_write_as_an_output_error(tmp_p
     """Laws, surfaces and exported laws write through core.atomic.write_output: an OutputError naming the path."""
     import bouncelab as bl
     from bouncelab.core.errors import OutputError
+    from bouncelab.export import to_c
     from bouncelab.ground import Surface
 
     target = tmp_path / "missing" / "out.json"
     law = bl.Rigid(r=0.5, mu=0.4)
     for write in (law.to_json, Surface(name="test", law=law, sliding_friction=0.4, stimp_m=3.0).to_json,
-                  law.to_c):
+                  lambda path: to_c(law, path)):
         with pytest.raises(OutputError) as err:
             write(target)
         assert (err.value.path, err.value.reason) == (str(target), "no such folder")

@@ -1,21 +1,40 @@
-"""Laws outside Python: a fitted law as a self-contained C99 header or JavaScript ES module.
+"""Laws outside Python: a fitted law as a self-contained C99 header, JavaScript ES module or C# class.
 
 >>> import bouncelab as bl
->>> header = bl.Rigid.published("A").to_c()          # or law.to_c("rigid_A.h"), bouncelab export
+>>> from bouncelab.export import to_c, to_cs, to_js
+>>> header = to_c(bl.Rigid.published("A"))          # or to_c(law, "rigid_A.h"), bouncelab export
 >>> "void bouncelab_predict(const double *landing, double *liftoff, long n)" in header
 True
->>> module = bl.Rigid.published("A").to_js()         # export function predict(landings), predictOne(...)
+>>> module = to_js(bl.Rigid.published("A"))         # export function predict(landings, out), predictOne(...)
+>>> "public static class BouncelabLaw" in to_cs(bl.Rigid.published("A"))
+True
 
-The code is the law's own numba kernel translated operation by operation
-(:mod:`bouncelab.export.translate`, which documents the Python subset it reads), with the law's values
-baked in; the file's top comment gives the law, its conventions and units, its parameters and its
-validity domain, and how to compile it (``-ffp-contract=off``, no ``-ffast-math``) so that its results
-agree with bouncelab's to 1e-12 of the landing's norm.
+The code is the law's own numba kernel translated operation by operation: the front end
+(:mod:`bouncelab.export.frontend`, which documents the Python subset it reads) turns the kernel into
+one small intermediate form (:mod:`bouncelab.export.ir`: typed scalar functions), and one emitter per
+language (:mod:`bouncelab.export.emit`) prints it. The law's values are baked in; the file's top
+comment gives the law, its conventions and units, its parameters and its validity domain, and how to
+compile it so that its results agree with bouncelab's to 1e-12 of the landing's norm.
+
+This package sits above the laws (it imports them; they do not import it) and is the only one that
+imports both the laws and the emitters.
 """
 
 from __future__ import annotations
 
-from bouncelab.export.law import DEFAULT_PREFIX, LANGUAGES, c_header, export_law, js_module
-from bouncelab.export.translate import ExportError
+from bouncelab.export.errors import ExportError
+from bouncelab.export.law import (
+                                  DEFAULT_CLASS,
+                                  DEFAULT_PREFIX,
+                                  LANGUAGES,
+                                  c_header,
+                                  cs_class,
+                                  export_law,
+                                  js_module,
+                                  to_c,
+                                  to_cs,
+                                  to_js,
+)
 
-__all__ = ["DEFAULT_PREFIX", "LANGUAGES", "ExportError", "c_header", "export_law", "js_module"]
+__all__ = ["DEFAULT_CLASS", "DEFAULT_PREFIX", "LANGUAGES", "ExportError", "c_header", "cs_class", "export_law",
+           "js_module", "to_c", "to_cs", "to_js"]

@@ -745,28 +745,6 @@ class BounceModel:
             write_output(path, text + "\n", "the law")
         return text
 
-    def to_c(self, path: str | Path | None = None, *, prefix: str = "bouncelab_") -> str:
-        """The law as a self-contained C99 header, its values baked in; also written to ``path`` if given.
-
-        Entry points ``void bouncelab_predict(const double *landing, double *liftoff, long n)`` and
-        ``int bouncelab_predict_one(double xdot, double ydot, double omega, double out[3])`` (scaled
-        units; ``prefix`` replaces ``bouncelab_`` so that several laws fit in one program). See
-        :func:`bouncelab.export.export_law` for the errors it raises.
-        """
-        from bouncelab.export import export_law
-
-        return export_law(self, "c", path, prefix=prefix)
-
-    def to_js(self, path: str | Path | None = None) -> str:
-        """The law as a self-contained JavaScript ES module, its values baked in; also written to ``path`` if given.
-
-        Exports ``predict(landings)`` (rows ``[xdot, ydot, omega]``, scaled units) and
-        ``predictOne(xdot, ydot, omega)``; see :func:`bouncelab.export.export_law`.
-        """
-        from bouncelab.export import export_law
-
-        return export_law(self, "js", path)
-
     # ------------------------------------------------------------ dunder methods
     def __getstate__(self) -> dict[str, Any]:
         # the per-law caches (a compiled entry point, kernel arguments) are rebuilt on use: a compiled

@@ -1,18 +1,21 @@
-r"""Translate the restricted Python of bouncelab's numba kernels into C99 and JavaScript.
+r"""The front end: the restricted Python of bouncelab's numba kernels, read into the intermediate form.
 
 A compiled law's mathematics lives in one place: its numba kernel (:mod:`bouncelab.laws._kernels`,
 :mod:`bouncelab.laws._contact_kernels`, or a user's own). This module reads the kernel's Python source
-(``kernel.py_func``, :func:`inspect.getsource`) and writes the same arithmetic, operation by operation
-and in the same order, as C99 (which C++ compilers accept too) or as JavaScript, so that an exported
-law and bouncelab compute the same IEEE-754 double-precision results. It types the code as numba does
-(int64, float64, boolean, tuples, arrays), specialising each helper for the types it is called with.
+(``kernel.py_func``, :func:`inspect.getsource`), types it as numba does (int64, float64, boolean,
+tuples, arrays), specialising each function it calls for the types it is called with, and writes it as
+the typed scalar functions of :mod:`bouncelab.export.ir`, operation by operation and in the same order,
+so that every language printed from them (:mod:`bouncelab.export.emit`) computes the same IEEE-754
+double-precision results. Tuples become scalars there, and every conversion is written out.
 
 The supported subset
 --------------------
 Functions
     Plain functions decorated with :func:`bouncelab.core._jit.jit` (or ``numba.njit``), with positional
     parameters (defaults that are constants allowed); calls by position or keyword to other such
-    functions, however deep, but not recursive. Every function must end with a ``return`` of a value.
+    functions, however deep, but not recursive; ``f(x, *args)`` with ``args`` a tuple variable; a jit
+    function passed as an argument (``law(xd, yd, w, *args)`` with ``law`` a parameter) is called
+    directly, as numba specialises for it. Every function must end with a ``return`` of a value.
 Values
     Floats (double), integers (64-bit), booleans, tuples of these (also nested, returned, passed and
     unpacked), and read-only float arrays passed in as kernel arguments (indexed ``A[i]``, ``A[0, 2]``).
@@ -33,64 +36,34 @@ Expressions
 Anything else (lists, ``//`` and ``%``, bitwise operators, strings, ``None``, attributes other than
 ``math``'s, calls of non-jit functions, numpy, ``while``/``for`` with ``else``, ``try``, ``with``,
 ``global``, nested functions, integer exponents, truthiness of numbers...) is refused with an
-:class:`ExportError` naming the function, file, line and construct: the translator never guesses.
+:class:`~bouncelab.export.errors.ExportError` naming the function, file, line and construct: the
+translator never guesses.
 
 Differences from numba that remain (documented in each exported file): numba raises on a division by zero
 and on a tuple index out of range, where the exported code follows IEEE (inf or NaN) and takes the last
-element. In JavaScript, integers are doubles (exact below 2^53), ``Math.exp``, ``Math.sin``... may differ
-from the C library's in the last bit, and ``**`` is a correctly rounded ``$pow`` written out in the module
-(double-double arithmetic), because Node's ``Math.pow`` differs from the C library's ``pow`` for about 8 %
-of arguments, enough for TurfContact's event location to amplify.
+element. Each language's notes (its math library, its integers) are its emitter's
+(:mod:`bouncelab.export.emit`).
 """
 
 from __future__ import annotations
 
 import ast
 import builtins
-import functools
 import inspect
 import math
 import numbers
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from decimal import Decimal, localcontext
-from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import LawDefinitionError
+from bouncelab.export import ir
+from bouncelab.export.errors import ExportError
 
-__all__ = ["ArrayType", "ExportError", "Program", "TupleType", "is_jit_function", "value_type"]
-
-
-class ExportError(LawDefinitionError):
-    """A law that cannot be exported: its kernel uses a construct outside the translator's subset (see
-    :mod:`bouncelab.export.translate`), or it has no compiled kernel at all.
-
-    Attributes
-    ----------
-    law
-        The law's name, when known.
-    method
-        ``"kernel"``.
-    function
-        The Python function at fault (qualified name), when the kernel's code is at fault.
-    file, line
-        Where in that function's source file.
-    construct
-        The construct refused (``"a list"``, ``"the operator //"``...).
-    """
-
-    def __init__(self, message: str = "", *, law: str | None = None, method: str | None = "kernel",
-                 function: str | None = None, file: str | None = None, line: int | None = None,
-                 construct: str | None = None) -> None:
-        super().__init__(message, law=law, method=method)
-        self.function = function
-        self.file = file
-        self.line = line
-        self.construct = construct
+__all__ = ["BOOL", "FLOAT", "INT", "ArrayType", "FuncType", "Translation", "TupleType", "is_jit_function",
+           "leaf_types", "value_type"]
 
 
 # ------------------------------------------------------------------------------------------- types
@@ -117,6 +90,27 @@ class ArrayType:
         return f"float64 array {self.shape}"
 
 
+@dataclass(frozen=True)
+class FuncType:
+    """A jit function passed as an argument: known when translating, so its calls are direct and it is not
+    a parameter of the output (as numba specialises a function for the dispatcher it is given)."""
+
+    dispatcher: Any = field(compare=False)
+    key: int = 0
+
+    @staticmethod
+    def of(dispatcher: Any) -> FuncType:
+        return FuncType(dispatcher, id(dispatcher.py_func))
+
+    def __str__(self) -> str:
+        return f"function {self.dispatcher.py_func.__qualname__}"
+
+
+def _holds(t: Any, kinds: Any) -> bool:
+    """Whether type t is, or is a tuple holding, one of ``kinds``."""
+    return isinstance(t, kinds) or (isinstance(t, TupleType) and any(_holds(e, kinds) for e in t.elems))
+
+
 def _numeric(t: Any) -> bool:
     return t in (FLOAT, INT)
 
@@ -133,7 +127,9 @@ def unify(a: Any, b: Any) -> Any:
 
 
 def value_type(value: Any) -> Any:
-    """The numba type of a Python value given to a kernel (float, int, bool, tuple, float array)."""
+    """The numba type of a Python value given to a kernel (float, int, bool, tuple, float array, jit function)."""
+    if is_jit_function(value):
+        return FuncType.of(value)
     if isinstance(value, bool | np.bool_):
         return BOOL
     if isinstance(value, numbers.Integral):
@@ -158,9 +154,9 @@ def is_jit_function(obj: Any) -> bool:
 
 
 # ------------------------------------------------------------------------------------------- names
-# Names a translated variable must not take: keywords of C, C++ and JavaScript, the C library's (math.h,
-# stdlib.h: functions and macros, including POSIX's j0, y1...) and JavaScript's globals. Such a variable
-# gets a trailing underscore in both languages.
+# Names a translated variable must not take: keywords of C, C++, JavaScript and C#, the C library's (math.h,
+# stdlib.h: functions and macros, including POSIX's j0, y1...), JavaScript's globals and the .NET names the
+# C# output uses. Such a variable gets a trailing underscore, in every language.
 _RESERVED = frozenset("""
 auto break case char const continue default do double else enum extern float for goto if inline int long
 register restrict return short signed sizeof static struct switch typedef union unsigned void volatile while
@@ -175,19 +171,18 @@ ceil rint nearbyint remainder remquo frexp ldexp modf scalbn logb ilogb nan next
 abs labs llabs div ldiv lldiv exit abort free malloc calloc realloc rand srand atoi atof strtod qsort bsearch
 errno assert isnan isinf isfinite isnormal signbit fpclassify isgreater isless isunordered INFINITY NAN
 HUGE_VAL M_PI M_E NULL EOF size_t ptrdiff_t main
+abstract as base byte checked decimal delegate event finally fixed foreach implicit internal is lock object out
+override params readonly ref sbyte sealed stackalloc string uint ulong unchecked unsafe ushort var dynamic value
+get set add remove partial where nameof when System Math BitConverter Double Single Int32 Int64 Object Console
 """.split()) | frozenset(n for n in dir(math) if not n.startswith("_"))
 
 _MATH_CONSTANTS = {"pi": math.pi, "e": math.e, "tau": math.tau, "inf": math.inf, "nan": math.nan}
-# math function -> (number of arguments, C name, JavaScript name, result type)
+# math function -> (number of arguments, result type); each is an intrinsic of the IR of the same name
 _MATH_FUNCS = {
-    **{n: (1, n, f"Math.{n}", FLOAT) for n in ("sqrt", "exp", "log", "log10", "log1p", "expm1", "sin", "cos", "tan",
-                                           "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
-                                           "atanh")},
-    "atan2": (2, "atan2", "Math.atan2", FLOAT), "hypot": (2, "hypot", "Math.hypot", FLOAT),
-    "pow": (2, "pow", "$pow", FLOAT), "copysign": (2, "copysign", "$copysign", FLOAT),
-    "fabs": (1, "fabs", "Math.abs", FLOAT),
-    "isnan": (1, "isnan", "Number.isNaN", BOOL), "isinf": (1, "isinf", "$isinf", BOOL),
-    "isfinite": (1, "isfinite", "Number.isFinite", BOOL),
+    **{n: (1, FLOAT) for n in ("sqrt", "exp", "log", "log10", "log1p", "expm1", "sin", "cos", "tan", "asin", "acos",
+                               "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "fabs")},
+    **{n: (2, FLOAT) for n in ("atan2", "hypot", "pow", "copysign")},
+    **{n: (1, BOOL) for n in ("isnan", "isinf", "isfinite")},
 }
 _BUILTINS = ("min", "max", "abs", "float", "range")
 _BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
@@ -195,7 +190,7 @@ _CMPOPS = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==",
 _REFUSED_NODES = {
     ast.List: "a list", ast.Dict: "a dict", ast.Set: "a set", ast.ListComp: "a list comprehension",
     ast.SetComp: "a set comprehension", ast.DictComp: "a dict comprehension", ast.GeneratorExp: "a generator",
-    ast.Lambda: "a lambda", ast.JoinedStr: "an f-string", ast.Starred: "a starred expression",
+    ast.Lambda: "a lambda", ast.JoinedStr: "an f-string",
     ast.NamedExpr: "an assignment expression (:=)", ast.Await: "await", ast.Yield: "yield",
     ast.YieldFrom: "yield from", ast.Slice: "a slice", ast.FunctionDef: "a nested function",
     ast.AsyncFunctionDef: "a nested function", ast.ClassDef: "a class", ast.Try: "try", ast.With: "with",
@@ -207,40 +202,6 @@ _REFUSED_NODES = {
 
 #: numba's fastmath flags that cannot change a finite result (bouncelab.core._jit.ROW_FLAGS): allowed.
 _IEEE_SAFE_FLAGS = frozenset({"nnan", "ninf", "nsz"})
-
-
-def _live_names(body: Sequence[ast.stmt]) -> set[str]:
-    """The variables whose values matter: read by a condition, a loop's range, a return, or an assignment
-    to a variable that matters (to a fixed point). Assignments to the others are left out of the output
-    (the subset has no side effects), so that no variable is set and never used."""
-    live: set[str] = set()
-
-    def reads(node: ast.AST | None) -> set[str]:
-        return set() if node is None else {n.id for n in ast.walk(node) if isinstance(n, ast.Name)
-                                           and isinstance(n.ctx, ast.Load)}
-
-    def visit(stmts: Sequence[ast.stmt]) -> set[str]:
-        out: set[str] = set()
-        for s in stmts:
-            if isinstance(s, ast.Assign):
-                if any(n in live for n, _ in _leaves(s.targets[0])):
-                    out |= reads(s.value)
-            elif isinstance(s, ast.AugAssign):
-                if isinstance(s.target, ast.Name) and s.target.id in live:
-                    out |= reads(s.value) | {s.target.id}
-            elif isinstance(s, ast.If | ast.While):
-                out |= reads(s.test) | visit(s.body) | visit(s.orelse)
-            elif isinstance(s, ast.For):
-                out |= reads(s.iter) | visit(s.body)
-            elif isinstance(s, ast.Return):
-                out |= reads(s.value)
-        return out
-
-    while True:
-        new = visit(body)
-        if new <= live:
-            return live
-        live |= new
 
 
 class _Unknown(Exception):
@@ -310,7 +271,7 @@ class _Function:
         self.body = [self._resolve(stmt, scope) for stmt in fdef.body]
         for name, default in list(self.defaults.items()):
             self.defaults[name] = self._resolve(default, scope)
-        self.read = _live_names(self.body)
+        self.starred: dict[int, list[ast.expr]] = {}  # id(call node) -> its arguments, *tuples spread
 
     def _resolve(self, node: ast.AST, scope: dict[str, Any]) -> Any:
         """``node`` with the outside names replaced: numbers by constants, math's constants by values."""
@@ -383,7 +344,7 @@ class _Spec:
 class _Typer:
     """Types one function for given argument types: numba's unification, to a fixed point over loops."""
 
-    def __init__(self, program: Program, spec: _Spec) -> None:
+    def __init__(self, program: Translation, spec: _Spec) -> None:
         self.program = program
         self.spec = spec
         self.fn = spec.fn
@@ -410,6 +371,8 @@ class _Typer:
     # -------------------------------------------------------------- statements
     def assign(self, name: str, t: Any, node: ast.AST) -> None:
         env = self.spec.env
+        if isinstance(t, FuncType) or isinstance(env.get(name), FuncType):
+            raise _refuse(self.fn, node, f"assigning a function to {name!r}")
         if name in env:
             try:
                 new = unify(env[name], t)
@@ -483,8 +446,8 @@ class _Typer:
             if s.value is None:
                 raise _refuse(fn, s, "a return without a value")
             t = self.expr(s.value)
-            if isinstance(t, ArrayType):
-                raise _refuse(fn, s, "returning an array")
+            if _holds(t, ArrayType | FuncType):
+                raise _refuse(fn, s, "returning an array or a function")
             if self.spec.ret is None:
                 self.spec.ret, self.changed = t, True
             else:
@@ -559,8 +522,14 @@ class _Typer:
             if node.id not in self.spec.env:
                 raise _Unknown(node.id)
             return self.spec.env[node.id]
+        if isinstance(node, ast.Starred):
+            raise _refuse(fn, node, "a starred expression", "only a call of a jit function can spread a tuple "
+                          "variable, f(x, *args)")
         if isinstance(node, ast.Tuple):
-            return TupleType(tuple(self.expr(e) for e in node.elts))
+            t = TupleType(tuple(self.expr(e) for e in node.elts))
+            if _holds(t, ArrayType | FuncType):
+                raise _refuse(fn, node, "a tuple holding an array or a function")
+            return t
         if isinstance(node, ast.BinOp):
             return self.binop(node, node.op, self.expr(node.left), self.expr(node.right))
         if isinstance(node, ast.UnaryOp):
@@ -595,8 +564,8 @@ class _Typer:
                 raise _refuse(fn, node, f"a conditional expression of types {exc}") from None
             if isinstance(t, TupleType) and not (a == b):
                 raise _refuse(fn, node, f"a conditional expression choosing between tuples of types {a} and {b}")
-            if isinstance(t, ArrayType):
-                raise _refuse(fn, node, "a conditional expression choosing an array")
+            if isinstance(t, ArrayType | FuncType):
+                raise _refuse(fn, node, "a conditional expression choosing an array or a function")
             return t
         if isinstance(node, ast.Call):
             return self.call(node)
@@ -608,13 +577,15 @@ class _Typer:
         fn = self.fn
         f = node.func
         if isinstance(f, ast.Attribute):  # math.X (resolved: only math's functions remain as attributes)
-            nargs, _, _, result = _MATH_FUNCS[f.attr]
+            nargs, result = _MATH_FUNCS[f.attr]
             if node.keywords or len(node.args) != nargs:
                 raise _refuse(fn, node, f"math.{f.attr} with {len(node.args)} argument(s)")
             for a in node.args:
                 if not _numeric(self.expr(a)):
                     raise _refuse(fn, node, f"math.{f.attr} of a non-number")
             return result
+        if isinstance(f, ast.Name) and isinstance(self.spec.env.get(f.id), FuncType):  # a function passed in
+            return self.call_jit(node, self.spec.env[f.id].dispatcher)
         if not isinstance(f, ast.Name) or f.id in fn.locals:
             raise _refuse(fn, node, "a call of " + ast.unparse(f))
         if f.id in fn.builtins:
@@ -637,9 +608,12 @@ class _Typer:
         callee = fn.callees.get(f.id)
         if callee is None:
             raise _refuse(fn, node, f"a call of {f.id}")
+        return self.call_jit(node, callee)
+
+    def call_jit(self, node: ast.Call, callee: Any) -> Any:
         target = self.program.function(callee)
         args = self.bind(node, target)
-        spec = self.program.specialize(target, tuple(self.expr(a) for a in args), caller=fn, node=node)
+        spec = self.program.specialize(target, tuple(self.expr(a) for a in args), caller=self.fn, node=node)
         if self.strict:
             self.spec.calls[id(node)] = spec
             self.spec.args[id(node)] = args
@@ -648,9 +622,10 @@ class _Typer:
     def bind(self, node: ast.Call, target: _Function) -> list[ast.expr]:
         """The call's arguments in the callee's parameter order (keywords and constant defaults placed)."""
         params = target.params
-        if len(node.args) > len(params):
+        positional = self.spread(node)
+        if len(positional) > len(params):
             raise _refuse(self.fn, node, f"a call of {target.qualname} with too many arguments")
-        bound: dict[str, ast.expr] = dict(zip(params, node.args, strict=False))
+        bound: dict[str, ast.expr] = dict(zip(params, positional, strict=False))
         for kw in node.keywords:
             if kw.arg is None or kw.arg not in params or kw.arg in bound:
                 raise _refuse(self.fn, node, f"a call of {target.qualname} with keyword {kw.arg!r}")
@@ -664,6 +639,28 @@ class _Typer:
                     raise _refuse(target, default, f"the default of {p!r}", "not a constant")
                 bound[p] = default
         return [bound[p] for p in params]
+
+    def spread(self, node: ast.Call) -> list[ast.expr]:
+        """The call's positional arguments with ``*t`` (t a tuple variable) spread into ``t[0], t[1]...``."""
+        if not any(isinstance(a, ast.Starred) for a in node.args):
+            return list(node.args)
+        if id(node) not in self.fn.starred:  # made once: the nodes' types are kept by their ids
+            out: list[ast.expr] = []
+            for a in node.args:
+                if not isinstance(a, ast.Starred):
+                    out.append(a)
+                    continue
+                if not isinstance(a.value, ast.Name) or a.value.id not in self.fn.locals:
+                    raise _refuse(self.fn, a, "a starred argument that is not a tuple variable")
+                if a.value.id not in self.spec.env:
+                    raise _Unknown(a.value.id)
+                t = self.spec.env[a.value.id]
+                if not isinstance(t, TupleType):
+                    raise _refuse(self.fn, a, f"a starred argument of type {t}")
+                out += [ast.copy_location(ast.Subscript(ast.Name(a.value.id, ast.Load()), ast.Constant(k), ast.Load()),
+                                          a) for k in range(len(t.elems))]
+            self.fn.starred[id(node)] = out
+        return self.fn.starred[id(node)]
 
     def subscript(self, node: ast.Subscript) -> Any:
         fn = self.fn
@@ -717,33 +714,462 @@ def _op_text(op: ast.AST) -> str:
             ast.NotIn: "not in"}.get(type(op), type(op).__name__)
 
 
-# ------------------------------------------------------------------------------------------- program
-class Program:
-    """The translation of one kernel and everything it calls, for one language.
 
-    Parameters
-    ----------
-    lang
-        ``"c"`` (C99 that C++ compilers accept) or ``"js"`` (an ES module's functions).
-    prefix
-        C only: the prefix of every name the output defines (so that several laws can be included in one
-        program); JavaScript modules need none and use ``$`` for generated names.
+# ------------------------------------------------------------------------------------------- lowering
+_IR_TYPES = {FLOAT: ir.F64, INT: ir.I64, BOOL: ir.BOOL}
+_IR_BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
+
+
+def leaf_types(t: Any) -> list[str]:
+    """The IR types of the scalars a value of type t is made of (a tuple's, in order; none for a function)."""
+    if isinstance(t, TupleType):
+        return [leaf for e in t.elems for leaf in leaf_types(e)]
+    if isinstance(t, FuncType):
+        return []
+    if isinstance(t, ArrayType):
+        raise TypeError(t)
+    return [_IR_TYPES[t]]
+
+
+def _atom(e: ir.Expr) -> bool:
+    return isinstance(e, ir.Const | ir.Var)
+
+
+class _Lowerer:
+    """One specialised function as an IR function: tuples split into scalars, conversions written out,
+    the values of functions of several results taken by statements."""
+
+    def __init__(self, translation: Translation, spec: _Spec) -> None:
+        self.tr = translation
+        self.spec = spec
+        self.fn = spec.fn
+        self.taken: set[str] = set()
+        self.names: dict[str, list[str]] = {}     # Python variable -> the IR names of its scalars
+        self.types: dict[str, str] = {}           # IR local -> IR type
+        self.block: list[ir.Stmt] = []
+        self.idents: dict[str, str] = {}  # Python name -> its identifier (given up front: int and int_ differ)
+        for name in sorted(self.fn.locals):
+            ident = self._ident(name)
+            while ident in self.taken:
+                ident += "_"
+            self.taken.add(ident)
+            self.idents[name] = ident
+
+    # -------------------------------------------------------------- names
+    def _ident(self, name: str) -> str:
+        if not name.isascii():
+            raise _refuse(self.fn, None, f"the non-ASCII name {name!r}")
+        out = name
+        if out.startswith(ir.EMITTER_PREFIXES):
+            out = "v" + out
+        if out in _RESERVED:
+            out += "_"
+        return out
+
+    def fresh(self, base: str) -> str:
+        base = self._ident(base)
+        out, k = base, 1
+        while out in self.taken:
+            k += 1
+            out = f"{base}{k}" if not base[-1].isdigit() else f"{base}_{k}"
+        self.taken.add(out)
+        return out
+
+    def temp(self, t: str, base: str = "t") -> str:
+        name = self.fresh(base)
+        self.types[name] = t
+        return name
+
+    def variable(self, name: str, t: Any) -> list[str]:
+        """The IR locals of Python variable ``name`` of type t (made on first use)."""
+        if name not in self.names:
+            leaves = leaf_types(t)
+            if isinstance(t, TupleType):
+                out = [self.temp(lt, f"{self.idents[name]}_{k}") for k, lt in enumerate(leaves)]
+            else:
+                out = [self.idents[name]]
+                self.types[out[0]] = leaves[0]
+            self.names[name] = out
+        return self.names[name]
+
+    # -------------------------------------------------------------- the function
+    def function(self) -> ir.Function:
+        fn, spec = self.fn, self.spec
+        params: list[tuple[str, Any]] = []
+        prologue: list[ir.Stmt] = []
+        for name, t in zip(fn.params, spec.argtypes, strict=True):
+            final = spec.env[name]
+            if isinstance(t, FuncType):
+                continue
+            if isinstance(t, ArrayType):
+                pname = self.idents[name]
+                self.names[name] = [pname]
+                params.append((pname, ir.ArrayType(t.shape)))
+                continue
+            if final == t:  # the parameter's scalars are the variable's
+                leaves = self.variable(name, t)
+                params += [(n, self.types[n]) for n in leaves]
+            else:  # assigned a wider type: locals of that type take the parameters' values
+                incoming = [self.fresh(f"{self.idents[name]}_in{k if len(leaf_types(t)) > 1 else ''}")
+                            for k in range(len(leaf_types(t)))]
+                params += list(zip(incoming, leaf_types(t), strict=True))
+                leaves = self.variable(name, final)
+                for target, src, st in zip(leaves, incoming, leaf_types(t), strict=True):
+                    prologue.append(ir.Assign(target, self.conv(ir.Var(src, st), self.types[target])))
+        self.block = prologue
+        self.stmts(fn.body)
+        body = tuple(self.block)
+        ret = spec.ret
+        multi = isinstance(ret, TupleType)
+        pnames = {n for n, _ in params}
+        local_types = {n: t for n, t in self.types.items() if n not in pnames}
+        out = ir.Function(spec.name, tuple(params), local_types, tuple(leaf_types(ret)), multi,
+                          _fold(body), source=f"{fn.qualname} {_types_text(spec.argtypes)} -> {ret}")
+        return ir.prune(out)
+
+    # -------------------------------------------------------------- helpers
+    def conv(self, e: ir.Expr, t: str) -> ir.Expr:
+        if e.type == t:
+            return e
+        if e.type == ir.I64 and t == ir.F64:
+            if isinstance(e, ir.Const):
+                return ir.Const(float(e.value), ir.F64)
+            return ir.Cast(e)
+        raise _refuse(self.fn, None, f"a value of type {e.type} used as {t}")  # the typer makes this unreachable
+
+    def sub(self, lower: Any) -> tuple[list[ir.Stmt], Any]:
+        """Lower into a block of its own: (its statements, lower's result)."""
+        saved, self.block = self.block, []
+        try:
+            result = lower()
+            return self.block, result
+        finally:
+            self.block = saved
+
+    def atomic(self, e: ir.Expr) -> ir.Expr:
+        """``e``, or a temporary holding it when it is not a constant or a variable (to use it several times)."""
+        if _atom(e):
+            return e
+        name = self.temp(e.type)
+        self.block.append(ir.Assign(name, e))
+        return ir.Var(name, e.type)
+
+    def type(self, node: ast.expr) -> Any:
+        return self.spec.types[id(node)]
+
+    # -------------------------------------------------------------- statements
+    def stmts(self, body: Sequence[ast.stmt]) -> None:
+        for s in body:
+            self.stmt(s)
+            if isinstance(s, ast.Return | ast.Break | ast.Continue):
+                return  # what follows in this block never runs
+
+    def block_of(self, body: Sequence[ast.stmt]) -> tuple[ir.Stmt, ...]:
+        stmts, _ = self.sub(lambda: self.stmts(body))
+        return tuple(stmts)
+
+    def stmt(self, s: ast.stmt) -> None:
+        if isinstance(s, ast.Assign):
+            self.assign(s.targets[0], s.value)
+        elif isinstance(s, ast.AugAssign):
+            name = s.target.id
+            (target,) = self.variable(name, self.spec.env[name])
+            t = self.types[target]
+            value = self.scalar(s.value)
+            result = self.arith(s.op, ir.Var(target, t), value)
+            self.block.append(ir.Assign(target, self.conv(result, t)))
+        elif isinstance(s, ast.If):
+            cond = self.scalar(s.test)
+            self.block.append(ir.If(cond, self.block_of(s.body), self.block_of(s.orelse)))
+        elif isinstance(s, ast.While):
+            pre, cond = self.sub(lambda: self.scalar(s.test))
+            body = self.block_of(s.body)
+            if pre:  # the condition needs statements: evaluate them at the top of every pass
+                body = (*pre, ir.If(ir.Not(cond), (ir.Break(),)), *body)
+                cond = ir.Const(True, ir.BOOL)
+            self.block.append(ir.While(cond, body))
+        elif isinstance(s, ast.For):
+            args = [self.scalar(a) for a in s.iter.args]
+            start, stop = (ir.Const(0, ir.I64), args[0]) if len(args) == 1 else (args[0], args[1])
+            step = _const_int(s.iter.args[2]) if len(args) == 3 else 1
+            counter, limit = self.fresh("i"), self.fresh("n")
+            (var,) = self.variable(s.target.id, self.spec.env[s.target.id])
+            first = ir.Assign(var, self.conv(ir.Var(counter, ir.I64), self.types[var]))
+            self.block.append(ir.For(counter, limit, start, stop, step, (first, *self.block_of(s.body))))
+        elif isinstance(s, ast.Return):
+            if isinstance(s.value, ast.Call) and id(s.value) in self.spec.calls:
+                callee = self.spec.calls[id(s.value)]
+                if isinstance(callee.ret, TupleType) and leaf_types(callee.ret) == leaf_types(self.spec.ret):
+                    _, args = self.call_args(s.value)
+                    self.block.append(ir.TailCall(callee.name, tuple(args)))
+                    return
+            values = self.lower(s.value)
+            types = leaf_types(self.spec.ret)
+            self.block.append(ir.Return(tuple(self.conv(v, t) for v, t in zip(values, types, strict=True))))
+        elif isinstance(s, ast.Break):
+            self.block.append(ir.Break())
+        elif isinstance(s, ast.Continue):
+            self.block.append(ir.Continue())
+        # Pass and docstrings: nothing
+
+    def targets(self, target: ast.expr) -> list[str]:
+        """The IR names an assignment target's scalars go to, in order."""
+        if isinstance(target, ast.Name):
+            return self.variable(target.id, self.spec.env[target.id])
+        return [n for e in target.elts for n in self.targets(e)]
+
+    def assign(self, target: ast.expr, value: ast.expr) -> None:
+        """``target = value`` with Python's simultaneous assignment (``a, b = b, a`` swaps)."""
+        names = self.targets(target)
+        start = len(self.block)
+        values = self.lower(value)
+        values = [self.conv(v, self.types[n]) for v, n in zip(values, names, strict=True)]
+        # a function of several results assigned whole: its results straight into the targets
+        last = self.block[-1] if len(self.block) > start else None
+        if (isinstance(last, ir.CallMulti) and [ir.Var(t, self.types[t]) for t in last.targets] == values
+                and len(set(names)) == len(names)):
+            self.block[-1] = ir.CallMulti(tuple(names), last.func, last.args)
+            return
+        if len(names) > 1:
+            values = self._simultaneous(names, values)
+        for n, v in zip(names, values, strict=True):
+            self.block.append(ir.Assign(n, v))
+
+    def _simultaneous(self, names: list[str], values: list[ir.Expr]) -> list[ir.Expr]:
+        """Values made safe to assign one after the other: each that reads a target assigned before it is
+        taken into a temporary first."""
+        out = []
+        for k, v in enumerate(values):
+            if any(names[j] in ir.reads(v) for j in range(k)):
+                tmp = self.temp(v.type)
+                self.block.append(ir.Assign(tmp, v))
+                v = ir.Var(tmp, v.type)
+            out.append(v)
+        return out
+
+    # -------------------------------------------------------------- expressions
+    def scalar(self, node: ast.expr) -> ir.Expr:
+        (out,) = self.lower(node)
+        return out
+
+    def arith(self, op: ast.operator, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        if isinstance(op, ast.Pow):
+            return ir.Intrinsic("pow", (self.conv(a, ir.F64), self.conv(b, ir.F64)), ir.F64)
+        if isinstance(op, ast.Div):
+            return ir.Binary("/", self.conv(a, ir.F64), self.conv(b, ir.F64), ir.F64)
+        t = ir.I64 if a.type == b.type == ir.I64 else ir.F64
+        return ir.Binary(_IR_BINOPS[type(op)], self.conv(a, t), self.conv(b, t), t)
+
+    def compare(self, op: ast.cmpop, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        if a.type != b.type:
+            a, b = self.conv(a, ir.F64), self.conv(b, ir.F64)
+        return ir.Compare(_CMPOPS[type(op)], a, b)
+
+    def lazy_and(self, parts: list[tuple[list[ir.Stmt], ir.Expr]], op: str) -> ir.Expr:
+        """``p0 op p1 op ...`` (op ``and``/``or``) of parts that may need statements: those of part k run only
+        when Python would evaluate it."""
+        first_pre, first = parts[0]
+        self.block.extend(first_pre)
+        if all(not pre for pre, _ in parts[1:]):
+            return ir.Logic(op, tuple(x for _, x in parts)) if len(parts) > 1 else first
+        tmp = self.temp(ir.BOOL)
+        self.block.append(ir.Assign(tmp, first))
+        var = ir.Var(tmp, ir.BOOL)
+        go = var if op == "and" else ir.Not(var)
+        chain: tuple[ir.Stmt, ...] = ()
+        for pre, x in reversed(parts[1:]):
+            chain = (*pre, ir.Assign(tmp, x), *((ir.If(go, chain),) if chain else ()))
+        self.block.append(ir.If(go, chain))
+        return var
+
+    def lower(self, node: ast.expr) -> list[ir.Expr]:
+        """The scalars of an expression's value (one for a number or a boolean), with any statements it
+        needs appended to the current block."""
+        t = self.type(node)
+        if isinstance(node, ast.Constant):
+            v = node.value
+            it = _IR_TYPES[t]
+            return [ir.Const(bool(v) if it == ir.BOOL else (int(v) if it == ir.I64 else float(v)), it)]
+        if isinstance(node, ast.Name):
+            if isinstance(t, FuncType):
+                return []
+            if isinstance(t, ArrayType):
+                return [ir.Var(self.names[node.id][0], ir.ArrayType(t.shape))]
+            return [ir.Var(n, self.types[n]) for n in self.variable(node.id, self.spec.env[node.id])]
+        if isinstance(node, ast.Tuple):
+            return [x for e in node.elts for x in self.lower(e)]
+        if isinstance(node, ast.BinOp):
+            return [self.arith(node.op, self.scalar(node.left), self.scalar(node.right))]
+        if isinstance(node, ast.UnaryOp):
+            x = self.scalar(node.operand)
+            if isinstance(node.op, ast.Not):
+                return [ir.Not(x)]
+            if isinstance(node.op, ast.USub):
+                if isinstance(x, ir.Const):
+                    return [ir.Const(-x.value, x.type)]
+                return [ir.Neg(x, x.type)]
+            return [x]  # unary +
+        if isinstance(node, ast.BoolOp):
+            op = "and" if isinstance(node.op, ast.And) else "or"
+            return [self.lazy_and([self.sub(lambda v=v: self.scalar(v)) for v in node.values], op)]
+        if isinstance(node, ast.Compare):
+            terms = [self.sub(lambda v=v: self.scalar(v)) for v in [node.left, *node.comparators]]
+            self.block.extend(terms[0][0])
+            self.block.extend(terms[1][0])
+            parts = [([], self.compare(node.ops[0], terms[0][1], terms[1][1]))]
+            for k, op in enumerate(node.ops[1:], start=1):
+                parts.append((terms[k + 1][0], self.compare(op, terms[k][1], terms[k + 1][1])))
+            return [self.lazy_and(parts, "and")]
+        if isinstance(node, ast.IfExp):
+            return self.ifexp(node, t)
+        if isinstance(node, ast.Call):
+            return self.call(node, t)
+        if isinstance(node, ast.Subscript):
+            return self.subscript(node)
+        raise _refuse(self.fn, node, f"the expression {type(node).__name__}")  # typed, so unreachable
+
+    def ifexp(self, node: ast.IfExp, t: Any) -> list[ir.Expr]:
+        cond = self.scalar(node.test)
+        types = leaf_types(t)
+        pre_a, a = self.sub(lambda: self.lower(node.body))
+        pre_b, b = self.sub(lambda: self.lower(node.orelse))
+        a = [self.conv(x, lt) for x, lt in zip(a, types, strict=True)]
+        b = [self.conv(x, lt) for x, lt in zip(b, types, strict=True)]
+        if not pre_a and not pre_b:
+            if len(types) > 1:
+                cond = self.atomic(cond)
+            return [ir.Select(cond, x, y, lt) for x, y, lt in zip(a, b, types, strict=True)]
+        temps = [self.temp(lt) for lt in types]
+        self.block.append(ir.If(cond, (*pre_a, *(ir.Assign(n, x) for n, x in zip(temps, a, strict=True))),
+                                (*pre_b, *(ir.Assign(n, x) for n, x in zip(temps, b, strict=True)))))
+        return [ir.Var(n, lt) for n, lt in zip(temps, types, strict=True)]
+
+    def call(self, node: ast.Call, t: Any) -> list[ir.Expr]:
+        f = node.func
+        if isinstance(f, ast.Attribute):  # math.X
+            args = tuple(self.conv(self.scalar(a), ir.F64) for a in node.args)
+            return [ir.Intrinsic(f.attr, args, _IR_TYPES[t])]
+        if isinstance(f, ast.Name) and f.id in self.fn.builtins and f.id not in self.fn.locals:
+            args = [self.scalar(a) for a in node.args]
+            it = _IR_TYPES[t]
+            if f.id in ("min", "max"):
+                out = self.conv(args[0], it)
+                for a in args[1:]:
+                    out = ir.Intrinsic(f.id, (out, self.conv(a, it)), it)
+                return [out]
+            if f.id == "abs":
+                return [ir.Intrinsic("abs", (args[0],), it)]
+            return [self.conv(args[0], ir.F64)]  # float()
+        spec, args = self.call_args(node)
+        if not isinstance(spec.ret, TupleType):
+            return [ir.Call(spec.name, tuple(args), _IR_TYPES[spec.ret])]
+        types = leaf_types(spec.ret)
+        temps = [self.temp(lt, "r") for lt in types]
+        self.block.append(ir.CallMulti(tuple(temps), spec.name, tuple(args)))
+        return [ir.Var(n, lt) for n, lt in zip(temps, types, strict=True)]
+
+    def call_args(self, node: ast.Call) -> tuple[_Spec, list[ir.Expr]]:
+        """The callee of a call of a jit function, and the scalars it is given (functions passed in left out)."""
+        spec = self.spec.calls[id(node)]
+        args = []
+        for a, at in zip(self.spec.args[id(node)], spec.argtypes, strict=True):
+            if not isinstance(at, FuncType):
+                args += self.lower(a)
+        return spec, args
+
+    def subscript(self, node: ast.Subscript) -> list[ir.Expr]:
+        t = self.type(node.value)
+        idx = node.slice
+        if isinstance(t, TupleType):
+            n = len(t.elems)
+            k = _const_int(idx)
+            if k is not None and isinstance(node.value, ast.Tuple):  # an element of a tuple display
+                return self.lower(node.value.elts[k % n])
+            leaves = self.lower(node.value)
+            sizes = [len(leaf_types(e)) for e in t.elems]
+            starts = [sum(sizes[:j]) for j in range(n)]
+            if k is not None:
+                j = k % n
+                return leaves[starts[j]:starts[j] + sizes[j]]
+            i = self.atomic(self.scalar(idx))
+            m = sizes[0]  # a variable index: the elements have one type
+            out = []
+            for pos in range(m):
+                value = leaves[starts[n - 1] + pos]  # numba raises on an index out of range; here: the last
+                for j in range(n - 2, -1, -1):
+                    hit = ir.Logic("or", (ir.Compare("==", i, ir.Const(j, ir.I64)),
+                                          ir.Compare("==", i, ir.Const(j - n, ir.I64))))
+                    value = ir.Select(hit, leaves[starts[j] + pos], value, value.type)
+                out.append(value)
+            return out
+        (array,) = self.names[node.value.id]
+        parts = idx.elts if isinstance(idx, ast.Tuple) else [idx]
+        index = []
+        for part, size in zip(parts, t.shape, strict=True):
+            k = _const_int(part)
+            if k is not None:
+                index.append(ir.Const(k % size, ir.I64))
+            else:
+                i = self.atomic(self.scalar(part))
+                index.append(ir.Select(ir.Compare("<", i, ir.Const(0, ir.I64)),
+                                       ir.Binary("+", i, ir.Const(size, ir.I64), ir.I64), i, ir.I64))
+        return [ir.Load(array, tuple(index))]
+
+
+def _fold(body: Sequence[ir.Stmt]) -> tuple[ir.Stmt, ...]:
+    """Statements with constant conditions decided (``if True:``, ``while False:``) and code after a return,
+    break or continue dropped: what no language should be asked to print (C# warns of unreachable code)."""
+    out: list[ir.Stmt] = []
+    for s in body:
+        if isinstance(s, ir.If):
+            if isinstance(s.cond, ir.Const):
+                out.extend(_fold(s.then if s.cond.value else s.orelse))
+                if out and isinstance(out[-1], ir.Return | ir.TailCall | ir.Break | ir.Continue):
+                    break
+                continue
+            s = ir.If(s.cond, _fold(s.then), _fold(s.orelse))
+        elif isinstance(s, ir.While):
+            if isinstance(s.cond, ir.Const) and not s.cond.value:
+                continue
+            s = ir.While(s.cond, _fold(s.body))
+        elif isinstance(s, ir.For):
+            s = ir.For(s.counter, s.limit, s.start, s.stop, s.step, _fold(s.body))
+        out.append(s)
+        if isinstance(s, ir.Return | ir.TailCall | ir.Break | ir.Continue):
+            break
+    return tuple(out)
+
+
+# ------------------------------------------------------------------------------------------- translation
+class Translation:
+    """Python functions translated to one :class:`~bouncelab.export.ir.Program`.
+
+    ``add(kernel, argtypes)`` types a jit function for its arguments' types (:func:`value_type` of the
+    values it will be given, or the types themselves), translates it and everything it calls, and returns
+    its IR function; call it for each entry point of one program (they share the functions they call).
     """
 
-    def __init__(self, lang: str, prefix: str = "bouncelab_") -> None:
-        if lang not in ("c", "js"):
-            raise ValueError(lang)
-        self.lang = lang
-        self.prefix = prefix if lang == "c" else "$"
+    def __init__(self) -> None:
+        self.program = ir.Program()
         self._functions: dict[int, _Function] = {}
         self._specs: dict[tuple[int, tuple], _Spec] = {}
         self._active: set[tuple[int, tuple]] = set()
         self._names: set[str] = set()
-        self._emitted: list[str] = []      # function definitions, callees first
-        self._done: set[int] = set()       # id(spec) emitted
-        self.tuples: dict[TupleType, str] = {}
-        self._tuple_defs: list[str] = []
-        self.helpers: set[str] = set()
+        self._lowered: set[int] = set()
+
+    def add(self, dispatcher: Any, argtypes: Sequence[Any]) -> ir.Function:
+        """Translate ``dispatcher`` (a jit function) for arguments of ``argtypes``; its IR function."""
+        if not is_jit_function(dispatcher):
+            raise ExportError(f"{dispatcher!r} is not a jit function (numba's njit, bouncelab's jit)",
+                              construct="not a jit function")
+        spec = self.specialize(self.function(dispatcher), tuple(argtypes))
+        self._lower(spec)
+        if spec.name not in self.program.entries:
+            self.program.entries.append(spec.name)
+        return self.program.function(spec.name)
+
+    def spec_of(self, dispatcher: Any, argtypes: Sequence[Any]) -> _Spec:
+        return self._specs[(id(dispatcher.py_func), tuple(argtypes))]
 
     # -------------------------------------------------------------- building
     def function(self, dispatcher: Any) -> _Function:
@@ -767,575 +1193,27 @@ class Program:
                 self._active.discard(key)
             if spec.ret is None:
                 raise _refuse(fn, None, "a function whose return type cannot be found")
-            spec.name = self._unique(self.prefix + "f_" + fn.func.__name__)
+            spec.name = self._unique("f_" + fn.func.__name__.lstrip("_"))
             self._specs[key] = spec
         return spec
 
     def _unique(self, name: str) -> str:
+        if not name.isascii() or not name.replace("_", "a").isalnum():
+            name = "f_function"
         out, k = name, 2
         while out in self._names:
             out, k = f"{name}_{k}", k + 1
         self._names.add(out)
         return out
 
-    def entry(self, dispatcher: Any, argtypes: tuple[Any, ...]) -> _Spec:
-        """Type the kernel for its arguments and emit it with everything it calls; its specialisation."""
-        fn = self.function(dispatcher)
-        spec = self.specialize(fn, argtypes)
-        self.emit(spec)
-        return spec
-
-    def tuple_name(self, t: TupleType) -> str:
-        """C: the struct type of a tuple type (defined once, nested tuples first)."""
-        if t not in self.tuples:
-            for e in t.elems:
-                if isinstance(e, TupleType):
-                    self.tuple_name(e)
-            name = self.tuples[t] = f"{self.prefix}tuple{len(self.tuples)}"
-            fields = "; ".join(f"{self.ctype(e)} v{k}" for k, e in enumerate(t.elems))
-            params = ", ".join(f"{self.ctype(e)} a{k}" for k, e in enumerate(t.elems))
-            sets = " ".join(f"t.v{k} = a{k};" for k in range(len(t.elems)))
-            self._tuple_defs.append(f"typedef struct {{ {fields}; }} {name};\n"
-                                    f"static inline {name} {name}_make({params}) {{ {name} t; {sets} return t; }}")
-        return self.tuples[t]
-
-    def ctype(self, t: Any) -> str:
-        if t == FLOAT:
-            return "double"
-        if t == INT:
-            return "long long"
-        if t == BOOL:
-            return "int"
-        if isinstance(t, TupleType):
-            return self.tuple_name(t)
-        raise TypeError(t)
-
-    # -------------------------------------------------------------- output
-    def definitions(self) -> str:
-        """Everything emitted, in order: tuple types (C), helpers, then the functions."""
-        parts = []
-        if self.lang == "c":
-            parts += self._tuple_defs
-        parts += [(_js_pow() if (self.lang, h) == ("js", "pow") else _HELPERS[self.lang][h]).replace("$P", self.prefix)
-                  for h in sorted(self.helpers)]
-        parts += self._emitted
-        return "\n\n".join(parts)
-
-    def emit(self, spec: _Spec) -> None:
-        if id(spec) in self._done:
+    def _lower(self, spec: _Spec) -> None:
+        if id(spec) in self._lowered:
             return
-        self._done.add(id(spec))
+        self._lowered.add(id(spec))
         for callee in spec.calls.values():
-            self.emit(callee)
-        self._emitted.append(_Emitter(self, spec).function())
-
-    def literal(self, value: Any, t: Any = None) -> str:
-        """A constant in the output language (exact: floats by their shortest round-trip repr)."""
-        c = self.lang == "c"
-        if isinstance(value, bool | np.bool_):
-            return ("1" if value else "0") if c else ("true" if value else "false")
-        if isinstance(value, numbers.Integral) and t != FLOAT:
-            v = int(value)
-            text = str(abs(v)) + ("LL" if c and abs(v) > 2**31 - 1 else "")
-            return f"(-{text})" if v < 0 else text
-        v = float(value)
-        if math.isnan(v):
-            return "NAN" if c else "NaN"
-        if math.isinf(v):
-            text = "INFINITY" if c else "Infinity"
-        else:
-            text = repr(abs(v))
-            if c and not any(ch in text for ch in ".e"):
-                text += ".0"
-        return f"(-{text})" if math.copysign(1.0, v) < 0 else text
-
-
-# Helpers the translated code may call ($P is the prefix). Python's min(a, b) is b if b < a else a, its
-# max(a, b) b if b > a else a (numba's too): neither fmin nor Math.min, which treat NaN and -0 otherwise.
-_HELPERS = {
-    "c": {
-        "min_f": "static inline double $Pmin_f(double a, double b) { return b < a ? b : a; }",
-        "max_f": "static inline double $Pmax_f(double a, double b) { return b > a ? b : a; }",
-        "min_i": "static inline long long $Pmin_i(long long a, long long b) { return b < a ? b : a; }",
-        "max_i": "static inline long long $Pmax_i(long long a, long long b) { return b > a ? b : a; }",
-    },
-    "js": {
-        "min_f": "function $min(a, b) { return b < a ? b : a; }",
-        "max_f": "function $max(a, b) { return b > a ? b : a; }",
-        "copysign": "function $copysign(x, y) {\n  const ax = Math.abs(x);\n"
-                    "  return (y < 0 || (y === 0 && 1 / y < 0)) ? -ax : ax;\n}",
-        "isinf": "function $isinf(x) { return x === Infinity || x === -Infinity; }",
-    },
-}
-
-
-def _dd(q: Fraction) -> tuple[float, float]:
-    """``q`` as a double-double: the nearest double and the nearest double to the rest."""
-    hi = float(q)
-    return hi, float(q - Fraction(hi))
-
-
-@functools.cache
-def _js_pow() -> str:
-    """JavaScript's ``$pow``: C's pow correctly rounded, in double-double arithmetic (constants exact from Python)."""
-    with localcontext() as ctx:
-        ctx.prec = 60
-        ln2 = _dd(Fraction(Decimal(2).ln()))
-    atanh = [_dd(Fraction(1, 2 * k + 1)) for k in range(22)]
-    fact = [_dd(Fraction(1, math.factorial(j))) for j in range(11)]
-
-    def arr(pairs: list[tuple[float, float]]) -> str:
-        return "[" + ", ".join(f"{h!r}, {lo!r}" for h, lo in pairs) + "]"
-
-    return f"""// pow(x, y) correctly rounded (but for near-ties and |y ln x| > 700), in double-double arithmetic.
-// Node's Math.pow differs from the C library's pow in the last bit for about 8 % of arguments; this one only
-// where the C library's pow is not correctly rounded itself (about 0.1 % of arguments).
-const $LN2H = {ln2[0]!r}, $LN2L = {ln2[1]!r};
-const $ATANH = {arr(atanh)};
-const $INVFACT = {arr(fact)};
-const $F64 = new Float64Array(1), $U32 = new Uint32Array($F64.buffer);
-const $HI = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1 ? 1 : 0;
-let $h = 0, $l = 0;
-function $add(ah, al, bh, bl) {{
-  const s = ah + bh, v = s - ah, e = (ah - (s - v)) + (bh - v);
-  const t = al + bl, w = t - al, f = (al - (t - w)) + (bl - w);
-  const g = e + t, h = s + g, k = f + (g - (h - s));
-  $h = h + k; $l = k - ($h - h);
-}}
-function $mul(ah, al, bh, bl) {{
-  const p = ah * bh;
-  const ca = 134217729 * ah, ahh = ca - (ca - ah), alo = ah - ahh;
-  const cb = 134217729 * bh, bhh = cb - (cb - bh), blo = bh - bhh;
-  const e = ((ahh * bhh - p) + ahh * blo + alo * bhh) + alo * blo + (ah * bl + al * bh);
-  $h = p + e; $l = e - ($h - p);
-}}
-function $pow(x, y) {{
-  if (!(x > 0) || x === Infinity || !Number.isFinite(y) || y === 0 || x === 1) {{
-    if (x === 1 || y === 0) return 1;  // as C's pow, also for NaN
-    if (x === -1 && (y === Infinity || y === -Infinity)) return 1;
-    return Math.pow(x, y);  // C's other special values
-  }}
-  let e = 0;
-  if (x < 2.2250738585072014e-308) {{ x *= 18014398509481984; e = -54; }}
-  $F64[0] = x;
-  const top = $U32[$HI];
-  e += ((top >>> 20) & 0x7ff) - 1023;
-  $U32[$HI] = (top & 0x000fffff) | 0x3ff00000;
-  let m = $F64[0];
-  if (m > 1.4142135623730951) {{ m *= 0.5; e += 1; }}
-  // ln m = 2 atanh(s), s = (m - 1) / (m + 1): a series in s^2 <= 0.0295
-  const d = m + 1, dv = d - m, dl = (m - (d - dv)) + (1 - dv);
-  const q1 = (m - 1) / d;
-  $mul(q1, 0, d, dl);
-  $add(m - 1, 0, -$h, -$l);
-  const q2 = $h / d, sh = q1 + q2, sl = q2 - (sh - q1);
-  $mul(sh, sl, sh, sl);
-  const zh = $h, zl = $l;
-  let ph = $ATANH[42], pl = $ATANH[43];
-  for (let k = 40; k >= 0; k -= 2) {{
-    $mul(ph, pl, zh, zl);
-    $add($h, $l, $ATANH[k], $ATANH[k + 1]);
-    ph = $h;
-    pl = $l;
-  }}
-  $mul(ph, pl, sh, sl);
-  const ah = 2 * $h, al = 2 * $l;
-  $mul(e, 0, $LN2H, $LN2L);
-  $add($h, $l, ah, al);
-  $mul($h, $l, y, 0);  // t = y ln x
-  const th = $h, tl = $l;
-  if (!(Math.abs(th) < 700)) return Math.pow(x, y);
-  // exp(t) = 2^k exp(r), |r| <= ln2 / 2, exp(r) = exp(r / 256)^256
-  const k = Math.round(th / $LN2H);
-  $mul(k, 0, $LN2H, $LN2L);
-  $add(th, tl, -$h, -$l);
-  const rh = $h / 256, rl = $l / 256;
-  ph = $INVFACT[20]; pl = $INVFACT[21];
-  for (let j = 18; j >= 0; j -= 2) {{
-    $mul(ph, pl, rh, rl);
-    $add($h, $l, $INVFACT[j], $INVFACT[j + 1]);
-    ph = $h;
-    pl = $l;
-  }}
-  for (let i = 0; i < 8; i++) {{ $mul(ph, pl, ph, pl); ph = $h; pl = $l; }}
-  $U32[$HI] = (k + 1023) << 20;
-  $U32[1 - $HI] = 0;
-  return ph * $F64[0];
-}}"""
-
-
-class _Emitter:
-    """Writes one specialised function in the program's language."""
-
-    def __init__(self, program: Program, spec: _Spec) -> None:
-        self.p = program
-        self.c = program.lang == "c"
-        self.spec = spec
-        self.fn = spec.fn
-        taken = set(self.fn.locals) | _RESERVED
-        self.names: dict[str, str] = {}
-        for name in sorted(self.fn.locals):
-            out = name
-            if out in _RESERVED or out.startswith(program.prefix) or not out.isascii():
-                if not out.isascii():
-                    raise _refuse(self.fn, None, f"the non-ASCII name {name!r}")
-                out = name + "_"
-                while out in taken:
-                    out += "_"
-                taken.add(out)
-            self.names[name] = out
-        self.taken = taken | set(self.names.values())
-        self.counter = 0
-        self.lines: list[str] = []
-        self.depth = 1
-
-    def fresh(self, base: str) -> str:
-        while True:
-            self.counter += 1
-            name = f"{base}{self.counter}"
-            if name not in self.taken:
-                self.taken.add(name)
-                return name
-
-    def live(self, name: str) -> bool:
-        return name in self.fn.read
-
-    def out(self, text: str) -> None:
-        self.lines.append("    " * self.depth + text)
-
-    # -------------------------------------------------------------- the function
-    def function(self) -> str:
-        fn, spec = self.fn, self.spec
-        params, prologue = [], []
-        for name, t in zip(fn.params, spec.argtypes, strict=True):
-            final = spec.env[name]
-            pname = self.names[name]
-            if final != t:  # a parameter assigned a wider type: a local of that type takes its value
-                pname = self.fresh(pname + "_in")
-                prologue.append((name, pname))
-            params.append(self.param(pname, t))
-            if not self.live(name) and final == t and self.c:
-                self.out(f"(void){pname};")
-        declared = set(fn.params) - {n for n, _ in prologue}
-        for name in sorted(spec.env):
-            if name in declared or not self.live(name):
-                continue
-            t = spec.env[name]
-            init = next((src for n, src in prologue if n == name), None)
-            self.out(self.declare(self.names[name], t, init))
-        for s in fn.body:
-            self.stmt(s)
-        body = "\n".join(self.lines)
-        if self.c:
-            head = f"static inline {self.p.ctype(spec.ret)} {spec.name}({', '.join(params) or 'void'})"
-        else:
-            head = f"function {spec.name}({', '.join(params)})"
-        doc = f"/* {fn.qualname} {_types_text(spec.argtypes)} -> {spec.ret} */"
-        return f"{doc}\n{head} {{\n{body}\n}}"
-
-    def param(self, name: str, t: Any) -> str:
-        if not self.c:
-            return name
-        if isinstance(t, ArrayType):
-            return f"const double {name}" + "".join(f"[{s}]" for s in t.shape)
-        return f"{self.p.ctype(t)} {name}"
-
-    def declare(self, name: str, t: Any, init: str | None = None) -> str:
-        if self.c:
-            if init is None:
-                init = self.zero(t)
-            return f"{self.p.ctype(t)} {name} = {init};"
-        return f"let {name} = {init if init is not None else self.zero(t)};"
-
-    def zero(self, t: Any) -> str:
-        if isinstance(t, TupleType):
-            if not self.c:
-                return "null"
-            return f"{self.p.tuple_name(t)}_make({', '.join(self.zero(e) for e in t.elems)})"
-        return self.p.literal(False if t == BOOL else (0 if t == INT else 0.0), t)
-
-    # -------------------------------------------------------------- statements
-    def stmt(self, s: ast.stmt) -> None:
-        c = self.c
-        if isinstance(s, ast.Assign):
-            self.assign(s.targets[0], s.value)
-        elif isinstance(s, ast.AugAssign):
-            name = s.target.id
-            if self.live(name):
-                t_old = self.spec.env[name]
-                value = self.binop(s.op, self.names[name], self.expr(s.value), t_old, self.type(s.value))
-                self.out(f"{self.names[name]} = {value};")
-        elif isinstance(s, ast.If):
-            self.out(f"if ({self.cond(s.test)}) {{")
-            self.block(s.body)
-            orelse = s.orelse
-            while len(orelse) == 1 and isinstance(orelse[0], ast.If):
-                self.out(f"}} else if ({self.cond(orelse[0].test)}) {{")
-                self.block(orelse[0].body)
-                orelse = orelse[0].orelse
-            if orelse:
-                self.out("} else {")
-                self.block(orelse)
-            self.out("}")
-        elif isinstance(s, ast.While):
-            self.out(f"while ({self.cond(s.test)}) {{")
-            self.block(s.body)
-            self.out("}")
-        elif isinstance(s, ast.For):
-            args = [self.expr(a) for a in s.iter.args]
-            start, stop, step = ("0", args[0], 1) if len(args) == 1 else (args[0], args[1], 1)
-            if len(args) == 3:
-                step = _const_int(s.iter.args[2])
-            i, n = self.fresh("i_"), self.fresh("n_")
-            kind = "long long" if c else "let"
-            cmp = "<" if step > 0 else ">"
-            inc = f"{i}++" if step == 1 else f"{i} += {self.p.literal(step)}"
-            self.out(f"for ({kind} {i} = {start}, {n} = {stop}; {i} {cmp} {n}; {inc}) {{")
-            if self.live(s.target.id):
-                self.depth += 1
-                self.out(f"{self.names[s.target.id]} = {i};")
-                self.depth -= 1
-            self.block(s.body)
-            self.out("}")
-        elif isinstance(s, ast.Return):
-            self.ret(s.value)
-        elif isinstance(s, ast.Break):
-            self.out("break;")
-        elif isinstance(s, ast.Continue):
-            self.out("continue;")
-        # Pass and docstrings: nothing
-
-    def block(self, body: Sequence[ast.stmt]) -> None:
-        self.depth += 1
-        for s in body:
-            self.stmt(s)
-        self.depth -= 1
-
-    def cond(self, node: ast.expr) -> str:
-        text = self.expr(node)
-        return text[1:-1] if _wrapped(text) else text
-
-    def assign(self, target: ast.expr, value: ast.expr) -> None:
-        """``target = value``, ``a, b = ...`` and ``a, (b, c) = ...``: Python's simultaneous assignment."""
-        if isinstance(target, ast.Name):
-            if self.live(target.id):
-                self.out(f"{self.names[target.id]} = {self.convert(value, self.spec.env[target.id])};")
-            return
-        if not any(self.live(n) for n, _ in _leaves(target)):
-            return
-        pairs: list[tuple[ast.expr, ast.expr]] = []  # (name or tuple of names, value)
-
-        def pair(t: ast.expr, v: ast.expr) -> None:
-            if isinstance(t, ast.Tuple) and isinstance(v, ast.Tuple):
-                for te, ve in zip(t.elts, v.elts, strict=True):
-                    pair(te, ve)
-            elif any(self.live(n) for n, _ in _leaves(t)):
-                pairs.append((t, v))
-
-        pair(target, value)
-        names = {n for t, _ in pairs for n, _ in _leaves(t)}
-        reads = {x.id for _, v in pairs for x in ast.walk(v) if isinstance(x, ast.Name)}
-        simple = not (reads & names) and all(isinstance(t, ast.Name) for t, _ in pairs)
-        if simple:
-            for t, v in pairs:
-                self.out(f"{self.names[t.id]} = {self.convert(v, self.spec.env[t.id])};")
-            return
-        # Every value first (into temporaries), then the names: a, b = b, a swaps as in Python.
-        self.out("{")
-        self.depth += 1
-        temps = []
-        for t, v in pairs:
-            tmp = self.fresh("t_")
-            temps.append((t, tmp, self.type(v)))
-            self.out(self.constant(tmp, self.type(v), self.expr(v)))
-        for t, tmp, have in temps:
-            for name, path in _leaves(t):
-                if self.live(name):
-                    text, kind = tmp, have
-                    for k in path:
-                        text, kind = self.field(text, k), kind.elems[k]
-                    self.out(f"{self.names[name]} = {self.rebuild(text, kind, self.spec.env[name])};")
-        self.depth -= 1
-        self.out("}")
-
-    def rebuild(self, text: str, have: Any, want: Any) -> str:
-        """``text`` (a variable or its field: cheap to repeat) as type ``want`` (C: a tuple of other types rebuilt)."""
-        if not self.c or have == want or not isinstance(want, TupleType):
-            return text
-        items = ", ".join(self.rebuild(self.field(text, k), h, w) for k, (h, w) in
-                          enumerate(zip(have.elems, want.elems, strict=True)))
-        return f"{self.p.tuple_name(want)}_make({items})"
-
-    def constant(self, name: str, t: Any, text: str) -> str:
-        return f"const {self.p.ctype(t)} {name} = {text};" if self.c else f"const {name} = {text};"
-
-    def field(self, text: str, k: int) -> str:
-        return f"{text}.v{k}" if self.c else f"{text}[{k}]"
-
-    def convert(self, value: ast.expr, t: Any) -> str:
-        """``value`` as type ``t`` (numbers convert by themselves; a tuple of other element types is rebuilt)."""
-        have = self.type(value)
-        text = self.expr(value)
-        if not self.c or have == t or not isinstance(t, TupleType):
-            return text
-        if isinstance(value, ast.Tuple):
-            return self.tuple_text(value.elts, t)
-        raise _refuse(self.fn, value, f"a tuple of types {have} used as {t}")
-
-    def ret(self, value: ast.expr) -> None:
-        t = self.spec.ret
-        have = self.type(value)
-        if self.c and isinstance(t, TupleType) and have != t and not isinstance(value, ast.Tuple):
-            tmp = self.fresh("t_")
-            self.out("{")
-            self.depth += 1
-            self.out(self.constant(tmp, have, self.expr(value)))
-            fields = ", ".join(self.field(tmp, k) for k in range(len(t.elems)))
-            self.out(f"return {self.p.tuple_name(t)}_make({fields});")
-            self.depth -= 1
-            self.out("}")
-            return
-        text = self.convert(value, t)
-        self.out(f"return {text[1:-1] if _wrapped(text) else text};")
-
-    # -------------------------------------------------------------- expressions
-    def type(self, node: ast.expr) -> Any:
-        return self.spec.types[id(node)]
-
-    def tuple_text(self, elts: Sequence[ast.expr], t: TupleType) -> str:
-        items = ", ".join(self.convert(e, et) if isinstance(et, TupleType) else self.expr(e)
-                          for e, et in zip(elts, t.elems, strict=True))
-        return f"{self.p.tuple_name(t)}_make({items})" if self.c else f"[{items}]"
-
-    def binop(self, op: ast.operator, a: str, b: str, ta: Any, tb: Any) -> str:
-        if isinstance(op, ast.Pow):
-            if not self.c:
-                self.p.helpers.add("pow")
-            return f"pow({a}, {b})" if self.c else f"$pow({a}, {b})"
-        if isinstance(op, ast.Div) and self.c and ta == INT and tb == INT:
-            return f"((double){a} / (double){b})"
-        return f"({a} {_BINOPS[type(op)]} {b})"
-
-    def expr(self, node: ast.expr) -> str:
-        c, p = self.c, self.p
-        t = self.type(node)
-        if isinstance(node, ast.Constant):
-            return p.literal(node.value, t)
-        if isinstance(node, ast.Name):
-            return self.names[node.id]
-        if isinstance(node, ast.Tuple):
-            return self.tuple_text(node.elts, t)
-        if isinstance(node, ast.BinOp):
-            return self.binop(node.op, self.expr(node.left), self.expr(node.right), self.type(node.left),
-                              self.type(node.right))
-        if isinstance(node, ast.UnaryOp):
-            operand = self.expr(node.operand)
-            return f"(!{operand})" if isinstance(node.op, ast.Not) else \
-                f"({'-' if isinstance(node.op, ast.USub) else '+'}{operand})"
-        if isinstance(node, ast.BoolOp):
-            op = " && " if isinstance(node.op, ast.And) else " || "
-            return "(" + op.join(self.expr(v) for v in node.values) + ")"
-        if isinstance(node, ast.Compare):
-            terms = [self.expr(node.left)] + [self.expr(x) for x in node.comparators]
-            parts = []
-            for op, a, b in zip(node.ops, terms, terms[1:], strict=False):
-                sym = _CMPOPS[type(op)]
-                if not c and sym in ("==", "!="):
-                    sym += "="
-                parts.append(f"({a} {sym} {b})")
-            return parts[0] if len(parts) == 1 else "(" + " && ".join(parts) + ")"
-        if isinstance(node, ast.IfExp):
-            return f"({self.cond(node.test)} ? {self.expr(node.body)} : {self.expr(node.orelse)})"
-        if isinstance(node, ast.Call):
-            return self.call(node, t)
-        if isinstance(node, ast.Subscript):
-            return self.subscript(node)
-        raise _refuse(self.fn, node, f"the expression {type(node).__name__}")  # typed, so unreachable
-
-    def call(self, node: ast.Call, t: Any) -> str:
-        c, p = self.c, self.p
-        f = node.func
-        if isinstance(f, ast.Attribute):
-            _, cname, jsname, _ = _MATH_FUNCS[f.attr]
-            if not c and jsname.startswith("$"):
-                p.helpers.add(jsname[1:])
-            args = ", ".join(self.expr(a) for a in node.args)
-            return f"{cname if c else jsname}({args})"
-        if f.id in self.fn.builtins:
-            args = [self.expr(a) for a in node.args]
-            if f.id in ("min", "max"):
-                kind = f"{f.id}_{'i' if t == INT and c else 'f'}"
-                p.helpers.add(kind)
-                name = f"{p.prefix}{kind}" if c else f"${f.id}"
-                out = args[0]
-                for a in args[1:]:
-                    out = f"{name}({out}, {a})"
-                return out
-            if f.id == "abs":
-                return (("fabs" if t == FLOAT else "llabs") if c else "Math.abs") + f"({args[0]})"
-            return f"((double){args[0]})" if c else f"(+{args[0]})"  # float()
-        spec = self.spec.calls[id(node)]
-        args = self.spec.args[id(node)]
-        return f"{spec.name}({', '.join(self.expr(a) for a in args)})"
-
-    def subscript(self, node: ast.Subscript) -> str:
-        t = self.type(node.value)
-        idx = node.slice
-        if isinstance(t, TupleType) and isinstance(node.value, ast.Tuple) and _const_int(idx) is not None:
-            return self.expr(node.value.elts[_const_int(idx) % len(t.elems)])  # a constant tuple's element
-        base = "" if isinstance(t, TupleType) and isinstance(node.value, ast.Tuple) else self.expr(node.value)
-        if isinstance(t, TupleType):
-            n = len(t.elems)
-            k = _const_int(idx)
-            if k is not None:
-                return self.field(base, k % n)
-            i = self.expr(idx)
-            items = ([self.expr(e) for e in node.value.elts] if isinstance(node.value, ast.Tuple)
-                     else [self.field(base, k) for k in range(n)])
-            out = items[-1]  # numba raises on an index out of range; here: the last element
-            for k in range(n - 2, -1, -1):
-                out = f"(({i} == {k} || {i} == {k - n}) ? {items[k]} : {out})"
-            return out
-        parts = idx.elts if isinstance(idx, ast.Tuple) else [idx]
-        out = base
-        for part, size in zip(parts, t.shape, strict=True):
-            k = _const_int(part)
-            if k is not None:
-                out += f"[{k % size}]"
-            else:
-                i = self.expr(part)
-                out += f"[({i} < 0 ? {i} + {size} : {i})]"
-        return out
-
-
-def _leaves(target: ast.expr, path: tuple[int, ...] = ()) -> list[tuple[str, tuple[int, ...]]]:
-    """The names of an assignment target with their place in the value: ``a, (b, c)`` -> a (0,), b (1, 0)..."""
-    if isinstance(target, ast.Name):
-        return [(target.id, path)]
-    if isinstance(target, ast.Tuple):
-        return [leaf for k, e in enumerate(target.elts) for leaf in _leaves(e, (*path, k))]
-    return []  # refused when typed
-
-
-def _wrapped(text: str) -> bool:
-    """Whether ``text`` is one parenthesised expression, ``(...)``, whose outer parentheses can go."""
-    if not (text.startswith("(") and text.endswith(")")):
-        return False
-    depth = 0
-    for k, ch in enumerate(text):
-        depth += ch == "("
-        depth -= ch == ")"
-        if depth == 0 and k < len(text) - 1:
-            return False
-    return True
+            self._lower(callee)
+        self.program.functions.append(_Lowerer(self, spec).function())
 
 
 def _types_text(types: Sequence[Any]) -> str:
     return "(" + ", ".join(map(str, types)) + ")"
-
-
-def translate(kernel: Any, argtypes: Sequence[Any], lang: str, prefix: str = "bouncelab_") -> tuple[Program, _Spec]:
-    """Translate ``kernel`` (a jit function) for arguments of ``argtypes``: the program and its entry spec."""
-    program = Program(lang, prefix)
-    return program, program.entry(kernel, tuple(argtypes))
-
