@@ -51,15 +51,11 @@ def is_empty(v: Any) -> bool:
 
 @dataclass(frozen=True)
 class Table:
-    """A file's data rows as one DataFrame (``cells``: names as in the file; numbers where the format or pandas
-    typed a whole column, else the cells as written) and where they came from.
-
-    ``units``: column -> (unit, where) given beside the names (a units row, a netCDF attribute);
-    ``locate(row, column)``: where data row ``row`` (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``);
-    ``text(column)``: a text file's cells as written; ``labels``: a DataFrame's row labels; ``delimiter``: a text
-    file's (a semicolon, tab or blank-separated one may write decimal commas); ``lengths``: each column's length
-    in a file of separate arrays (``.mat``, netCDF), padded in ``cells``.
-    """
+    """A file's data rows (``cells``: names as in the file; numbers where the format or pandas typed a whole
+    column, else the cells as written); ``units``: column -> (unit, where) given beside the names; ``locate(row,
+    column)``: where data row ``row`` (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``); ``text(column)``: a
+    text file's cells as written; ``labels``: a DataFrame's row labels; ``delimiter``: a text file's (not a comma:
+    decimal commas may be written); ``lengths``: each column's length in a file of separate arrays (padded)."""
 
     file: str
     cells: pd.DataFrame
@@ -95,8 +91,6 @@ def looks_like_title(title: list, header: list, first_row: list, blank: Callable
     return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(is_number, t)) and not any(map(is_number, h))
             and (any(map(is_number, d)) or is_units_row(first_row, blank)))
 
-
-# ------------------------------------------------------------------------------------------------ text tables
 
 def _comment(line: str) -> bool:
     return line.lstrip().startswith(("#", "%"))
@@ -226,12 +220,17 @@ def _kept_lines(file: str, raw: bytes, enc: str, hd: _Header, given: bool) -> tu
     return "\n".join(ln.text for ln in kept).encode(enc), [ln.no for ln in kept]
 
 
-def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None,
-              path: Path | None = None, stamp: tuple[int, int] | None = None) -> Table:
-    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. With ``names``
-    the file has no header: every line that is not a comment is a row of these columns, blank-separated. ``path``,
-    the file ``raw`` was read from with its (size, mtime) ``stamp``: the cells of a large plain file are read again
-    from it when a message or a label needs their text, so that the bytes need not stay in memory."""
+def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_row: int | None = None,
+              names: Sequence[str] | None = None) -> Table:
+    """A ``.csv``, ``.tsv`` or ``.txt`` table (``raw``, else read from ``path``): UTF-8 (a BOM is fine) else Latin-1;
+    see docs/data.md. With ``names`` the file has no header: every line that is not a comment is a row of these
+    columns, blank-separated. The cells of a large plain file read from ``path`` are read again from it when a
+    message or a label needs their text, so that the bytes need not stay in memory."""
+    if raw is None:
+        stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
+        raw = read_regular_file(path, file)
+    else:
+        path = None
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
     enc = "utf-8"
@@ -317,13 +316,6 @@ def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: 
             width = int(more.group(1))
 
 
-def read_text_file(path: Path, file: str, *, header_row: int | None = None, **_: Any) -> Table:
-    stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
-    return read_text(file, read_regular_file(path, file), header_row=header_row, path=path, stamp=stamp)
-
-
-# ------------------------------------------------------------------------------------------------ Excel
-
 def _col_letter(j: int) -> str:
     out, j = "", j + 1
     while j:
@@ -386,8 +378,6 @@ def read_excel(path: Path, file: str, *, sheet: str | int | None = None, header_
     return Table(file, pd.DataFrame(rows, columns=header, dtype=object), units, locate, delimiter=",")
 
 
-# ------------------------------------------------------------------------------------------------ a DataFrame
-
 def read_dataframe(df: pd.DataFrame, file: str) -> Table:
     """A DataFrame read as a file: its column names are the header (a units row under it counts), its rows the data."""
     names = [" ".join(map(str, c)).strip() if isinstance(df.columns, pd.MultiIndex) else str(c).strip()
@@ -400,8 +390,6 @@ def read_dataframe(df: pd.DataFrame, file: str) -> Table:
         frame, labels = frame.iloc[1:].reset_index(drop=True).astype(object), labels[1:]
     return Table(file, frame, units if len(frame) else {}, labels=labels)
 
-
-# ------------------------------------------------------------------------------------------------ arrays
 
 def _arrays(file: str, columns: list[tuple[str, Any]], units: dict[str, tuple[str, str]]) -> Table:
     """A table of separate arrays (``.mat``, netCDF), padded to the longest; the lengths are checked when read."""
@@ -527,7 +515,7 @@ class Backend(NamedTuple):
 
 #: The backend of each suffix :func:`~bouncelab.data.io.load_campaign` reads (case-insensitive).
 BACKENDS: dict[str, Backend] = {
-    **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text_file, ("header_row",))),
+    **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text, ("header_row",))),
     **dict.fromkeys((".xlsx", ".xls"), Backend(read_excel, ("sheet", "header_row"))),
     ".mat": Backend(read_mat),
     **dict.fromkeys((".nc", ".netcdf"), Backend(read_netcdf)),
