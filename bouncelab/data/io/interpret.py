@@ -218,7 +218,8 @@ def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
 def select_auto(r: Rows) -> dict[Role, Column]:
     """The columns found by their names' synonyms, Cartesian or polar for each state, and their intervals."""
     found, cols, problems = candidates(r), {}, []
-    forms = {s: _form(found, s) for s in STATES}
+    forms = {s: "polar" if _names(found, s, ("speed", "angle")) and not _names(found, s, ("xdot", "ydot")) else
+             "cartesian" for s in STATES}
     for s, other in zip(STATES, reversed(STATES), strict=True):
         if not _names(found, s, ("xdot", "ydot", "speed", "angle")):
             forms[s] = forms[other]  # nothing found: suggest the form the other state has
@@ -329,7 +330,8 @@ def missing_rows(r: Rows, names: Sequence[str]) -> dict[int, tuple[str, Any]]:
     """Rows with a missing cell in one of ``names``: row -> (column, cell) of the first."""
     out: dict[int, tuple[str, Any]] = {}
     for s in (r.frame[n] for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iub"):
-        for i in np.flatnonzero((s.isna() if s.dtype.kind == "f" else s.map(_missing)).to_numpy(dtype=bool)):
+        bad = s.isna() if s.dtype.kind == "f" else s.isna() | s.astype(str).str.strip().str.lower().isin(MISSING)
+        for i in np.flatnonzero(bad.to_numpy(dtype=bool)):
             out.setdefault(int(i), (s.name, s.iloc[i]))
     return dict(sorted(out.items()))
 
@@ -359,33 +361,34 @@ def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
     ``1.500`` in a semicolon file) with no other decimal."""
     if r.t.delimiter == ",":
         return r
-    comma = dot = None  # the first evidence: (row, column, text)
-    grouped = []
-    for name in names:
-        for i, t in enumerate(r.frame[name].tolist()):
-            if not isinstance(t, str) or not (t := t.strip()) or ("," not in t and "." not in t):
-                continue
-            if re.fullmatch(r"[+-]?[1-9]\d{0,2}([.,]\d{3})+", t):  # 0.250 cannot be thousands
-                grouped.append((i, name, t))
-            elif re.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", t):
-                comma = (i, name, t) if comma is None or i < comma[0] else comma
-            elif "." in t and syn.is_number(t):
-                dot = (i, name, t) if dot is None or i < dot[0] else dot
+    names = [n for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iufb"]
+    t = pd.Series(r.frame[names].to_numpy().ravel(), dtype=object).str.strip()  # row by row, non-text NaN
+    marked = t.str.contains(r"[.,]", na=False)
+    grouped = marked & t.str.fullmatch(r"[+-]?[1-9]\d{0,2}([.,]\d{3})+", na=False)  # 0.250 cannot be thousands
+    comma = marked & ~grouped & t.str.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", na=False)
+    dot = marked & ~grouped & ~comma & t.str.contains(".", regex=False, na=False)
+    dot[dot] = ~np.isnan(syn.to_numbers(t[dot]))
+
+    def first(mask: pd.Series) -> tuple[int, str, str] | None:  # (row, column, text) of the first in row order
+        return None if not (k := np.flatnonzero(mask)).size else (int(k[0]) // len(names), names[k[0] % len(names)],
+                                                                   t[k[0]])
+
+    comma, dot = first(comma), first(dot)
     if comma and dot:
-        (i, name, t), first = max(comma, dot), min(comma, dot)
-        raise r.err(f"{t!r} writes its decimals differently from {first[2]!r} (column {first[1]!r}, row "
-                    f"{int(r.rows[first[0]]) + 1}); write every number with the same decimal mark", name, i)
-    for i, name, t in sorted(grouped):
-        if (comma is not None and "." in t) or (dot is not None and "," in t):
-            why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
-                   f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
-        elif comma is None and dot is None and ("," in t or r.t.delimiter == ";"):  # a decimal-comma locale's
-            why = (f"nothing else in the file says whether the {'comma' if ',' in t else 'dot'} is a decimal mark "
-                   "or a thousands separator")  # export (semicolons), where 1.500 may well be 1500
-        else:
-            continue
-        raise r.err(f"{t!r} is ambiguous: {why}; write it without the separator "
-                    f"({t.replace('.', '').replace(',', '')}) or with the file's decimal mark", name, i)
+        (i, name, text), was = max(comma, dot), min(comma, dot)
+        raise r.err(f"{text!r} writes its decimals differently from {was[2]!r} (column {was[1]!r}, row "
+                    f"{int(r.rows[was[0]]) + 1}); write every number with the same decimal mark", name, i)
+    if comma or dot:
+        why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
+               f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
+        bad = first(grouped & t.str.contains("." if comma else ",", regex=False, na=False))
+    else:  # a decimal-comma locale's export (semicolons), where 1.500 may well be 1500
+        bad = first(grouped & (t.str.contains(",", regex=False, na=False) | (r.t.delimiter == ";")))
+        why = (f"nothing else in the file says whether the {'comma' if bad and ',' in bad[2] else 'dot'} is a decimal "
+               "mark or a thousands separator")
+    if bad is not None:
+        raise r.err(f"{bad[2]!r} is ambiguous: {why}; write it without the separator "
+                    f"({bad[2].replace('.', '').replace(',', '')}) or with the file's decimal mark", bad[1], bad[0])
     return replace(r, decimal_comma=comma is not None)
 
 
@@ -791,12 +794,6 @@ def _state_roles(names: Any) -> dict[str, str] | None:
     if isinstance(names, str) or not isinstance(names, Sequence) or len(names) != 3:
         return None
     return dict(zip(COMPONENTS, map(str, names), strict=True))
-
-
-def _form(found: dict[Role, list[Column]], state: str) -> str:
-    """``"polar"`` if a state has speed or angle columns and no xdot or ydot ones, else ``"cartesian"``."""
-    polar = _names(found, state, ("speed", "angle")) and not _names(found, state, ("xdot", "ydot"))
-    return "polar" if polar else "cartesian"
 
 
 def _columns_call(found: dict[Role, list[Column]], forms: dict[str, str]) -> dict[str, Any]:

@@ -449,10 +449,10 @@ def read_mat(path: Path, file: str, **_: Any) -> Table:
         if isinstance(val, mat_struct):
             for f in val._fieldnames:
                 collect(f, qual, getattr(val, f))
+        elif isinstance(val, int | float | str | np.number) and not isinstance(val, bool):
+            entries.append((name, parent, [val]))
         elif not isinstance(val, np.ndarray):
-            if (v := _scalar(val)) is not None and not isinstance(val, bytes):
-                entries.append((name, parent, [v]))
-            opaque.extend([] if v is not None or isinstance(val, bool) else [qual])
+            opaque.extend([] if isinstance(val, bool) else [qual])
         elif val.dtype.kind == "O" and val.size and all(isinstance(e, mat_struct) for e in val.flat):
             for f in next(iter(val.flat))._fieldnames:  # a struct array: one scalar per element
                 cells = [_scalar(getattr(e, f, None)) for e in val.flat]

@@ -54,9 +54,11 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
                           reason="the folder does not exist", errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
-        if not (isinstance(value, str | int | float | np.floating | np.integer) and not isinstance(value, bool)
-                if not isinstance(value, list | tuple | np.ndarray) else
-                np.ndim(value) == 1 and np.asarray(value).dtype.kind in "iuf"):
+        if isinstance(value, list | tuple | np.ndarray):
+            ok = (arr := np.asarray(value)).ndim == 1 and arr.dtype.kind in "iuf"
+        else:
+            ok = isinstance(value, str | int | float | np.floating | np.integer) and not isinstance(value, bool)
+        if not ok:
             raise DataError(f"attribute {key!r} = {value!r} cannot be stored in netCDF (use a string, a number or a "
                             "1-D list of numbers)", file=file)
     engine = engine or next((e.lower() for e in ("netCDF4", "h5netcdf") if module_available(e)), "scipy")
