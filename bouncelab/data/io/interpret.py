@@ -1,13 +1,11 @@
 """From one :class:`~bouncelab.data.io.read.Table` to numbers in known units: one pipeline of small functions.
 
 A :class:`Role` (state, component) says what a column holds; :func:`select_auto` or :func:`select_explicit`
-picks a :class:`Column` of the file for each; :func:`read_columns` drops or refuses rows with a missing cell,
-finds the decimal mark and parses each column (:func:`~bouncelab.data.io.names.to_numbers`); :func:`with_units`
-finds each unit (``units=``, the header, a units row, else assumed) and scales. :func:`campaign_from_table` goes
-on to the polar states, the intervals and the unit guard (:mod:`bouncelab.core.plausibility`); the landings of
-``bouncelab predict`` and the launch-monitor shots ask the same steps for their own columns. Each refusal is a
-:class:`~bouncelab.core.errors.DataError` naming the file, the column as spelled there and the data row, with
-the options that would put it right as :class:`~bouncelab.core.errors.Hint` s (docs/data.md).
+picks a :class:`Column` for each; :func:`read_columns` drops or refuses rows with a missing cell, finds the
+decimal mark and parses each column; :func:`with_units` finds each unit and scales; :func:`campaign_from_table`
+goes on to polar states, intervals and the unit guard. The landings of ``bouncelab predict`` and the shots ask
+the same steps for their own columns. Each refusal is a :class:`~bouncelab.core.errors.DataError` naming the
+file, the column as spelled there and the data row, with the options that would put it right as hints.
 """
 
 from __future__ import annotations
@@ -46,6 +44,8 @@ _WIDEN = Hint("plausible", None, "PLAUSIBLE_RANGES.widened(...) accepts such val
 _RADIAN_LIKE = math.pi + 0.35  # a radian column read as degrees: every angle within +-(pi + a few tenths)
 _MAX_ANGLE_HW = 90.0  # an angle half-width beyond this spans every direction: a unit or column mistake
 _INT64_MAX = np.iinfo(np.int64).max
+_POLAR_WORDS = ("speed", "angle", "spin")  # the polar components as a mapping in columns= names them
+_WHERE = "in the column mapping (columns= in Python, --columns on the command line)"
 
 
 class Role(NamedTuple):
@@ -98,7 +98,7 @@ class Rows:
         return list(self.frame.columns)
 
     def err(self, message: str, column: str | None = None, i: int | None = None, hints=()) -> DataError:
-        """A DataError at row ``i`` (of the rows kept) of ``column``: the file's line or cell in the message."""
+        """A DataError of ``column`` at row ``i`` (of the rows kept): the file's line or cell in the message."""
         if i is None:
             return DataError(message, file=self.t.file, column=column, hints=hints)
         row = int(self.rows[i])
@@ -116,8 +116,8 @@ class Rows:
 def start(t: Table, radius_m: float = units.BALL_RADIUS_M, plausible=plausibility.PLAUSIBLE_RANGES) -> Rows:
     """The rows of a table, its unnamed columns left out; a header unit the units row contradicts refused."""
     for name in t.cells.columns:
-        unit, row = syn.split_header(name)[1], t.units.get(name)
-        if unit and row and row[1] == "units row" and not _same_unit(unit, row[0]):
+        unit, row = syn.split_header(name)[1], t.units.get(name, ("", ""))
+        if unit and row[1] == "units row" and not _same_unit(unit, row[0]):
             raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
                             "them agree or remove one", file=t.file, column=name)
     frame = t.cells if all(t.cells.columns) else t.cells.loc[:, [bool(n) for n in t.cells.columns]]
@@ -134,13 +134,11 @@ def warn(message: str, category: type[Warning] = UserWarning) -> None:
 
 def check_units_arg(given: Any, file: str) -> dict[str, str]:
     """``units=`` as canonical units; unknown keys and units, and relative ones, refused."""
-    if given is None:
-        return {}
-    if not isinstance(given, Mapping) or [k for k in given if k not in ("velocity", "spin", "angle")]:
+    if given is not None and (not isinstance(given, Mapping) or set(given) - {"velocity", "spin", "angle"}):
         raise DataError(f"units must be a mapping with the keys 'velocity', 'spin' and/or 'angle', e.g. {{'velocity': "
                         f"'m/s', 'spin': 'rpm'}}; got {given!r}", file=file)
     out = {}
-    for kind, unit in ((k, u) for k, u in given.items() if u is not None):
+    for kind, unit in ((k, u) for k, u in (given or {}).items() if u is not None):
         if isinstance(unit, str) and syn.relative_word(unit) is not None:
             raise DataError(f"the {kind} unit given, {unit!r}, is a relative unit: values and half-widths are read "
                             "only in absolute units (convert a half-width in per cent first: times its value / 100)",
@@ -152,8 +150,6 @@ def check_units_arg(given: Any, file: str) -> dict[str, str]:
     return out
 
 
-# ------------------------------------------------------------------------------------------------ which column
-
 def find(r: Rows, requested: str, role: str) -> Column:
     """The one column a name in ``columns=`` matches (exactly, else case-, punctuation- and unit-insensitively)."""
     if r.names.count(requested.strip()) == 1:
@@ -162,9 +158,9 @@ def find(r: Rows, requested: str, role: str) -> Column:
     found = [n for n in r.names if syn.normalize(n) in keys or syn.normalize(syn.split_header(n)[0]) in keys]
     if len(found) == 1:
         return Column(found[0], syn.normalize(found[0]) in keys)
-    raise DataError(f"{requested!r} (asked for as {role}) matches several columns: {found}; give the exact name of "
-                    "the one to use" if found else f"no column matches {requested!r} (asked for as {role}); the "
-                    f"file's columns are {r.names}", file=r.t.file, column=requested)
+    raise r.err(f"{requested!r} (asked for as {role}) matches several columns: {found}; give the exact name of the "
+                "one to use" if found else f"no column matches {requested!r} (asked for as {role}); the file's "
+                f"columns are {r.names}", requested)
 
 
 def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, list[Column]]:
@@ -179,76 +175,73 @@ def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, li
 def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
     """The columns named by ``columns=``, refusing a half-width named as a state's column (or the reverse) and a
     speed or angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
-    keys, file = (*STATES, *PI_STATES), r.t.file
-    if not isinstance(columns, Mapping) or [k for k in columns if k not in (*keys, "setting")]:
-        raise DataError(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}, e.g. "
-                        f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}", file=file)
+    keys = (*STATES, *PI_STATES)
+    if not isinstance(columns, Mapping) or set(columns) - {*keys, "setting"}:
+        raise r.err(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}, e.g. "
+                    f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}")
     cols: dict[Role, Column] = {}
     for key in (k for k in keys if columns.get(k) is not None or k in STATES):
         if (roles := _state_roles(columns.get(key))) is None:
-            raise DataError(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) "
-                            f"or a mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}",
-                            file=file)
+            raise r.err(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) or a "
+                        f"mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}")
         cols.update({Role(key, c): find(r, n, f"{key} {c}") for c, n in roles.items()})
     if columns.get("setting") is not None:
         cols[SETTING] = find(r, str(columns["setting"]), "setting")
     said = {k: Role.of((syn.synonym_role(c.name) or ("",))[0] or ".") for k, c in cols.items() if k != SETTING}
     for k in (k for k, s in said.items() if s.comp and s.pi != k.pi):
         base = k.state.removesuffix("_pi")
-        raise DataError(f"the columns given for {k.state!r} include one of the wrong kind: {cols[k].name!r} says it "
-                        f"holds {_what(said[k])}, not {_what(k, Role(k.state, 'speed') in cols, asked=True)}; a "
-                        f"state's own columns go under {base!r}, their half-widths under {base + '_pi'!r} (or rename "
-                        "the column if it holds what is asked)", file=file, column=cols[k].name,
-                        hints=[Hint("columns")])
+        raise r.err(f"the columns given for {k.state!r} include one of the wrong kind: {cols[k].name!r} says it holds "
+                    f"{_what(said[k])}, not {_what(k, Role(k.state, 'speed') in cols, asked=True)}; a state's own "
+                    f"columns go under {base!r}, their half-widths under {base + '_pi'!r} (or rename the column if it "
+                    "holds what is asked)", cols[k].name, hints=[Hint("columns")])
     for key in keys:
         if key in PI_STATES and Role(key, "speed") in cols and Role(key[:-3], "speed") not in cols:
             s = _SAID[key[:-3]]
-            raise DataError(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the {s} is read from "
-                            f"Cartesian columns (xdot, ydot, omega): they are propagated through the polar state they "
-                            f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} "
-                            "as a list of its xdot, ydot, omega half-widths", file=file, hints=[Hint("columns")])
+            raise r.err(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the {s} is read from "
+                        f"Cartesian columns (xdot, ydot, omega): they are propagated through the polar state they "
+                        f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} as a "
+                        "list of its xdot, ydot, omega half-widths", hints=[Hint("columns")])
         if isinstance(columns.get(key), Mapping) or not (
                 wrong := [c for c in COMPONENTS if Role(key, c) in said and said[Role(key, c)].comp in POLAR[:2]]):
             continue
         named = {s.comp: cols[k].name for k, s in said.items() if k.state == key and s.state == key}
         named.setdefault("omega", cols[Role(key, "omega")].name if not said[Role(key, "omega")].comp else None)
         k = Role(key, wrong[0])
-        raise DataError(f"the column name {cols[k].name!r} says it holds {_what(said[k])}, but the list given for "
-                        f"{key!r} reads it as {_what(k, asked=True)}: speed, angle and spin"
-                        f"{' half-widths' if key in PI_STATES else ''} are named by a mapping (a list is read as xdot, "
-                        "ydot, omega), or rename the column if it holds what is asked", file=file, column=cols[k].name,
-                        hints=[Hint("columns", {key: {w: named.get(c) or f"<{key} {w} column>" for w, c in zip(
-                            ("speed", "angle", "spin"), POLAR, strict=True)}})])
+        raise r.err(f"the column name {cols[k].name!r} says it holds {_what(said[k])}, but the list given for {key!r} "
+                    f"reads it as {_what(k, asked=True)}: speed, angle and spin{' half-widths' if k.pi else ''} are "
+                    "named by a mapping (a list is read as xdot, ydot, omega), or rename the column if it holds what "
+                    "is asked", cols[k].name, hints=[Hint("columns", {key: {
+                        w: named.get(c) or f"<{key} {w} column>" for w, c in zip(_POLAR_WORDS, POLAR, strict=True)}})])
     return cols
 
 
 def select_auto(r: Rows) -> dict[Role, Column]:
     """The columns found by their names' synonyms, Cartesian or polar for each state, and their intervals."""
     found, cols, problems = candidates(r), {}, []
-    forms = {s: _form(found, s) for s in STATES}
+    forms = {s: "polar" if _names(found, s, ("speed", "angle")) and not _names(found, s, ("xdot", "ydot")) else
+             "cartesian" for s in STATES}
     for s, other in zip(STATES, reversed(STATES), strict=True):
-        if not any(found[Role(s, c)] for c in ("xdot", "ydot", "speed", "angle")):
+        if not _names(found, s, ("xdot", "ydot", "speed", "angle")):
             forms[s] = forms[other]  # nothing found: suggest the form the other state has
-        if forms[s] == "cartesian" and any(len(found[Role(s, c)]) != 1 for c in ("xdot", "ydot")) and any(
-                found[Role(s, c)] for c in ("speed", "angle")):
-            problems.append(f"{s}: both Cartesian columns {_names(found, s, ('xdot', 'ydot'))} and polar ones "
-                            f"{_names(found, s, ('speed', 'angle'))}")
+        if forms[s] == "cartesian" and any(len(found[Role(s, c)]) != 1 for c in ("xdot", "ydot")) and (
+                polar := _names(found, s, ("speed", "angle"))):
+            problems.append(f"{s}: both Cartesian columns {_names(found, s, ('xdot', 'ydot'))} and polar ones {polar}")
     for role in (*(Role(s, c) for s in STATES for c in (COMPONENTS if forms[s] == "cartesian" else POLAR)), SETTING):
         if len(found[role]) == 1:
             cols[role] = found[role][0]
         elif found[role] or role != SETTING:
-            problems.append(f"{role}: several candidates {[c.name for c in found[role]]}" if found[role] else
-                            f"{role}: no column found")
+            problems.append(f"{role}: " + (f"several candidates {_names(found, *role)}" if found[role] else
+                                           "no column found"))
     faults = [f for s in STATES if (f := _auto_intervals(r, found, s, forms[s], problems, cols)) is not None]
     hint = Hint("columns", _columns_call(found, forms), "replace each <...>")
     if problems:
         note = ("; a state given as speed, angle and spin is named by a mapping {'speed': ..., 'angle': ..., "
                 "'spin': ...}, not a list" if any(forms[s] == "cartesian" and _names(found, s, ("speed", "angle"))
                                                   for s in STATES) else "")
-        raise DataError(f"cannot tell which columns hold the bounce data ({'; '.join(problems)}); the file's "
-                        f"columns are {r.names}{note}", file=r.t.file, hints=[hint])
+        raise r.err(f"cannot tell which columns hold the bounce data ({'; '.join(problems)}); the file's columns are "
+                    f"{r.names}{note}", hints=[hint])
     if faults:
-        raise DataError(faults[0], file=r.t.file, hints=[hint])
+        raise r.err(faults[0], hints=[hint])
     return cols
 
 
@@ -263,8 +256,7 @@ def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: 
         problems.extend(several)
         return None
     cartesian, polar = ([c for c in comps if found[Role(pi, c)]] for comps in (COMPONENTS, POLAR[:2]))
-    missing = [k for k, c in zip(("speed", "angle", "spin"), POLAR, strict=True) if not found[Role(pi, c)]]
-    where = "in the column mapping (columns= in Python, --columns on the command line)"
+    missing = [w for w, c in zip(_POLAR_WORDS, POLAR, strict=True) if not found[Role(pi, c)]]
     if len(cartesian) == 3 and (form == "cartesian" or not polar):
         cols.update({Role(pi, c): found[Role(pi, c)][0] for c in COMPONENTS})
     elif polar and form == "cartesian":  # ignoring them loses the intervals, never gives a wrong number
@@ -272,7 +264,7 @@ def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: 
              f"from its Cartesian columns (xdot, ydot, omega), and half-widths of its speed or angle "
              f"({', '.join(_names(found, pi, polar))}) are propagated only through a polar state; loaded without "
              f"{said} intervals. To use them, name the {said} as speed, angle and spin and {pi!r} as a mapping, or "
-             f"its xdot, ydot, omega half-widths as a list, {where}")
+             f"its xdot, ydot, omega half-widths as a list, {_WHERE}")
     elif polar and {"xdot", "ydot"} & set(cartesian):
         return (f"the {said} has both Cartesian half-widths {_names(found, pi, ('xdot', 'ydot'))} and polar ones "
                 f"{_names(found, pi, polar)}; say which to read ({pi!r} as a list of xdot, ydot, omega or a mapping "
@@ -285,27 +277,24 @@ def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: 
         cols.update({Role(pi, c): found[Role(pi, c)][0] for c in POLAR})
     elif cartesian:
         warn(f"{r.t.file}: ignoring the incomplete {pi} columns {_names(found, pi, COMPONENTS)}; name all three "
-             f"(xdot, ydot, omega{'; or speed, angle, spin' if form == 'polar' else ''}) {where} to use them")
+             f"(xdot, ydot, omega{'; or speed, angle, spin' if form == 'polar' else ''}) {_WHERE} to use them")
     return None
 
 
-# ------------------------------------------------------------------------------------------------ their cells
-
 def check_absolute_units(r: Rows, cols: Mapping[Role, Column]) -> None:
     """Refuse a state or interval column in a relative unit (2 % of 25 m/s read as 2 m/s)."""
-    for role, col in cols.items():
+    for role, col in ((k, c) for k, c in cols.items() if k != SETTING):
         row_unit = r.t.units.get(col.name, (None, "header"))
-        if role == SETTING or (unit := syn.relative_unit(col.name, row_unit[0])) is None:
+        if (unit := syn.relative_unit(col.name, row_unit[0])) is None:
             continue
         what = _what(role, Role(role.state, "speed") in cols, asked=True)[4:].removesuffix(" half-width")
         where = "header" if syn.split_header(col.name)[1] is not None else row_unit[1]
-        raise DataError(
-            f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads half-widths "
-            "only in an absolute unit (that of the value or one of its kind); convert the column first, multiplying "
-            "each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), and give it the value's unit"
-            if role.pi else f"the {where} gives the {what} in {unit!r}, a relative unit: a measured {what} needs an "
-            "absolute unit (m/s, rpm, deg...); convert the column, or name the one holding the value",
-            file=r.t.file, column=col.name)
+        raise r.err(f"the {where} gives the {what} half-width in {unit!r}, a relative unit: bouncelab reads "
+                    "half-widths only in an absolute unit (that of the value or one of its kind); convert the column "
+                    "first, multiplying each half-width in per cent by its value / 100 (2 % of 25 m/s is 0.5 m/s), "
+                    "and give it the value's unit" if role.pi else f"the {where} gives the {what} in {unit!r}, a "
+                    f"relative unit: a measured {what} needs an absolute unit (m/s, rpm, deg...); convert the column, "
+                    "or name the one holding the value", col.name)
 
 
 def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None) -> dict[Role, float]:
@@ -317,28 +306,31 @@ def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None)
         marker = syn.interval_marker(col.name)
         says = "pi95" if marker in syn.PI95_MARKERS else "sd" if marker in syn.SD_MARKERS else None
         if intervals is not None and says is not None and says != intervals:
-            raise DataError(f"the interval columns are said to hold {meaning[intervals]}, but the name of {col.name!r} "
-                            f"({marker!r}) says it holds {meaning[says]} (rename the column if it does not)",
-                            file=r.t.file, column=col.name, hints=[Hint("intervals", says, "as the name says")])
+            raise r.err(f"the interval columns are said to hold {meaning[intervals]}, but the name of {col.name!r} "
+                        f"({marker!r}) says it holds {meaning[says]} (rename the column if it does not)", col.name,
+                        hints=[Hint("intervals", says, "as the name says")])
         if intervals is None and marker in syn.AMBIGUOUS_MARKERS:
             unsure.append(col.name)
         else:
             scales[role] = Z95 if (intervals or says) == "sd" else 1.0
     if unsure:
-        raise DataError(
-            f"the interval column{'s' if len(unsure) > 1 else ''} {unsure} may hold one standard deviation or the "
-            "half-width of a 95 % interval, and the name does not say which (a standard deviation read as a "
-            "half-width would give intervals 1.96 times too narrow)", file=r.t.file, column=unsure[0],
-            hints=[Hint("intervals", "sd", f"standard deviations, multiplied by {Z95:.2f} to 95 % half-widths"),
-                   Hint("intervals", "pi95", "95 % half-widths, as a campaign stores them")])
+        raise r.err(f"the interval column{'s' if len(unsure) > 1 else ''} {unsure} may hold one standard deviation or "
+                    "the half-width of a 95 % interval, and the name does not say which (a standard deviation read as "
+                    "a half-width would give intervals 1.96 times too narrow)", unsure[0],
+                    hints=[Hint("intervals", "sd", f"standard deviations, multiplied by {Z95:.2f} to 95 % half-widths"),
+                           Hint("intervals", "pi95", "95 % half-widths, as a campaign stores them")])
     return scales
+
+
+def _missing(v: Any) -> bool:
+    return is_empty(v) or str(v).strip().lower() in MISSING
 
 
 def missing_rows(r: Rows, names: Sequence[str]) -> dict[int, tuple[str, Any]]:
     """Rows with a missing cell in one of ``names``: row -> (column, cell) of the first."""
     out: dict[int, tuple[str, Any]] = {}
     for s in (r.frame[n] for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iub"):
-        bad = s.isna() if s.dtype.kind == "f" else s.map(lambda v: is_empty(v) or str(v).strip().lower() in MISSING)
+        bad = s.isna() if s.dtype.kind == "f" else s.isna() | s.astype(str).str.strip().str.lower().isin(MISSING)
         for i in np.flatnonzero(bad.to_numpy(dtype=bool)):
             out.setdefault(int(i), (s.name, s.iloc[i]))
     return dict(sorted(out.items()))
@@ -349,8 +341,7 @@ def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
     if not (bad := missing_rows(r, names)):
         return r, []
     if len(bad) == len(r.frame):
-        raise DataError(f"every row has a missing value (e.g. column {bad[0][0]!r}, row 1): nothing is left to "
-                        "load", file=r.t.file)
+        raise r.err(f"every row has a missing value (e.g. column {bad[0][0]!r}, row 1): nothing is left to load")
 
     def show(i: int, name: str, v: Any) -> str:
         where = (f"{r.t.locate(i, name)}: " if r.t.locate else "" if r.t.labels is None else
@@ -370,33 +361,34 @@ def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
     ``1.500`` in a semicolon file) with no other decimal."""
     if r.t.delimiter == ",":
         return r
-    comma = dot = None  # the first evidence: (row, column, text)
-    grouped = []
-    for name in names:
-        for i, t in enumerate(r.frame[name].tolist()):
-            if not isinstance(t, str) or not (t := t.strip()) or ("," not in t and "." not in t):
-                continue
-            if re.fullmatch(r"[+-]?[1-9]\d{0,2}([.,]\d{3})+", t):  # 0.250 cannot be thousands
-                grouped.append((i, name, t))
-            elif re.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", t):
-                comma = (i, name, t) if comma is None or i < comma[0] else comma
-            elif "." in t and syn.is_number(t):
-                dot = (i, name, t) if dot is None or i < dot[0] else dot
+    names = [n for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iufb"]
+    t = pd.Series(r.frame[names].to_numpy().ravel(), dtype=object).str.strip()  # row by row, non-text NaN
+    marked = t.str.contains(r"[.,]", na=False)
+    grouped = marked & t.str.fullmatch(r"[+-]?[1-9]\d{0,2}([.,]\d{3})+", na=False)  # 0.250 cannot be thousands
+    comma = marked & ~grouped & t.str.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", na=False)
+    dot = marked & ~grouped & ~comma & t.str.contains(".", regex=False, na=False)
+    dot[dot] = ~np.isnan(syn.to_numbers(t[dot]))
+
+    def first(mask: pd.Series) -> tuple[int, str, str] | None:  # (row, column, text) of the first in row order
+        return None if not (k := np.flatnonzero(mask)).size else (int(k[0]) // len(names), names[k[0] % len(names)],
+                                                                   t[k[0]])
+
+    comma, dot = first(comma), first(dot)
     if comma and dot:
-        (i, name, t), first = max(comma, dot), min(comma, dot)
-        raise r.err(f"{t!r} writes its decimals differently from {first[2]!r} (column {first[1]!r}, row "
-                    f"{int(r.rows[first[0]]) + 1}); write every number with the same decimal mark", name, i)
-    for i, name, t in sorted(grouped):
-        if (comma is not None and "." in t) or (dot is not None and "," in t):
-            why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
-                   f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
-        elif comma is None and dot is None and ("," in t or r.t.delimiter == ";"):  # a decimal-comma locale's
-            why = (f"nothing else in the file says whether the {'comma' if ',' in t else 'dot'} is a decimal mark "
-                   "or a thousands separator")  # export (semicolons), where 1.500 may well be 1500
-        else:
-            continue
-        raise r.err(f"{t!r} is ambiguous: {why}; write it without the separator "
-                    f"({t.replace('.', '').replace(',', '')}) or with the file's decimal mark", name, i)
+        (i, name, text), was = max(comma, dot), min(comma, dot)
+        raise r.err(f"{text!r} writes its decimals differently from {was[2]!r} (column {was[1]!r}, row "
+                    f"{int(r.rows[was[0]]) + 1}); write every number with the same decimal mark", name, i)
+    if comma or dot:
+        why = (f"the file writes decimals with a {'comma' if comma else 'dot'} ({(comma or dot)[2]!r}), so the "
+               f"{'dot' if comma else 'comma'} is a thousands separator or a slip")
+        bad = first(grouped & t.str.contains("." if comma else ",", regex=False, na=False))
+    else:  # a decimal-comma locale's export (semicolons), where 1.500 may well be 1500
+        bad = first(grouped & (t.str.contains(",", regex=False, na=False) | (r.t.delimiter == ";")))
+        why = (f"nothing else in the file says whether the {'comma' if bad and ',' in bad[2] else 'dot'} is a decimal "
+               "mark or a thousands separator")
+    if bad is not None:
+        raise r.err(f"{bad[2]!r} is ambiguous: {why}; write it without the separator "
+                    f"({bad[2].replace('.', '').replace(',', '')}) or with the file's decimal mark", bad[1], bad[0])
     return replace(r, decimal_comma=comma is not None)
 
 
@@ -407,32 +399,30 @@ def numbers(r: Rows, name: str, what: str = "bounce") -> tuple[np.ndarray, DataE
         vals = s.to_numpy() if s.dtype == np.float64 else s.to_numpy(dtype=float, na_value=np.nan)
         if s.dtype.kind in "iu" and r.t.text is not None and not vals.all():  # pandas reads "-0" as the integer 0
             vals = np.copysign(vals, np.where([r.t.text(name)[k].lstrip()[:1] == "-" for k in r.rows], -1.0, 1.0))
-        if np.isnan(vals).any() and r.t.lengths is None:  # a missing cell (an array's NaN is refused as a value)
-            i = int(np.flatnonzero(np.isnan(vals))[0])
-            said = f"missing value {r.cell(name, i)!r}" if r.t.text is not None else "missing value (NaN)"
-            return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
-        return vals, None
+        if not np.isnan(vals).any() or r.t.lengths is not None:  # an array's NaN is refused as a value
+            return vals, None
+        i = int(np.flatnonzero(np.isnan(vals))[0])
+        said = f"missing value {r.cell(name, i)!r}" if r.t.text is not None else "missing value (NaN)"
+        return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
     out = syn.to_numbers(s.to_numpy(), r.decimal_comma)
-    if (bad := np.flatnonzero(np.isnan(out))).size:
-        i, v = int(bad[0]), s.iloc[int(bad[0])]
-        if is_empty(v) or (isinstance(v, str) and v.strip().lower() in MISSING):
-            said = "empty cell" if is_empty(v) else f"missing value {v.strip()!r}"
-            return out, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
+    if not (bad := np.flatnonzero(np.isnan(out))).size:
+        return out, None
+    if not _missing(v := s.iloc[i := int(bad[0])]):
         return out, r.err(f"non-numeric value {v!r}", name, i)
-    return out, None
+    said = "empty cell" if is_empty(v) else f"missing value {v.strip()!r}"
+    return out, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
 
 
 def setting(r: Rows, name: str) -> np.ndarray:
     """Setting labels as written: whole numbers as int64 (exact; text beyond int64), else strings."""
     s = r.frame[name]
     if s.dtype.kind in "iu" and not s.hasnans:  # whole numbers read as integers are what their text says
-        if s.dtype.kind == "u" and len(s) and int(s.max()) > _INT64_MAX:
-            return np.array([str(int(v)) for v in s])
-        return s.to_numpy().astype(np.int64)
+        big = s.dtype.kind == "u" and len(s) and int(s.max()) > _INT64_MAX
+        return np.array([str(int(v)) for v in s]) if big else s.to_numpy().astype(np.int64)
     cells = [r.t.text(name)[k] for k in r.rows] if r.t.text is not None else s.tolist()
     parsed = syn.to_numbers([v if isinstance(v, str) else "" for v in cells])  # of the labels written as text
     for i, v in enumerate(cells):
-        if is_empty(v) or str(v).strip().lower() in MISSING or (isinstance(v, float) and not math.isfinite(v)):
+        if _missing(v) or (isinstance(v, float) and not math.isfinite(v)):
             shown = "empty" if is_empty(v) and not isinstance(v, float) else repr(
                 v.strip() if isinstance(v, str) else v)
             raise r.err(f"missing setting label ({shown}); every bounce needs one", name, i, [_DROP])
@@ -449,6 +439,20 @@ def setting(r: Rows, name: str) -> np.ndarray:
     return np.array([str(int(v)) if isinstance(v, float) and v.is_integer() else str(v) for v in labels])
 
 
+def _label_number(v: Any, parsed: float) -> int | float | None:
+    """A setting label (``parsed``: its text as a number) as an exact int, a float (non-whole, up to 15 significant
+    digits), or None."""
+    if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.number | str):
+        return None
+    text = v.replace("\u2212", "-") if isinstance(v, str) else ""
+    if isinstance(v, int | np.integer) or re.fullmatch(r"[+-]?\d+", text):
+        return int(text or v)  # exact, however long ("01" is 1)
+    if not math.isfinite(x := float(parsed if isinstance(v, str) else v)) or (x.is_integer() and abs(x) >= 2.0**53):
+        return None
+    digits = len(re.sub(r"[^0-9]", "", v.lower().split("e")[0]).strip("0")) if isinstance(v, str) else 0
+    return int(x) if x.is_integer() else x if digits <= 15 else None
+
+
 def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: str = "bounce"
                  ) -> tuple[Rows, dict[Role, Column], list[int]]:
     """The chosen columns' numbers as written: rows with a missing cell dropped (``missing="drop"``) or the first
@@ -456,12 +460,11 @@ def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: st
     used: dict[str, Role] = {}
     for role, col in cols.items():
         if used.setdefault(col.name, role) != role:
-            raise DataError(f"the same column is asked for as {used[col.name]} and as {role}", file=r.t.file,
-                            column=col.name)
+            raise r.err(f"the same column is asked for as {used[col.name]} and as {role}", col.name)
     lengths = {n: r.t.lengths[n] for n in used} if r.t.lengths is not None else {}
     if len(set(lengths.values())) > 1:
-        raise DataError(f"the columns have different lengths {lengths}; one value per bounce in each", file=r.t.file,
-                        column=max(lengths, key=lambda k: lengths[k]))
+        raise r.err(f"the columns have different lengths {lengths}; one value per bounce in each",
+                    max(lengths, key=lambda k: lengths[k]))
     r, dropped = drop_missing(r, list(used)) if missing == "drop" else (r, [])
     r = decimal_convention(r, [c.name for role, c in cols.items() if role != SETTING])
     out, errors = {}, []
@@ -483,17 +486,15 @@ def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
     text, where = syn.split_header(col.name)[1], "header"
     text, where = (text, where) if text is not None else r.t.units.get(col.name, (None, ""))
     known = {} if text is None else syn.unit_of(text)
-    if text is not None and (header := known.get(kind)) is None and (known or not (col.whole and where == "header")):
+    if text is not None and kind not in known and (known or not (col.whole and where == "header")):
         what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
         try:
             units.canonical_unit(text, kind)
         except DataError as exc:
-            raise DataError(f"the {where} gives the unit {text!r}, {what}; {exc.message}", file=r.t.file,
-                            column=col.name) from None
-    if kind in given and (header := known.get(kind)) is not None and header != given[kind]:
-        raise DataError(f"the header says {header} but the {kind} unit given is {given[kind]}; remove one of them "
-                        "or make them agree", file=r.t.file, column=col.name,
-                        hints=[Hint("units", {kind: header}, "as the header says")])
+            raise r.err(f"the {where} gives the unit {text!r}, {what}; {exc.message}", col.name) from None
+    if kind in given and kind in known and known[kind] != given[kind]:
+        raise r.err(f"the header says {known[kind]} but the {kind} unit given is {given[kind]}; remove one of them or "
+                    "make them agree", col.name, hints=[Hint("units", {kind: known[kind]}, "as the header says")])
     if kind in given:
         return given[kind], "units="
     return (known[kind], "header") if kind in known else (default[kind], "assumed")
@@ -517,8 +518,6 @@ def with_units(r: Rows, cols: dict[Role, Column], given: Mapping[str, str],
     return out
 
 
-# ------------------------------------------------------------------------------------------------ the states
-
 def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Column]:
     """A state given as speed, angle and spin with its xdot, ydot, refusing what is not a bounce: speeds >= 0, the
     ball moving in +x, the angle positive below the horizontal for a landing, above it for a lift-off."""
@@ -527,13 +526,13 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
     if (infinite := ~np.isfinite(np.column_stack([speed, an.raw, om.raw]))).any():
         i, k = (int(v) for v in np.argwhere(infinite)[0])
         col = (sp, an, om)[k]
-        raise r.err(f"{said} {('speed', 'angle', 'spin')[k]} {r.cell(col.name, i, col.unit)} is not a finite number; "
-                    "every bounce needs a finite speed, angle and spin", col.name, i)
+        raise r.err(f"{said} {_POLAR_WORDS[k]} {r.cell(col.name, i, col.unit)} is not a finite number; every bounce "
+                    "needs a finite speed, angle and spin", col.name, i)
     if an.origin == "assumed" and len(angle) and np.max(np.abs(angle)) <= _RADIAN_LIKE:
-        raise DataError(f"the file gives no unit for the {said} angles and every one is within +-{_RADIAN_LIKE:.2f}: "
-                        "read as degrees (the default) they are implausibly flat, they look like radians; say which (a "
-                        f"unit in the header says it too: '{an.name} (rad)' or '(deg)')", file=r.t.file, column=an.name,
-                        hints=[Hint("units", {"angle": "rad"})])
+        raise r.err(f"the file gives no unit for the {said} angles and every one is within +-{_RADIAN_LIKE:.2f}: read "
+                    "as degrees (the default) they are implausibly flat, they look like radians; say which (a unit in "
+                    f"the header says it too: '{an.name} (rad)' or '(deg)')", an.name,
+                    hints=[Hint("units", {"angle": "rad"})])
     bad_speed = ~(speed > 0) if landing else ~(speed >= 0)
     bad_angle = ~((angle > 0) & (angle <= 90)) if landing else ~((angle >= 0) & (angle < 180))
     if (rows := np.flatnonzero(bad_speed | bad_angle)).size and bad_speed[i := int(rows[0])]:
@@ -556,8 +555,7 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
 def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mapping[Role, float]) -> dict[Role, Column]:
     """A polar state's speed, angle and spin half-widths propagated to xdot, ydot, omega ones, to first order with
     independent errors; checked as written first (the propagation squares a sign away)."""
-    pi = f"{state}_pi"
-    roles = [Role(pi, c) for c in POLAR]
+    roles = [Role(f"{state}_pi", c) for c in POLAR]
     raw = np.column_stack([cols[k].raw for k in roles])
     bad = ~(np.isfinite(raw) & (raw >= 0))
     bad[:, 1] |= r.plausible is not None and cols[roles[1]].scaled > _MAX_ANGLE_HW
@@ -567,27 +565,18 @@ def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mappi
             f"is wider than any plausible angle half-width ({_MAX_ANGLE_HW:g} deg spans every direction a landing "
             "can come from): check the column's unit")
         raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} {why}", cols[roles[k]].name, i)
-    polar, hws = (np.column_stack([cols[Role(s, c)].scaled for c in POLAR]) for s in (state, pi))
-
-    def propagate(i: int | slice = slice(None)) -> np.ndarray:
-        return units.polar_halfwidths_to_cartesian(polar[i], hws[i], kind=state, speed_unit="radius/s",
-                                                   spin_unit="rad/s", radius_m=r.radius)
-
+    polar, hws = (np.column_stack([cols[Role(s, c)].scaled for c in POLAR]) for s in (state, roles[0].state))
     try:
-        hw = propagate()
-    except DataError:  # a number too large for floats once scaled: name the row
-        for i in range(len(polar)):
-            try:
-                propagate(i)
-            except DataError as exc:
-                cells = ", ".join(r.cell(cols[k].name, i, cols[k].unit) for k in roles)
-                raise r.err(f"the {_SAID[state]} half-widths {cells} cannot be propagated: {exc.message}",
-                            cols[roles[0]].name, i) from None
-        raise
-    out = {**cols, Role(pi, "omega"): replace(cols[Role(pi, "omega")], scaled=hw[:, 2])}
-    for k, comp in enumerate(("xdot", "ydot")):  # so that a later message about them names a column of the file
-        out[Role(pi, comp)] = replace(cols[Role(pi, "speed")], scaled=hw[:, k])
-    return out
+        hw = units.polar_halfwidths_to_cartesian(polar, hws, kind=state, speed_unit="radius/s", spin_unit="rad/s",
+                                                 radius_m=r.radius)
+    except DataError as exc:  # a number too large for floats once scaled: name the row
+        i = exc.row - 1 if exc.row is not None else int(np.flatnonzero(~np.isfinite(hws).all(axis=1))[0])
+        cells = ", ".join(r.cell(cols[k].name, i, cols[k].unit) for k in roles)
+        raise r.err(f"the {_SAID[state]} half-widths {cells} cannot be propagated: {exc.message}",
+                    cols[roles[0]].name, i) from None
+    # xdot and ydot keep the speed column, so that a later message about them names a column of the file
+    return {**cols, **{Role(roles[0].state, c): replace(cols[roles[2 if c == "omega" else 0]], scaled=hw[:, k])
+                       for k, c in enumerate(COMPONENTS)}}
 
 
 def interval_cell(r: Rows, col: Column, i: int, factor: float) -> str:
@@ -602,36 +591,34 @@ def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarr
     roles = [Role(pi, c) for c in COMPONENTS]
     if (arr < 0).any():
         i, k = (int(v) for v in np.argwhere(arr < 0)[0])
-        name = cols[roles[k]].name
-        raise r.err(f"prediction-interval half-width {r.cell(name, i)} is negative", name, i)
+        raise r.err(f"prediction-interval half-width {r.cell(cols[roles[k]].name, i)} is negative", cols[roles[k]].name,
+                    i)
     limit = np.array([r.plausible.max_speed / r.radius] * 2 + [r.plausible.max_spin * 2 * math.pi / 60])
     if not (arr > limit).any():
         return
     i, k = (int(v) for v in np.argwhere(arr > limit)[0])
-    what = f"{r.plausible.max_speed:g} m/s" if k < 2 else f"{r.plausible.max_spin:g} rpm"
-    if k < 2 and Role(pi[:-3], "speed") in cols:  # propagated: blame the column whose term dominates
+    what, state = (f"{r.plausible.max_speed:g} m/s" if k < 2 else f"{r.plausible.max_spin:g} rpm"), pi[:-3]
+    if k < 2 and Role(state, "speed") in cols:  # propagated: blame the column whose term dominates
         (v, a), (h_v, h_a) = ((cols[Role(s, "speed")].scaled[i], np.deg2rad(cols[Role(s, "angle")].scaled[i]))
-                              for s in (pi[:-3], pi))
+                              for s in (state, pi))
         trig = (abs(math.cos(a)), abs(math.sin(a)))[:: 1 if k == 0 else -1]  # units.polar_halfwidths_to_cartesian
-        cell = {s + c: r.cell(cols[Role(s, c)].name, i, cols[Role(s, c)].unit) for s in (pi, pi[:-3])
+        cell = {s + c: r.cell(cols[Role(s, c)].name, i, cols[Role(s, c)].unit) for s in (pi, state)
                 for c in ("speed", "angle")}
         culprit = cols[Role(pi, "speed" if trig[0] * h_v >= v * trig[1] * h_a else "angle")].name
         unit = cols[Role(pi, "speed")].unit
         value = units.velocity_from_scaled(arr[i, k], unit, radius_m=r.radius)
-        raise r.err(f"the {_SAID[pi[:-3]]} {COMPONENTS[k]} half-width propagated from the speed half-width "
+        raise r.err(f"the {_SAID[state]} {COMPONENTS[k]} half-width propagated from the speed half-width "
                     f"{cell[pi + 'speed']} and the angle half-width {cell[pi + 'angle']} (at speed "
-                    f"{cell[pi[:-3] + 'speed']}, angle {cell[pi[:-3] + 'angle']}) is {value:.4g} {unit}, wider than "
-                    f"any plausible value ({what}): check the unit of {culprit!r}", culprit, i)
+                    f"{cell[state + 'speed']}, angle {cell[state + 'angle']}) is {value:.4g} {unit}, wider than any "
+                    f"plausible value ({what}): check the unit of {culprit!r}", culprit, i)
     raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} is wider than any plausible value "
                 f"({what}): check the column's unit", cols[roles[k]].name, i)
 
 
 def check_landing_sign(r: Rows, cols: Mapping[Role, Column]) -> None:
-    """A Cartesian landing going up, quoted as written (as_states would quote radii/s)."""
-    if Role("landing", "speed") in cols:
-        return  # a polar landing is checked by its angle
+    """A Cartesian landing going up, quoted as written (as_states would quote radii/s); a polar one has its angle."""
     col = cols[Role("landing", "ydot")]
-    if (up := np.flatnonzero(col.scaled >= 0)).size and np.isfinite(
+    if Role("landing", "speed") not in cols and (up := np.flatnonzero(col.scaled >= 0)).size and np.isfinite(
             [cols[Role("landing", c)].scaled[: up[0] + 1] for c in COMPONENTS]).all():
         raise r.err("landing ydot must be negative (y points up, a landing moves down); the file gives "
                     f"{r.cell(col.name, int(up[0]), col.unit)} (a file whose y points down needs the column negated)",
@@ -679,7 +666,7 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
         hints = [Hint("units", {kind: u}) for u in fits or [default]] + ([] if fits else [_WIDEN])
         if why is not None and why.row is not None:
             raise r.err(msg, cols[Role(why.state, why.component)].name, why.row, hints)
-        raise DataError(msg, file=r.t.file, column=names[0] if len(names) == 1 else None, hints=hints)
+        raise r.err(msg, names[0] if len(names) == 1 else None, hints=hints)
     if (why := plausibility.implausibility(*arrays, radius_m=r.radius, ranges=r.plausible)) is not None:
         col = cols[Role(why.state, why.component)]
         said = r.cell(col.name, why.row, col.unit) if why.row is not None else f"in {col.unit}"
@@ -689,26 +676,23 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
                     [*others, _WIDEN])
 
 
-# ------------------------------------------------------------------------------------------------ a campaign
-
 def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campaign: str, surface: str, source: str,
                         ball_radius_m: float, plausible=plausibility.PLAUSIBLE_RANGES, missing: str = "raise",
                         intervals: str | None = None) -> xr.Dataset:
     """The campaign a table holds (see :func:`bouncelab.data.io.load_campaign`)."""
     r = start(t, ball_radius_m, plausible)
     if len(r.frame) == 0:
-        raise DataError("the file has a header but no data rows", file=t.file)
+        raise r.err("the file has a header but no data rows")
     cols = select_auto(r) if columns is None else select_explicit(r, columns)
     check_absolute_units(r, cols)
     scales = interval_scales(r, cols, intervals)
     r, cols, dropped = read_columns(r, cols, missing=missing)
     cols = with_units(r, cols, given, scales)
     attrs: dict[str, Any] = {"source_units": _describe_units(cols)}
-    read: dict[str, set[str]] = {}
-    for role, factor in scales.items():
-        read.setdefault(role.state[:-3], set()).add("95 % half-widths" if factor == 1 else "standard deviations x 1.96")
-    if read:
-        attrs["interval_source"] = ", ".join(f"{s} " + " and ".join(sorted(read[s])) for s in STATES if s in read)
+    read = {s: " and ".join(sorted({"95 % half-widths" if f == 1 else "standard deviations x 1.96"
+                                    for k, f in scales.items() if k.state == f"{s}_pi"})) for s in STATES}
+    if any(read.values()):
+        attrs["interval_source"] = ", ".join(f"{s} {read[s]}" for s in STATES if read[s])
     if polar := [s for s in STATES if Role(s, "speed") in cols]:
         attrs["source_form"] = ", ".join(f"{s} {'polar' if s in polar else 'cartesian'}" for s in STATES)
         for state in polar:
@@ -759,10 +743,7 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
                             column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
-    attrs = dict(ds.attrs)  # in their stored order
-    attrs.setdefault("data_kind", "measured")
-    attrs.setdefault("source", source)
-    out = validate_campaign(ds.assign_attrs(attrs), file=file)
+    out = validate_campaign(ds.assign_attrs({"data_kind": "measured", "source": source, **ds.attrs}), file=file)
     radius = float(out.attrs.get("ball_radius_m", units.BALL_RADIUS_M))
     p0, pf = out["landing"].values, out["liftoff"].values
     # one pass for the upper and the lower limits; the messages below only once it finds a fault
@@ -799,8 +780,8 @@ def _a(word: str) -> str:
     return ("an " if word[:1].lower() in "aeiou" else "a ") + word
 
 
-def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str]) -> list[str]:
-    return [c.name for comp in comps for c in found[Role(state, comp)]]
+def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str] | str) -> list[str]:
+    return [c.name for comp in ([comps] if isinstance(comps, str) else comps) for c in found[Role(state, comp)]]
 
 
 def _state_roles(names: Any) -> dict[str, str] | None:
@@ -815,47 +796,26 @@ def _state_roles(names: Any) -> dict[str, str] | None:
     return dict(zip(COMPONENTS, map(str, names), strict=True))
 
 
-def _form(found: dict[Role, list[Column]], state: str) -> str:
-    """``"polar"`` if a state has speed or angle columns and no xdot or ydot ones, else ``"cartesian"``."""
-    polar = _names(found, state, ("speed", "angle")) and not _names(found, state, ("xdot", "ydot"))
-    return "polar" if polar else "cartesian"
-
-
 def _columns_call(found: dict[Role, list[Column]], forms: dict[str, str]) -> dict[str, Any]:
     """The columns= argument naming what was found, with ``<...>`` for what was not or is ambiguous."""
     def pick(role: Role, label: str | None = None) -> str:
-        cands = [c.name for c in found[role]]
+        cands = _names(found, *role)
         return cands[0] if len(cands) == 1 else f"<one of {', '.join(cands)}>" if cands else (
             f"<{label or f'{role.state} {role.comp}'} column>")
 
-    def polar(state: str) -> dict[str, str]:
-        return {k: pick(Role(state, c), f"{state} {k}") for k, c in zip(("speed", "angle", "spin"), POLAR, strict=True)}
+    def state(s: str, form: str) -> Any:
+        if form == "polar":
+            return {w: pick(Role(s, c), f"{s} {w}") for w, c in zip(_POLAR_WORDS, POLAR, strict=True)}
+        return [pick(Role(s, c)) for c in COMPONENTS]
 
-    out: dict[str, Any] = {s: polar(s) if forms[s] == "polar" else [pick(Role(s, c)) for c in COMPONENTS]
-                           for s in STATES}
+    out: dict[str, Any] = {s: state(s, forms[s]) for s in STATES}
     out |= {"setting": pick(SETTING)} if found[SETTING] else {}
     for s, pi in zip(STATES, PI_STATES, strict=True):
         if forms[s] == "polar" and _names(found, pi, ("speed", "angle")):
-            out[pi] = polar(pi)
+            out[pi] = state(pi, "polar")
         elif _names(found, pi, COMPONENTS):
-            out[pi] = [pick(Role(pi, c)) for c in COMPONENTS]
+            out[pi] = state(pi, "cartesian")
     return out
-
-
-def _label_number(v: Any, parsed: float) -> int | float | None:
-    """A setting label (``parsed``: its text as a number) as an exact int, a float (non-whole, up to 15 significant
-    digits), or None."""
-    if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.number | str):
-        return None
-    text = v.replace("\u2212", "-") if isinstance(v, str) else ""
-    if isinstance(v, int | np.integer) or re.fullmatch(r"[+-]?\d+", text):
-        return int(text or v)  # exact, however long ("01" is 1)
-    if not math.isfinite(x := float(v) if not isinstance(v, str) else float(parsed)):
-        return None
-    if x.is_integer():
-        return int(x) if abs(x) < 2.0**53 else None
-    digits = len(re.sub(r"[^0-9]", "", v.lower().split("e")[0]).strip("0")) if isinstance(v, str) else 0
-    return x if digits <= 15 else None
 
 
 def _describe_units(cols: Mapping[Role, Column]) -> str:
@@ -863,7 +823,8 @@ def _describe_units(cols: Mapping[Role, Column]) -> str:
     for kind in ("velocity", "spin", "angle"):
         if not (roles := [k for k in cols if k != SETTING and KINDS[k.comp] == kind]):
             continue  # no angle in a Cartesian file
-        same = len({cols[k].unit for k in roles}) == 1
-        parts.append(f"{kind} {cols[roles[0]].unit}" + (" (assumed)" if cols[roles[0]].origin == "assumed" else "")
-                     if same else f"{kind} " + ", ".join(f"{cols[k].name}: {cols[k].unit}" for k in roles))
+        first = cols[roles[0]]
+        parts.append(f"{kind} {first.unit}" + (" (assumed)" if first.origin == "assumed" else "")
+                     if len({cols[k].unit for k in roles}) == 1 else
+                     f"{kind} " + ", ".join(f"{cols[k].name}: {cols[k].unit}" for k in roles))
     return ", ".join(parts)

@@ -1,11 +1,11 @@
 """Landings alone (no lift-offs), as ``bouncelab predict --input`` reads them: the loader's pipeline asked for
 landings only.
 
-A file with a header is read by the text backend (:func:`bouncelab.data.io.read.read_text`) and the steps of
-:mod:`bouncelab.data.io.interpret`: a landing as ``xdot0, ydot0, omega0`` or ``speed, angle, spin`` (any of the
-loader's names, and names without a phase marker: ``vx``, ``speed``...), in any order, other columns left
-alone; units from the header or a units row, else ``units=``, else the scaled ones and degrees. A file without a
-header is three numbers a line (blank, comma or semicolon separated): the columns ``xdot0 ydot0 omega0``.
+A file with a header is read by the text backend and the steps of :mod:`bouncelab.data.io.interpret`: a landing
+as ``xdot0, ydot0, omega0`` or ``speed, angle, spin`` (any of the loader's names, and names without a phase marker:
+``vx``, ``speed``...), in any order, other columns left alone; units from the header or a units row, else
+``units=``, else the scaled ones and degrees. A file without a header is three numbers a line (blank, comma or
+semicolon separated): the columns ``xdot0 ydot0 omega0``.
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ _BARE = {stem: f"landing.{comp}" for comp, stems in (*_STEMS.items(), *POLAR_STE
          if len(stem) > 1 or stem == "w"}
 _ORDER = ("xdot", "ydot", "omega", "speed", "angle")
 _SHOWN = {"xdot": "xdot", "ydot": "ydot", "omega": "spin", "speed": "speed", "angle": "angle"}
+_ROWS = ("xdot0", "ydot0", "omega0")  # the columns of a file without a header
 _NAMING = ("name the columns xdot0, ydot0, omega0, or speed, angle, spin (the angle of incidence below the "
            "horizontal), e.g. a header 'speed,angle,spin' with a units row 'm/s,deg,rpm' under it; or leave the "
            "header out to give three numbers a line, xdot0 ydot0 omega0")
@@ -90,51 +91,46 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
     if first is None and "\x00" not in text:
         raise DataError("no landing rows found (the file is empty or holds only comments)", file=name)
     if first is not None and any(map(is_number, re.split(r"[,;\s]+", lines[first].strip()))):  # no header
-        table = read_text(name, re.sub(r"[,;]", " ", "\n".join(lines)).encode(), names=("xdot0", "ydot0", "omega0"))
-        return _read(ip.start(table, radius, None), {Role("landing", c): ip.Column(n) for c, n in zip(
-            COMPONENTS, ("xdot0", "ydot0", "omega0"), strict=True)}, given, "rows")
+        table = read_text(None, name, raw=re.sub(r"[,;]", " ", "\n".join(lines)).encode(), names=_ROWS)
+        return _read(ip.start(table, radius, None), given, {Role("landing", c): ip.Column(n) for c, n in zip(
+            COMPONENTS, _ROWS, strict=True)})
     # A header that names landing columns is the header (not a title above a stray note with more cells).
-    named = first is not None and any(_role(c.strip()) for c in re.split(r"[,;\t]|\s+", lines[first]) if c.strip())
-    table = read_text(name, "\n".join(lines).encode(), header_row=first + 1 if named else None)
-    return _by_name(ip.start(table, radius, None), given)
+    named = first is not None and any((m := synonym_role(c.strip(), _BARE)) and m[0].startswith("landing.")
+                                      for c in re.split(r"[,;\t]|\s+", lines[first]) if c.strip())
+    table = read_text(None, name, raw="\n".join(lines).encode(), header_row=first + 1 if named else None)
+    return _read(ip.start(table, radius, None), given)
 
 
-def _role(name: str) -> str | None:
-    """The landing role a column name stands for: the loader's synonyms with a phase (``xdot0``, ``vx_in``,
-    ``speed_in``...) or a name without one (``vx``, ``speed``); None for anything else (lift-offs too)."""
-    match = synonym_role(name, _BARE)
-    return match[0] if match is not None and match[0].startswith("landing.") else None
-
-
-def _by_name(r: ip.Rows, given: dict[str, str]) -> LandingTable:
+def _by_name(r: ip.Rows) -> tuple[str, dict[Role, ip.Column]]:
+    """The landing's columns, Cartesian or polar, found by name."""
     if len(r.frame) == 0:
-        raise DataError("the file has a header but no landing rows", file=r.t.file)
+        raise r.err("the file has a header but no landing rows")
     found = ip.candidates(r, _BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
     landing = {c: found[Role("landing", c)] for c in _ORDER}
     if several := [(c, cols) for c, cols in landing.items() if len(cols) > 1]:
         c, cols = several[0]
-        raise DataError(f"the columns {[col.name for col in cols]} all name the landing's {_SHOWN[c]}; keep one, or "
-                        "rename the others", file=r.t.file, column=cols[0].name)
+        raise r.err(f"the columns {[col.name for col in cols]} all name the landing's {_SHOWN[c]}; keep one, or rename "
+                    "the others", cols[0].name)
     if not (has := {c for c, cols in landing.items() if cols}):
         others = [col.name for role, cols in found.items() if role.state == "liftoff" for col in cols]
         said = f"; {others} are lift-off columns, and only landings are read" if others else ""
-        raise DataError(f"no column of the header names a landing: the columns are {r.names}{said}; {_NAMING}",
-                        file=r.t.file)
+        raise r.err(f"no column of the header names a landing: the columns are {r.names}{said}; {_NAMING}")
     if {"xdot", "ydot", "omega"} <= has:
         form, roles = "cartesian", COMPONENTS  # measured components beside derived speeds: the components
     elif {"speed", "angle", "omega"} <= has and not has & {"xdot", "ydot"}:
         form, roles = "polar", POLAR_ROLES
     else:
         read = {_SHOWN[c]: landing[c][0].name for c in _ORDER if c in has}
-        raise DataError(f"the header names the landing's {read} but not its "
-                        f"{' and '.join(_SHOWN[c] for c in COMPONENTS if c not in has)} (for xdot0, ydot0, omega0) nor "
-                        f"its {' and '.join(_SHOWN[c] for c in POLAR_ROLES if c not in has)} (for speed, angle, spin); "
-                        f"the columns are {r.names}: {_NAMING}", file=r.t.file)
-    return _read(r, {Role("landing", c): landing[c][0] for c in roles}, given, form)
+        raise r.err(f"the header names the landing's {read} but not its "
+                    f"{' and '.join(_SHOWN[c] for c in COMPONENTS if c not in has)} (for xdot0, ydot0, omega0) nor its "
+                    f"{' and '.join(_SHOWN[c] for c in POLAR_ROLES if c not in has)} (for speed, angle, spin); the "
+                    f"columns are {r.names}: {_NAMING}")
+    return form, {Role("landing", c): landing[c][0] for c in roles}
 
 
-def _read(r: ip.Rows, cols: dict[Role, ip.Column], given: dict[str, str], form: str) -> LandingTable:
-    """The loader's steps for the landing columns chosen: units, missing and bad cells, polar to Cartesian."""
+def _read(r: ip.Rows, given: dict[str, str], cols: dict[Role, ip.Column] | None = None) -> LandingTable:
+    """The loader's steps for the landing columns (``cols``, else found by name): units, missing and bad cells."""
+    form, cols = ("rows", cols) if cols is not None else _by_name(r)
     ip.check_absolute_units(r, cols)
     if missing := ip.missing_rows(r, [c.name for c in cols.values()]):
         i, (col, cell) = next(iter(missing.items()))
@@ -149,8 +145,8 @@ def _read(r: ip.Rows, cols: dict[Role, ip.Column], given: dict[str, str], form: 
     cols = ip.with_units(r, cols, given)
     velocity = {c.name: c.unit for role, c in cols.items() if KINDS[role.comp] == "velocity"}
     if len(set(velocity.values())) > 1:
-        raise DataError(f"the velocity columns are in different units {velocity}; give both in one unit", file=r.t.file,
-                        column=cols[Role("landing", "ydot")].name)
+        raise r.err(f"the velocity columns are in different units {velocity}; give both in one unit",
+                    cols[Role("landing", "ydot")].name)
     values, names = np.column_stack([c.raw for c in cols.values()]), tuple(c.name for c in cols.values())
     unit_of = {KINDS[role.comp]: c.unit for role, c in cols.items()}
     origins = {KINDS[role.comp]: {"assumed": "default"}.get(c.origin, c.origin) for role, c in cols.items()}

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 SUPPORTED_SUFFIXES = tuple(read.BACKENDS)
 #: The embedded surrogates ``load_campaign("A", surrogate=...)`` accepts (bouncelab.data.embedded.SURROGATES).
 EMBEDDED_SURROGATES = SURROGATES
-DATAFRAME_NAME = read.DATAFRAME_NAME
+_WHY_NOT = {"sheet": " (only Excel files have sheets)", "header_row": " (only text and Excel files have one)"}
 
 
 def _embedded_file(name: str, surrogate: str):
@@ -40,14 +40,11 @@ def _embedded_file(name: str, surrogate: str):
     return path
 
 
-def _not_for(where: str, file: str | None = None, why: str = "", **given: Any) -> None:
+def _not_for(where: str, file: str | None = None, why: bool = False, **given: Any) -> None:
     """Refuse options that do not apply to a source (a sheet of a CSV file...)."""
     for option, value in ((k, v) for k, v in given.items() if v is not None):
-        raise DataError(f"{option.replace('_', ' ')} {value!r} was given, but it does not apply to {where}{why}",
-                        file=file)
-
-
-_WHY_NOT = {"sheet": " (only Excel files have sheets)", "header_row": " (only text and Excel files have one)"}
+        raise DataError(f"{option.replace('_', ' ')} {value!r} was given, but it does not apply to {where}"
+                        f"{_WHY_NOT[option] if why else ''}", file=file)
 
 
 def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Mapping[str, Any] | None = None,
@@ -122,7 +119,7 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     """
     frame = "pandas" in sys.modules and isinstance(source, sys.modules["pandas"].DataFrame)
-    where = DATAFRAME_NAME if frame else str(source)
+    where = read.DATAFRAME_NAME if frame else str(source)
     if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     radius = ball_radius(ball_radius_m, file=where)
@@ -137,13 +134,13 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
                                    or header_row < 1):
         raise DataError(f"the header row is the 1-based line (text file) or row (spreadsheet) of the header, a whole "
                         f"number >= 1; got {header_row!r}", file=None if frame else where)
-    options = {"plausible": plausible, "missing": missing, "intervals": intervals, "ball_radius_m": radius}
+    options = {"plausible": plausible, "missing": missing, "intervals": intervals, "ball_radius_m": radius,
+               "columns": columns, "surface": "" if surface is None else str(surface)}
     if frame:
         _not_for("a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
-        return interpret.campaign_from_table(read.read_dataframe(source, where), columns=columns,
-                                             given=interpret.check_units_arg(units, where), **options,
-                                             campaign="DataFrame" if campaign is None else str(campaign),
-                                             surface="" if surface is None else str(surface), source="pandas.DataFrame")
+        return interpret.campaign_from_table(read.read_dataframe(source, where), **options, source="pandas.DataFrame",
+                                             given=interpret.check_units_arg(units, where),
+                                             campaign="DataFrame" if campaign is None else str(campaign))
     embedded = " and ".join(map(repr, EMBEDDED_CAMPAIGNS))
     if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name, surrogate = source.strip().upper(), DEFAULT_SURROGATE if surrogate is None else surrogate
@@ -172,18 +169,14 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     if (suffix := path.suffix.lower()) not in SUPPORTED_SUFFIXES:
         raise DataError(f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
                         f"{', '.join(SUPPORTED_SUFFIXES)}", file=file)
-    backend = read.BACKENDS[suffix]
-    for option, value in (("sheet", sheet), ("header_row", header_row)):
-        if option not in backend.options:
-            _not_for("this file", file, _WHY_NOT[option], **{option: value})
+    backend, given = read.BACKENDS[suffix], {"sheet": sheet, "header_row": header_row}
+    _not_for("this file", file, True, **{k: v for k, v in given.items() if k not in backend.options})
     check_regular_file(path, file)
-    given = {k: v for k, v in (("sheet", sheet), ("header_row", header_row)) if k in backend.options}
-    table = backend.read(path, file, **given)
+    table = backend.read(path, file, **{k: v for k, v in given.items() if k in backend.options})
     if isinstance(table, xr.Dataset):  # a campaign file
         return interpret.campaign_from_netcdf(table, file=file, source=str(path.resolve()), columns=columns,
                                               given=units, campaign=campaign, surface=surface, ball_radius_m=radius,
                                               plausible=plausible, intervals=intervals)
-    return interpret.campaign_from_table(table, columns=columns, given=interpret.check_units_arg(units, file),
+    return interpret.campaign_from_table(table, **options, given=interpret.check_units_arg(units, file),
                                          campaign=path.stem if campaign is None else str(campaign),
-                                         surface="" if surface is None else str(surface), source=str(path.resolve()),
-                                         **options)
+                                         source=str(path.resolve()))

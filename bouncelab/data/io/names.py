@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import unicodedata
 from collections.abc import Mapping
+from contextlib import suppress
 from typing import Any
 
 import numpy as np
@@ -92,8 +93,7 @@ def marked(key: str, table: Mapping[str, str]) -> tuple[str, str] | None:
     for m in _PI_MARKERS:
         for rest in (key[: -len(m)] if key.endswith(m) else None, key[len(m):] if key.startswith(m) else None):
             if rest and rest in table:
-                state, comp = table[rest].split(".")
-                return f"{state}_pi.{comp}", m
+                return table[rest].replace(".", "_pi."), m
     return None
 
 
@@ -130,10 +130,8 @@ def unit_of(text: str) -> dict[str, str]:
     """Canonical unit of ``text`` for each kind it is a unit of (velocity, spin, angle); empty if none."""
     found = {}
     for kind in ("velocity", "spin", "angle"):
-        try:
+        with suppress(DataError):
             found[kind] = canonical_unit(text, kind)
-        except DataError:
-            pass
     return found
 
 

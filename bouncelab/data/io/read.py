@@ -1,8 +1,8 @@
 """The format backends: each reads one kind of file (or a DataFrame) into one :class:`Table`.
 
-A backend finds the header, a units row under it and where each row is in the file; what the cells mean
-is for :mod:`bouncelab.data.io.interpret`. ``pandas.read_csv`` reads text tables (the delimiter is told
-by :class:`csv.Sniffer`), ``pandas.read_excel`` workbooks, ``scipy.io.loadmat`` MATLAB files and
+A backend finds the header, a units row under it and where each row is in the file; what the cells mean is for
+:mod:`bouncelab.data.io.interpret`. ``pandas.read_csv`` reads text tables (the delimiter told by
+:class:`csv.Sniffer`), ``pandas.read_excel`` workbooks, ``scipy.io.loadmat`` MATLAB files and
 ``xarray.open_dataset`` netCDF files. :data:`BACKENDS` maps each suffix to its backend.
 """
 
@@ -19,6 +19,7 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
+from itertools import islice
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -35,6 +36,8 @@ DATAFRAME_NAME = "<DataFrame>"
 # Cells a person reads as "no value": spreadsheet error codes and the usual placeholders.
 MISSING = frozenset({"", "na", "n/a", "n.a.", "nan", "null", "none", "missing", "-", "--", "?", "#n/a", "#na",
                      "#value!", "#ref!", "#div/0!", "#num!", "#name?", "#null!"})
+_BREAK = re.compile(rb"\r\n|\r|\n")  # lines end at these only, as in spreadsheets
+_TAB_ONLY = re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)")
 
 
 def module_available(name: str) -> bool:
@@ -48,15 +51,11 @@ def is_empty(v: Any) -> bool:
 
 @dataclass(frozen=True)
 class Table:
-    """A file's data rows as one DataFrame (``cells``: names as in the file; numbers where the format or pandas
-    typed a whole column, else the cells as written) and where they came from.
-
-    ``units``: column -> (unit, where) given beside the names (a units row, a netCDF attribute);
-    ``locate(row, column)``: where data row ``row`` (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``);
-    ``text(column)``: a text file's cells as written; ``labels``: a DataFrame's row labels; ``delimiter``: a text
-    file's (a semicolon, tab or blank-separated one may write decimal commas); ``lengths``: each column's length
-    in a file of separate arrays (``.mat``, netCDF), padded in ``cells``.
-    """
+    """A file's data rows (``cells``: names as in the file; numbers where the format or pandas typed a whole
+    column, else the cells as written); ``units``: column -> (unit, where) given beside the names; ``locate(row,
+    column)``: where data row ``row`` (0-based) is (``"line 5"``, ``"cell E5 of sheet 'B'"``); ``text(column)``: a
+    text file's cells as written; ``labels``: a DataFrame's row labels; ``delimiter``: a text file's (not a comma:
+    decimal commas may be written); ``lengths``: each column's length in a file of separate arrays (padded)."""
 
     file: str
     cells: pd.DataFrame
@@ -70,11 +69,10 @@ class Table:
 
 def check_names(names: Sequence[str], file: str) -> None:
     """A header names each column once."""
-    seen: dict[str, int] = {}
     for j, name in enumerate(names):
-        if name and seen.setdefault(name, j) != j:
-            raise DataError(f"the header names column {name!r} twice (columns {seen[name] + 1} and {j + 1}); "
-                            "rename one of them", file=file, column=name)
+        if name and (k := list(names).index(name)) != j:
+            raise DataError(f"the header names column {name!r} twice (columns {k + 1} and {j + 1}); rename one of them",
+                            file=file, column=name)
 
 
 def units_row(names: Sequence[str], cells: Sequence, blank: Callable[[Any], bool]) -> dict[str, tuple[str, str]]:
@@ -93,8 +91,6 @@ def looks_like_title(title: list, header: list, first_row: list, blank: Callable
     return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(is_number, t)) and not any(map(is_number, h))
             and (any(map(is_number, d)) or is_units_row(first_row, blank)))
 
-
-# ------------------------------------------------------------------------------------------------ text tables
 
 def _comment(line: str) -> bool:
     return line.lstrip().startswith(("#", "%"))
@@ -128,46 +124,15 @@ class _Line(NamedTuple):
     end: int  # the byte after its line break
 
 
-_BREAK = re.compile(rb"\r\n|\r|\n")  # lines end at these only, as in spreadsheets
-
-
 def _lines(raw: bytes, start: int, enc: str, first: int = 1):
-    """The lines of ``raw`` from byte ``start`` (line ``first``)."""
+    """The non-blank lines of ``raw`` from byte ``start`` (line ``first``)."""
     pos, no = start, first
     for m in _BREAK.finditer(raw, start):
-        yield _Line(no, raw[pos:m.start()].decode(enc), m.end())
+        if (text := raw[pos:m.start()].decode(enc)).strip():
+            yield _Line(no, text, m.end())
         pos, no = m.end(), no + 1
-    if pos < len(raw):
-        yield _Line(no, raw[pos:].decode(enc), len(raw))
-
-
-def _header(lines: list[_Line], k: int) -> int:
-    """The header: the first line that is not a comment (``k``), or one below it above which every line is a
-    title (:func:`looks_like_title`)."""
-    for h in range(k + 1, min(k + 11, len(lines) - 1)):
-        below = [ln.text for ln in lines[h:h + 50] if not _comment(ln.text)]
-        if len(below) < 2 or _comment(lines[h].text):
-            continue
-        delim = sniff(below)
-        try:
-            header, first, *titles = (_split(t, delim) for t in (*below[:2], *(ln.text for ln in lines[k:h]
-                                                                               if not _comment(ln.text))))
-        except csv.Error:
-            continue
-        if all(looks_like_title(t, header, first, lambda c: not c.strip()) for t in titles):
-            return h
-    return k
-
-
-def _plain(raw: bytes, at: int, delim: str | None) -> bool:
-    """Whether pandas reads each non-blank line of ``raw`` from ``at`` as a row: no comment line, no tab-only line."""
-    for mark in (b"#", b"%"):  # bytes.find: a scan of a large file at memory speed
-        k = raw.find(mark, at)
-        while k >= 0:
-            if not raw[max(raw.rfind(b"\n", at, k), raw.rfind(b"\r", at, k), at - 1) + 1:k].strip():
-                return False
-            k = raw.find(mark, k + 1)
-    return not (delim == "\t" and re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)").search(raw, at))
+    if (text := raw[pos:].decode(enc)).strip():
+        yield _Line(no, text, len(raw))
 
 
 class _Header(NamedTuple):
@@ -178,37 +143,49 @@ class _Header(NamedTuple):
     first_no: int  # the line number of the first of them
 
 
-def _find_header(file: str, raw: bytes, head: list[_Line], first: int, header_row: int | None) -> _Header:
+def _titles_above(text: list[str], k: int, h: int) -> bool:
+    """Whether line ``h`` is the header and the lines from ``k`` to it are titles (:func:`looks_like_title`)."""
+    below = [t for t in text[h:h + 50] if not _comment(t)]
+    if len(below) < 2 or _comment(text[h]):
+        return False
+    delim = sniff(below)
+    try:
+        header, first, *titles = (_split(t, delim) for t in (*below[:2], *text[k:h]) if not _comment(t))
+    except csv.Error:
+        return False
+    return all(looks_like_title(t, header, first, lambda c: not c.strip()) for t in titles)
+
+
+def _find_header(file: str, raw: bytes, head: list[_Line], header_row: int | None) -> _Header:
     """The header (the line ``header_row`` names, else the first that is neither a comment nor a title), its
     delimiter, and the units row under it."""
+    text = [ln.text for ln in head]
+    if (k := next((k for k, t in enumerate(text) if not _comment(t)), None)) is None:
+        raise DataError("the file is empty (no header, no data)", file=file)
     if header_row is None:
-        h = _header(head, first)
-    elif (h := next((k for k, ln in enumerate(head) if ln.no == header_row), None)) is None:
-        said = (f"the file has {n} lines" if header_row > (n := _count_lines(raw)) else
+        h = next((h for h in range(k + 1, min(k + 11, len(head) - 1)) if _titles_above(text, k, h)), k)
+    elif (h := next((j for j, ln in enumerate(head) if ln.no == header_row), None)) is None:
+        said = (f"the file has {n} lines" if header_row > (n := len(raw.splitlines())) else
                 f"line {header_row} is blank; a header names the columns")
         raise DataError(f"header row {header_row}: {said}", file=file)
-    below = [ln.text for ln in head[h + 1:h + 50] if not _comment(ln.text)]
-    delim = sniff([head[h].text, *below])
+    below = [t for t in text[h + 1:h + 50] if not _comment(t)]
+    delim = sniff([text[h], *below])
     try:
-        names = [c.strip() for c in _split(head[h].text, delim)] if delim is not None else [
+        names = [c.strip() for c in _split(text[h], delim)] if delim is not None else [
             n.replace("\x00", " ") for n in re.sub(r"\s+(?=[\[\(\{][^\s\]\)\}]*[\]\)\}](\s|$))", "\x00",
-                                                 head[h].text).split()]  # "vx0 [m/s]" is one name
+                                                 text[h]).split()]  # "vx0 [m/s]" is one name
         list(csv.reader(below, delimiter=delim or " "))  # a cell beyond the csv module's limit is no number
     except csv.Error as exc:
         raise DataError(f"line {head[h].no}: cannot split the header or the lines under it: {exc}", file=file) from None
     while names and not names[-1]:
         names.pop()
     check_names(names, file)
-    k = next((k for k in range(h + 1, len(head)) if not _comment(head[k].text)), None)
-    if k is not None and not any(_data_shaped(_split(ln.text, delim), len(names)) for ln in head[h + 1:k]):
-        cells = _split(head[k].text, delim)  # a units row is the first row: not under a commented-out row
+    k = next((k for k in range(h + 1, len(head)) if not _comment(text[k])), None)
+    if k is not None and not any(_data_shaped(_split(t, delim), len(names)) for t in text[h + 1:k]):
+        cells = _split(text[k], delim)  # a units row is the first row: not under a commented-out row
         if (delim is not None or len(cells) == len(names)) and (units := units_row(names, cells, lambda c: not c)):
             return _Header(names, delim, units, head[k].end, head[k].no + 1)
     return _Header(names, delim, {}, head[h].end, head[h].no + 1)
-
-
-def _count_lines(raw: bytes) -> int:
-    return len(_BREAK.findall(raw)) + (not raw.endswith((b"\n", b"\r")) and len(raw) > 0)
 
 
 def _wrong_width(file: str, hd: _Header, given: bool, lineno: int, n: int, row: int) -> DataError:
@@ -227,30 +204,33 @@ def _wrong_width(file: str, hd: _Header, given: bool, lineno: int, n: int, row: 
 def _kept_lines(file: str, raw: bytes, enc: str, hd: _Header, given: bool) -> tuple[bytes, list[int]]:
     """The data lines of a file with comment lines among them (a comment shaped like a row refused), and their
     line numbers; a blank-separated row must have the header's width."""
-    kept, linenos = [], []
+    kept: list[_Line] = []
     for ln in _lines(raw, hd.at, enc, hd.first_no):
-        if ln.text.strip() and _comment(ln.text):
+        if _comment(ln.text):
             if not _data_shaped(cells := _split(ln.text, hd.delim), len(hd.names)):
                 continue
             if cells[0].strip().lower() not in MISSING:
                 mark = ln.text.lstrip()[0]
                 raise DataError(f"line {ln.no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
                                 f"values like the data: delete the line if it is commented out, or remove the "
-                                f"{mark!r}", file=file, row=len(linenos) + 1)
-        elif hd.delim is None and ln.text.strip() and len(ln.text.split()) != len(hd.names):
-            raise _wrong_width(file, hd, given, ln.no, len(ln.text.split()), len(linenos) + 1)
-        if ln.text.strip():
-            kept.append(ln.text)
-            linenos.append(ln.no)
-    return "\n".join(kept).encode(enc), linenos
+                                f"{mark!r}", file=file, row=len(kept) + 1)
+        elif hd.delim is None and len(ln.text.split()) != len(hd.names):
+            raise _wrong_width(file, hd, given, ln.no, len(ln.text.split()), len(kept) + 1)
+        kept.append(ln)
+    return "\n".join(ln.text for ln in kept).encode(enc), [ln.no for ln in kept]
 
 
-def read_text(file: str, raw: bytes, header_row: int | None = None, names: Sequence[str] | None = None,
-              path: Path | None = None, stamp: tuple[int, int] | None = None) -> Table:
-    """A ``.csv``, ``.tsv`` or ``.txt`` table: UTF-8 (a BOM is fine) else Latin-1; see docs/data.md. With ``names``
-    the file has no header: every line that is not a comment is a row of these columns, blank-separated. ``path``,
-    the file ``raw`` was read from with its (size, mtime) ``stamp``: the cells of a large plain file are read again
-    from it when a message or a label needs their text, so that the bytes need not stay in memory."""
+def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_row: int | None = None,
+              names: Sequence[str] | None = None) -> Table:
+    """A ``.csv``, ``.tsv`` or ``.txt`` table (``raw``, else read from ``path``): UTF-8 (a BOM is fine) else Latin-1;
+    see docs/data.md. With ``names`` the file has no header: every line that is not a comment is a row of these
+    columns, blank-separated. The cells of a large plain file read from ``path`` are read again from it when a
+    message or a label needs their text, so that the bytes need not stay in memory."""
+    if raw is None:
+        stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
+        raw = read_regular_file(path, file)
+    else:
+        path = None
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
     enc = "utf-8"
@@ -260,39 +240,33 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
         except UnicodeDecodeError:
             enc = "latin-1"
     start = 3 if enc == "utf-8" and raw.startswith(b"\xef\xbb\xbf") else 0
-    head: list[_Line] = []  # the head of the file: its non-blank lines
-    for ln in _lines(raw, start, enc):
-        head += [ln] if ln.text.strip() else []
-        if len(head) > 63 and ln.no > (header_row or 0) + 51:
-            break
-    if (first := next((k for k, ln in enumerate(head) if not _comment(ln.text)), None)) is None:
-        raise DataError("the file is empty (no header, no data)", file=file)
+    head = list(islice(_lines(raw, start, enc), max(64, (header_row or 0) + 51)))  # the non-blank lines of the head
     given = names is not None
-    hd = _Header(list(names), None, {}, start, 1) if given else _find_header(file, raw, head, first, header_row)
+    hd = _Header(list(names), None, {}, start, 1) if given else _find_header(file, raw, head, header_row)
     width, delim = len(hd.names), hd.delim
     body, at, linenos = raw, hd.at, []  # the data: raw from byte at, or the lines kept of it
-    if not _plain(raw, hd.at, delim):  # comment lines: refuse those shaped like data, skip the others
+    if not _plain(raw, at, delim):  # comment lines: refuse those shaped like data, skip the others
         (body, linenos), at = _kept_lines(file, raw, enc, hd, given), 0
     frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
-    if path is None or body is not raw:
-        data = (lambda kept=body: kept)  # noqa: E731 - the lines kept (or the bytes given) stay in memory
-    else:
-        def data() -> bytes:
-            again = read_regular_file(path, file)
-            if (len(again), path.stat().st_mtime_ns) != stamp:
-                raise DataError("the file changed while it was being read; load it again", file=file)
-            return again
+    kept = body if path is None or body is not raw else None  # else read again from the disk when asked
+
+    def data() -> bytes:
+        if kept is not None:
+            return kept
+        if (len(again := read_regular_file(path, file)), path.stat().st_mtime_ns) != stamp:
+            raise DataError("the file changed while it was being read; load it again", file=file)
+        return again
 
     def locate(row: int, column: str | None = None) -> str:
         if not linenos:  # every non-blank line is a row: found when a message asks
-            linenos.extend(ln.no for ln in _lines(data(), at, enc, hd.first_no) if ln.text.strip())
+            linenos.extend(ln.no for ln in _lines(data(), at, enc, hd.first_no))
         return f"line {linenos[row]}"
 
-    extra = frame.iloc[:, width:].ne("").any(axis=1) if frame.shape[1] > width else pd.Series(False, frame.index)
-    short = frame.iloc[:, width - 1].eq("") if delim is None and width else pd.Series(False, frame.index)
-    if (bad := extra | short).any():
-        i = int(np.argmax(bad.to_numpy()))
-        cells = frame.iloc[i].ne("").to_numpy()
+    bad = frame.iloc[:, width:].ne("").any(axis=1)  # a cell beyond the header's width
+    if delim is None:
+        bad |= frame.iloc[:, width - 1].eq("")  # a short row: no empty cell can be seen
+    if bad.any():
+        cells = frame.iloc[i := int(np.argmax(bad.to_numpy()))].ne("").to_numpy()
         n = int(cells.nonzero()[0].max()) + 1 if delim is not None else int(cells.sum())
         raise _wrong_width(file, hd, given, int(locate(i).split()[1]), n, i + 1)
     frame = frame.iloc[:, :width].set_axis(hd.names, axis=1)
@@ -307,13 +281,23 @@ def read_text(file: str, raw: bytes, header_row: int | None = None, names: Seque
     return Table(file, frame, hd.units, locate, text, delimiter=delim)
 
 
+def _plain(raw: bytes, at: int, delim: str | None) -> bool:
+    """Whether pandas reads each non-blank line of ``raw`` from ``at`` as a row: no comment line, no tab-only line."""
+    for mark in (b"#", b"%"):  # bytes.find: a scan of a large file at memory speed
+        k = raw.find(mark, at)
+        while k >= 0:
+            if not raw[max(raw.rfind(b"\n", at, k), raw.rfind(b"\r", at, k), at - 1) + 1:k].strip():
+                return False
+            k = raw.find(mark, k + 1)
+    return not (delim == "\t" and _TAB_ONLY.search(raw, at))
+
+
 def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
            usecols: list[int] | None = None) -> pd.DataFrame:
     """pandas' reading of the data lines (``body`` from byte ``at``): every cell as written (``as_text``) or numbers
     where a column holds only numbers; nothing taken as missing (``NA`` stays text); a longer row widens ``width``."""
     while True:
-        source = io.BytesIO(body)  # shares the bytes
-        source.seek(at)
+        (source := io.BytesIO(body)).seek(at)  # shares the bytes
         try:
             with warnings.catch_warnings():  # pandas types a long file chunk by chunk: a mixed column is cells
                 warnings.simplefilter("ignore", pd.errors.DtypeWarning)
@@ -332,13 +316,6 @@ def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: 
             width = int(more.group(1))
 
 
-def read_text_file(path: Path, file: str, *, header_row: int | None = None, **_: Any) -> Table:
-    stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
-    return read_text(file, read_regular_file(path, file), header_row=header_row, path=path, stamp=stamp)
-
-
-# ------------------------------------------------------------------------------------------------ Excel
-
 def _col_letter(j: int) -> str:
     out, j = "", j + 1
     while j:
@@ -349,11 +326,11 @@ def _col_letter(j: int) -> str:
 
 def read_excel(path: Path, file: str, *, sheet: str | int | None = None, header_row: int | None = None) -> Table:
     """One sheet of an ``.xlsx`` (openpyxl) or ``.xls`` (xlrd) workbook: the first visible one, or ``sheet``."""
-    for suffix, package, more in ((".xlsx", "openpyxl", ""), (".xls", "xlrd", ", or save it as .xlsx")):
-        if path.suffix.lower() == suffix and not module_available(package):
-            raise DataError(f"reading {'an old-style ' if suffix == '.xls' else 'an '}Excel workbook ({suffix}) needs "
-                            f"the package {package}: pip install 'bouncelab[excel]' (or pip install {package}){more}",
-                            file=file)
+    old, suffix = path.suffix.lower() == ".xls", path.suffix.lower()
+    if not module_available(package := "xlrd" if old else "openpyxl"):
+        raise DataError(f"reading {'an old-style' if old else 'an'} Excel workbook ({suffix}) needs the package "
+                        f"{package}: pip install 'bouncelab[excel]' (or pip install {package})"
+                        f"{', or save it as .xlsx' if old else ''}", file=file)
     try:
         with pd.ExcelFile(path) as xf:
             names, book = list(xf.sheet_names), xf.book
@@ -361,52 +338,45 @@ def read_excel(path: Path, file: str, *, sheet: str | int | None = None, header_
                 "hidden", "veryHidden")}  # openpyxl
             if hasattr(book, "sheet_by_index"):  # xlrd
                 hidden |= {sh.name for sh in book.sheets() if getattr(sh, "visibility", 0)}
-            if sheet is None:
-                if not (visible := [k for k, n in enumerate(names) if n not in hidden]):
-                    raise DataError(f"every sheet of the workbook is hidden ({names}); name the one to read", file=file,
-                                    hints=[Hint("sheet", names[0])])
-                sheet = visible[0]  # the first sheet a person sees in Excel
+            if sheet is None and not (visible := [k for k, n in enumerate(names) if n not in hidden]):
+                raise DataError(f"every sheet of the workbook is hidden ({names}); name the one to read", file=file,
+                                hints=[Hint("sheet", names[0])])
+            sheet = visible[0] if sheet is None else sheet  # the first sheet a person sees in Excel
             if isinstance(sheet, str) and sheet.isdigit() and sheet not in names:
                 sheet = int(sheet)  # "1" (as a command line gives it): the sheet named "1", else the index 1
-            index = isinstance(sheet, int) and not isinstance(sheet, bool)
-            if index and not 0 <= sheet < len(names):
+            if isinstance(sheet, int) and not isinstance(sheet, bool) and not 0 <= sheet < len(names):
                 raise DataError(f"sheet index {sheet} out of range; the workbook's sheets are {names}", file=file)
-            if not index and str(sheet) not in names:
+            if (name := names[sheet] if isinstance(sheet, int) and not isinstance(sheet, bool) else str(sheet)) \
+                    not in names:
                 raise DataError(f"no sheet {sheet!r}; the workbook's sheets are {names}", file=file)
-            sheet_name = names[sheet] if index else str(sheet)
-            grid = pd.read_excel(xf, sheet_name=sheet_name, header=None, dtype=object).values.tolist()
+            grid = pd.read_excel(xf, sheet_name=name, header=None, dtype=object).values.tolist()
     except DataError:
         raise
     except Exception as exc:
         raise DataError(f"cannot read it as an Excel workbook ({type(exc).__name__}: {exc})", file=file) from None
     if not (keep := [k for k, r in enumerate(grid) if not all(map(is_empty, r))]):
-        raise DataError(f"sheet {sheet_name!r} is empty (no header, no data)", file=file)
-    if header_row is not None:
-        if header_row > len(grid) or header_row - 1 not in keep:
-            what = (f"sheet {sheet_name!r} has {len(grid)} rows" if header_row > len(grid) else
-                    f"row {header_row} of sheet {sheet_name!r} is empty; a header names the columns")
-            raise DataError(f"header row {header_row}: {what}", file=file)
-        keep = keep[keep.index(header_row - 1):]
+        raise DataError(f"sheet {name!r} is empty (no header, no data)", file=file)
+    if header_row is not None and (header_row > len(grid) or header_row - 1 not in keep):
+        what = (f"sheet {name!r} has {len(grid)} rows" if header_row > len(grid) else
+                f"row {header_row} of sheet {name!r} is empty; a header names the columns")
+        raise DataError(f"header row {header_row}: {what}", file=file)
+    keep = keep if header_row is None else keep[keep.index(header_row - 1):]
     while header_row is None and len(keep) > 2 and looks_like_title(*(grid[k] for k in keep[:3]), is_empty):
         keep = keep[1:]  # a title or note above the header
     header = ["" if is_empty(c) else str(c).strip() for c in grid[keep[0]]]
     while header and not header[-1]:
         header.pop()
+    check_names(header, file)
     rows = [(grid[k] + [None] * len(header))[: len(header)] for k in keep[1:]]
-    sheet_rows = [k + 1 for k in keep[1:]]
     if rows and (units := units_row(header, rows[0], is_empty)):
-        rows, sheet_rows = rows[1:], sheet_rows[1:]
+        rows, keep = rows[1:], keep[1:]
 
     def locate(row: int, column: str | None = None) -> str:
-        if column in header:
-            return f"cell {_col_letter(header.index(column))}{sheet_rows[row]} of sheet {sheet_name!r}"
-        return f"row {sheet_rows[row]} of sheet {sheet_name!r}"
+        cell = f"cell {_col_letter(header.index(column))}" if column in header else "row "
+        return f"{cell}{keep[row + 1] + 1} of sheet {name!r}"
 
-    check_names(header, file)
     return Table(file, pd.DataFrame(rows, columns=header, dtype=object), units, locate, delimiter=",")
 
-
-# ------------------------------------------------------------------------------------------------ a DataFrame
 
 def read_dataframe(df: pd.DataFrame, file: str) -> Table:
     """A DataFrame read as a file: its column names are the header (a units row under it counts), its rows the data."""
@@ -421,8 +391,6 @@ def read_dataframe(df: pd.DataFrame, file: str) -> Table:
     return Table(file, frame, units if len(frame) else {}, labels=labels)
 
 
-# ------------------------------------------------------------------------------------------------ arrays
-
 def _arrays(file: str, columns: list[tuple[str, Any]], units: dict[str, tuple[str, str]]) -> Table:
     """A table of separate arrays (``.mat``, netCDF), padded to the longest; the lengths are checked when read."""
     if not columns:
@@ -434,15 +402,12 @@ def _arrays(file: str, columns: list[tuple[str, Any]], units: dict[str, tuple[st
 
 def _scalar(v: Any) -> Any:
     """A MATLAB scalar (number or string) as a Python value, else ``None``."""
-    if isinstance(v, np.ndarray):
-        if v.size != 1:
-            return None
+    if isinstance(v, np.ndarray) and v.size == 1:
         v = v.reshape(()).item()
     if isinstance(v, bytes):
         return v.decode("utf-8", "replace")
-    if isinstance(v, bool) or not isinstance(v, int | float | str | np.number):
-        return None
-    return v.item() if isinstance(v, np.number) else v
+    ok = isinstance(v, int | float | str | np.number) and not isinstance(v, bool)
+    return (v.item() if isinstance(v, np.number) else v) if ok else None
 
 
 #: Seconds the crash probe of a ``.mat`` file may take before the file is refused.
@@ -459,15 +424,14 @@ def read_mat(path: Path, file: str, **_: Any) -> Table:
 
     # A damaged file can crash scipy's reader (one byte of a data-type tag): parse it in a child first.
     try:
-        proc = subprocess.run([sys.executable, "-c", _PROBE, str(path)], capture_output=True,
-                              timeout=MAT_PROBE_TIMEOUT_S, check=False)
+        code = subprocess.run([sys.executable, "-c", _PROBE, str(path)], capture_output=True,
+                              timeout=MAT_PROBE_TIMEOUT_S, check=False).returncode
     except subprocess.TimeoutExpired:
         raise DataError(f"reading it as a MATLAB file took over {MAT_PROBE_TIMEOUT_S:g} s; the file is damaged",
                         file=file) from None
-    if proc.returncode != 0:
-        signals = signal.Signals._value2member_map_
-        how = f"signal {signals[-proc.returncode].name}" if -proc.returncode in signals else (
-            f"exit status {proc.returncode}")
+    if code != 0:
+        how = f"signal {signal.Signals(-code).name}" if -code in signal.Signals._value2member_map_ else (
+            f"exit status {code}")
         raise DataError(f"the MATLAB reader (scipy.io.loadmat) crashed on it ({how}): the file is damaged; save it "
                         "again from MATLAB or write a CSV", file=file)
     try:
@@ -492,7 +456,7 @@ def read_mat(path: Path, file: str, **_: Any) -> Table:
         elif val.dtype.kind == "O" and val.size and all(isinstance(e, mat_struct) for e in val.flat):
             for f in next(iter(val.flat))._fieldnames:  # a struct array: one scalar per element
                 cells = [_scalar(getattr(e, f, None)) for e in val.flat]
-                entries.extend([(f, qual, cells)] if all(c is not None for c in cells) else [])
+                entries.extend([(f, qual, cells)] if None not in cells else [])
         elif val.dtype.kind in "iuf" and val.ndim <= 2:
             cols = [(name, val.reshape(-1))] if val.ndim < 2 else [(f"{name}_{k + 1}", val[:, k])
                                                                    for k in range(val.shape[1])]
@@ -551,7 +515,7 @@ class Backend(NamedTuple):
 
 #: The backend of each suffix :func:`~bouncelab.data.io.load_campaign` reads (case-insensitive).
 BACKENDS: dict[str, Backend] = {
-    **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text_file, ("header_row",))),
+    **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text, ("header_row",))),
     **dict.fromkeys((".xlsx", ".xls"), Backend(read_excel, ("sheet", "header_row"))),
     ".mat": Backend(read_mat),
     **dict.fromkeys((".nc", ".netcdf"), Backend(read_netcdf)),

@@ -5,7 +5,6 @@ from __future__ import annotations
 import errno
 import os
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -14,19 +13,6 @@ from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError, OutputError
 from bouncelab.data.campaign import validate_campaign
 from bouncelab.data.io.read import NETCDF_SUFFIXES, module_available
-
-
-def _netcdf_engine() -> str:
-    return next((e.lower() for e in ("netCDF4", "h5netcdf") if module_available(e)), "scipy")
-
-
-def _check_attr(key: str, value: Any, file: str) -> None:
-    ok = isinstance(value, str | int | float | np.floating | np.integer) and not isinstance(value, bool)
-    if isinstance(value, list | tuple | np.ndarray):
-        ok = (arr := np.asarray(value)).ndim == 1 and arr.dtype.kind in "iuf"
-    if not ok:
-        raise DataError(f"attribute {key!r} = {value!r} cannot be stored in netCDF (use a string, a number or a 1-D "
-                        "list of numbers)", file=file)
 
 
 def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str | None = None) -> Path:
@@ -68,8 +54,14 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
                           reason="the folder does not exist", errno=errno.ENOENT)
     checked = validate_campaign(ds, file=file)
     for key, value in checked.attrs.items():
-        _check_attr(key, value, file)
-    engine = engine or _netcdf_engine()
+        if isinstance(value, list | tuple | np.ndarray):
+            ok = (arr := np.asarray(value)).ndim == 1 and arr.dtype.kind in "iuf"
+        else:
+            ok = isinstance(value, str | int | float | np.floating | np.integer) and not isinstance(value, bool)
+        if not ok:
+            raise DataError(f"attribute {key!r} = {value!r} cannot be stored in netCDF (use a string, a number or a "
+                            "1-D list of numbers)", file=file)
+    engine = engine or next((e.lower() for e in ("netCDF4", "h5netcdf") if module_available(e)), "scipy")
     checked = _storable_settings(checked, engine)
     # Atomic, keeping the target's permission bits, and writing through a symlink (bouncelab.core.atomic).
     try:
