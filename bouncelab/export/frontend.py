@@ -225,7 +225,7 @@ def _refuse(fn: _Function, node: ast.AST | None, what: str, detail: str = "") ->
     line = None if line is None else line + fn.line_offset
     where = f"{fn.qualname} ({fn.file}" + (f", line {line}" if line else "") + ")"
     text = (f"cannot translate {where}: {what}{': ' + detail if detail else ''} is outside the subset "
-            "bouncelab.export translates (see bouncelab.export.translate); nothing was written")
+            "bouncelab.export translates (see bouncelab.export.frontend); nothing was written")
     return ExportError(text, function=fn.qualname, file=fn.file, line=line, construct=what)
 
 
@@ -425,12 +425,13 @@ class _Typer:
 
     def store(self, target: ast.Subscript, t: Any, s: ast.stmt) -> None:
         """``array[i, j] = value``: an element of an array argument, assigned a number or a boolean."""
-        if not (isinstance(target.value, ast.Name) and target.value.id in self.fn.params):
+        at = self.expr(target.value) if isinstance(target.value, ast.Name) else None
+        if not isinstance(at, ArrayType):
+            raise _refuse(self.fn, s, "assigning to " + ast.unparse(target), "only an element of an array can be "
+                          "assigned")
+        if target.value.id not in self.fn.params and not at.empty:
             raise _refuse(self.fn, s, "assigning to " + ast.unparse(target), "only an element of an array "
                           "argument can be assigned")
-        at = self.expr(target.value)
-        if not isinstance(at, ArrayType):
-            raise _refuse(self.fn, s, f"assigning to an element of a {at}")
         self.expr(target)  # its indices
         if not (_numeric(t) or t == BOOL) or (at.dtype == INT and t == FLOAT):
             raise _refuse(self.fn, s, f"storing a {t} into an {at}")

@@ -250,7 +250,8 @@ class _Surface:
         compiled = compiled_lift(law)
         if compiled is None:
             raise ExportError(f"{self.law_name} has no compiled kernel: only a surface whose law's maths is a numba "
-                              "kernel (every built-in law, a CompiledLaw of your own) can be exported", law=self.law_name)
+                              "kernel (every built-in law, a CompiledLaw of your own) can be exported",
+                              law=self.law_name)
         self.lift, args = compiled
         self.plane = "own" if getattr(law, "kernel_3d", None) is not None else lift_plane(law)
         names = list(inspect.signature(law.kernel.py_func).parameters)[3:]
@@ -277,7 +278,6 @@ class _Surface:
                  "limit": _Arg("value", "limit", STATE_LIMIT, FLOAT),
                  "tan_roll": _Arg("value", "tan_roll", 1.4 * surface.rolling_resistance, FLOAT),
                  "tan_skid": _Arg("value", "tan_skid", 3.5 * surface.sliding_friction, FLOAT)}
-        row = _arr(1, 3)
 
         def scratch(name: str, *shape: int, dtype: str = FLOAT) -> _Arg:
             return _Arg("scratch", name, None, _arr(*shape, dtype=dtype))
@@ -697,8 +697,9 @@ def surface_cs(surface: Any, class_name: str = DEFAULT_SURFACE_CLASS, namespace:
     fields.append("[ThreadStatic] private static double[] s_time;")
     allocs.append("s_time = new double[1];")
     refusal_text = "\n".join(f"            case {c}: return {_cs_string(t)};" for c, t in REFUSALS.items())
-    inner = f"""/// <summary>The ground phase of surface {_xml(s.surface.name)} exported by bouncelab: bouncelab.ground's
-/// kernels in C#, the surface's values baked in (SI units; see the comment at the top of the file).</summary>
+    inner = f"""/// <summary>The ground phase of surface {_xml(s.surface.name)} exported by bouncelab:
+/// bouncelab.ground's kernels in C#, the surface's values baked in (SI units; see the comment at the top of the
+/// file).</summary>
 public static class {{CLASS}} {{
     /// <summary>The surface's name in bouncelab.</summary>
     public const string SurfaceName = {_cs_string(s.surface.name)};
