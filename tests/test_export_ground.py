@@ -48,6 +48,13 @@ SURFACES = {
     "penner_fixed": lambda: Surface("tilted turf", bl.PennerFixed.published("A").replace(fade_xdot=40.0),
                                     sliding_friction=0.45, stimp_ft=8.5, pivot_retention=0.9),
 }
+#: Laws lifted in the plane of travel (a law with arrays among its values) and of the slip (sin, cos: the JavaScript
+#: and C# math libraries' last bits).
+OTHER_LIFTS = {
+    "piecewise": lambda: Surface("affine turf", bl.PiecewiseAffine.published("B"), sliding_friction=0.4, stimp_ft=9.0),
+    "compliant": lambda: Surface("springy", bl.CompliantImpact(r=0.5, mu=0.4, kappa=3.0), sliding_friction=0.4,
+                                 stimp_ft=9.0, pivot_retention=0.5),
+}
 
 
 def shots(n: int, seed: int = 0, max_slope_deg: float = 2.5) -> np.ndarray:
@@ -291,6 +298,24 @@ def test_three_surfaces_2000_landings_on_slopes(tmp_path, lang):
         check(run_exported(cmd, name, rows, tmp_path), ref)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("lang", ["c", "js", "cs"])
+def test_laws_lifted_in_the_plane_of_travel_and_of_the_slip(tmp_path, lang):
+    """PiecewiseAffine (its 2-D kernel in the plane of travel, arrays baked in) and CompliantImpact (in the plane of
+    the slip; sin and cos) on 500 landings each: the same tolerances."""
+    SURFACES.update(OTHER_LIFTS)
+    try:
+        cmd = build(lang, tuple(OTHER_LIFTS), tmp_path)
+        for k, name in enumerate(OTHER_LIFTS):
+            rows = shots(500, seed=20 + k)
+            figures = check(run_exported(cmd, name, rows, tmp_path), reference(SURFACES[name](), rows))
+            if lang == "c":
+                assert figures["bounce"] == figures["rest_m"] == 0.0
+    finally:
+        for name in OTHER_LIFTS:
+            SURFACES.pop(name)
+
+
 # ------------------------------------------------------------------------------ refusals
 # (row v, w, n; the code; whether bouncelab.ground.bounce refuses it too)
 BAD = [
@@ -440,3 +465,31 @@ def test_cli_surface_errors(tmp_path, capsys):
     bad.write_text(json.dumps({"surface": "x", "law": {"law": "Rigid"}, "sliding_friction": 0.4}))
     assert main(["export", str(bad), "--lang", "c"]) == EXIT_FIT
     assert "stimp_m" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------ the examples of docs/simulators.md
+SNIPPETS = Path(__file__).resolve().parents[1] / "docs" / "snippets"
+
+
+@pytest.mark.parametrize("name", [
+    "export_surface_cpp",
+    pytest.param("export_surface_cs", marks=pytest.mark.slow),
+    pytest.param("export_surface_js", marks=pytest.mark.slow),
+])
+def test_the_docs_examples_print_bouncelab_s_numbers(tmp_path, name):
+    """The pages' examples (a C++ loop compiled with c++, a Unity-shaped C# script compiled by mcs, a web page's
+    script run by Node) run, and every line of bouncelab.ground's numbers they print after them is one the exported
+    code printed."""
+    import os
+    import sys
+
+    need = {"export_surface_cpp": [CXX], "export_surface_cs": [MCS, MONO], "export_surface_js": [NODE]}[name]
+    if None in need:
+        pytest.skip(f"{name} needs c++, mcs/mono or node, which are not on PATH")
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
+    proc = subprocess.run(["bash", str(SNIPPETS / f"{name}.sh")], cwd=tmp_path, env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    exported, _, ours = proc.stdout.partition("# bouncelab.ground, the same")
+    ours = ours.splitlines()[1:]
+    assert len(ours) >= 1 and all(line in exported.splitlines() for line in ours), proc.stdout

@@ -15,17 +15,32 @@ Functions
     parameters (defaults that are constants allowed); calls by position or keyword to other such
     functions, however deep, but not recursive; ``f(x, *args)`` with ``args`` a tuple variable; a jit
     function passed as an argument (``law(xd, yd, w, *args)`` with ``law`` a parameter) is called
-    directly, as numba specialises for it. Every function must end with a ``return`` of a value.
+    directly, as numba specialises for it; a jit function of the enclosing scope (a closure, as the
+    ground phase's row loops are built around a law's lift). Every function ends with a ``return`` of a
+    value, or has no ``return`` at all: it returns nothing and is called as a statement.
 Values
     Floats (double), integers (64-bit), booleans, tuples of these (also nested, returned, passed and
-    unpacked), and read-only float arrays passed in as kernel arguments (indexed ``A[i]``, ``A[0, 2]``).
+    unpacked), and float or integer arrays of a fixed shape passed in as arguments (indexed ``A[i]``,
+    ``A[0, 2]``; ``A.shape[k]`` is a constant of the translation; alone or in a tuple argument).
+    **Empty arrays** (a zero in the shape: an optional argument left out, or ``np.empty(0)``,
+    ``np.empty((0, 6))`` made inside as a placeholder) have no place in the output: a load from one
+    never runs where numba's code is correct (it would read past the array), so it reads as NaN, and
+    comparisons with it are decided (false, as with NaN); a store into one is dropped; a parameter of
+    that type is left out. With constant comparisons folded (``air.shape[0] == 0``) and ``and``/``or``
+    of constants decided, the code of an unused option disappears.
 Names outside the function
     Module-level (or closure) numbers, booleans and tuples of them are constants; ``math.pi``,
     ``math.e``, ``math.tau``, ``math.inf``, ``math.nan``; other jit functions.
 Statements
-    Assignment to a name or to a tuple of names (``a, b = b, a`` is simultaneous, as in Python),
-    augmented assignment (``+= -= *= /=``), ``if``/``elif``/``else``, ``while``, ``for ... in range(...)``
-    with a constant step, ``break``, ``continue``, ``return``, ``pass`` and docstrings.
+    Assignment to a name, to an element of an array argument (``OUT[i, 3] = x``: a store; a boolean is
+    stored as 1 or 0) or to a tuple of them (``a, b = b, a`` and ``A[0], A[1] = A[1], A[0]`` are
+    simultaneous, as in Python), augmented assignment to a name (``+= -= *= /=``), ``if``/``elif``/
+    ``else``, ``while``, ``for ... in range(...)`` with a constant step, ``break``, ``continue``,
+    ``return``, ``pass``, docstrings, and a call of a jit function as a statement (its value dropped).
+    Only an entry point (a function called from outside, :meth:`Translation.add`) may store into
+    arrays: a call of a function that stores is refused, so every call inside the output has no
+    effects (:mod:`bouncelab.export.ir`); a call as a statement of a function without effects does
+    nothing and is not written.
 Expressions
     ``+ - * / **`` (``**`` with a float exponent: C's ``pow``), unary ``- + not``, comparisons (chained
     ones too), ``and``/``or`` of booleans, ``x if c else y``, ``min``/``max`` (Python's rule: the first
@@ -34,7 +49,8 @@ Expressions
     isinf isfinite``; tuple indexing (constant index, or an integer variable for a tuple of one type).
 
 Anything else (lists, ``//`` and ``%``, bitwise operators, strings, ``None``, attributes other than
-``math``'s, calls of non-jit functions, numpy, ``while``/``for`` with ``else``, ``try``, ``with``,
+``math``'s and an array's ``shape``, calls of non-jit functions, numpy but empty placeholders, arrays
+made inside a function, ``while``/``for`` with ``else``, ``try``, ``with``,
 ``global``, nested functions, integer exponents, truthiness of numbers...) is refused with an
 :class:`~bouncelab.export.errors.ExportError` naming the function, file, line and construct: the
 translator never guesses.

@@ -326,13 +326,9 @@ class _Surface:
             for a in call_args:
                 if a.kind == "scratch":
                     self.scratch[a.name] = a.type
-        self.law_functions = sorted({f"{f.__module__}.{f.__qualname__}" for f in self._sources()})
-
-    def _sources(self) -> list[Any]:
-        """The Python functions the program was translated from (for the file's comment)."""
-        kernel = self.law.kernel_3d if self.plane == "own" else self.law.kernel
-        return [kernel.py_func, self.calls["run_rows"][0].py_func, self.calls["bounce_rows"][0].py_func,
-                self.lift.py_func]
+        kernel = (law.kernel_3d if self.plane == "own" else law.kernel).py_func
+        #: The law's kernel the lift calls (for the file's comment).
+        self.kernel_name = f"{kernel.__module__}.{kernel.__qualname__}"
 
     def arguments(self, key: str, text: Any) -> list[str]:
         """The arguments of entry point ``key`` in the order of its IR parameters, as text: ``text(arg)`` for
@@ -811,9 +807,10 @@ def _comment(s: _Surface, lang: str, *, prefix: str = DEFAULT_SURFACE_PREFIX,
     para(f"Surface: {surface!r}")
     if surface.description:
         para(f"Provenance: {surface.description}")
-    para("The code is bouncelab.ground's own compiled kernels (bounce_rows, run_rows and everything they call: "
-         f"the law's lift in 3-D, flights, skid and roll), translated operation by operation from their Python "
-         f"source, with the law's kernel ({', '.join(s.law_functions[:1])}); the values below are baked in.")
+    para("The code is bouncelab.ground's own compiled kernels (bouncelab.ground._kernels: bounce_rows, run_rows and "
+         f"everything they call: the law's lift to 3-D with its kernel {s.kernel_name}, flights, skid and roll) "
+         "and the input checks of bouncelab.export.ground, translated operation by operation from their Python "
+         "source (bouncelab.export); the values below are baked in.")
     para()
     para("CONVENTIONS")
     para("SI units: velocities in m/s, spins in rad/s (the angular-velocity vector), lengths in metres, times in "
@@ -827,7 +824,7 @@ def _comment(s: _Surface, lang: str, *, prefix: str = DEFAULT_SURFACE_PREFIX,
          + {"own": "its own 3-D kernel (kernel_3d) in the plane of travel",
             "travel": "its 2-D law in the plane of travel",
             "slip": "its 2-D law in the plane of the contact point's slip"}[s.plane] + ".", "  ")
-    para(f"Sliding friction mu_s = {surface.sliding_friction!r}; Stimpmeter {surface.stimp_m!r} m "
+    para(f"Sliding friction mu_s = {surface.sliding_friction!r}; Stimpmeter {surface.stimp_m:.6g} m "
          f"({surface.stimp_ft:.4g} ft): rolling resistance mu_r = {surface.rolling_resistance!r} "
          f"(1.83^2 / (2 g stimp)); pivot retention {surface.pivot_retention!r} (the fraction of the spin about n a "
          "bounce keeps).", "  ")
