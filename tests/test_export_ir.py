@@ -133,6 +133,8 @@ def test_starred_argument_must_be_a_tuple_variable():
 
 
 def test_export_is_the_only_package_that_imports_the_laws_and_the_emitters():
+    """The laws and the ground phase never import export; the translator (front end, IR, inlining, emitters) never
+    imports them: only export's law and surface modules join the two."""
     edges = import_graph()
     for module, targets in edges.items():
         if any(t.startswith("bouncelab.export.emit") for t in targets):
@@ -140,10 +142,11 @@ def test_export_is_the_only_package_that_imports_the_laws_and_the_emitters():
         if module.startswith("bouncelab.export.emit") or module in ("bouncelab.export.ir",
                                                                     "bouncelab.export.frontend",
                                                                     "bouncelab.export.inline"):
-            assert not any(t.startswith("bouncelab.laws") for t in targets), (module, targets)
-        if module.startswith("bouncelab.laws"):
+            assert not any(t.startswith(("bouncelab.laws", "bouncelab.ground")) for t in targets), (module, targets)
+        if module.startswith(("bouncelab.laws", "bouncelab.ground")):
             assert not any(t.startswith("bouncelab.export") for t in targets), (module, targets)
     assert "bouncelab.laws.base" in edges["bouncelab.export.law"]
+    assert {"bouncelab.ground._kernels", "bouncelab.ground.bounce3d"} <= edges["bouncelab.export.ground"]
 
 
 def test_adding_a_language_is_adding_an_emitter():
@@ -255,3 +258,169 @@ def test_every_emitter_prints_every_intrinsic(emitter):
     fn = ir.Function("f_all", (("x", ir.F64),), locals_, (ir.F64,), False, (*body, ir.Return((total,))))
     text = emitter(ir.Program([fn], ["f_all"])).definitions()
     assert text.count("v0") >= 2 and "f_all" in text
+
+
+# ------------------------------------------------------------------------------ stores, empty and integer arrays
+# The ground phase's row kernels write their results into arrays, take optional arrays (samples, records) that
+# are empty when unused, and call helpers that return nothing: a made-up kernel shaped like them.
+@njit(inline="always")
+def _put_pair(out, k, a, b):  # returns nothing: called as a statement; into an empty `out` it does nothing
+    out[k, 0] = a
+    out[k, 1] = b
+
+
+@njit
+def _scan(samples, t):
+    """A loop over optional samples (an empty array: the loop is gone from the output)."""
+    n = samples.shape[0]
+    j = 0
+    total = 0.0
+    while j < n and samples[j] < t:
+        total += samples[j]
+        j += 1
+    return total, j
+
+
+@njit
+def rows_kernel(X, COUNT, FLAGS, scale, extra, OUT, start, stop):
+    empty = np.empty(0)
+    dummy = np.empty((0, 2))
+    record = dummy.shape[0] > 0
+    for i in range(start, stop):
+        x, y = X[i, 0], X[i, 1]
+        s, _ = _scan(empty, x)
+        if record:  # never (numba would write past the empty array): gone from the output
+            _put_pair(dummy, i, x, y)
+            dummy[i, 0] = 1.0
+        k = 0
+        while k < dummy.shape[0]:  # never runs either; the call, which does nothing, is not written
+            _put_pair(dummy, k, x, y)
+            k += 1
+        if extra.shape[0] == 0:
+            s += 0.5
+        OUT[i, 0], OUT[i, 1] = y * scale + s, x
+        OUT[i, 0], OUT[i, 1] = OUT[i, 1], OUT[i, 0]  # simultaneous: both read before either is stored
+        OUT[i, 2] = X[i - 1, 1]  # a negative index wraps
+        FLAGS[i] = x > y  # a boolean into an integer array: 1 or 0
+        COUNT[i, 0] = COUNT[i, 0] + i * 2
+    return True
+
+
+def _rows_program():
+    from bouncelab.export.frontend import ArrayType
+
+    types = (ArrayType((4, 2)), ArrayType((4, 1), INT), ArrayType((4,), INT), FLOAT, ArrayType((0,)),
+             ArrayType((4, 3)), INT, INT)
+    return translate(rows_kernel, *types)
+
+
+def _rows_expected():
+    X = np.array([[1.0, 2.0], [3.5, -1.0], [-2.0, 0.25], [7.0, 7.0]])
+    count = np.array([[1], [2], [3], [4]], dtype=np.int64)
+    flags = np.zeros(4, dtype=np.int64)
+    out = np.zeros((4, 3))
+    rows_kernel(X, count, flags, 1.5, np.empty(0), out, 0, 4)
+    return X, np.column_stack([out, flags, count[:, 0]])
+
+
+def test_stores_empty_arrays_and_functions_returning_nothing_in_the_ir():
+    tr, fn = _rows_program()
+    params = [name for name, _ in fn.params]
+    assert "extra" not in params and fn.params[1][1] == ir.ArrayType((4, 1), ir.I64)  # empty: no parameter
+    assert ir.stores(fn) == {"OUT", "FLAGS", "COUNT"}
+    text = ir.dump(tr.program)
+    assert "record" not in text and "dummy" not in text and "_put_pair" not in text  # the empty paths are gone
+    scan = next(f for f in tr.program.functions if f.name.startswith("f_scan"))
+    assert not any(isinstance(s, ir.While) for s in ir.walk(scan.body))  # NaN < t: decided, the loop is gone
+    (loop,) = [s for s in ir.walk(fn.body) if isinstance(s, ir.While)]
+    assert loop.body == (ir.Assign("k", ir.Binary("+", ir.Var("k", ir.I64), ir.Const(1, ir.I64), ir.I64)),)
+    assert "0.5" in text  # extra.shape[0] == 0 decided: the branch is kept, its test gone
+    assert any(isinstance(s, ir.Store) for s in ir.walk(fn.body))
+
+
+@njit
+def _writer(out, x):
+    out[0] = x
+    return x
+
+
+@njit
+def _calls_writer(out, x):
+    return _writer(out, x) + 1.0
+
+
+@njit
+def _makes_array(x):
+    a = np.empty(3)
+    return x + a.shape[0]
+
+
+def test_a_call_of_a_function_that_stores_and_a_real_array_made_inside_are_refused():
+    from bouncelab.export.frontend import ArrayType
+
+    with pytest.raises(ExportError) as exc:
+        translate(_calls_writer, ArrayType((1,)), FLOAT)
+    assert "assigns array elements" in str(exc.value)
+    _, fn = translate(_writer, ArrayType((1,)), FLOAT)  # as an entry point it may
+    assert ir.stores(fn) == {"out_"}  # (out is a C# keyword: renamed in every language)
+    with pytest.raises(ExportError) as exc:
+        translate(_makes_array, FLOAT)
+    assert "an array made inside a function" in str(exc.value)
+
+
+def _rows_call_args() -> str:
+    return "X, COUNT, FLAGS, 1.5, OUT, 0, 4"
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler: `cc` is not on PATH")
+def test_stores_in_c(tmp_path):
+    tr, fn = _rows_program()
+    X, expected = _rows_expected()
+    code = CEmitter(tr.program, "g_").definitions()
+    x = ", ".join(f"{{{float(a)!r}, {float(b)!r}}}" for a, b in X)
+    main = (f"#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n{code}\nint main(void) {{\n"
+            f"    double X[4][2] = {{{x}}}; long long COUNT[4][1] = {{{{1}}, {{2}}, {{3}}, {{4}}}};\n"
+            "    long long FLAGS[4] = {0, 0, 0, 0}; double OUT[4][3] = {{0}};\n"
+            f"    g_{fn.name}((const double (*)[2])X, COUNT, FLAGS, 1.5, OUT, 0, 4);\n"
+            '    for (int i = 0; i < 4; i++) printf("%.17g %.17g %.17g %lld %lld\\n", OUT[i][0], OUT[i][1], OUT[i][2],'
+            " FLAGS[i], COUNT[i][0]);\n    return 0;\n}\n")
+    (tmp_path / "main.c").write_text(main)
+    subprocess.run([CC, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-pedantic", "-Werror", "main.c",
+                    "-lm", "-o", "main"], cwd=tmp_path, check=True, timeout=120)
+    out = subprocess.run([str(tmp_path / "main")], capture_output=True, text=True, check=True).stdout
+    np.testing.assert_array_equal(np.array([line.split() for line in out.splitlines()], dtype=float), expected)
+
+
+@pytest.mark.skipif(NODE is None, reason="no Node.js: `node` is not on PATH")
+def test_stores_in_js(tmp_path):
+    tr, fn = _rows_program()
+    X, expected = _rows_expected()
+    em = JSEmitter(tr.program)
+    x = ", ".join(f"new Float64Array([{float(a)!r}, {float(b)!r}])" for a, b in X)
+    setup = (f"const X = [{x}]; const COUNT = [[1], [2], [3], [4]].map(r => new Float64Array(r));\n"
+             "const FLAGS = new Float64Array(4); const OUT = [0, 1, 2, 3].map(() => new Float64Array(3));\n")
+    call = "\n".join(em.entry_call(fn.name, ["X", "COUNT", "FLAGS", "1.5", "OUT", "0", "4"]))
+    show = "for (let i = 0; i < 4; i++) console.log([...OUT[i], FLAGS[i], COUNT[i][0]].join(' '));"
+    (tmp_path / "main.mjs").write_text(f"{em.definitions()}\n{setup}{call}\n{show}\n")
+    out = subprocess.run([NODE, "main.mjs"], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    np.testing.assert_array_equal(np.array([line.split() for line in out.splitlines()], dtype=float), expected)
+
+
+@pytest.mark.skipif(MCS is None or MONO is None, reason="no Mono: `mcs` and `mono` are not on PATH (Debian: "
+                                                        "apt-get install mono-mcs mono-runtime)")
+def test_stores_in_cs(tmp_path):
+    tr, fn = _rows_program()
+    X, expected = _rows_expected()
+    em = CSharpEmitter(tr.program)
+    x = ", ".join(f"{{{float(a)!r}, {float(b)!r}}}" for a, b in X)
+    main = (f"        double[,] X = {{{x}}}; long[,] COUNT = {{{{1}}, {{2}}, {{3}}, {{4}}}};\n"
+            "        long[] FLAGS = new long[4]; double[,] OUT = new double[4, 3];\n"
+            f"        {fn.name}(X, COUNT, FLAGS, 1.5, OUT, 0, 4);\n"
+            "        for (int i = 0; i < 4; i++) Console.WriteLine(OUT[i, 0].ToString(\"R\") + \" \" + "
+            "OUT[i, 1].ToString(\"R\") + \" \" + OUT[i, 2].ToString(\"R\") + \" \" + FLAGS[i] + \" \" "
+            "+ COUNT[i, 0]);\n")
+    (tmp_path / "main.cs").write_text(f"using System;\npublic static class G {{\n{em.definitions()}\n"
+                                      f"    public static void Main() {{\n{main}    }}\n}}\n")
+    subprocess.run([MCS, "-langversion:ISO-2", "-warnaserror+", "main.cs"], cwd=tmp_path, check=True, timeout=120)
+    out = subprocess.run([MONO, "main.exe"], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    np.testing.assert_array_equal(np.array([line.split() for line in out.splitlines()], dtype=float), expected)

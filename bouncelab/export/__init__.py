@@ -1,4 +1,5 @@
-"""Laws outside Python: a fitted law as a self-contained C99 header, JavaScript ES module or C# class.
+"""Laws and surfaces outside Python: a fitted law, or a surface's whole ground phase, as a self-contained C99
+header, JavaScript ES module or C# class.
 
 >>> import bouncelab as bl
 >>> from bouncelab.export import to_c, to_cs, to_js
@@ -16,13 +17,30 @@ language (:mod:`bouncelab.export.emit`) prints it. The law's values are baked in
 comment gives the law, its conventions and units, its parameters and its validity domain, and how to
 compile it so that its results agree with bouncelab's to 1e-12 of the landing's norm.
 
-This package sits above the laws (it imports them; they do not import it) and is the only one that
-imports both the laws and the emitters.
+A surface (:class:`bouncelab.ground.Surface`, or a preset's name) exports the same way, its ground
+phase whole: :func:`export_surface` (``bouncelab export SURFACE.json``) translates the kernels of
+:mod:`bouncelab.ground` (the 3-D bounce, and the run from the landing to rest) with the surface's
+values baked in, in SI units (:mod:`bouncelab.export.ground`).
+
+>>> "int bouncelab_run(const double v[3]" in export_surface("green-fast", "c")
+True
+
+This package sits above the laws and the ground phase (it imports them; they do not import it) and is
+the only one that imports both them and the emitters.
 """
 
 from __future__ import annotations
 
 from bouncelab.export.errors import ExportError
+from bouncelab.export.ground import (
+                                     DEFAULT_SURFACE_CLASS,
+                                     DEFAULT_SURFACE_PREFIX,
+                                     REFUSALS,
+                                     export_surface,
+                                     surface_c,
+                                     surface_cs,
+                                     surface_js,
+)
 from bouncelab.export.law import (
                                   DEFAULT_CLASS,
                                   DEFAULT_PREFIX,
@@ -36,5 +54,6 @@ from bouncelab.export.law import (
                                   to_js,
 )
 
-__all__ = ["DEFAULT_CLASS", "DEFAULT_PREFIX", "LANGUAGES", "ExportError", "c_header", "cs_class", "export_law",
-           "js_module", "to_c", "to_cs", "to_js"]
+__all__ = ["DEFAULT_CLASS", "DEFAULT_PREFIX", "DEFAULT_SURFACE_CLASS", "DEFAULT_SURFACE_PREFIX", "LANGUAGES",
+           "REFUSALS", "ExportError", "c_header", "cs_class", "export_law", "export_surface", "js_module",
+           "surface_c", "surface_cs", "surface_js", "to_c", "to_cs", "to_js"]

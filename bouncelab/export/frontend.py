@@ -15,17 +15,32 @@ Functions
     parameters (defaults that are constants allowed); calls by position or keyword to other such
     functions, however deep, but not recursive; ``f(x, *args)`` with ``args`` a tuple variable; a jit
     function passed as an argument (``law(xd, yd, w, *args)`` with ``law`` a parameter) is called
-    directly, as numba specialises for it. Every function must end with a ``return`` of a value.
+    directly, as numba specialises for it; a jit function of the enclosing scope (a closure, as the
+    ground phase's row loops are built around a law's lift). Every function ends with a ``return`` of a
+    value, or has no ``return`` at all: it returns nothing and is called as a statement.
 Values
     Floats (double), integers (64-bit), booleans, tuples of these (also nested, returned, passed and
-    unpacked), and read-only float arrays passed in as kernel arguments (indexed ``A[i]``, ``A[0, 2]``).
+    unpacked), and float or integer arrays of a fixed shape passed in as arguments (indexed ``A[i]``,
+    ``A[0, 2]``; ``A.shape[k]`` is a constant of the translation; alone or in a tuple argument).
+    **Empty arrays** (a zero in the shape: an optional argument left out, or ``np.empty(0)``,
+    ``np.empty((0, 6))`` made inside as a placeholder) have no place in the output: a load from one
+    never runs where numba's code is correct (it would read past the array), so it reads as NaN, and
+    comparisons with it are decided (false, as with NaN); a store into one is dropped; a parameter of
+    that type is left out. With constant comparisons folded (``air.shape[0] == 0``) and ``and``/``or``
+    of constants decided, the code of an unused option disappears.
 Names outside the function
     Module-level (or closure) numbers, booleans and tuples of them are constants; ``math.pi``,
     ``math.e``, ``math.tau``, ``math.inf``, ``math.nan``; other jit functions.
 Statements
-    Assignment to a name or to a tuple of names (``a, b = b, a`` is simultaneous, as in Python),
-    augmented assignment (``+= -= *= /=``), ``if``/``elif``/``else``, ``while``, ``for ... in range(...)``
-    with a constant step, ``break``, ``continue``, ``return``, ``pass`` and docstrings.
+    Assignment to a name, to an element of an array argument (``OUT[i, 3] = x``: a store; a boolean is
+    stored as 1 or 0) or to a tuple of them (``a, b = b, a`` and ``A[0], A[1] = A[1], A[0]`` are
+    simultaneous, as in Python), augmented assignment to a name (``+= -= *= /=``), ``if``/``elif``/
+    ``else``, ``while``, ``for ... in range(...)`` with a constant step, ``break``, ``continue``,
+    ``return``, ``pass``, docstrings, and a call of a jit function as a statement (its value dropped).
+    Only an entry point (a function called from outside, :meth:`Translation.add`) may store into
+    arrays: a call of a function that stores is refused, so every call inside the output has no
+    effects (:mod:`bouncelab.export.ir`); a call as a statement of a function without effects does
+    nothing and is not written.
 Expressions
     ``+ - * / **`` (``**`` with a float exponent: C's ``pow``), unary ``- + not``, comparisons (chained
     ones too), ``and``/``or`` of booleans, ``x if c else y``, ``min``/``max`` (Python's rule: the first
@@ -34,7 +49,8 @@ Expressions
     isinf isfinite``; tuple indexing (constant index, or an integer variable for a tuple of one type).
 
 Anything else (lists, ``//`` and ``%``, bitwise operators, strings, ``None``, attributes other than
-``math``'s, calls of non-jit functions, numpy, ``while``/``for`` with ``else``, ``try``, ``with``,
+``math``'s and an array's ``shape``, calls of non-jit functions, numpy but empty placeholders, arrays
+made inside a function, ``while``/``for`` with ``else``, ``try``, ``with``,
 ``global``, nested functions, integer exponents, truthiness of numbers...) is refused with an
 :class:`~bouncelab.export.errors.ExportError` naming the function, file, line and construct: the
 translator never guesses.
@@ -68,6 +84,8 @@ __all__ = ["BOOL", "FLOAT", "INT", "ArrayType", "FuncType", "Translation", "Tupl
 
 # ------------------------------------------------------------------------------------------- types
 FLOAT, INT, BOOL = "double", "int64", "bool"
+#: The type of what a function without a ``return`` returns (it is called as a statement only).
+NONE = "none"
 
 
 @dataclass(frozen=True)
@@ -82,12 +100,19 @@ class TupleType:
 
 @dataclass(frozen=True)
 class ArrayType:
-    """A read-only float64 array of the given shape (a kernel argument)."""
+    """An array of the given shape of floats (``FLOAT``) or integers (``INT``): a kernel argument, or
+    an empty placeholder made by ``np.empty`` (a shape with a zero)."""
 
     shape: tuple[int, ...]
+    dtype: str = "double"
+
+    @property
+    def empty(self) -> bool:
+        """Whether it holds nothing (a zero in its shape): it has no place in the output (see the module)."""
+        return 0 in self.shape
 
     def __str__(self) -> str:
-        return f"float64 array {self.shape}"
+        return f"{'float64' if self.dtype == FLOAT else 'int64'} array {self.shape}"
 
 
 @dataclass(frozen=True)
@@ -141,10 +166,10 @@ def value_type(value: Any) -> Any:
     if isinstance(value, tuple):
         return TupleType(tuple(value_type(v) for v in value))
     if isinstance(value, np.ndarray):
-        if value.dtype.kind != "f" or value.ndim == 0:
-            raise TypeError(f"an array of {value.dtype} with shape {value.shape} (only float arrays of one or more "
-                            "dimensions are supported)")
-        return ArrayType(tuple(int(s) for s in value.shape))
+        if value.dtype.kind not in "fiu" or value.ndim == 0:
+            raise TypeError(f"an array of {value.dtype} with shape {value.shape} (only float and integer arrays of "
+                            "one or more dimensions are supported)")
+        return ArrayType(tuple(int(s) for s in value.shape), FLOAT if value.dtype.kind == "f" else INT)
     raise TypeError(f"a {type(value).__name__}")
 
 
@@ -200,6 +225,9 @@ _REFUSED_NODES = {
 }
 
 
+#: What ``np.`` reads as in a resolved function (not an identifier, so no local variable can take it).
+_NUMPY = "<numpy>"
+
 #: numba's fastmath flags that cannot change a finite result (bouncelab.core._jit.ROW_FLAGS): allowed.
 _IEEE_SAFE_FLAGS = frozenset({"nnan", "ninf", "nsz"})
 
@@ -213,7 +241,7 @@ def _refuse(fn: _Function, node: ast.AST | None, what: str, detail: str = "") ->
     line = None if line is None else line + fn.line_offset
     where = f"{fn.qualname} ({fn.file}" + (f", line {line}" if line else "") + ")"
     text = (f"cannot translate {where}: {what}{': ' + detail if detail else ''} is outside the subset "
-            "bouncelab.export translates (see bouncelab.export.translate); nothing was written")
+            "bouncelab.export translates (see bouncelab.export.frontend); nothing was written")
     return ExportError(text, function=fn.qualname, file=fn.file, line=line, construct=what)
 
 
@@ -257,7 +285,9 @@ class _Function:
             for kind, what in _REFUSED_NODES.items():
                 if isinstance(node, kind):
                     raise _refuse(self, node, what)
-        if not fdef.body or not isinstance(fdef.body[-1], ast.Return):
+        #: A function without any return returns nothing: it is called as a statement (it stores, or does nothing)
+        self.void = not any(isinstance(n, ast.Return) for n in ast.walk(fdef))
+        if not self.void and (not fdef.body or not isinstance(fdef.body[-1], ast.Return)):
             raise _refuse(self, fdef.body[-1] if fdef.body else fdef, "a function that does not end with a return")
         self.locals = set(self.params)
         for node in ast.walk(fdef):
@@ -285,6 +315,11 @@ class _Function:
                     if n.attr in _MATH_FUNCS:
                         return n
                     raise _refuse(fn, n, f"math.{n.attr}")
+                if isinstance(n.value, ast.Name) and n.value.id in fn.locals and n.attr == "shape":
+                    return n  # an array's shape: constants of the translation's array types
+                if (isinstance(n.value, ast.Name) and n.value.id not in fn.locals and scope.get(n.value.id) is np
+                        and n.attr in ("empty", "zeros")):
+                    return ast.copy_location(ast.Attribute(ast.Name(_NUMPY, ast.Load()), n.attr, ast.Load()), n)
                 raise _refuse(fn, n, "an attribute", ast.unparse(n))
 
             def visit_Name(self, n: ast.Name) -> ast.AST:
@@ -354,6 +389,8 @@ class _Typer:
     def run(self) -> None:
         fn, spec = self.fn, self.spec
         spec.env = dict(zip(fn.params, spec.argtypes, strict=True))
+        if fn.void:
+            spec.ret = NONE
         for _ in range(30):
             self.changed = False
             for stmt in fn.body:
@@ -378,13 +415,13 @@ class _Typer:
                 new = unify(env[name], t)
             except TypeError as exc:
                 raise _refuse(self.fn, node, f"the variable {name!r} holding values of types {exc}") from None
-            if isinstance(new, ArrayType):
+            if isinstance(new, ArrayType) and not new.empty:
                 raise _refuse(self.fn, node, f"assigning an array to {name!r}")
             if new != env[name]:
                 env[name] = new
                 self.changed = True
         else:
-            if isinstance(t, ArrayType):
+            if isinstance(t, ArrayType) and not t.empty:
                 raise _refuse(self.fn, node, f"assigning an array to {name!r}")
             env[name] = t
             self.changed = True
@@ -397,8 +434,23 @@ class _Typer:
                 raise _refuse(self.fn, s, f"unpacking {t} into {len(target.elts)} names")
             for e, et in zip(target.elts, t.elems, strict=True):
                 self.unpack(e, et, s)
+        elif isinstance(target, ast.Subscript):
+            self.store(target, t, s)
         else:
             raise _refuse(self.fn, s, "assigning to " + ast.unparse(target))
+
+    def store(self, target: ast.Subscript, t: Any, s: ast.stmt) -> None:
+        """``array[i, j] = value``: an element of an array argument, assigned a number or a boolean."""
+        at = self.expr(target.value) if isinstance(target.value, ast.Name) else None
+        if not isinstance(at, ArrayType):
+            raise _refuse(self.fn, s, "assigning to " + ast.unparse(target), "only an element of an array can be "
+                          "assigned")
+        if target.value.id not in self.fn.params and not at.empty:
+            raise _refuse(self.fn, s, "assigning to " + ast.unparse(target), "only an element of an array "
+                          "argument can be assigned")
+        self.expr(target)  # its indices
+        if not (_numeric(t) or t == BOOL) or (at.dtype == INT and t == FLOAT):
+            raise _refuse(self.fn, s, f"storing a {t} into an {at}")
 
     def stmt(self, s: ast.stmt) -> None:
         try:
@@ -458,7 +510,12 @@ class _Typer:
                 if new != self.spec.ret:
                     self.spec.ret, self.changed = new, True
         elif isinstance(s, ast.Expr):
-            if not (isinstance(s.value, ast.Constant) and isinstance(s.value.value, str)):
+            if isinstance(s.value, ast.Call) and isinstance(s.value.func, ast.Name) and (
+                    s.value.func.id in fn.callees or isinstance(self.spec.env.get(s.value.func.id), FuncType)):
+                self.call(s.value)  # a call as a statement: its value, if any, is dropped
+                if self.strict:
+                    self.spec.types[id(s.value)] = NONE
+            elif not (isinstance(s.value, ast.Constant) and isinstance(s.value.value, str)):
                 raise _refuse(fn, s, "an expression statement", ast.unparse(s))
         elif not isinstance(s, ast.Break | ast.Continue | ast.Pass):
             raise _refuse(fn, s, f"the statement {type(s).__name__}")
@@ -486,6 +543,8 @@ class _Typer:
     # -------------------------------------------------------------- expressions
     def expr(self, node: ast.expr) -> Any:
         t = self._expr(node)
+        if t == NONE:
+            raise _refuse(self.fn, node, "the value of a function that returns nothing", ast.unparse(node))
         if self.strict:
             self.spec.types[id(node)] = t
         return t
@@ -571,11 +630,18 @@ class _Typer:
             return self.call(node)
         if isinstance(node, ast.Subscript):
             return self.subscript(node)
+        if isinstance(node, ast.Attribute):  # an array's shape (the resolver let no other attribute through)
+            t = self.expr(node.value)
+            if not isinstance(t, ArrayType):
+                raise _refuse(fn, node, f"the shape of a {t}")
+            return TupleType((INT,) * len(t.shape))
         raise _refuse(fn, node, f"the expression {type(node).__name__}", ast.unparse(node))
 
     def call(self, node: ast.Call) -> Any:
         fn = self.fn
         f = node.func
+        if isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) and f.value.id == _NUMPY:
+            return self.empty_array(node)
         if isinstance(f, ast.Attribute):  # math.X (resolved: only math's functions remain as attributes)
             nargs, result = _MATH_FUNCS[f.attr]
             if node.keywords or len(node.args) != nargs:
@@ -609,6 +675,17 @@ class _Typer:
         if callee is None:
             raise _refuse(fn, node, f"a call of {f.id}")
         return self.call_jit(node, callee)
+
+    def empty_array(self, node: ast.Call) -> ArrayType:
+        """``np.empty(0)``, ``np.empty((0, 6))``: an array that holds nothing (a placeholder for an optional
+        argument), which has no place in the output; any other array a function makes is refused."""
+        shape = node.args[0] if len(node.args) == 1 and not node.keywords else None
+        parts = shape.elts if isinstance(shape, ast.Tuple) else [shape]
+        sizes = [_const_int(p) for p in parts] if shape is not None else [None]
+        if None in sizes or 0 not in sizes or any(k < 0 for k in sizes):
+            raise _refuse(self.fn, node, "an array made inside a function", "only empty placeholders such as "
+                          "np.empty(0) or np.empty((0, 6)) (shapes of constants with a zero) can be translated")
+        return ArrayType(tuple(sizes))
 
     def call_jit(self, node: ast.Call, callee: Any) -> Any:
         target = self.program.function(callee)
@@ -687,13 +764,13 @@ class _Typer:
                 raise _refuse(fn, node, f"indexing a {len(t.shape)}-d array with {len(parts)} index(es)")
             for p, size in zip(parts, t.shape, strict=True):
                 k = _const_int(p)
-                if k is not None and not -size <= k < size:
+                if k is not None and not -size <= k < size and not t.empty:
                     raise _refuse(fn, node, f"the index {k} of an array axis of {size}")
                 if self.expr(p) != INT:
                     raise _refuse(fn, node, "an array index that is not an integer")
             if isinstance(idx, ast.Tuple) and self.strict:
                 self.spec.types[id(idx)] = TupleType((INT,) * len(parts))
-            return FLOAT
+            return t.dtype
         raise _refuse(fn, node, f"indexing a {t}")
 
 
@@ -718,16 +795,18 @@ def _op_text(op: ast.AST) -> str:
 # ------------------------------------------------------------------------------------------- lowering
 _IR_TYPES = {FLOAT: ir.F64, INT: ir.I64, BOOL: ir.BOOL}
 _IR_BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
+_COMPARE = {"<": lambda a, b: a < b, "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b,
+            "==": lambda a, b: a == b, "!=": lambda a, b: a != b}
 
 
 def leaf_types(t: Any) -> list[str]:
     """The IR types of the scalars a value of type t is made of (a tuple's, in order; none for a function)."""
     if isinstance(t, TupleType):
         return [leaf for e in t.elems for leaf in leaf_types(e)]
-    if isinstance(t, FuncType):
+    if isinstance(t, FuncType) or t == NONE:
         return []
-    if isinstance(t, ArrayType):
-        raise TypeError(t)
+    if isinstance(t, ArrayType):  # an empty one has no place in the output
+        return [] if t.empty else [ir.ArrayType(t.shape, _IR_TYPES[t.dtype])]
     return [_IR_TYPES[t]]
 
 
@@ -786,6 +865,8 @@ class _Lowerer:
             leaves = leaf_types(t)
             if isinstance(t, TupleType):
                 out = [self.temp(lt, f"{self.idents[name]}_{k}") for k, lt in enumerate(leaves)]
+            elif not leaves:  # an empty array
+                out = []
             else:
                 out = [self.idents[name]]
                 self.types[out[0]] = leaves[0]
@@ -802,9 +883,12 @@ class _Lowerer:
             if isinstance(t, FuncType):
                 continue
             if isinstance(t, ArrayType):
+                if t.empty:  # it holds nothing: no parameter (loads from it never run; stores into it are dropped)
+                    self.names[name] = []
+                    continue
                 pname = self.idents[name]
                 self.names[name] = [pname]
-                params.append((pname, ir.ArrayType(t.shape)))
+                params.append((pname, ir.ArrayType(t.shape, _IR_TYPES[t.dtype])))
                 continue
             if final == t:  # the parameter's scalars are the variable's
                 leaves = self.variable(name, t)
@@ -910,37 +994,59 @@ class _Lowerer:
             self.block.append(ir.Break())
         elif isinstance(s, ast.Continue):
             self.block.append(ir.Continue())
+        elif isinstance(s, ast.Expr) and isinstance(s.value, ast.Call):
+            self.call_args(s.value)  # refuses a call of a function with effects
+            # a call of a function without effects whose value is dropped does nothing: nothing to write
         # Pass and docstrings: nothing
 
-    def targets(self, target: ast.expr) -> list[str]:
-        """The IR names an assignment target's scalars go to, in order."""
+    def targets(self, target: ast.expr) -> list[tuple[str | None, ast.Subscript | None]]:
+        """Where an assignment target's scalars go, in order: ``(IR name, None)`` for a variable's scalar,
+        ``(None, element)`` for an array element."""
         if isinstance(target, ast.Name):
-            return self.variable(target.id, self.spec.env[target.id])
-        return [n for e in target.elts for n in self.targets(e)]
+            return [(n, None) for n in self.variable(target.id, self.spec.env[target.id])]
+        if isinstance(target, ast.Subscript):
+            return [(None, target)]
+        return [slot for e in target.elts for slot in self.targets(e)]
 
     def assign(self, target: ast.expr, value: ast.expr) -> None:
-        """``target = value`` with Python's simultaneous assignment (``a, b = b, a`` swaps)."""
-        names = self.targets(target)
+        """``target = value`` with Python's simultaneous assignment (``a, b = b, a`` swaps; the values are all
+        computed before any variable or array element is assigned)."""
+        slots = self.targets(target)
         start = len(self.block)
         values = self.lower(value)
-        values = [self.conv(v, self.types[n]) for v, n in zip(values, names, strict=True)]
+        accesses = [None if node is None else self.element(node) for _, node in slots]
+        values = [self.conv(v, self.types[n]) if node is None else self.to_element(v, acc[1])
+                  for v, (n, node), acc in zip(values, slots, accesses, strict=True)]
+        names = [n for n, _ in slots]
         # a function of several results assigned whole: its results straight into the targets
         last = self.block[-1] if len(self.block) > start else None
-        if (isinstance(last, ir.CallMulti) and [ir.Var(t, self.types[t]) for t in last.targets] == values
-                and len(set(names)) == len(names)):
+        if (isinstance(last, ir.CallMulti) and None not in names
+                and [ir.Var(t, self.types[t]) for t in last.targets] == values and len(set(names)) == len(names)):
             self.block[-1] = ir.CallMulti(tuple(names), last.func, last.args)
             return
-        if len(names) > 1:
-            values = self._simultaneous(names, values)
-        for n, v in zip(names, values, strict=True):
-            self.block.append(ir.Assign(n, v))
+        written = [n if n is not None else acc[0] for n, acc in zip(names, accesses, strict=True)]
+        if len(slots) > 1:
+            values = self._simultaneous(written, values)
+        for (n, node), acc, v in zip(slots, accesses, values, strict=True):
+            if node is None:
+                self.block.append(ir.Assign(n, v))
+            elif acc[0] is not None:  # an element of an empty array is never assigned: nothing to write
+                self.block.append(ir.Store(acc[0], tuple(self.indices(node, acc[1])), v))
 
-    def _simultaneous(self, names: list[str], values: list[ir.Expr]) -> list[ir.Expr]:
-        """Values made safe to assign one after the other: each that reads a target assigned before it is
-        taken into a temporary first."""
+    def to_element(self, v: ir.Expr, t: ArrayType) -> ir.Expr:
+        """A value as an element of an array of type t: a boolean as 1 or 0 (numba's conversion)."""
+        elem = _IR_TYPES[t.dtype]
+        if v.type == ir.BOOL:
+            return ir.Select(v, ir.Const(1 if elem == ir.I64 else 1.0, elem), ir.Const(0 if elem == ir.I64 else 0.0,
+                                                                                       elem), elem)
+        return self.conv(v, elem)
+
+    def _simultaneous(self, names: list[str | None], values: list[ir.Expr]) -> list[ir.Expr]:
+        """Values made safe to assign one after the other: each that reads a target assigned before it (a
+        variable, or an array stored into) is taken into a temporary first."""
         out = []
         for k, v in enumerate(values):
-            if any(names[j] in ir.reads(v) for j in range(k)):
+            if any(names[j] is not None and names[j] in ir.reads(v) for j in range(k)):
                 tmp = self.temp(v.type)
                 self.block.append(ir.Assign(tmp, v))
                 v = ir.Var(tmp, v.type)
@@ -953,6 +1059,11 @@ class _Lowerer:
         return out
 
     def arith(self, op: ast.operator, a: ir.Expr, b: ir.Expr) -> ir.Expr:
+        if (isinstance(a, ir.Const) and isinstance(b, ir.Const) and a.type == b.type == ir.I64
+                and isinstance(op, ast.Add | ast.Sub | ast.Mult)):  # FIRST + 1: integers, exact
+            value = {ast.Add: a.value + b.value, ast.Sub: a.value - b.value, ast.Mult: a.value * b.value}[type(op)]
+            if -(2**63) <= value < 2**63:
+                return ir.Const(value, ir.I64)
         if isinstance(op, ast.Pow):
             return ir.Intrinsic("pow", (self.conv(a, ir.F64), self.conv(b, ir.F64)), ir.F64)
         if isinstance(op, ast.Div):
@@ -963,11 +1074,24 @@ class _Lowerer:
     def compare(self, op: ast.cmpop, a: ir.Expr, b: ir.Expr) -> ir.Expr:
         if a.type != b.type:
             a, b = self.conv(a, ir.F64), self.conv(b, ir.F64)
-        return ir.Compare(_CMPOPS[type(op)], a, b)
+        text = _CMPOPS[type(op)]
+        if isinstance(a, ir.Const) and isinstance(b, ir.Const):  # arr.shape[0] == 0: decided here
+            return ir.Const(bool(_COMPARE[text](a.value, b.value)), ir.BOOL)
+        if any(isinstance(x, ir.Const) and x.type == ir.F64 and math.isnan(x.value) for x in (a, b)):
+            return ir.Const(text == "!=", ir.BOOL)  # a load from an empty array: NaN compares unequal to all
+        return ir.Compare(text, a, b)
 
     def lazy_and(self, parts: list[tuple[list[ir.Stmt], ir.Expr]], op: str) -> ir.Expr:
         """``p0 op p1 op ...`` (op ``and``/``or``) of parts that may need statements: those of part k run only
         when Python would evaluate it."""
+        # constants decided: x and False is False, x and True is x (expressions have no effects)
+        absorbing, neutral = (False, True) if op == "and" else (True, False)
+        if any(isinstance(x, ir.Const) and x.value is absorbing for _, x in parts):
+            return ir.Const(absorbing, ir.BOOL)
+        kept = [(pre, x) for pre, x in parts if not (isinstance(x, ir.Const) and x.value is neutral)]
+        if not kept:
+            return ir.Const(neutral, ir.BOOL)
+        parts = kept
         first_pre, first = parts[0]
         self.block.extend(first_pre)
         if all(not pre for pre, _ in parts[1:]):
@@ -994,8 +1118,10 @@ class _Lowerer:
             if isinstance(t, FuncType):
                 return []
             if isinstance(t, ArrayType):
-                return [ir.Var(self.names[node.id][0], ir.ArrayType(t.shape))]
+                return [] if t.empty else [ir.Var(self.names[node.id][0], leaf_types(t)[0])]
             return [ir.Var(n, self.types[n]) for n in self.variable(node.id, self.spec.env[node.id])]
+        if isinstance(node, ast.Attribute):  # an array's shape
+            return [ir.Const(k, ir.I64) for k in self.type(node.value).shape]
         if isinstance(node, ast.Tuple):
             return [x for e in node.elts for x in self.lower(e)]
         if isinstance(node, ast.BinOp):
@@ -1003,7 +1129,7 @@ class _Lowerer:
         if isinstance(node, ast.UnaryOp):
             x = self.scalar(node.operand)
             if isinstance(node.op, ast.Not):
-                return [ir.Not(x)]
+                return [ir.Const(not x.value, ir.BOOL) if isinstance(x, ir.Const) else ir.Not(x)]
             if isinstance(node.op, ast.USub):
                 if isinstance(x, ir.Const):
                     return [ir.Const(-x.value, x.type)]
@@ -1046,6 +1172,8 @@ class _Lowerer:
 
     def call(self, node: ast.Call, t: Any) -> list[ir.Expr]:
         f = node.func
+        if isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) and f.value.id == _NUMPY:
+            return []  # an empty array
         if isinstance(f, ast.Attribute):  # math.X
             args = tuple(self.conv(self.scalar(a), ir.F64) for a in node.args)
             return [ir.Intrinsic(f.attr, args, _IR_TYPES[t])]
@@ -1071,6 +1199,9 @@ class _Lowerer:
     def call_args(self, node: ast.Call) -> tuple[_Spec, list[ir.Expr]]:
         """The callee of a call of a jit function, and the scalars it is given (functions passed in left out)."""
         spec = self.spec.calls[id(node)]
+        if self.tr.effects.get(spec.name):
+            raise _refuse(self.fn, node, f"a call of {spec.fn.qualname}, which assigns array elements",
+                          "only a function called from outside (an entry point) may")
         args = []
         for a, at in zip(self.spec.args[id(node)], spec.argtypes, strict=True):
             if not isinstance(at, FuncType):
@@ -1102,18 +1233,34 @@ class _Lowerer:
                     value = ir.Select(hit, leaves[starts[j] + pos], value, value.type)
                 out.append(value)
             return out
-        (array,) = self.names[node.value.id]
+        array, t = self.element(node)
+        if array is None:  # an empty array holds nothing: a load from it never runs (numba would read past it)
+            return [ir.Const(math.nan, ir.F64) if t.dtype == FLOAT else ir.Const(0, ir.I64)]
+        return [ir.Load(array, tuple(self.indices(node, t)), _IR_TYPES[t.dtype])]
+
+    def element(self, node: ast.Subscript) -> tuple[str | None, ArrayType]:
+        """The IR name of a subscripted array (None for an empty one, which has no place in the output) and
+        its type."""
+        t = self.type(node.value)
+        if t.empty:
+            return None, t
+        (var,) = self.lower(node.value)
+        return var.name, t
+
+    def indices(self, node: ast.Subscript, t: ArrayType) -> list[ir.Expr]:
+        """A subscript's indices, each an integer in range: Python's negative ones wrapped."""
+        idx = node.slice
         parts = idx.elts if isinstance(idx, ast.Tuple) else [idx]
         index = []
         for part, size in zip(parts, t.shape, strict=True):
-            k = _const_int(part)
-            if k is not None:
-                index.append(ir.Const(k % size, ir.I64))
+            i = self.scalar(part)
+            if isinstance(i, ir.Const):
+                index.append(ir.Const(i.value % size, ir.I64))
             else:
-                i = self.atomic(self.scalar(part))
+                i = self.atomic(i)
                 index.append(ir.Select(ir.Compare("<", i, ir.Const(0, ir.I64)),
                                        ir.Binary("+", i, ir.Const(size, ir.I64), ir.I64), i, ir.I64))
-        return [ir.Load(array, tuple(index))]
+        return index
 
 
 def _fold(body: Sequence[ir.Stmt]) -> tuple[ir.Stmt, ...]:
@@ -1156,6 +1303,8 @@ class Translation:
         self._active: set[tuple[int, tuple]] = set()
         self._names: set[str] = set()
         self._lowered: set[int] = set()
+        #: Function name -> whether it assigns array elements (then only called from outside: an entry point).
+        self.effects: dict[str, bool] = {}
 
     def add(self, dispatcher: Any, argtypes: Sequence[Any]) -> ir.Function:
         """Translate ``dispatcher`` (a jit function) for arguments of ``argtypes``; its IR function."""
@@ -1163,6 +1312,8 @@ class Translation:
             raise ExportError(f"{dispatcher!r} is not a jit function (numba's njit, bouncelab's jit)",
                               construct="not a jit function")
         spec = self.specialize(self.function(dispatcher), tuple(argtypes))
+        if spec.ret == NONE:
+            raise _refuse(spec.fn, spec.fn.fdef, "an entry point that returns nothing", "end it with a return")
         self._lower(spec)
         if spec.name not in self.program.entries:
             self.program.entries.append(spec.name)
@@ -1212,7 +1363,10 @@ class Translation:
         self._lowered.add(id(spec))
         for callee in spec.calls.values():
             self._lower(callee)
-        self.program.functions.append(_Lowerer(self, spec).function())
+        fn = _Lowerer(self, spec).function()
+        self.effects[spec.name] = bool(ir.stores(fn))
+        if spec.ret != NONE:  # a function returning nothing is never called (its calls do nothing, or are refused)
+            self.program.functions.append(fn)
 
 
 def _types_text(types: Sequence[Any]) -> str:

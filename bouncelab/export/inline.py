@@ -51,6 +51,8 @@ def _map_stmt(s: ir.Stmt, f: Callable[[ir.Expr], ir.Expr], name: Callable[[str],
     """A statement (and those inside it) with its expressions mapped by f and the names it assigns by name."""
     if isinstance(s, ir.Assign):
         return ir.Assign(name(s.target), f(s.value))
+    if isinstance(s, ir.Store):
+        return ir.Store(name(s.array), tuple(map(f, s.index)), f(s.value))
     if isinstance(s, ir.CallMulti):
         return ir.CallMulti(tuple(None if t is None else name(t) for t in s.targets), s.func, tuple(map(f, s.args)))
     if isinstance(s, ir.TailCall):
@@ -149,6 +151,8 @@ class _Inliner:
         new: ir.Stmt
         if isinstance(s, ir.Assign):
             new = ir.Assign(s.target, self.hoist(s.value, pre))
+        elif isinstance(s, ir.Store):
+            new = ir.Store(s.array, tuple(self.hoist(i, pre) for i in s.index), self.hoist(s.value, pre))
         elif isinstance(s, ir.CallMulti):
             new = ir.CallMulti(s.targets, s.func, tuple(self.hoist(a, pre) for a in s.args))
         elif isinstance(s, ir.TailCall):
@@ -241,19 +245,4 @@ def inline(program: ir.Program, limit: int = LIMIT) -> ir.Program:
         body = tails(new.body)
         if body is not None and size(body) <= limit and new.name not in program.entries:
             small[fn.name] = (new, body)
-    reached: set[str] = set()
-
-    def reach(name: str) -> None:
-        if name in reached:
-            return
-        reached.add(name)
-        for s in ir.walk(done[name].body):
-            if isinstance(s, ir.CallMulti | ir.TailCall):
-                reach(s.func)
-        for e in ir.walk_exprs(done[name].body):
-            if isinstance(e, ir.Call):
-                reach(e.func)
-
-    for entry in program.entries:
-        reach(entry)
-    return ir.Program([done[f.name] for f in program.functions if f.name in reached], list(program.entries))
+    return ir.reachable(ir.Program([done[f.name] for f in program.functions], list(program.entries)))

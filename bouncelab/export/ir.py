@@ -5,10 +5,13 @@
 (:mod:`bouncelab.export.emit`) prints it. The form is small on purpose, so that an emitter is a
 printer and never a translator:
 
-* **Three scalar types** (:data:`F64`, :data:`I64`, :data:`BOOL`) and read-only float arrays
-  (:class:`ArrayType`, a parameter only). There are no tuples: the front end splits a tuple into
-  its scalars (a tuple variable into one variable per element, a tuple parameter into one parameter
-  per element), so a tuple exists only where a function returns several values.
+* **Three scalar types** (:data:`F64`, :data:`I64`, :data:`BOOL`) and arrays of floats or integers
+  of a fixed shape (:class:`ArrayType`, a parameter only). There are no tuples: the front end splits
+  a tuple into its scalars (a tuple variable into one variable per element, a tuple parameter into
+  one parameter per element), so a tuple exists only where a function returns several values.
+* **Stores only at entry points.** A :class:`Store` writes into an array parameter; a function that
+  stores is an entry point, called from outside the program and by none of its functions, so
+  every function a translated expression calls has no effects.
 * **Every conversion is written out.** An operation's operands have the type of its result
   (:class:`Cast` turns an integer into a float), comparisons compare values of one type, and a
   variable is assigned values of its own type. An emitter never promotes.
@@ -36,8 +39,8 @@ from typing import Any
 
 __all__ = ["BOOL", "EMITTER_PREFIXES", "F64", "I64", "ArrayType", "Assign", "Binary", "Break", "Call", "CallMulti",
            "Cast", "Compare", "Const", "Continue", "Expr", "For", "Function", "If", "Intrinsic", "Load", "Logic",
-           "Neg", "Not", "Program", "Return", "Select", "Stmt", "TailCall", "Var", "While", "calls", "dump", "prune",
-           "reads"]
+           "Neg", "Not", "Program", "Return", "Select", "Stmt", "Store", "TailCall", "Var", "While", "calls", "dump",
+           "prune", "reachable", "reads", "stores"]
 
 # ------------------------------------------------------------------------------------------- types
 F64, I64, BOOL = "f64", "i64", "bool"
@@ -47,12 +50,15 @@ EMITTER_PREFIXES = ("f_", "h_", "p_", "o_", "r_")
 
 @dataclass(frozen=True)
 class ArrayType:
-    """A read-only float64 array of a fixed shape (a function's parameter only)."""
+    """An array of a fixed shape (a function's parameter only), of :data:`F64` or :data:`I64` elements.
+
+    Read-only unless the function stores into it (:class:`Store`, entry points only)."""
 
     shape: tuple[int, ...]
+    elem: str = F64
 
     def __str__(self) -> str:
-        return f"f64{list(self.shape)}"
+        return f"{self.elem}{list(self.shape)}"
 
 
 Type = str | ArrayType
@@ -167,7 +173,8 @@ class Call:
 
 @dataclass(frozen=True)
 class Load:
-    """``array[i, j...]`` with each index an integer in range (wrapped from Python's negative ones)."""
+    """``array[i, j...]`` with each index an integer in range (wrapped from Python's negative ones), of the
+    array's element type."""
 
     array: str
     index: tuple[Expr, ...]
@@ -191,6 +198,16 @@ class CallMulti:
     targets: tuple[str | None, ...]
     func: str
     args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Store:
+    """``array[i, j...] = value`` into an array parameter (indices as :class:`Load`'s; value of the array's
+    element type). Only an entry point stores (see the module)."""
+
+    array: str
+    index: tuple[Expr, ...]
+    value: Expr
 
 
 @dataclass(frozen=True)
@@ -246,7 +263,7 @@ class TailCall:
     args: tuple[Expr, ...]
 
 
-Stmt = Assign | CallMulti | If | While | For | Break | Continue | Return | TailCall
+Stmt = Assign | Store | CallMulti | If | While | For | Break | Continue | Return | TailCall
 
 
 # ------------------------------------------------------------------------------------------- functions
@@ -310,6 +327,8 @@ def stmt_exprs(s: Stmt) -> tuple[Expr, ...]:
     """The expressions a statement evaluates itself (not those of the statements inside it)."""
     if isinstance(s, Assign):
         return (s.value,)
+    if isinstance(s, Store):
+        return (*s.index, s.value)
     if isinstance(s, CallMulti | TailCall):
         return s.args
     if isinstance(s, If | While):
@@ -354,6 +373,33 @@ def calls(e: Expr) -> bool:
     return any(isinstance(x, Call) for x in subexprs(e))
 
 
+def stores(fn: Function) -> set[str]:
+    """The arrays a function stores into (empty for a function without effects)."""
+    return {s.array for s in walk(fn.body) if isinstance(s, Store)}
+
+
+def reachable(program: Program) -> Program:
+    """``program`` without the functions no entry point calls (directly or through others)."""
+    by_name = {f.name: f for f in program.functions}
+    reached: set[str] = set()
+
+    def reach(name: str) -> None:
+        if name in reached:
+            return
+        reached.add(name)
+        body = by_name[name].body
+        for s in walk(body):
+            if isinstance(s, CallMulti | TailCall):
+                reach(s.func)
+        for e in walk_exprs(body):
+            if isinstance(e, Call):
+                reach(e.func)
+
+    for entry in program.entries:
+        reach(entry)
+    return Program([f for f in program.functions if f.name in reached], list(program.entries))
+
+
 # ------------------------------------------------------------------------------------------- pruning
 def prune(fn: Function) -> Function:
     """``fn`` with only live code: assignments (and multi-calls) whose values are never read dropped, to a
@@ -370,6 +416,9 @@ def prune(fn: Function) -> Function:
             elif isinstance(s, CallMulti):
                 if any(t in live for t in s.targets if t):
                     found |= set().union(*map(reads, s.args)) if s.args else set()
+            elif isinstance(s, Store):  # an effect: always live
+                for v in stmt_exprs(s):
+                    found |= reads(v)
             elif isinstance(s, If):
                 found |= reads(s.cond) | visit(s.then) | visit(s.orelse)
             elif isinstance(s, While):
@@ -410,6 +459,8 @@ def prune(fn: Function) -> Function:
         return tuple(out)
 
     body = keep(fn.body)
+    if body != fn.body:  # an `if` left empty is gone: what only its condition read may be dead now
+        return prune(replace(fn, body=body))
     assigned = set()
     for s in walk(body):
         if isinstance(s, Assign):
@@ -458,6 +509,8 @@ def dump(program: Program | Function) -> str:
         for s in body:
             if isinstance(s, Assign):
                 lines.append(f"{pad}{s.target} = {dump_expr(s.value)}")
+            elif isinstance(s, Store):
+                lines.append(f"{pad}{s.array}[{', '.join(map(dump_expr, s.index))}] = {dump_expr(s.value)}")
             elif isinstance(s, CallMulti):
                 targets = ", ".join(t or "_" for t in s.targets)
                 lines.append(f"{pad}{targets} = {s.func}({', '.join(map(dump_expr, s.args))})")

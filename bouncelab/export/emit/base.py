@@ -96,6 +96,8 @@ class Emitter:
         raise NotImplementedError
 
     def load(self, array: str, index: list[str], t: ir.ArrayType) -> str:
+        """An element of an array, to read (:class:`~bouncelab.export.ir.Load`) or to write
+        (:class:`~bouncelab.export.ir.Store`)."""
         return array + "".join(f"[{i}]" for i in index)
 
     def head(self, fn: ir.Function, params: list[str]) -> str:
@@ -154,7 +156,7 @@ class Emitter:
                     new += "_"
                 names.add(new)
                 self._rename[name] = new
-        read: set[str] = set()
+        read = ir.stores(fn)
         for e in ir.walk_exprs(fn.body):
             read |= ir.reads(e)
         self.extra = {}  # locals an emitter adds while printing the body (temporaries)
@@ -179,6 +181,11 @@ class Emitter:
         pad = self.indent * depth
         if isinstance(s, ir.Assign):
             return [f"{pad}{self.local(s.target)} = {strip_parens(self.expr(s.value))};"]
+        if isinstance(s, ir.Store):
+            assert self._fn is not None
+            t = dict(self._fn.params)[s.array]
+            target = self.load(self.local(s.array), [strip_parens(self.index(i)) for i in s.index], t)
+            return [f"{pad}{target} = {strip_parens(self.expr(s.value))};"]
         if isinstance(s, ir.CallMulti):
             return [pad + line for line in self.call_multi(s)]
         if isinstance(s, ir.If):

@@ -59,8 +59,10 @@ class CEmitter(Emitter):
         return {ir.F64: "double", ir.I64: "long long", ir.BOOL: "int"}[t]
 
     def param(self, name: str, t: ir.Type) -> str:
-        if isinstance(t, ir.ArrayType):
-            return f"const double {name}" + "".join(f"[{s}]" for s in t.shape)
+        if isinstance(t, ir.ArrayType):  # const unless the function stores into it
+            written = self._fn is not None and name in {self.local(a) for a in ir.stores(self._fn)}
+            return (f"{'' if written else 'const '}{self.type_name(t.elem)} {name}"
+                    + "".join(f"[{s}]" for s in t.shape))
         return f"{self.type_name(t)} {name}"
 
     def literal(self, value: object, t: str) -> str:

@@ -119,7 +119,7 @@ class CSharpEmitter(Emitter):
 
     def type_name(self, t: ir.Type) -> str:
         if isinstance(t, ir.ArrayType):
-            return "double[" + "," * (len(t.shape) - 1) + "]"
+            return self.type_name(t.elem) + "[" + "," * (len(t.shape) - 1) + "]"
         return {ir.F64: "double", ir.I64: "long", ir.BOOL: "bool"}[t]
 
     def literal(self, value: object, t: str) -> str:
