@@ -200,6 +200,7 @@ def test_a_law_shows_its_equation_parameters_and_where_they_come_from():
     piecewise = bl.PiecewiseAffine.published("A")._repr_html_()
     assert "plane (paper&#x27;s form): 0.891·xdot0 + 0.763·ydot0 + omega0 = 600" in piecewise
     assert "<td>normal</td><td>[0.891, 0.763, 1]</td>" in piecewise
+    assert re.search(r"<td>A1</td><td>\[\[0.536, -0.004, -0.205\], .*?\]\]</td><td></td><td>\[-3, 3\]</td>", piecewise)
 
 
 def test_a_law_of_ones_own_shows_its_equation_attribute_and_escapes_everything():

@@ -18,7 +18,7 @@ import numpy as np
 
 from bouncelab.core._html import cell, escape, fragment, markdown, parameter_table, table
 from bouncelab.core._inline import figure
-from bouncelab.laws._display import unit_text
+from bouncelab.laws._display import bound_value, unit_text
 from bouncelab.laws.provenance import Provenance
 from bouncelab.laws.registry import law_name
 from bouncelab.metrics import ERROR_COLUMNS
@@ -76,8 +76,7 @@ def _fit_parameter_rows(res: Any) -> list[dict[str, Any]]:
         row: dict[str, Any] = {"name": name, "value": value, "unit": unit_text(p.unit)}
         if name in res.bounds:
             lo, hi = res.bounds[name]
-            row["bounds"] = (lo if np.ndim(lo) == 0 else np.asarray(lo).tolist(),
-                             hi if np.ndim(hi) == 0 else np.asarray(hi).tolist())
+            row["bounds"] = (bound_value(lo), bound_value(hi))
         row["vary"] = name not in res.fixed
         if p.stderr is not None:
             row["uncertainty"] = p.stderr if np.ndim(p.stderr) == 0 else np.asarray(p.stderr).tolist()
@@ -282,6 +281,11 @@ def _draw_marginals(samples: Any):
     return draw
 
 
+def _fixed(value: Any, decimals: int) -> str | None:
+    """A number with ``decimals`` decimals (as the text report prints it), None for none."""
+    return None if value is None else f"{float(value):.{decimals}f}"
+
+
 def posterior_html(post: Any) -> str:
     """A Posterior's view: the model, the sampler and its convergence, the posterior summary, notes and each
     sampled number's marginal."""
@@ -308,10 +312,10 @@ def posterior_html(post: Any) -> str:
         walkers = d.get("walkers")
         facts += [("sampler", f"{chains} chain(s), {walkers} walkers in all, {d.get('steps')} steps, burn-in "
                               f"{d.get('burn')}, {d.get('kept_steps')} kept per walker"),
-                  ("acceptance", d.get("acceptance")),
+                  ("acceptance", _fixed(d.get("acceptance"), 2)),
                   ("convergence", d.get("reason")),
-                  ("max autocorrelation time", max(d["autocorr"]) if d.get("autocorr") else None),
-                  ("max split R-hat", max(d["rhat"]) if d.get("rhat") else None),
+                  ("max autocorrelation time", _fixed(max(d["autocorr"]) if d.get("autocorr") else None, 1)),
+                  ("max split R-hat", _fixed(max(d["rhat"]) if d.get("rhat") else None, 3)),
                   ("time", None if d.get("elapsed_s") is None else f"{d['elapsed_s']:.1f} s")]
     parts.append(_facts(facts))
     try:

@@ -19,7 +19,8 @@ from bouncelab.core._tex import math_blocks, summary_line
 from bouncelab.laws.provenance import RANGE_UNITS, Provenance
 from bouncelab.laws.registry import law_name
 
-__all__ = ["equation_text", "law_html", "law_section", "parameter_rows", "provenance_html", "unit_text"]
+__all__ = ["bound_value", "equation_text", "law_html", "law_section", "parameter_rows", "provenance_html",
+           "unit_text"]
 
 #: Shown where a law's view would list identifiability: a law alone does not know it.
 IDENTIFIABILITY_UNKNOWN = ("Which parameters the data determine is not known from the law alone: "
@@ -47,13 +48,22 @@ def _value(value: Any) -> Any:
     return np.asarray(value).tolist()
 
 
+def bound_value(value: Any) -> Any:
+    """A bound for a table: a number, also for an array whose elements share it; else nested lists."""
+    if value is None or np.ndim(value) == 0:
+        return value
+    arr = np.asarray(value, dtype=float)
+    return float(arr.flat[0]) if arr.size and bool(np.all(arr == arr.flat[0])) else arr.tolist()
+
+
 def parameter_rows(law: Any, *, identifiability: Mapping[str, str] | None = None) -> list[dict[str, Any]]:
     """One mapping per parameter of ``law`` for :func:`~bouncelab.core._html.parameter_table`: value, unit, search
     bounds, physical range, whether it varies in a fit, its meaning, and ``identifiability`` where given."""
     rows = []
     for name, p in law.params.items():
         row = {"name": name, "value": _value(p.value), "unit": unit_text(p.unit),
-               "bounds": tuple(_value(b) for b in p.bounds), "physical": tuple(_value(b) for b in p.physical),
+               "bounds": tuple(bound_value(b) for b in p.bounds),
+               "physical": tuple(bound_value(b) for b in p.physical),
                "vary": p.vary, "doc": p.doc}
         if identifiability is not None:
             row["identifiability"] = identifiability.get(name)
