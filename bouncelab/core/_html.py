@@ -41,8 +41,9 @@ STYLE = """
 """
 
 #: The columns :func:`parameter_table` knows, in their order, with their headings.
-PARAMETER_COLUMNS = {"name": "parameter", "value": "value", "unit": "unit", "bounds": "bounds", "vary": "varies",
-                     "uncertainty": "uncertainty", "identifiability": "identifiability"}
+PARAMETER_COLUMNS = {"name": "parameter", "value": "value", "unit": "unit", "bounds": "bounds",
+                     "physical": "physical range", "vary": "varies", "uncertainty": "uncertainty",
+                     "identifiability": "identifiability", "note": "note", "doc": "meaning"}
 
 
 def escape(value: Any) -> str:
@@ -83,14 +84,14 @@ def table(rows: Iterable[Sequence[Any]], header: Sequence[Any] | None = None, *,
 
 def parameter_table(parameters: Iterable[Mapping[str, Any]], *, caption: str | None = None, digits: int = 4) -> str:
     """A table of parameters, one mapping per parameter with any of the keys of :data:`PARAMETER_COLUMNS`
-    (``name``, ``value``, ``unit``, ``bounds`` as ``(low, high)``, ``vary``, ``uncertainty``,
-    ``identifiability``); a column appears when some parameter has it."""
+    (``name``, ``value``, ``unit``, ``bounds`` and ``physical`` as ``(low, high)``, ``vary``, ``uncertainty``,
+    ``identifiability``, ``note``, ``doc``); a column appears when some parameter has it."""
     rows = list(parameters)
     columns = [key for key in PARAMETER_COLUMNS if any(key in row for row in rows)]
 
     def value(row: Mapping[str, Any], key: str) -> Any:
         v = row.get(key)
-        if key == "bounds" and v is not None:
+        if key in ("bounds", "physical") and v is not None:
             low, high = v
             return f"[{cell(low, digits=digits)}, {cell(high, digits=digits)}]"  # (escaped by cell below)
         return v

@@ -281,6 +281,11 @@ class Assessment:
                                      r["correlated"]]))
         return rows
 
+    def _repr_html_(self) -> str:
+        from bouncelab.fitting._display import assessment_html  # the notebook view
+
+        return assessment_html(self)
+
 
 # ------------------------------------------------------------------------------ the function
 def assess(

@@ -354,6 +354,11 @@ class Comparison:
     def _repr_markdown_(self) -> str:
         return self.to_markdown()
 
+    def _repr_html_(self) -> str:
+        from bouncelab.fitting._display import comparison_html  # the notebook view
+
+        return comparison_html(self)
+
 
 def _fmt(v: Any, name: str, digits: int, *, percent: bool = False) -> str:
     if isinstance(v, str):

@@ -1091,6 +1091,11 @@ class Posterior:
             raise ParameterError("saved posterior has no samples, or non-finite ones", parameter="samples")
         return out
 
+    def _repr_html_(self) -> str:
+        from bouncelab.fitting._display import posterior_html  # the notebook view
+
+        return posterior_html(self)
+
 
 def load_posterior(path: str | Path) -> Posterior:
     """Read a posterior written by :meth:`Posterior.to_json`.

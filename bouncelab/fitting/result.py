@@ -256,6 +256,11 @@ class FitResult:
             "notes": list(self.notes),
         }
 
+    def _repr_html_(self) -> str:
+        from bouncelab.fitting._display import fit_result_html  # the notebook view
+
+        return fit_result_html(self)
+
 
 def _fmt_diag(value: float) -> str:
     return f"{value:.4g}"

@@ -878,6 +878,11 @@ class SurfaceFit:
         return (f"SurfaceFit({self.law} on {self.n_shots} shots: {what} median |roll error| "
                 f"{e.loc['all', 'median_abs_error']:.3g} m, median roll {e.loc['all', 'observed_median_roll']:.3g} m)")
 
+    def _repr_html_(self) -> str:
+        from bouncelab.ground._display import surface_fit_html  # the notebook view
+
+        return surface_fit_html(self)
+
 
 def _prediction_table(s: ShotArrays, along: np.ndarray, right: np.ndarray, fold: np.ndarray | None) -> pd.DataFrame:
     import pandas as pd

@@ -509,6 +509,11 @@ class RunResult:
                 f"{int(t['bounces'].max())}, total run {t['total_run'].min():.4g} to {t['total_run'].max():.4g} "
                 f"{self._units.length}, at rest after {self.rest_time.max():.3g} s at most)")
 
+    def _repr_html_(self) -> str:
+        from bouncelab.ground._display import run_result_html  # the notebook view
+
+        return run_result_html(self)
+
     @property
     def length_unit(self) -> str:
         """Unit of lengths in the results: ``"m"`` or ``"radius"``."""

@@ -228,6 +228,11 @@ class Surface:
         """The surface and, below it, where its numbers come from (its ``description``)."""
         return repr(self) + (f"\n  provenance: {self.description}" if self.description else "")
 
+    def _repr_html_(self) -> str:
+        from bouncelab.ground._display import surface_html  # the notebook view
+
+        return surface_html(self)
+
 
 def load_surface(path: str | Path) -> Surface:
     """Read a surface written by :meth:`Surface.to_json`."""

@@ -773,6 +773,11 @@ class BounceModel:
         tag = None if prov is None else prov.synthetic_tag()
         return repr(self) if tag is None else f"{self!r} [{tag}]"
 
+    def _repr_html_(self) -> str:
+        from bouncelab.laws._display import law_html  # what a notebook shows (bouncelab.laws._display)
+
+        return law_html(self)
+
     def __eq__(self, other: object) -> bool:
         if type(other) is not type(self):
             return NotImplemented

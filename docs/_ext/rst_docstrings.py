@@ -26,49 +26,11 @@ from typing import Any
 
 import griffe
 
+from bouncelab.core._tex import tex_to_text  # one converter, shared with the laws' HTML views
+
 _ROLE = re.compile(r":(?:py:)?(class|func|meth|mod|data|attr|obj|exc|const):`(~?)([^`<]+?)`")
 _MATH_ROLE = re.compile(r":math:`([^`]+)`")
 _BORDER = re.compile(r"^\s*=+(\s+=+)+\s*$")
-
-_TEX = [
-    (r"\\tfrac\s*(\d)\s*(\d)", r"\1/\2"),
-    (r"\\frac\s*(\w)\s*(\w)", r"\1/\2"),
-    (r"\\frac\{([^{}]*)\}\{([^{}]*)\}", r"(\1)/(\2)"),
-    (r"\\sqrt\{([^{}]*)\}", r"√(\1)"),
-    (r"\\text\{([^{}]*)\}", r"\1"),
-    (r"\\mathrm\{([^{}]*)\}", r"\1"),
-    (r"\\ddot\{\\mathbf\{(\w)\}\}", "\\1\u0308"),
-    (r"\\hat\{\\mathbf\{(\w)\}\}", "\\1\u0302"),
-    (r"\\mathbf\s*\{?(\w)\}?", r"\1"),
-    (r"\\dot\s*\{?x\}?", "ẋ"),
-    (r"\\dot\s*\{?y\}?", "ẏ"),
-    (r"\\dot\s*\{?(\w)\}?", "\\1\u0307"),
-    (r"\\begin\{cases\}", ""),
-    (r"\\end\{cases\}", ""),
-    (r"\\(?:left|right|bigl|bigr|Bigl|Bigr)", ""),
-    (r"\\(?:qquad|quad)", "   "),
-    (r"\\[,;:!]", " "),
-    (r"\\\\", "\n"),
-]
-_SYMBOLS = {
-    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "Delta": "Δ", "theta": "θ", "lambda": "λ",
-    "mu": "μ", "nu": "ν", "phi": "φ", "pi": "π", "rho": "ρ", "sigma": "σ", "omega": "ω", "Omega": "Ω",
-    "cdot": "·", "times": "×", "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥", "ne": "≠", "approx": "≈",
-    "lVert": "‖", "rVert": "‖", "lvert": "|", "rvert": "|", "sum": "Σ", "in": "∈", "to": "→",
-    "cos": "cos ", "sin": "sin ", "tan": "tan ", "arctan": "arctan", "log": "log", "exp": "exp",
-}
-
-
-def tex_to_text(tex: str) -> str:
-    """Readable Unicode for the LaTeX used in bouncelab's docstrings (best effort)."""
-    out = tex
-    for pattern, repl in _TEX:
-        out = re.sub(pattern, repl, out)
-    out = re.sub(r"\\([A-Za-z]+)", lambda m: _SYMBOLS.get(m.group(1), m.group(1)), out)
-    out = re.sub(r"_\{([^{}]*)\}", r"_\1", out)
-    out = re.sub(r"\^\{([^{}]*)\}", r"^\1", out)
-    out = out.replace("&", " ").replace("{", "").replace("}", "")
-    return re.sub(r"[ \t]{4,}", "   ", out).strip()
 
 
 def _role(match: re.Match, module: str) -> str:
