@@ -16,7 +16,7 @@ from pathlib import Path
 
 from bouncelab.core.errors import DataError, MissingFileError
 
-__all__ = ["MAX_FILE_BYTES", "check_regular_file", "read_regular_file", "read_regular_text"]
+__all__ = ["MAX_FILE_BYTES", "check_regular_file", "read_head", "read_regular_file", "read_regular_text"]
 
 #: Largest file bouncelab reads, in bytes (1 GiB: some ten million bounces as CSV).
 MAX_FILE_BYTES = 1 << 30
@@ -70,6 +70,25 @@ def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
     if len(data) > max_bytes:
         raise DataError(f"the file is larger than the {max_bytes / 2**30:g} GiB bouncelab reads", file=file)
     return data
+
+
+def read_head(path: Path, file: str, nbytes: int) -> bytes:
+    """At most the first ``nbytes`` bytes of the regular file ``path`` (a header; a longer file is not refused,
+    its rest not read), or a DataError naming ``file``: missing, a FIFO, a device, a folder."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise _unreadable(exc, file) from None
+    try:
+        with os.fdopen(fd, "rb") as fh:
+            st = os.fstat(fh.fileno())
+            if not stat.S_ISREG(st.st_mode):
+                kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+                raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
+                                file=file)
+            return fh.read(nbytes)
+    except OSError as exc:
+        raise _unreadable(exc, file) from None
 
 
 def read_regular_text(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -> str:

@@ -551,7 +551,7 @@ def ball_radius(value: object, *, file: str | None = None) -> float:
         radius = positive(value, "ball_radius_m", error=DataError)
     except DataError as exc:
         raise DataError(f"ball_radius_m must be a positive length in metres; got {shown(value)}", file=file,
-                        option="ball_radius_m") from exc
+                        option="ball_radius_m") from None
     low, high = BALL_RADIUS_RANGE_M
     if not low <= radius <= high:
         raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "

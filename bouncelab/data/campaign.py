@@ -18,6 +18,7 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
+import contextlib
 from typing import Any
 
 import numpy as np
@@ -237,7 +238,11 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
     pf, _ = as_states(ds["liftoff"].transpose("bounce", "component"), "liftoff", file=file)
     check_same_length(p0, pf, "landing", "liftoff")
     kept = {k: v for k, v in ds.attrs.items() if k not in ("conventions",)}
-    radius = ball_radius(float(kept.pop("ball_radius_m", BALL_RADIUS_M)))
+    radius = kept.pop("ball_radius_m", BALL_RADIUS_M)
+    if isinstance(radius, str):  # an attribute another tool wrote as text: read as the number it spells, if any
+        with contextlib.suppress(ValueError):
+            radius = float(radius)
+    radius = ball_radius(radius, file=file)  # ("abc", NaN, True: a DataError naming the file)
     out = build_campaign(  # each array checked once; copied so that the campaign owns its memory
         p0.copy(), pf.copy(), setting=setting, **{k: _interval(p0, v.transpose("bounce", "component"), k)
                                                   for k, v in pis.items()},

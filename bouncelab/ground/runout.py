@@ -115,6 +115,8 @@ PHASES = ("flight", "skid", "roll", "rest")
 EVENTS = ("bounce", "skid_end", "rest")
 #: Path values (shots x samples x 10) from which :meth:`RunResult.sample` warns about memory.
 PATH_VALUES_WARN = 200_000_000
+#: Values of a path (:meth:`RunResult.sample`) beyond which it is refused, before any allocation (8 GB).
+PATH_VALUES_MAX = 1_000_000_000
 _AXES = ("x", "y", "z")
 
 
@@ -597,6 +599,11 @@ class RunResult:
         s, u = self._sim, self._units
         end = float(self.rest_time.max()) if s.n else 0.0
         nt = math.floor(end * rate) + 2
+        if s.n * nt * 10 > PATH_VALUES_MAX:  # refused before anything is allocated
+            raise ParameterError(f"the path of {s.n:,} shots over {end:.3g} s at rate={rate:g} samples/s would hold "
+                                 f"{s.n * nt * 10:.3g} values ({s.n * nt * 80 / 1e9:.3g} GB), more than "
+                                 f"{PATH_VALUES_MAX:.0e} (bouncelab.ground.runout.PATH_VALUES_MAX); sample fewer "
+                                 "shots or a lower rate", parameter="rate", value=rate)
         if s.n * nt * 10 > PATH_VALUES_WARN:
             warnings.warn(f"the path of {s.n:,} shots at {rate:g} samples/s holds {s.n * nt * 10 / 1e6:,.0f} M values "
                           f"({s.n * nt * 80 / 1e9:.1f} GB); sample fewer shots or a lower rate",
