@@ -23,6 +23,7 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import solve_ivp
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.core.units import BALL_RADIUS_M
 
@@ -350,11 +351,7 @@ def _flight(state, t_start: float, t_eval: np.ndarray, drag: float, gravity: flo
 
 
 def _state(value, name: str) -> np.ndarray:
-    try:
-        s = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got {value!r}", column=name,
-                        option=name) from exc
+    s = np.array(checks.real_array(value, name, "3 numbers [xdot, ydot, omega]", error=DataError)).reshape(-1)
     if s.shape != (3,):
         raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got shape {s.shape}", column=name, option=name)
     if not np.isfinite(s).all():
@@ -363,10 +360,4 @@ def _state(value, name: str) -> np.ndarray:
 
 
 def _positive(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be a positive number; got {value!r}", option=name) from exc
-    if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{name} must be a positive number; got {value!r}", option=name)
-    return v
+    return checks.positive(value, name, error=DataError)

@@ -549,7 +549,7 @@ def ball_radius(value: object, *, file: str | None = None) -> float:
     """
     try:
         radius = positive(value, "ball_radius_m", error=DataError)
-    except DataError as exc:
+    except DataError:
         raise DataError(f"ball_radius_m must be a positive length in metres; got {shown(value)}", file=file,
                         option="ball_radius_m") from None
     low, high = BALL_RADIUS_RANGE_M

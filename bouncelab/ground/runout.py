@@ -68,6 +68,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core.checks import count
 from bouncelab.core.errors import (
     BouncelabWarning,
     DataError,
@@ -280,8 +281,7 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
                              f"{type(surface).__name__}", parameter="surface")
     rate = positive(rate, "rate")
     hmin_m = positive(min_apex_m, "min_apex_m")
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int | np.integer) or max_bounces < 1:
-        raise ParameterError(f"max_bounces must be a whole number >= 1; got {max_bounces!r}", parameter="max_bounces")
+    max_bounces = count(max_bounces, "max_bounces", 1)
     if air is not None and not isinstance(air, Air):
         raise ParameterError(f"air must be a bouncelab.ground.Air or None; got {type(air).__name__}", parameter="air")
     u = Units(units, radius_m)
