@@ -31,8 +31,8 @@ import numpy as np
 
 from bouncelab.core.errors import BouncelabError, ParameterError
 
-__all__ = ["SEED_MAX", "as_float", "count", "finite", "fraction", "positive", "real_array", "seed", "shown", "text",
-           "vector"]
+__all__ = ["SEED_MAX", "as_float", "count", "finite", "fraction", "generator", "positive", "real_array", "seed",
+           "shown", "text", "vector"]
 
 #: Largest seed (NumPy's generators and NLopt take seeds below 2**63).
 SEED_MAX = 2**63 - 1
@@ -193,6 +193,14 @@ def real_array(value: Any, name: str, what: str = "real numbers", *, error: type
         return raw.astype(np.float64) if raw.dtype != np.float64 else raw
     except (TypeError, ValueError, OverflowError) as exc:
         raise refused(str(exc)) from None
+
+
+def generator(value: Any, name: str = "seed", *, error: type[BouncelabError] = ParameterError) -> np.random.Generator:
+    """A NumPy random generator from ``value``: a ``Generator`` as it is, None a fresh one (unseeded), else
+    a seed checked by :func:`seed`."""
+    if isinstance(value, np.random.Generator):
+        return value
+    return np.random.default_rng(None if value is None else seed(value, name, error=error))
 
 
 def vector(value: Any, name: str, length: int = 3, *, error: type[BouncelabError] = ParameterError,

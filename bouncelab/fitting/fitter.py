@@ -190,10 +190,10 @@ def check_seed(seed: Any) -> int:
     return checks.seed(seed, "seed", error=FitError)
 
 
-def check_count(value: Any, name: str, minimum: int) -> int:
-    """``value`` as an int of at least ``minimum`` (a count option such as ``k`` or ``walkers``), or FitError
-    (:func:`bouncelab.core.checks.count`)."""
-    return checks.count(value, name, minimum, error=FitError)
+def check_count(value: Any, name: str, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int of at least ``minimum`` (and at most ``maximum``: a count option such as ``k`` or
+    ``walkers``), or FitError (:func:`bouncelab.core.checks.count`)."""
+    return checks.count(value, name, minimum, maximum=maximum, error=FitError)
 
 
 def check_fraction(value: Any, name: str) -> float:

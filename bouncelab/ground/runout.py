@@ -108,6 +108,8 @@ __all__ = [
 DEFAULT_MIN_APEX_M = 0.002
 #: Bounces after which a ball is put on the ground whatever its lift-off (flagged ``bounce_limit``).
 DEFAULT_MAX_BOUNCES = 100
+#: The largest ``max_bounces`` accepted.
+MAX_BOUNCES = 1_000_000
 #: Samples per second of :attr:`RunResult.path` unless ``rate=`` says otherwise.
 DEFAULT_RATE = 100.0
 #: Phase codes of the path: ``phase == 0`` is flight, etc.
@@ -281,7 +283,7 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
                              f"{type(surface).__name__}", parameter="surface")
     rate = positive(rate, "rate")
     hmin_m = positive(min_apex_m, "min_apex_m")
-    max_bounces = count(max_bounces, "max_bounces", 1)
+    max_bounces = count(max_bounces, "max_bounces", 1, maximum=MAX_BOUNCES)
     if air is not None and not isinstance(air, Air):
         raise ParameterError(f"air must be a bouncelab.ground.Air or None; got {type(air).__name__}", parameter="air")
     u = Units(units, radius_m)
@@ -598,7 +600,8 @@ class RunResult:
         rate = self.rate if rate is None else positive(rate, "rate")
         s, u = self._sim, self._units
         end = float(self.rest_time.max()) if s.n else 0.0
-        nt = math.floor(end * rate) + 2
+        span = end * rate  # (inf for an absurd rate: refused below)
+        nt = math.floor(span) + 2 if span <= PATH_VALUES_MAX else PATH_VALUES_MAX + 1
         if s.n * nt * 10 > PATH_VALUES_MAX:  # refused before anything is allocated
             raise ParameterError(f"the path of {s.n:,} shots over {end:.3g} s at rate={rate:g} samples/s would hold "
                                  f"{s.n * nt * 10:.3g} values ({s.n * nt * 80 / 1e9:.3g} GB), more than "

@@ -258,7 +258,7 @@ class Provenance:
                 checks.seed(seed)
             except ParameterError as exc:
                 raise refused(exc) from None
-        raw = field_("landing_ranges", (Mapping,), {})
+        raw = field_("landing_ranges", (Mapping,), {}) or {}  # (null: none recorded)
         ranges: dict[str, tuple[float, float]] = {}
         for key, pair in raw.items():
             ok = (key in RANGE_NAMES and isinstance(pair, list | tuple) and len(pair) == 2
