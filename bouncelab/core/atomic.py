@@ -157,8 +157,15 @@ def atomic_path(path: str | os.PathLike[str], what: str = "the file") -> Iterato
         (:func:`protect_inputs`). After: the write failed (an ``OSError`` of the block or of the rename,
         e.g. a full disk), the previous file kept. An ``OutputError`` is an ``OSError``.
     """
-    shown = os.fspath(path)
-    target = _final_target(Path(path).expanduser())
+    try:
+        shown = os.fspath(path)
+        target = _final_target(Path(path).expanduser())
+        os.fsencode(target)  # (a NUL or a lone surrogate: no file can have the name)
+        if "\0" in shown:
+            raise ValueError("embedded null byte")
+    except (TypeError, ValueError) as exc:
+        raise OutputError(f"cannot write {what} to {path!r}: no file can have this name ({exc})",
+                          path=str(path), reason="not a file name") from None
     parent = target.parent
     if not parent.is_dir():
         raise _refusal(shown, what, "no such folder", f"the folder {os.fspath(parent)!r} does not exist")

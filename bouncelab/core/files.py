@@ -31,7 +31,7 @@ def check_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -
     """The file's status, or a DataError naming ``file`` for anything but a regular file of at most ``max_bytes``."""
     try:
         st = path.stat()  # follows symlinks: a link to /dev/zero is a device
-    except OSError as exc:
+    except (OSError, ValueError) as exc:
         raise _unreadable(exc, file) from None
     if not stat.S_ISREG(st.st_mode):
         kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
@@ -47,7 +47,7 @@ def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
     """The whole file, read without blocking on a FIFO that replaced it since a check (DataError naming ``file``)."""
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError as exc:
+    except (OSError, ValueError) as exc:  # (ValueError: a NUL or a lone surrogate in the name)
         raise _unreadable(exc, file) from None
     try:
         with os.fdopen(fd, "rb") as fh:
@@ -77,7 +77,7 @@ def read_head(path: Path, file: str, nbytes: int) -> bytes:
     its rest not read), or a DataError naming ``file``: missing, a FIFO, a device, a folder."""
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError as exc:
+    except (OSError, ValueError) as exc:  # (ValueError: a NUL or a lone surrogate in the name)
         raise _unreadable(exc, file) from None
     try:
         with os.fdopen(fd, "rb") as fh:
@@ -102,8 +102,11 @@ def read_regular_text(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
                         file=file) from None
 
 
-def _unreadable(exc: OSError, file: str) -> DataError:
-    """The DataError of a file that cannot be opened: missing (a MissingFileError), a permission, ..."""
+def _unreadable(exc: OSError | ValueError, file: str) -> DataError:
+    """The DataError of a file that cannot be opened: missing (a MissingFileError), a permission, a name no
+    file can have, ..."""
+    if isinstance(exc, ValueError):  # a NUL byte, or a character the file system cannot encode
+        return DataError(f"no file can have this name ({exc})", file=file)
     if isinstance(exc, FileNotFoundError):
         return MissingFileError("no such file", file=file)
     if isinstance(exc, PermissionError):

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.core.units import (
@@ -107,6 +108,8 @@ def make_campaign(
     The arrays are copied: changing the caller's arrays afterwards does not
     change (or invalidate) the campaign.
     """
+    for name, value in (("campaign", campaign), ("surface", surface), ("source", source), ("data_kind", data_kind)):
+        checks.text(value, name, error=DataError)  # written into every file: text a file can hold
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")

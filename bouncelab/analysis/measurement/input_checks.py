@@ -40,6 +40,7 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL, missing_
     With ``missing_frames``, an interval may span a whole number of frame periods (frames a camera dropped,
     whose times the file records): ``dt`` is then the period, each interval within ``jitter_rtol`` of a
     multiple of it."""
+    checks.positive(jitter_rtol, "jitter_rtol", allow_zero=True, error=DataError)
     _check_finite(t, "t")
     if t.size < 2:
         raise DataError(f"need at least 2 frame times; got {t.size}", column="t")
