@@ -101,7 +101,7 @@ def interval_coverage(
     from bouncelab.analysis.trajectories import simulate_tracked_bounce
 
     n_bounces = checks.count(n_bounces, "n_bounces", 1, maximum=10_000_000, error=DataError)
-    rng = checks.generator(seed, error=DataError)
+    rng = np.random.default_rng(checks.seed(seed, error=DataError))
     estimators = {
         "paper PI": ("differences", "prediction"),
         "paper CI": ("differences", "confidence"),
