@@ -26,6 +26,7 @@ from typing import Any
 from bouncelab.core.atomic import _Terminated, atomic_write_bytes, atomic_write_text  # noqa: F401 (named here by report.pipeline)
 from bouncelab.core.atomic import sigterm_raises as _sigterm_raises
 from bouncelab.core.errors import OutputError
+from bouncelab.core.files import read_regular_file, read_regular_text
 from bouncelab.report.model import Report
 
 __all__ = ["MANIFEST", "check_out", "remove_stale_staging", "staged", "write_report"]
@@ -124,15 +125,15 @@ def _previous_report_files(out: Path) -> set[str] | None:
     manifest = out / MANIFEST
     if manifest.is_file():
         try:
-            listed = json.loads(manifest.read_text())["files"]
-        except (ValueError, KeyError, TypeError, OSError):
+            listed = json.loads(read_regular_text(manifest, str(manifest)))["files"]
+        except (ValueError, KeyError, TypeError, OSError):  # (a FIFO or a device: a DataError, a ValueError)
             return None
         return {str(f) for f in listed} | {MANIFEST}
     index = out / "index.html"
     if index.is_file():  # an older report, from before the manifest: its index lists its files
         try:
-            text = index.read_text(errors="replace")
-        except OSError:
+            text = read_regular_file(index, str(index)).decode("utf-8", errors="replace")
+        except (OSError, ValueError):  # (a FIFO or a device: a DataError, a ValueError)
             return None
         if "<title>bouncelab report</title>" in text:
             import html
