@@ -411,8 +411,8 @@ class BounceModel:
         >>> [round(v, 3) for v in bl.Rigid(r=0.5, mu=0.4).predict_one(1000.0, -800.0, 300.0)]
         [628.571, 400.0, -628.571]
         """
-        if not (isinstance(xdot, float) and isinstance(ydot, float) and isinstance(omega, float)):
-            xdot, ydot, omega = _one_landing(xdot, ydot, omega)  # (floats go straight to the compiled check)
+        if not type(xdot) is type(ydot) is type(omega) is float:  # (three floats go straight to the compiled check)
+            xdot, ydot, omega = _one_landing(xdot, ydot, omega)
         one, rest = self.__dict__.get("_one_entry") or self._one_entry_point()
         if not (plausible is PLAUSIBLE_RANGES and radius_m is None):  # (rest: the default limits, then the law's)
             rest = (*_limits_of(plausible, radius_m), rest[-1])
