@@ -516,3 +516,13 @@ def test_ctrl_c_during_a_fit_exits_130(delay):
         proc.wait()
     assert proc.returncode == 130, err
     assert err.strip() == "bouncelab fit: interrupted"
+
+
+def test_json_options_of_thousands_of_digits_are_usage_errors(capsys):
+    """`fit --bounds '{"r": [0, 999...]}'` with 5000 digits raised ValueError (exit 1, a traceback)."""
+    from bouncelab.cli.main import main
+
+    huge = "9" * 5000
+    assert main(["fit", "Rigid", "A", "--bounds", '{"r": [0, ' + huge + "]}"]) == 2
+    assert main(["fit", "Rigid", "A", "--option", f"maxeval={huge}"]) == 4  # (kept as text: not a count)
+    assert "Traceback" not in capsys.readouterr().err

@@ -63,6 +63,8 @@ def _json_option(name: str, text: str | None, example: str) -> dict | None:
         value = json.loads(text)
     except json.JSONDecodeError as exc:
         raise UsageError(f"{name}: malformed JSON ({exc.msg} at character {exc.pos}); write e.g. {example}") from None
+    except (ValueError, RecursionError) as exc:  # an integer of thousands of digits, nesting too deep
+        raise UsageError(f"{name}: JSON that cannot be read ({exc}); write e.g. {example}") from None
     if not isinstance(value, dict):
         raise UsageError(f"{name} must be a JSON object, e.g. {example}; got {type(value).__name__} {text!r}")
     return value
@@ -407,7 +409,7 @@ def _method_options(items: list[str]) -> dict[str, Any]:
             raise UsageError(f"--option takes KEY=VALUE, e.g. --option maxeval=2000; got {item!r}")
         try:
             options[key.strip()] = json.loads(value)
-        except json.JSONDecodeError:
+        except (ValueError, RecursionError):  # (not JSON, or an integer of thousands of digits: the text itself)
             options[key.strip()] = value
     return options
 
