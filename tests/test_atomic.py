@@ -49,10 +49,14 @@ def test_symlink_is_kept_and_its_target_replaced(tmp_path):
 
 
 def test_missing_folder_and_directory_target_are_refused(tmp_path):
-    with pytest.raises(FileNotFoundError):
+    from bouncelab.core.errors import OutputError
+
+    with pytest.raises(OutputError) as err:
         atomic_write_text(tmp_path / "nope" / "x.txt", "x")
-    with pytest.raises(IsADirectoryError):
+    assert (err.value.path, err.value.reason) == (str(tmp_path / "nope" / "x.txt"), "no such folder")
+    with pytest.raises(OutputError) as err:
         atomic_write_text(tmp_path, "x")
+    assert (err.value.path, err.value.reason) == (str(tmp_path), "a folder")
 
 
 def test_every_to_json_with_a_path_words_a_failed_write_as_an_output_error(tmp_path):

@@ -8,7 +8,7 @@ import math
 import pytest
 
 import bouncelab as bl
-from bouncelab.core.errors import NotFittedError, ParameterError
+from bouncelab.core.errors import DataError, NotFittedError, ParameterError
 from bouncelab.ground import PRESET_NAMES, STIMP_SPEED_M_S, Surface, load_surface, preset
 
 
@@ -109,9 +109,9 @@ def test_bad_descriptions_and_names_are_refused(tmp_path):
     with pytest.raises(ParameterError) as e:
         preset("green-glass")
     assert (e.value.parameter, e.value.value) == ("surface", "green-glass")
-    with pytest.raises(ParameterError) as e:  # cannot read the file
+    with pytest.raises(DataError) as e:  # cannot read the file: a DataError naming it (also a FileNotFoundError)
         load_surface(tmp_path / "missing.json")
-    assert (e.value.parameter, e.value.value) == ("path", str(tmp_path / "missing.json"))
+    assert e.value.file == str(tmp_path / "missing.json") and isinstance(e.value, FileNotFoundError)
     with pytest.raises(ParameterError) as e:  # no such field
         preset("turf-A").replace(colour="green")
     assert e.value.parameter == "colour"

@@ -136,9 +136,11 @@ def test_no_guard_on_purpose_and_limits_without_limit():
 
 def test_predict_one_refuses_what_is_not_a_number():
     law = COMPILED[0]
-    assert law.predict_one("1000", -800, np.float32(300.0)) == law.predict_one(1000.0, -800.0, 300.0)
-    for bad, words in (((None, -800.0, 0.0), "NaN"), ((10**400, -800.0, 0.0), "too large"),
-                       (("x", -800.0, 0.0), "numeric"), (([1, 2], -800.0, 0.0), "numeric"),
+    assert law.predict_one(1000, -800, np.float32(300.0)) == law.predict_one(1000.0, -800.0, 300.0)
+    # text is not a number (predict refuses an array of text too): core.checks' rule, also on the fast path
+    for bad, words in (((None, -800.0, 0.0), "None is not a number"), ((10**400, -800.0, 0.0), "too large"),
+                       (("x", -800.0, 0.0), "text is not a number"), (("1000", -800.0, 0.0), "text is not"),
+                       (([1, 2], -800.0, 0.0), "not a number"), ((True, -800.0, 0.0), "a bool is not"),
                        ((1000.0, -0.0, 0.0), "negative"), ((1000.0, -800.0, math.inf), "infinite")):
         with pytest.raises(DataError, match=words):
             law.predict_one(*bad)

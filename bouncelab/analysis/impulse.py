@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.data.inputs import campaign_arrays
 
@@ -72,7 +73,7 @@ def impulse_lever_arm(data: Any, *, min_fraction: float = MIN_DXDOT_FRACTION) ->
     >>> float(impulse_lever_arm((p0, bl.Rigid(r=0.5, mu=0.4).predict(p0)))["lever_arm"][0])
     2.5
     """
-    if not (np.isfinite(min_fraction) and 0 <= min_fraction < 1):
+    if not checks.finite(min_fraction, "min_fraction", error=DataError, low=0.0, want="a number in [0, 1)") < 1:
         raise DataError(f"min_fraction must be in [0, 1); got {min_fraction!r}", option="min_fraction")
     p0, pf, _ = campaign_arrays(data, name="data")
     dx, dw, lever = _lever(p0, pf, min_fraction)

@@ -27,6 +27,7 @@ import pandas as pd
 import xarray as xr
 from scipy import stats
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.units import COMPONENTS
 from bouncelab.data.campaign import setting_labels
@@ -288,13 +289,7 @@ def _nanmedian(values: np.ndarray) -> float:
 
 
 def _check_level(level: float) -> float:
-    try:
-        value = float(level)
-    except (TypeError, ValueError):
-        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}", option="level") from None
-    if not 0.0 < value < 1.0:
-        raise DataError(f"level must be a confidence level in (0, 1); got {level!r}", option="level")
-    return value
+    return checks.fraction(level, "level", error=DataError)
 
 
 def _setting_order(labels: np.ndarray) -> np.ndarray:

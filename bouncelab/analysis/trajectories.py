@@ -23,6 +23,7 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import solve_ivp
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.core.units import BALL_RADIUS_M
 
@@ -87,6 +88,12 @@ DRAG_SCALED = drag_scaled()
 
 #: Phase labels of the frames of a track.
 PHASES = ("before", "contact", "after")
+
+#: Frame rates a simulated track may have (frames/s: the estimators' own range,
+#: :data:`bouncelab.analysis.measurement.FRAME_RATE_RANGE`) and the most frames a phase of it may hold
+#: (a larger simulation is refused before anything is allocated).
+FPS_LIMITS = (1.0, 1.0e7)
+MAX_FRAMES = 1_000_000
 
 # During contact the turf hides part of the ball: circle detection and feature
 # matching degrade. The generator multiplies the noise by these factors there.
@@ -215,23 +222,25 @@ def simulate_tracked_bounce(
             f"a lift-off must move upward (ydot > 0) for the ball to leave the surface; got ydot = {pf[1]!r}",
             column="liftoff",
         )
-    fps = _positive("fps", fps)
-    contact_frames = _positive("contact_frames", contact_frames)
+    fps = checks.finite(fps, "fps", error=DataError, low=FPS_LIMITS[0], high=FPS_LIMITS[1],
+                        want=f"a frame rate from {FPS_LIMITS[0]:g} to {FPS_LIMITS[1]:g} frames/s")
+    contact_frames = checks.finite(contact_frames, "contact_frames", error=DataError, low=0.0, high=MAX_FRAMES,
+                                   want=f"a number of frames > 0 and at most {MAX_FRAMES:,}")
+    if contact_frames <= 0:
+        raise DataError(f"contact_frames must be > 0; got {contact_frames!r}", option="contact_frames")
     for name, value in (("n_before", n_before), ("n_after", n_after)):
-        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-            raise DataError(f"{name} must be a positive integer number of frames; got {value!r}", option=name)
+        checks.count(value, name, 1, maximum=MAX_FRAMES, error=DataError)
     for name, value in (
         ("position_noise", position_noise),
         ("angle_noise", angle_noise),
         ("drag", drag),
         ("gravity", gravity),
     ):
-        if not (np.isfinite(value) and value >= 0):
-            raise DataError(f"{name} must be a finite non-negative number; got {value!r}", option=name)
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+        checks.positive(value, name, allow_zero=True, error=DataError)
+    rng = checks.generator(seed, error=DataError)
     if frame_offset is None:
         frame_offset = float(rng.uniform(0.0, 1.0))
-    elif not (np.isfinite(frame_offset) and 0.0 <= frame_offset < 1.0):
+    elif not checks.finite(frame_offset, "frame_offset", error=DataError, low=0.0, want="a number in [0, 1)") < 1:
         raise DataError(f"frame_offset must be in [0, 1); got {frame_offset!r}", option="frame_offset")
 
     dt = 1.0 / fps
@@ -350,23 +359,9 @@ def _flight(state, t_start: float, t_eval: np.ndarray, drag: float, gravity: flo
 
 
 def _state(value, name: str) -> np.ndarray:
-    try:
-        s = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got {value!r}", column=name,
-                        option=name) from exc
+    s = np.array(checks.real_array(value, name, "3 numbers [xdot, ydot, omega]", error=DataError)).reshape(-1)
     if s.shape != (3,):
         raise DataError(f"{name} must be 3 numbers [xdot, ydot, omega]; got shape {s.shape}", column=name, option=name)
     if not np.isfinite(s).all():
         raise DataError(f"{name} has a NaN or infinite component: {s.tolist()}", column=name)
     return s
-
-
-def _positive(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be a positive number; got {value!r}", option=name) from exc
-    if not (np.isfinite(v) and v > 0):
-        raise DataError(f"{name} must be a positive number; got {value!r}", option=name)
-    return v

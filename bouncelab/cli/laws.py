@@ -98,9 +98,11 @@ def named_law(name: str):
 
 def saved_law_name(path: str) -> str | None:
     """The law name a law JSON file holds ("law"), or None if it cannot be read as one."""
+    from bouncelab.core.files import read_regular_text
+
     try:
-        name = json.loads(Path(path).read_text()).get("law")
-    except (OSError, ValueError, AttributeError, RecursionError):
+        name = json.loads(read_regular_text(Path(path), path)).get("law")
+    except (OSError, ValueError, AttributeError, RecursionError):  # (a DataError is a ValueError)
         return None
     return name if isinstance(name, str) else None
 

@@ -18,10 +18,12 @@ the run summary; 1 anything unexpected (a bug: please report it).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import re
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +63,8 @@ def _json_option(name: str, text: str | None, example: str) -> dict | None:
         value = json.loads(text)
     except json.JSONDecodeError as exc:
         raise UsageError(f"{name}: malformed JSON ({exc.msg} at character {exc.pos}); write e.g. {example}") from None
+    except (ValueError, RecursionError) as exc:  # an integer of thousands of digits, nesting too deep
+        raise UsageError(f"{name}: JSON that cannot be read ({exc}); write e.g. {example}") from None
     if not isinstance(value, dict):
         raise UsageError(f"{name} must be a JSON object, e.g. {example}; got {type(value).__name__} {text!r}")
     return value
@@ -233,27 +237,58 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     import warnings
 
-    with warnings.catch_warnings():  # restores the warnings machinery when the command ends
+    with warnings.catch_warnings(), _interrupts_kept() as interrupted:  # (both restored when the command ends)
         _one_line_warnings(args.command)
-        return _run(args)
+        code = _run(args)
+    if interrupted and code != 130:  # a Ctrl-C that a library swallowed (numba's compiler does): still 130
+        print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
+        return 130
+    return code
+
+
+@contextlib.contextmanager
+def _interrupts_kept() -> Iterator[list[int]]:
+    """During the block, Ctrl-C (SIGINT) raises KeyboardInterrupt as usual and is also noted in the yielded
+    list, so that an interrupt some library caught and dropped still ends the command with 130. Only where
+    Python's own handler is installed, in the main thread."""
+    import signal
+    import threading
+
+    noted: list[int] = []
+    if threading.current_thread() is not threading.main_thread() or \
+            signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        yield noted
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        noted.append(signum)
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield noted
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _run(args: argparse.Namespace) -> int:
     """Run one command; every user error becomes a message and an exit code (no traceback)."""
-    from bouncelab.cli.reproduce import OutputError
-    from bouncelab.core.errors import DataError, FitError, ParameterError
+    # (only light imports before the try: a Ctrl-C during a command's own imports exits 130 too)
+    from bouncelab.core.atomic import protect_inputs
+    from bouncelab.core.errors import DataError, FitError, OutputError, ParameterError
 
     try:
-        if args.command == "track":
-            from bouncelab.cli.track import run as run_track
+        with protect_inputs(_input_files(args)):  # no output may replace a file the command reads
+            if args.command == "track":
+                from bouncelab.cli.track import run as run_track
 
-            return run_track(args)
-        import_modules(getattr(args, "imports", []))
-        if args.command == "export":
-            from bouncelab.cli.export import run as run_export
+                return run_track(args)
+            import_modules(getattr(args, "imports", []))
+            if args.command == "export":
+                from bouncelab.cli.export import run as run_export
 
-            return run_export(args)
-        return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
+                return run_export(args)
+            return {"reproduce": _reproduce, "fit": _fit, "predict": _predict, "info": _info}[args.command](args)
     except BrokenPipeError:
         # The reader went away (e.g. `bouncelab fit ... | head`): stop quietly, as Unix tools do.
         _stdout_to_devnull()
@@ -273,6 +308,15 @@ def _run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print(f"bouncelab {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _input_files(args: argparse.Namespace) -> list[str]:
+    """The files a command reads (law files, data files, clips, a manifest), as given."""
+    files: list[str] = []
+    for key in ("law", "data", "input", "clips", "manifest"):
+        value = getattr(args, key, None)
+        files += [value] if isinstance(value, str) else [v for v in value or () if isinstance(v, str)]
+    return files
 
 
 def _stdout_to_devnull() -> None:
@@ -365,7 +409,7 @@ def _method_options(items: list[str]) -> dict[str, Any]:
             raise UsageError(f"--option takes KEY=VALUE, e.g. --option maxeval=2000; got {item!r}")
         try:
             options[key.strip()] = json.loads(value)
-        except json.JSONDecodeError:
+        except (ValueError, RecursionError):  # (not JSON, or an integer of thousands of digits: the text itself)
             options[key.strip()] = value
     return options
 

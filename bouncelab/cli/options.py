@@ -8,29 +8,33 @@ option's name (``argument --fps: not a number: 'x'``) and exits with status 2.
 from __future__ import annotations
 
 import argparse
-import math
 from collections.abc import Callable
+
+from bouncelab.core import checks
+from bouncelab.core.errors import ParameterError
 
 __all__ = ["finite", "positive", "whole"]
 
 
 def finite(text: str) -> float:
-    """A finite number."""
+    """A finite number (the text parsed, then :func:`bouncelab.core.checks.finite`'s rule)."""
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
+    try:
+        return checks.finite(value, "value")
+    except ParameterError:
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}") from None
 
 
 def positive(text: str) -> float:
-    """A finite number > 0."""
+    """A finite number > 0 (:func:`bouncelab.core.checks.positive`'s rule)."""
     value = finite(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
-    return value
+    try:
+        return checks.positive(value, "value")
+    except ParameterError:
+        raise argparse.ArgumentTypeError(f"must be positive: {text!r}") from None
 
 
 def whole(minimum: int, what: str = "") -> Callable[[str], int]:

@@ -20,6 +20,7 @@ __all__ = [
     "FitError",
     "Hint",
     "LargeResultWarning",
+    "MissingFileError",
     "NonphysicalLiftoffWarning",
     "NotFittedError",
     "OutputError",
@@ -170,6 +171,23 @@ class DataError(BouncelabError, ValueError):
         if self.row is not None:
             where.append(row_text(self.row, self.row_label))
         return ", ".join(where)
+
+
+class MissingFileError(DataError, FileNotFoundError):
+    """A file to read does not exist (``file`` names it): a :class:`DataError`, and a ``FileNotFoundError``
+    as Python's own would be, so code catching either keeps working."""
+
+    def __init__(self, message: str, *, file: str | None = None, hints: Iterable[Hint] = ()) -> None:
+        super().__init__(message, file=file, hints=hints)
+        self.errno = 2  # ENOENT, as the OSError it stands for
+        self.strerror = message
+        self.filename = self.file
+
+    def __str__(self) -> str:
+        return self.render()  # OSError would format errno and strerror instead
+
+    def __reduce__(self) -> tuple:
+        return _rebuild, (type(self), (self.message,), {"file": self.file, "hints": self.hints})
 
 
 class ParameterError(BouncelabError, ValueError):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bouncelab.core.checks import positive
 from bouncelab.core.errors import DataError
 from bouncelab.core.validation import States, as_states, check_same_length
 
@@ -39,12 +40,7 @@ def classify_slip_roll(landing: States, liftoff: States, *, tol: float = 0.0, co
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
-    try:
-        ok = np.isfinite(tol) and tol >= 0
-    except TypeError:
-        ok = False
-    if not ok:
-        raise DataError(f"tol must be a non-negative number of radii/s; got {tol!r}", option="tol")
+    tol = positive(tol, "tol", allow_zero=True, error=DataError)
     c = _slip_codes(p0, pf, tol)
     return c if codes else np.asarray(SLIP_ROLL_CLASSES)[c]
 

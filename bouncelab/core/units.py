@@ -24,6 +24,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from bouncelab.core.checks import positive, real_array, shown
 from bouncelab.core.errors import DataError, Hint
 
 __all__ = [
@@ -546,15 +547,11 @@ def ball_radius(value: object, *, file: str | None = None) -> float:
 
     A number (not a bool or text), finite, positive and within :data:`BALL_RADIUS_RANGE_M`.
     """
-    radius = math.nan
-    if not isinstance(value, bool | str | bytes):
-        try:
-            radius = float(value)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            pass
-    if not (math.isfinite(radius) and radius > 0):
-        raise DataError(f"ball_radius_m must be a positive length in metres; got {value!r}", file=file,
-                        option="ball_radius_m")
+    try:
+        radius = positive(value, "ball_radius_m", error=DataError)
+    except DataError:
+        raise DataError(f"ball_radius_m must be a positive length in metres; got {shown(value)}", file=file,
+                        option="ball_radius_m") from None
     low, high = BALL_RADIUS_RANGE_M
     if not low <= radius <= high:
         raise DataError(f"ball_radius_m={radius:g} is not a ball's radius in metres (a golf ball's is {BALL_RADIUS_M}; "
@@ -564,8 +561,7 @@ def ball_radius(value: object, *, file: str | None = None) -> float:
 
 
 def _check_radius(radius_m: float) -> None:
-    if not (np.isfinite(radius_m) and radius_m > 0):
-        raise DataError(f"ball radius must be a positive length in metres; got {radius_m!r}", option="radius_m")
+    positive(radius_m, "radius_m", error=DataError)
 
 
 def _require(ok: np.ndarray, value, message: str, *, column: str | None = None, option: str | None = None) -> None:
@@ -582,10 +578,7 @@ def _require(ok: np.ndarray, value, message: str, *, column: str | None = None, 
 def _numeric(value, what: str, option: str | None = None) -> np.ndarray:
     """``value`` as a new float array (never the caller's own array), or DataError (naming the argument
     ``option`` when it is one)."""
-    try:
-        return np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{what} must be numeric; {exc}", option=option) from None
+    return np.array(real_array(value, option or what, what, error=DataError))
 
 
 def _state_array(state) -> np.ndarray:

@@ -13,7 +13,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core._parallel import run_chunked
+from bouncelab.core.checks import _NOT_REAL
 from bouncelab.core.errors import DataError
 from bouncelab.core.landing_checks import STATE_LIMIT, is_landing
 from bouncelab.core.units import COMPONENT_UNITS, COMPONENTS
@@ -177,11 +179,6 @@ def _component_order(labels: list[str]) -> list[int] | None:
     return None
 
 
-#: Array kinds that are not real numbers, though NumPy would turn some of them into floats.
-_NOT_REAL = {"c": "complex", "b": "boolean", "U": "text", "S": "bytes", "V": "structured", "M": "dates",
-             "m": "time spans"}
-
-
 def refuse_non_numeric(raw: np.ndarray, name: str, components: str, *, file: str | None = None) -> None:
     """DataError when ``raw`` holds complex, boolean, text, bytes, structured or date values (which
     ``astype(float)`` would silently turn into numbers); ``components`` names what the numbers are."""
@@ -193,16 +190,9 @@ def refuse_non_numeric(raw: np.ndarray, name: str, components: str, *, file: str
 
 def real_array(value: Any, name: str, components: str, *, file: str | None = None) -> np.ndarray:
     """``value`` as a float64 array, or a DataError naming ``name``: values that are not numbers, and those
-    that ``astype(float)`` would silently turn into numbers (:func:`refuse_non_numeric`), are refused."""
-    try:
-        raw = np.asarray(value)
-    except (TypeError, ValueError, OverflowError, RecursionError) as exc:
-        raise DataError(f"{name} must be numeric ({components}); {exc}", file=file, option=name) from None
-    refuse_non_numeric(raw, name, components, file=file)
-    try:
-        return raw.astype(np.float64) if raw.dtype != np.float64 else raw
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise DataError(f"{name} must be numeric ({components}); {exc}", file=file, option=name) from None
+    that ``astype(float)`` would silently turn into numbers, are refused (:func:`bouncelab.core.checks.real_array`:
+    also, in an array of Python objects, text, bools, None and integers beyond a float)."""
+    return checks.real_array(value, name, f"real numbers ({components})", error=DataError, file=file)
 
 
 def is_dataarray(obj: Any) -> bool:

@@ -18,11 +18,13 @@ and whether the data are measured or a synthetic surrogate.
 
 from __future__ import annotations
 
+import contextlib
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.core.units import (
@@ -106,6 +108,8 @@ def make_campaign(
     The arrays are copied: changing the caller's arrays afterwards does not
     change (or invalidate) the campaign.
     """
+    for name, value in (("campaign", campaign), ("surface", surface), ("source", source), ("data_kind", data_kind)):
+        checks.text(value, name, error=DataError)  # written into every file: text a file can hold
     p0, _ = as_states(landing, "landing", landing=True)
     pf, _ = as_states(liftoff, "liftoff")
     check_same_length(p0, pf, "landing", "liftoff")
@@ -237,7 +241,11 @@ def validate_campaign(ds: xr.Dataset, *, file: str | None = None) -> xr.Dataset:
     pf, _ = as_states(ds["liftoff"].transpose("bounce", "component"), "liftoff", file=file)
     check_same_length(p0, pf, "landing", "liftoff")
     kept = {k: v for k, v in ds.attrs.items() if k not in ("conventions",)}
-    radius = ball_radius(float(kept.pop("ball_radius_m", BALL_RADIUS_M)))
+    radius = kept.pop("ball_radius_m", BALL_RADIUS_M)
+    if isinstance(radius, str):  # an attribute another tool wrote as text: read as the number it spells, if any
+        with contextlib.suppress(ValueError):
+            radius = float(radius)
+    radius = ball_radius(radius, file=file)  # ("abc", NaN, True: a DataError naming the file)
     out = build_campaign(  # each array checked once; copied so that the campaign owns its memory
         p0.copy(), pf.copy(), setting=setting, **{k: _interval(p0, v.transpose("bounce", "component"), k)
                                                   for k, v in pis.items()},

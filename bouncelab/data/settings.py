@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.data.inputs import campaign_arrays
 
@@ -43,12 +44,10 @@ def infer_settings(data: Any, *, n_settings: int | None = None, threshold: float
     from sklearn.preprocessing import StandardScaler
 
     p0, _, _ = campaign_arrays(data)
-    if n_settings is not None and not 1 <= int(n_settings) <= len(p0):
-        raise DataError(f"n_settings must be between 1 and the number of bounces ({len(p0)}); got {n_settings}",
-                        option="n_settings")
-    if n_settings is None and not (np.isfinite(threshold) and threshold > 0):
-        raise DataError(f"threshold must be a positive number of standard deviations; got {threshold!r}",
-                        option="threshold")
+    if n_settings is not None:
+        n_settings = checks.count(n_settings, "n_settings", 1, maximum=max(len(p0), 1), error=DataError)
+    if n_settings is None:
+        threshold = checks.positive(threshold, "threshold", error=DataError)
     if len(p0) < 2:
         return np.ones(len(p0), dtype=np.int64)
     z = StandardScaler().fit_transform(p0)

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.core import units as u
-from bouncelab.core.errors import DataError, Hint, ParameterError
+from bouncelab.core.errors import DataError, Hint, MissingFileError, ParameterError
 from bouncelab.core.files import check_regular_file
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.data.io import interpret as ip
@@ -142,10 +142,9 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
 
     Raises
     ------
-    FileNotFoundError
-        No such file.
     DataError
-        Naming the file, the column and the row: no column recognised, a bad or missing cell, an unknown or
+        Naming the file, the column and the row: no such file (a :class:`~bouncelab.core.errors.MissingFileError`,
+        also a ``FileNotFoundError``), a FIFO or a device, no column recognised, a bad or missing cell, an unknown or
         conflicting unit, a number only another unit makes, a landing angle outside (0, 90] degrees.
 
     Examples
@@ -168,7 +167,7 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
         table = read.read_dataframe(source, where)
     else:
         if not (path := Path(where).expanduser()).exists():
-            raise FileNotFoundError(f"no such file: {where!r}")
+            raise MissingFileError("no such file", file=where)
         suffix = path.suffix.lower()
         if path.is_dir() or suffix not in (".csv", ".tsv", ".txt", ".xlsx", ".xls"):
             raise DataError("a shot export is a .csv, .tsv, .txt, .xlsx or .xls file; got "

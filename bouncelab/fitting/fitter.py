@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import inspect
-import numbers
 import time
 from collections.abc import Mapping
 from typing import Any
@@ -11,6 +10,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core import checks
 from bouncelab.core.errors import Code, FitError, Hint, ParameterError
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, check_scaled
 from bouncelab.data.campaign import synthetic_warning
@@ -40,7 +40,7 @@ from bouncelab.metrics import error_terms
 __all__ = ["DEFAULT_ALGORITHM", "DEFAULT_LOCAL_ALGORITHM", "default_maxeval", "fit", "law_instance", "resolve_bounds"]
 
 #: Largest seed accepted (NLopt and NumPy take it as an unsigned 64-bit number).
-SEED_MAX = 2**63 - 1
+SEED_MAX = checks.SEED_MAX
 
 
 def fit(
@@ -186,24 +186,19 @@ def fit(
 
 
 def check_seed(seed: Any) -> int:
-    """``seed`` as an int in [0, 2**63), or FitError."""
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= int(seed) <= SEED_MAX:
-        raise FitError(f"seed must be an integer in [0, 2**63); got {seed!r}", option="seed")
-    return int(seed)
+    """``seed`` as an int in [0, 2**63), or FitError (:func:`bouncelab.core.checks.seed`)."""
+    return checks.seed(seed, "seed", error=FitError)
 
 
-def check_count(value: Any, name: str, minimum: int) -> int:
-    """``value`` as an int of at least ``minimum`` (a count option such as ``k`` or ``walkers``), or FitError."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise FitError(f"{name} must be an integer of at least {minimum}; got {value!r}", option=name)
-    return int(value)
+def check_count(value: Any, name: str, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int of at least ``minimum`` (and at most ``maximum``: a count option such as ``k`` or
+    ``walkers``), or FitError (:func:`bouncelab.core.checks.count`)."""
+    return checks.count(value, name, minimum, maximum=maximum, error=FitError)
 
 
 def check_fraction(value: Any, name: str) -> float:
-    """``value`` as a float in (0, 1) (a level or a share), or FitError."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value < 1:
-        raise FitError(f"{name} must be a number in (0, 1); got {value!r}", option=name)
-    return float(value)
+    """``value`` as a float in (0, 1) (a level or a share), or FitError (:func:`bouncelab.core.checks.fraction`)."""
+    return checks.fraction(value, name, error=FitError)
 
 
 def refuse_sample_weight(fit_kwargs: Mapping[str, Any], where: str,

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import Code, FitError, Hint, ParameterError
 from bouncelab.core.validation import inverse_norms
 from bouncelab.fitting.search import SearchOutcome, global_search
@@ -208,14 +209,11 @@ class Problem:
                 f"{self.n} bounce(s) are too few to fit {space.d} parameter(s) of {law_name(law)}; "
                 f"need at least {space.d + 1}", law=law_name(law)
             )
-        if maxeval is not None:
+        if maxeval is not None:  # (NLopt counts evaluations in a C int)
             try:
-                maxeval = int(maxeval)
-            except (TypeError, ValueError):
-                maxeval = 0
-            if maxeval < 1:
-                raise FitError(f"maxeval must be a positive integer; got {maxeval!r}", law=law_name(law),
-                               option="maxeval")
+                maxeval = checks.count(maxeval, "maxeval", 1, maximum=2**31 - 1, error=FitError)
+            except FitError as exc:
+                raise FitError(exc.message, law=law_name(law), option="maxeval") from None
         obj = self.objective(law)
         f = space.unit_function(obj)
         if criterion is None:

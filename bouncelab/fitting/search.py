@@ -18,7 +18,7 @@ import numpy as np
 
 from bouncelab.core.errors import FitError
 
-__all__ = ["GLOBAL_ALGORITHMS", "LOCAL_ALGORITHMS", "SearchOutcome", "global_search"]
+__all__ = ["GLOBAL_ALGORITHMS", "LOCAL_ALGORITHMS", "SearchOutcome", "global_search", "run_nlopt"]
 
 #: Global algorithms offered (NLopt names without the prefix).
 GLOBAL_ALGORITHMS = ("CRS2_LM", "ISRES", "ESCH", "DIRECT_L", "MLSL")
@@ -78,6 +78,7 @@ class _Tracked:
 
     def __init__(self, f: Callable[[np.ndarray], float]) -> None:
         self.f = f
+        self.raised: list[BaseException] = []  # what the objective raised (NLopt may lose it: run_nlopt)
         self.calls = 0
         self.best_x: np.ndarray | None = None
         self.best_f = np.inf
@@ -86,7 +87,11 @@ class _Tracked:
 
     def __call__(self, x: np.ndarray, grad: np.ndarray) -> float:
         self.calls += 1
-        v = float(self.f(x))
+        try:
+            v = float(self.f(x))
+        except BaseException as exc:
+            self.raised.append(exc)
+            raise
         if v != v or v == np.inf:  # NaN or inf: a point the optimizer must avoid
             v = 1e300
         self.xs.append(x.copy())
@@ -108,9 +113,30 @@ class _Tracked:
         return chosen
 
 
+def run_nlopt(opt: nlopt.opt, x0: np.ndarray, raised: list[BaseException]) -> None:
+    """``opt.optimize(x0)``, an interrupt during it re-raised as itself.
+
+    NLopt stops when its objective raises and re-raises the exception, but a ``KeyboardInterrupt`` (Ctrl-C)
+    or a SIGTERM that lands in NLopt's own glue around the call comes out as ``nlopt.ForcedStop`` (or, from
+    some algorithms, as a failure code): bouncelab never forces a stop, so a ForcedStop is an exception of
+    the objective. ``raised`` is what the objective raised (its wrapper records it): an interrupt
+    (any ``BaseException`` that is not an ``Exception``) there is re-raised whatever NLopt made of it; a
+    ForcedStop with nothing recorded is an interrupt in the glue, re-raised as a ``KeyboardInterrupt``.
+    """
+    try:
+        opt.optimize(x0)
+    except BaseException as exc:
+        interrupt = next((e for e in raised if not isinstance(e, Exception)), None)
+        if interrupt is not None and exc is not interrupt:
+            raise interrupt from None
+        if isinstance(exc, nlopt.ForcedStop):
+            raise (raised[-1] if raised else KeyboardInterrupt("interrupted inside NLopt")) from None
+        raise
+
+
 def _run(opt: nlopt.opt, tracked: _Tracked, x0: np.ndarray) -> str:
     try:
-        opt.optimize(np.array(x0, dtype=float))
+        run_nlopt(opt, np.array(x0, dtype=float), tracked.raised)
         return _STOP.get(opt.last_optimize_result(), str(opt.last_optimize_result()))
     except nlopt.RoundoffLimited:
         return "roundoff limited"

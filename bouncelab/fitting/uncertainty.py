@@ -20,12 +20,15 @@ import xarray as xr
 from bouncelab.core.errors import FitError, Hint
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES
 from bouncelab.data.inputs import campaign_arrays
-from bouncelab.fitting.fitter import check_seed, fit, law_instance, refuse_sample_weight
+from bouncelab.fitting.fitter import check_count, check_fraction, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.objective import objective_weighting
 from bouncelab.fitting.tasks import map_tasks
 from bouncelab.laws import law_name
 
 __all__ = ["Bootstrap", "bootstrap"]
+
+#: The most resamples :func:`bootstrap` takes (each is a fit).
+MAX_RESAMPLES = 1_000_000
 
 
 @dataclass
@@ -116,14 +119,8 @@ def bootstrap(
         raise FitError(f"bootstrap needs a law with parameters; {law_name(law)} has none", law=law_name(law))
     if by not in ("setting", "bounce"):
         raise FitError(f"by must be 'setting' or 'bounce'; got {by!r}", option="by")
-    if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n >= 2):
-        raise FitError(f"n must be an integer of at least 2 resamples; got {n!r}", option="n")
-    try:
-        ok = 0 < level < 1
-    except TypeError:
-        ok = False
-    if not ok:
-        raise FitError(f"level must be in (0, 1); got {level!r}", option="level")
+    n = check_count(n, "n", 2, MAX_RESAMPLES)
+    level = check_fraction(level, "level")
     p0, pf, setting = campaign_arrays(data)
     if by == "setting" and setting is None:
         raise FitError("by='setting' needs the launcher setting of each bounce; the data have none (add one with "

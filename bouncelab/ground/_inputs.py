@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.units import (
     BALL_RADIUS_M,
@@ -174,18 +174,8 @@ def broadcast_rows(name_arrays: list[tuple[str, np.ndarray]]) -> int:
 
 
 def positive(value: Any, name: str, *, allow_zero: bool = False, error: type = ParameterError) -> float:
-    """A finite number > 0 (or >= 0), or a typed error naming it."""
-    x = math.nan
-    if not isinstance(value, bool | str | bytes):
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            pass
-    if not (math.isfinite(x) and (x >= 0 if allow_zero else x > 0)):
-        want = "a finite number >= 0" if allow_zero else "a finite number > 0"
-        fields = {"parameter": name, "value": value} if issubclass(error, ParameterError) else {"option": name}
-        raise error(f"{name} must be {want}; got {value!r}", **fields)
-    return x
+    """A finite number > 0 (or >= 0), or a typed error naming it (:func:`bouncelab.core.checks.positive`)."""
+    return checks.positive(value, name, allow_zero=allow_zero, error=error)
 
 
 def check_law(law: Any) -> BounceModel:

@@ -608,11 +608,19 @@ def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float 
     every point and value)."""
     import nlopt
 
+    from bouncelab.fitting.search import run_nlopt
+
     d = len(x0)
     best = [x0.copy(), math.inf]
 
+    raised: list[BaseException] = []
+
     def wrapped(x: np.ndarray, grad: np.ndarray) -> float:
-        v = f(x)
+        try:
+            v = f(x)
+        except BaseException as exc:  # (an interrupt NLopt might lose: run_nlopt re-raises it)
+            raised.append(exc)
+            raise
         v = 1e300 if not math.isfinite(v) else v
         if v < best[1]:
             best[0], best[1] = x.copy(), v
@@ -629,7 +637,7 @@ def _nlopt(algorithm: int, f: Any, x0: np.ndarray, maxeval: int, *, step: float 
         opt.set_initial_step(np.full(d, step))
         opt.set_xtol_rel(1e-6)
     try:
-        opt.optimize(np.clip(x0, 0.0, 1.0))
+        run_nlopt(opt, np.clip(x0, 0.0, 1.0), raised)
         stop = {1: "success", 3: "ftol reached", 4: "xtol reached", 5: "maxeval reached"}.get(
             opt.last_optimize_result(), str(opt.last_optimize_result()))
     except (nlopt.RoundoffLimited, ValueError, RuntimeError) as exc:  # NLopt's failure codes: keep the best point

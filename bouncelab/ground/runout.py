@@ -68,6 +68,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core.checks import count
 from bouncelab.core.errors import (
     BouncelabWarning,
     DataError,
@@ -107,6 +108,8 @@ __all__ = [
 DEFAULT_MIN_APEX_M = 0.002
 #: Bounces after which a ball is put on the ground whatever its lift-off (flagged ``bounce_limit``).
 DEFAULT_MAX_BOUNCES = 100
+#: The largest ``max_bounces`` accepted.
+MAX_BOUNCES = 1_000_000
 #: Samples per second of :attr:`RunResult.path` unless ``rate=`` says otherwise.
 DEFAULT_RATE = 100.0
 #: Phase codes of the path: ``phase == 0`` is flight, etc.
@@ -115,6 +118,8 @@ PHASES = ("flight", "skid", "roll", "rest")
 EVENTS = ("bounce", "skid_end", "rest")
 #: Path values (shots x samples x 10) from which :meth:`RunResult.sample` warns about memory.
 PATH_VALUES_WARN = 200_000_000
+#: Values of a path (:meth:`RunResult.sample`) beyond which it is refused, before any allocation (8 GB).
+PATH_VALUES_MAX = 1_000_000_000
 _AXES = ("x", "y", "z")
 
 
@@ -278,8 +283,7 @@ def run(velocity: Any, spin: Any, surface: Surface | str, normal: Any = (0.0, 0.
                              f"{type(surface).__name__}", parameter="surface")
     rate = positive(rate, "rate")
     hmin_m = positive(min_apex_m, "min_apex_m")
-    if isinstance(max_bounces, bool) or not isinstance(max_bounces, int | np.integer) or max_bounces < 1:
-        raise ParameterError(f"max_bounces must be a whole number >= 1; got {max_bounces!r}", parameter="max_bounces")
+    max_bounces = count(max_bounces, "max_bounces", 1, maximum=MAX_BOUNCES)
     if air is not None and not isinstance(air, Air):
         raise ParameterError(f"air must be a bouncelab.ground.Air or None; got {type(air).__name__}", parameter="air")
     u = Units(units, radius_m)
@@ -601,7 +605,13 @@ class RunResult:
         rate = self.rate if rate is None else positive(rate, "rate")
         s, u = self._sim, self._units
         end = float(self.rest_time.max()) if s.n else 0.0
-        nt = math.floor(end * rate) + 2
+        span = end * rate  # (inf for an absurd rate: refused below)
+        nt = math.floor(span) + 2 if span <= PATH_VALUES_MAX else PATH_VALUES_MAX + 1
+        if s.n * nt * 10 > PATH_VALUES_MAX:  # refused before anything is allocated
+            raise ParameterError(f"the path of {s.n:,} shots over {end:.3g} s at rate={rate:g} samples/s would hold "
+                                 f"{s.n * nt * 10:.3g} values ({s.n * nt * 80 / 1e9:.3g} GB), more than "
+                                 f"{PATH_VALUES_MAX:.0e} (bouncelab.ground.runout.PATH_VALUES_MAX); sample fewer "
+                                 "shots or a lower rate", parameter="rate", value=rate)
         if s.n * nt * 10 > PATH_VALUES_WARN:
             warnings.warn(f"the path of {s.n:,} shots at {rate:g} samples/s holds {s.n * nt * 10 / 1e6:,.0f} M values "
                           f"({s.n * nt * 80 / 1e9:.1f} GB); sample fewer shots or a lower rate",

@@ -124,8 +124,11 @@ def plot_paths(path: str | Path, surfaces: tuple[str, ...] = PRESET_NAMES, rate:
     axes[0].legend(fontsize=7, ncol=len(SHOTS), loc="upper right")
     axes[-1].set_xlabel("distance from the first landing (m); a triangle marks where the ball rests")
     fig.tight_layout()
+    from bouncelab.core.atomic import atomic_path
+
     out = Path(path)
-    fig.savefig(out, dpi=80)
+    with atomic_path(out, "the plot") as tmp:  # (a device or a FIFO is refused, a failed write leaves no file)
+        fig.savefig(tmp, dpi=80, format="png")
     plt.close(fig)
     return out
 

@@ -32,6 +32,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from bouncelab.core.checks import shown
+from bouncelab.core.checks import text as check_text
 from bouncelab.core.errors import Hint, ParameterError
 from bouncelab.ground._inputs import check_law, positive, retention
 
@@ -105,14 +107,15 @@ class Surface:
     def __init__(self, name: str, law: Any, sliding_friction: float, stimp_m: float | None = None, *,
                  stimp_ft: float | None = None, pivot_retention: float = 1.0, description: str = "") -> None:
         if not isinstance(name, str) or not name.strip():
-            raise ParameterError(f"a surface needs a name (non-empty text); got {name!r}", parameter="name", value=name)
+            raise ParameterError(f"a surface needs a name (non-empty text); got {shown(name)}", parameter="name",
+                                 value=name)
+        check_text(name, "name")
         if (stimp_m is None) == (stimp_ft is None):
             raise ParameterError("give the green speed as exactly one of stimp_m (metres) or stimp_ft (feet)",
                                  parameter="stimp_m",
                                  hints=[Hint("stimp_m", None, "metres"), Hint("stimp_ft", None, "feet")])
         stimp = positive(stimp_m, "stimp_m") if stimp_m is not None else positive(stimp_ft, "stimp_ft") * _FT
-        if not isinstance(description, str):
-            raise ParameterError(f"description must be text; got {type(description).__name__}", parameter="description")
+        check_text(description, "description")
         self.name = name
         self.law = check_law(law)
         self.sliding_friction = positive(sliding_friction, "sliding_friction")
@@ -204,7 +207,7 @@ class Surface:
         """A surface from the JSON text of :meth:`to_json` (use :func:`load_surface` for a file)."""
         try:
             d = json.loads(text)
-        except (TypeError, json.JSONDecodeError, RecursionError) as exc:
+        except (TypeError, ValueError, RecursionError) as exc:  # (ValueError: also an integer too long to read)
             raise ParameterError(f"not a JSON surface description ({type(exc).__name__}: {exc})",
                                  parameter="text") from None
         return cls.from_dict(d)
@@ -235,16 +238,30 @@ class Surface:
 
 
 def load_surface(path: str | Path) -> Surface:
-    """Read a surface written by :meth:`Surface.to_json`."""
+    """Read a surface written by :meth:`Surface.to_json`.
+
+    Raises
+    ------
+    DataError
+        The file cannot be read: missing (a :class:`~bouncelab.core.errors.MissingFileError`), a folder,
+        a FIFO or a device, larger than :data:`~bouncelab.core.files.MAX_FILE_BYTES`, not UTF-8 (``file``
+        names it).
+    ParameterError
+        The file is not a surface description: not JSON, a missing or unknown key, a bad value (naming the
+        file and the field).
+    """
+    from bouncelab.core.files import read_regular_text
+
     try:
-        text = Path(path).read_text()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(f"{path}: cannot read the surface file ({type(exc).__name__}: {exc})",
-                             parameter="path", value=str(path)) from None
+        file = str(Path(path))
+    except TypeError:
+        raise ParameterError(f"load_surface takes the path of a surface JSON file; got {type(path).__name__}",
+                             parameter="path", value=path) from None
+    content = read_regular_text(Path(path).expanduser(), file)
     try:
-        return Surface.from_json(text)
+        return Surface.from_json(content)
     except ParameterError as exc:
-        raise ParameterError(f"{path}: {exc}", law=exc.law, parameter=exc.parameter, value=exc.value,
+        raise ParameterError(f"{file}: {exc}", law=exc.law, parameter=exc.parameter, value=exc.value,
                              hints=exc.hints) from None
 
 
@@ -291,8 +308,8 @@ def preset(name: str) -> Surface:
     """
     from bouncelab import laws
 
-    if name not in _PRESETS:
-        raise ParameterError(f"no preset surface {name!r}; presets: {list(PRESET_NAMES)}", parameter="surface",
+    if not isinstance(name, str) or name not in _PRESETS:
+        raise ParameterError(f"no preset surface {shown(name)}; presets: {list(PRESET_NAMES)}", parameter="surface",
                              value=name)
     law_name, campaign, stimp, text = _PRESETS[name]
     law = getattr(laws, law_name).published(campaign).replace(fade_xdot=PRESET_FADE_XDOT)

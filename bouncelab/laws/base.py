@@ -61,6 +61,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.atomic import write_output
 from bouncelab.core.errors import (
     DataError,
@@ -72,7 +73,7 @@ from bouncelab.core.errors import (
 )
 from bouncelab.core.landing_checks import INVALID, is_landing, landing_fault
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges, guard_limits, landing_limits, landing_status
-from bouncelab.core.units import BALL_RADIUS_M
+from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS
 from bouncelab.core.validation import States, check_values
 from bouncelab.laws import nonphysical, registry
 from bouncelab.laws._physical_io import (
@@ -410,6 +411,8 @@ class BounceModel:
         >>> [round(v, 3) for v in bl.Rigid(r=0.5, mu=0.4).predict_one(1000.0, -800.0, 300.0)]
         [628.571, 400.0, -628.571]
         """
+        if not type(xdot) is type(ydot) is type(omega) is float:  # (three floats go straight to the compiled check)
+            xdot, ydot, omega = _one_landing(xdot, ydot, omega)
         one, rest = self.__dict__.get("_one_entry") or self._one_entry_point()
         if not (plausible is PLAUSIBLE_RANGES and radius_m is None):  # (rest: the default limits, then the law's)
             rest = (*_limits_of(plausible, radius_m), rest[-1])
@@ -838,6 +841,20 @@ _DEFAULT_LIMITS = landing_limits(BALL_RADIUS_M, PLAUSIBLE_RANGES)
 #: (id of the ranges, radius) -> (the ranges, their limits). Holding the ranges keeps their id from being reused
 #: by another object while cached; keying by id keeps the lookup cheap on the single-bounce path.
 _LIMITS: dict[tuple[int, Any], tuple[Any, tuple[float, float, float, float]]] = {}
+
+
+def _one_landing(xdot: Any, ydot: Any, omega: Any) -> tuple[float, float, float]:
+    """``predict_one``'s landing as three floats, each a real number by :func:`bouncelab.core.checks.finite`'s
+    rule (not text, a bool, a complex number or an integer beyond a float: a DataError naming the component);
+    NaN and infinities pass, for the landing check to refuse as ``predict`` does."""
+    out = []
+    for name, v in zip(COMPONENTS, (xdot, ydot, omega), strict=True):
+        x, why = checks.as_float(v)
+        if why:
+            raise DataError(f"landing {name} must be a real number; got {checks.shown(v)} ({why})",
+                            column=f"landing.{name}", row=1, option="landing")
+        out.append(x)
+    return out[0], out[1], out[2]
 
 
 def _limits_of(plausible: Any, radius_m: Any) -> tuple[float, float, float, float]:

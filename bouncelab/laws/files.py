@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from bouncelab.core import __version__
-from bouncelab.core.errors import DataError, ParameterError, SyntheticDataWarning, UnknownLawError
+from bouncelab.core.errors import DataError, MissingFileError, ParameterError, SyntheticDataWarning, UnknownLawError
 from bouncelab.core.files import read_regular_file
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENT_UNITS, COMPONENTS, CONVENTIONS
 from bouncelab.laws.provenance import Provenance
@@ -217,7 +217,7 @@ def load_law(path: str | Path) -> Law:
 def _read_law_file(path: Path, file: str) -> bytes:
     """The bytes of a law file (DataError naming it when it cannot be read)."""
     if not path.exists():
-        raise DataError("no such law file", file=file)
+        raise MissingFileError("no such law file", file=file)
     if path.is_dir():
         raise DataError("it is a directory, not a law file (give the path of the .json file the law was written to)",
                         file=file)

@@ -32,12 +32,12 @@ Examples
 from __future__ import annotations
 
 import math
-import numbers
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import Code, Hint, LawDefinitionError, ParameterError
 
 __all__ = ["Option", "Parameter", "Parameters"]
@@ -183,19 +183,20 @@ class Parameter:
         bad_type = isinstance(value, bool | np.bool_ | str | bytes) or (
             isinstance(value, np.ndarray) and value.dtype == bool)
         if bad_type:
-            raise ParameterError(f"{law} parameter {self.name!r} must be a number; got {value!r}", law=law,
-                                 parameter=self.name, value=value)
+            raise ParameterError(f"{law} parameter {self.name!r} must be a number; got {checks.shown(value)}",
+                                 law=law, parameter=self.name, value=value)
         try:
             raw = np.asarray(value)
             if np.iscomplexobj(raw):
-                raise ParameterError(f"{law} parameter {self.name!r} must be real; got {value!r}", law=law,
-                                     parameter=self.name, value=value)
-            arr = np.array(raw, dtype=np.float64)
+                raise ParameterError(f"{law} parameter {self.name!r} must be real; got {checks.shown(value)}",
+                                     law=law, parameter=self.name, value=value)
+            # (text, bools, None or 10**400 inside a list are no numbers either: checks.real_array)
+            arr = np.array(checks.real_array(raw if raw.dtype != object else value, self.name), dtype=np.float64)
         except (TypeError, ValueError, OverflowError) as exc:
-            if isinstance(exc, ParameterError):
+            if isinstance(exc, ParameterError) and exc.law is not None:
                 raise
-            raise ParameterError(f"{law} parameter {self.name!r} must be a number; got {value!r}", law=law,
-                                 parameter=self.name, value=value) from None
+            raise ParameterError(f"{law} parameter {self.name!r} must be a number; got {checks.shown(value)}",
+                                 law=law, parameter=self.name, value=value) from None
         if arr.shape != self.shape:
             what = "a number" if self.is_scalar else f"an array of shape {self.shape}"
             raise ParameterError(f"{law} parameter {self.name!r} must be {what}; got shape {arr.shape}", law=law,
@@ -311,12 +312,11 @@ def fade_speed(value: Any, law: str, *, optional: bool = False) -> float | None:
     if value is None and optional:
         return None
     what = "a positive number of radii/s" + (" or None" if optional else "")
-    number = isinstance(value, numbers.Real) and not isinstance(value, bool)  # (text and bytes are not Real)
-    fade = float(value) if number else math.nan
-    if not (math.isfinite(fade) and fade > 0):
-        raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {value!r}", law=law,
-                             parameter="fade_xdot", value=value)
-    return fade
+    try:
+        return checks.positive(value, "fade_xdot")
+    except ParameterError as exc:
+        raise ParameterError(f"{law} option 'fade_xdot' must be {what}; got {checks.shown(value)}", law=law,
+                             parameter="fade_xdot", value=value) from exc
 
 
 class Parameters(Mapping[str, Parameter]):

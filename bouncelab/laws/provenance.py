@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core import __version__
+from bouncelab.core import __version__, checks
 from bouncelab.core.errors import ParameterError
 from bouncelab.core.units import BALL_RADIUS_M
 
@@ -151,7 +151,7 @@ class Provenance:
             generator = f"PiecewiseAffine.published({campaign!r})"  # what generate_surrogate uses
         try:
             radius = float(attrs.get("ball_radius_m", BALL_RADIUS_M))
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             radius = BALL_RADIUS_M
         return cls(
             n_bounces=len(landing), data_kind=kind, campaign=campaign,
@@ -225,41 +225,66 @@ class Provenance:
             raise ParameterError(f"{where}: 'provenance' must be a mapping; got {type(d).__name__}", law=law,
                                  parameter="provenance", value=d)
 
+        def refused(exc: ParameterError) -> ParameterError:  # the check's error, said where and for which law
+            return ParameterError(f"{where}: provenance field {exc.message}", law=law,
+                                  parameter=f"provenance.{exc.parameter}", value=exc.value)
+
         def field_(name: str, kinds: tuple[type, ...], default: Any = None) -> Any:
             value = d.get(name, default)
             if value is not None and (not isinstance(value, kinds) or (isinstance(value, bool) and bool not in kinds)):
                 raise ParameterError(f"{where}: provenance field {name!r} must be "
-                                     f"{' or '.join(k.__name__ for k in kinds)}; got {value!r}", law=law,
+                                     f"{' or '.join(k.__name__ for k in kinds)}; got {checks.shown(value)}", law=law,
                                      parameter=f"provenance.{name}", value=value)
+            try:
+                if isinstance(value, str):
+                    checks.text(value, name)  # no lone surrogate: it would crash print(law) and every write
+                elif isinstance(value, int | float):
+                    checks.finite(value, name)  # no 10**400
+            except ParameterError as exc:
+                raise refused(exc) from None
             return value
 
         n = field_("n_bounces", (int,))
         if n is None or n < 0:
-            raise ParameterError(f"{where}: provenance field 'n_bounces' must be a count >= 0; got {n!r}", law=law,
-                                 parameter="provenance.n_bounces", value=n)
+            raise ParameterError(f"{where}: provenance field 'n_bounces' must be a count >= 0; got {checks.shown(n)}",
+                                 law=law, parameter="provenance.n_bounces", value=n)
         radius = field_("ball_radius_m", (int, float), BALL_RADIUS_M)
         if not (isinstance(radius, int | float) and math.isfinite(radius) and radius > 0):
             raise ParameterError(f"{where}: provenance field 'ball_radius_m' must be a positive number of metres; "
                                  f"got {radius!r}", law=law, parameter="provenance.ball_radius_m", value=radius)
-        raw = field_("landing_ranges", (Mapping,), {})
+        seed = field_("seed", (int,))
+        if seed is not None:
+            try:
+                checks.seed(seed)
+            except ParameterError as exc:
+                raise refused(exc) from None
+        raw = field_("landing_ranges", (Mapping,), {}) or {}  # (null: none recorded)
         ranges: dict[str, tuple[float, float]] = {}
         for key, pair in raw.items():
             ok = (key in RANGE_NAMES and isinstance(pair, list | tuple) and len(pair) == 2
-                  and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in pair)
+                  and all(isinstance(v, int | float) and not isinstance(v, bool) and _finite(v) for v in pair)
                   and pair[0] <= pair[1])
             if not ok:
-                raise ParameterError(f"{where}: provenance landing_ranges[{key!r}] must be [min, max] of one of "
-                                     f"{list(RANGE_NAMES)}; got {pair!r}", law=law,
-                                     parameter=f"provenance.landing_ranges[{key!r}]", value=pair)
+                raise ParameterError(f"{where}: provenance landing_ranges[{checks.shown(key)}] must be [min, max] of "
+                                     f"one of {list(RANGE_NAMES)}; got {checks.shown(pair)}", law=law,
+                                     parameter=f"provenance.landing_ranges[{checks.shown(key)}]", value=pair)
             ranges[key] = (float(pair[0]), float(pair[1]))
         return cls(
             n_bounces=n, data_kind=field_("data_kind", (str,), "unknown") or "unknown",
             campaign=field_("campaign", (str,)), source=field_("source", (str,)),
             surrogate=field_("surrogate", (str,)), generator=field_("generator", (str,)),
             warning=field_("warning", (str,)), ball_radius_m=float(radius), method=field_("method", (str,)),
-            objective=field_("objective", (str,)), seed=field_("seed", (int,)),
+            objective=field_("objective", (str,)), seed=seed,
             fitted_with=field_("fitted_with", (str,)), landing_ranges=ranges,
         )
+
+
+def _finite(value: float) -> bool:
+    """Whether a number is finite (False for an integer beyond a float, which math.isfinite cannot take)."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 def _text(value: Any) -> str | None:

@@ -17,53 +17,22 @@ import json
 import os
 import re
 import shutil
-import signal
 import stat
 import tempfile
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from bouncelab.core.atomic import atomic_write_bytes, atomic_write_text
+from bouncelab.core.atomic import _Terminated, atomic_write_bytes, atomic_write_text  # noqa: F401 (named here by report.pipeline)
+from bouncelab.core.atomic import sigterm_raises as _sigterm_raises
 from bouncelab.core.errors import OutputError
+from bouncelab.core.files import read_regular_file, read_regular_text
 from bouncelab.report.model import Report
 
 __all__ = ["MANIFEST", "check_out", "remove_stale_staging", "staged", "write_report"]
 
 #: The file in a report folder that lists every file bouncelab wrote there (relative paths).
 MANIFEST = ".bouncelab-report.json"
-
-
-class _Terminated(BaseException):
-    """SIGTERM arrived during a run (raised by the handler :func:`_sigterm_raises` installs)."""
-
-
-@contextlib.contextmanager
-def _sigterm_raises() -> Iterator[None]:
-    """During the block, SIGTERM (what ``timeout``, batch schedulers and systemd send) raises
-    :class:`_Terminated`, so the cleanup that runs for Ctrl-C (an exception) runs for it too; after the
-    cleanup the signal is delivered again under the previous handler (by default the process ends
-    of it, as it would have without bouncelab). Only in the main thread of a POSIX process, and only
-    when SIGTERM is not ignored; the previous handler is restored on the way out."""
-    if (os.name != "posix" or threading.current_thread() is not threading.main_thread()
-            or signal.getsignal(signal.SIGTERM) in (signal.SIG_IGN, None)):
-        yield
-        return
-
-    def handler(signum: int, frame: Any) -> None:
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM does not cut the cleanup short
-        raise _Terminated
-
-    previous = signal.signal(signal.SIGTERM, handler)
-    try:
-        yield
-    except _Terminated:
-        signal.signal(signal.SIGTERM, previous)
-        os.kill(os.getpid(), signal.SIGTERM)  # the cleanup is done: now what SIGTERM would have done
-        raise
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 #: Names of the folders a run makes beside ``--out`` (``tempfile.mkdtemp``: the prefix and 8 characters).
@@ -156,15 +125,15 @@ def _previous_report_files(out: Path) -> set[str] | None:
     manifest = out / MANIFEST
     if manifest.is_file():
         try:
-            listed = json.loads(manifest.read_text())["files"]
-        except (ValueError, KeyError, TypeError, OSError):
+            listed = json.loads(read_regular_text(manifest, str(manifest)))["files"]
+        except (ValueError, KeyError, TypeError, OSError):  # (a FIFO or a device: a DataError, a ValueError)
             return None
         return {str(f) for f in listed} | {MANIFEST}
     index = out / "index.html"
     if index.is_file():  # an older report, from before the manifest: its index lists its files
         try:
-            text = index.read_text(errors="replace")
-        except OSError:
+            text = read_regular_file(index, str(index)).decode("utf-8", errors="replace")
+        except (OSError, ValueError):  # (a FIFO or a device: a DataError, a ValueError)
             return None
         if "<title>bouncelab report</title>" in text:
             import html

@@ -42,7 +42,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from bouncelab.analysis.trajectories import DRAG_SCALED, GRAVITY_SCALED
+from bouncelab.analysis.trajectories import DRAG_SCALED, GRAVITY_SCALED, MAX_FRAMES
+from bouncelab.core import checks
 from bouncelab.core.errors import ParameterError
 
 __all__ = ["Camera", "Frames"]
@@ -126,17 +127,11 @@ class Camera:
 
     def __post_init__(self) -> None:
         for name in ("fps", "pixels_per_radius"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float | np.number) and np.isfinite(value) and value > 0):
-                raise ParameterError(f"Camera {name} must be a positive number; got {value!r}", parameter=name)
+            checks.positive(getattr(self, name), name)
         for name in ("pixel_noise", "angle_noise_deg", "occluded_factor", "drag", "gravity"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float | np.number) and np.isfinite(value) and value >= 0):
-                raise ParameterError(f"Camera {name} must be a finite number >= 0; got {value!r}", parameter=name)
+            checks.positive(getattr(self, name), name, allow_zero=True)
         for name in ("frames_before", "frames_after"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 8:
-                raise ParameterError(f"Camera {name} must be an integer >= 8 frames; got {value!r}", parameter=name)
+            checks.count(getattr(self, name), name, 8, maximum=MAX_FRAMES)
 
     @property
     def dt(self) -> float:

@@ -49,7 +49,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from bouncelab.core import published
+from bouncelab.core import checks, published
 from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.units import landing_from_speed_angle_spin
 
@@ -71,6 +71,9 @@ GRID_TOLERANCE_SD = 2.0
 #: counts: the default design's, a stand-in for the scatter of the paper's launcher that Table 1's
 #: measured ranges include. A design with another scatter keeps the same dial grid.
 REFERENCE_SCATTER = {"speed_scatter": 0.02, "angle_scatter_deg": 0.6}
+
+#: Most bounces a launcher design may plan (a larger simulation is refused before anything is allocated).
+MAX_PLANNED = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -146,32 +149,34 @@ class LauncherDesign:
                                  value=self.campaign) from None
         object.__setattr__(self, "campaign", key)
         try:
-            settings = tuple((int(n), int(k)) for n, k in self.settings)
+            pairs = [(n, k) for n, k in self.settings]
         except (TypeError, ValueError):
             raise ParameterError(
-                f"LauncherDesign settings must be ((n_settings, repeats), ...); got {self.settings!r}",
+                f"LauncherDesign settings must be ((n_settings, repeats), ...); got {checks.shown(self.settings)}",
                 parameter="settings") from None
-        if not settings or any(n < 1 or k < 2 for n, k in settings):
+        try:  # whole numbers: 6.7 repeats is refused, not cut to 6
+            settings = tuple((checks.count(n, "settings (number of settings)", 1),
+                              checks.count(k, "settings (repeats per setting)", 2)) for n, k in pairs)
+        except ParameterError as exc:
+            raise ParameterError(f"LauncherDesign {exc.message}", parameter="settings", value=self.settings) from None
+        if not settings:
             raise ParameterError(
                 f"LauncherDesign settings need at least one setting and 2 or more repeats each; got {settings}",
                 parameter="settings", value=settings
             )
         object.__setattr__(self, "settings", settings)
+        if self.n_planned > MAX_PLANNED:
+            raise ParameterError(f"LauncherDesign plans {self.n_planned:,} bounces, more than {MAX_PLANNED:,} "
+                                 "(bouncelab.simulation.launcher.MAX_PLANNED)", parameter="settings",
+                                 value=settings)
         for name in ("speed_levels", "angle_levels", "spin_levels"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 2:
-                raise ParameterError(f"LauncherDesign {name} must be an integer >= 2; got {value!r}", parameter=name)
-        if isinstance(self.lost, bool) or not isinstance(self.lost, int | np.integer) or self.lost < 0:
-            raise ParameterError(f"LauncherDesign lost must be a non-negative integer; got {self.lost!r}",
-                                 parameter="lost")
+            checks.count(getattr(self, name), name, 2, maximum=MAX_PLANNED)
+        checks.count(self.lost, "lost", 0)
         if self.lost >= self.n_planned:
             raise ParameterError(f"LauncherDesign loses {self.lost} of only {self.n_planned} planned bounces",
                                  parameter="lost", value=self.lost)
         for name in ("speed_scatter", "angle_scatter_deg", "spin_scatter", "spin_scatter_abs_rpm"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float | np.floating) and np.isfinite(value) and value >= 0):
-                raise ParameterError(f"LauncherDesign {name} must be a finite number >= 0; got {value!r}",
-                                     parameter=name)
+            checks.positive(getattr(self, name), name, allow_zero=True)
 
     @classmethod
     def for_campaign(cls, campaign: str, **changes) -> LauncherDesign:

@@ -63,7 +63,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 import xarray as xr
 
-from bouncelab.core import published
+from bouncelab.core import checks, published
 from bouncelab.core.errors import NonphysicalLiftoffWarning, ParameterError
 from bouncelab.core.units import BALL_RADIUS_M, landing_from_speed_angle_spin
 from bouncelab.data.campaign import make_campaign
@@ -154,7 +154,7 @@ def generate_surrogate(campaign: str, *, seed: int | None = None, spec: Surrogat
     spec = spec or SurrogateSpec.for_campaign(key)
     if spec.campaign != key:
         raise ParameterError(f"spec is the design of campaign {spec.campaign!r}, not {key!r}", parameter="spec")
-    seed = DEFAULT_SEEDS[key] if seed is None else int(seed)
+    seed = DEFAULT_SEEDS[key] if seed is None else checks.seed(seed)
     rng = np.random.default_rng(seed)
 
     grid = _setting_grid(spec)

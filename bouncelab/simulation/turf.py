@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import ParameterError
 from bouncelab.laws.base import BounceModel
 
@@ -50,12 +51,9 @@ __all__ = ["ContactDuration", "LogNormal", "Normal", "Turf"]
 
 def _check_nonneg(owner: str, name: str, value: Any) -> float:
     try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{owner} {name} must be a number; got {value!r}", parameter=name) from None
-    if not (np.isfinite(v) and v >= 0):
-        raise ParameterError(f"{owner} {name} must be a finite number >= 0; got {value!r}", parameter=name)
-    return v
+        return checks.positive(value, name, allow_zero=True)
+    except ParameterError as exc:
+        raise ParameterError(f"{owner} {exc.message}", parameter=name, value=value) from None
 
 
 @dataclass(frozen=True)

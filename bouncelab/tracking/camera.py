@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import mmap
 import os
+import sys
+from pathlib import Path
 
 import numpy as np
 
 from bouncelab.analysis.measurement.input_checks import frame_periods
 from bouncelab.core.errors import DataError
+from bouncelab.core.files import check_regular_file
 
 __all__ = ["CameraFileError", "MappedFile", "frame_gaps"]
 
@@ -67,6 +70,7 @@ class MappedFile:
 
     def _open(self) -> mmap.mmap:
         if self._mm is None:
+            check_regular_file(Path(self.path), self.label, max_bytes=sys.maxsize)  # a FIFO would hang the open
             self._fh = open(self.path, "rb")
             size = os.fstat(self._fh.fileno()).st_size
             if size == 0:

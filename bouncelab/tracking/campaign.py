@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import io
 import re
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -14,7 +15,8 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import estimate_spin, measure_bounce
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, MissingFileError
+from bouncelab.core.files import read_regular_text
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.data.campaign import make_campaign
@@ -467,9 +469,10 @@ def _read_manifest(path: Path) -> dict[str, dict[str, Any]]:
     import pandas as pd
 
     if not path.exists():
-        raise DataError("no such manifest file", file=str(path))
+        raise MissingFileError("no such manifest file", file=str(path))
+    text = read_regular_text(path, str(path))  # (a FIFO would hang pandas, /dev/zero never end)
     try:
-        df = pd.read_csv(path, sep=None, engine="python", comment="#", dtype=str)
+        df = pd.read_csv(io.StringIO(text), sep=None, engine="python", comment="#", dtype=str)
     except (OSError, ValueError, pd.errors.ParserError) as exc:
         raise DataError(f"cannot read the manifest: {exc}", file=str(path)) from None
     df.columns = [str(c).strip().lower() for c in df.columns]

@@ -47,6 +47,7 @@ from __future__ import annotations
 import datetime as _dt
 import os
 import struct
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -55,6 +56,7 @@ import numpy as np
 
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError
+from bouncelab.core.files import check_regular_file
 from bouncelab.tracking.camera import CameraFileError, MappedFile, frame_gaps
 from bouncelab.tracking.packing import pack, packed_bytes, unpack
 
@@ -222,6 +224,7 @@ def read_cine(path: str | Path, *, name: str | None = None) -> CineFile:
     """
     path = Path(path)
     label = name or str(path)
+    check_regular_file(path, label, max_bytes=sys.maxsize)  # a FIFO would hang the open, a device never end
     try:
         size = path.stat().st_size
         with open(path, "rb") as fp:

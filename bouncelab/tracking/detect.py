@@ -121,9 +121,12 @@ def estimate_background(frames, *, n_samples: int = 31) -> Background:
             # Row k + 1 may itself be partly covered (c' in (0.5, 1]).
             c1 = float(np.clip((rows[k + 1] - dark) / (local - dark), 0.0, 1.0))
             surface_row = k + 1.5 - c1 - c
-    # The ball's brightness above the background: a high quantile of each sampled frame's foreground.
-    tops = [cv2.blur(frames[i].astype(np.float32) - bg, (3, 3)).max() for i in idx]
-    contrast = float(np.median(tops))
+    # The ball's brightness above the background: the brightest foreground of each sampled frame, its median
+    # over the frames that show something at least half as bright as the brightest (the ball): frames without
+    # the ball (before it enters, after it leaves) hold noise only, and a median over them all would be noise
+    # once they are the majority.
+    tops = np.array([cv2.blur(frames[i].astype(np.float32) - bg, (3, 3)).max() for i in idx])
+    contrast = float(np.median(tops[tops >= 0.5 * tops.max()])) if tops.max() > 0 else float(np.median(tops))
     return Background(image=bg, surface_row=surface_row, contrast=contrast)
 
 

@@ -49,7 +49,10 @@ to allow more.
 
 from __future__ import annotations
 
+import os
 import re
+import stat
+import sys
 import zipfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -57,7 +60,8 @@ from typing import Any
 
 import numpy as np
 
-from bouncelab.core.errors import DataError, Hint
+from bouncelab.core.errors import DataError, Hint, MissingFileError
+from bouncelab.core.files import check_regular_file
 from bouncelab.tracking._cv import cv2
 
 __all__ = [
@@ -303,6 +307,7 @@ class _NpzSource(_Source):
 
 
 def _read_image(path: Path, label: str) -> np.ndarray:
+    check_regular_file(path, label)  # a FIFO named frame1.png would hang the read, a device never end
     img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
     if img is None:
         raise DataError("cannot read the image (damaged or not an image)", file=label)
@@ -863,9 +868,10 @@ def open_clip(source, *, name: str | None = None, memory_budget: float | None = 
     path = Path(source)
     label = name or str(path)
     if not path.exists():
-        raise DataError("no such file or folder", file=label)
+        raise MissingFileError("no such file or folder", file=label)
     if path.is_dir():
         return Clip(_FolderSource(path, label), label, budget)
+    check_regular_file(path, label, max_bytes=sys.maxsize)  # no FIFO or device; any size (read frame by frame)
     suffix = path.suffix.lower()
     try:
         if suffix in CAMERA_SUFFIXES:
@@ -930,6 +936,8 @@ def stored_fps(source) -> float | None:
     if not isinstance(source, str | Path) or Path(source).suffix.lower() != ".npz":
         return None
     try:
+        if not stat.S_ISREG(os.stat(source).st_mode):  # a FIFO would hang np.load: reading the frames says why
+            return None
         with np.load(source, allow_pickle=False) as data:
             if "fps" not in data.files or np.asarray(data["fps"]).size != 1:
                 return None

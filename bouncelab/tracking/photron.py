@@ -35,6 +35,7 @@ import numpy as np
 
 from bouncelab.core.atomic import atomic_path
 from bouncelab.core.errors import DataError
+from bouncelab.core.files import read_head
 from bouncelab.tracking.camera import CameraFileError, MappedFile
 from bouncelab.tracking.packing import pack, packed_bytes, unpack
 
@@ -156,7 +157,7 @@ def _siblings(path: Path) -> tuple[Path, Path]:
 
 
 def _read_cih(path: Path) -> dict[str, str]:
-    text = path.read_bytes()[:_MAX_HEADER].decode("utf-8", errors="replace")
+    text = read_head(path, str(path), _MAX_HEADER).decode("utf-8", errors="replace")
     out = {}
     for line in text.splitlines():
         if " : " in line:
@@ -166,7 +167,7 @@ def _read_cih(path: Path) -> dict[str, str]:
 
 
 def _read_cihx(path: Path) -> dict[str, str]:
-    data = path.read_bytes()[:_MAX_HEADER]
+    data = read_head(path, str(path), _MAX_HEADER)
     start, stop = data.find(b"<cih>"), data.rfind(b"</cih>")
     if start < 0 or stop < start:
         raise _header_error("not a Photron .cihx header: no <cih> ... </cih> element", path, "cihx")

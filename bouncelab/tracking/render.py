@@ -39,6 +39,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.trajectories import simulate_tracked_bounce
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError, Hint
 
 __all__ = ["RenderedClip", "ball_pattern", "render_clip"]
@@ -49,6 +50,8 @@ BALL_LEVEL = 215.0
 MARK_LEVEL = 35.0
 TURF_LEVEL = 55.0
 TURF_TEXTURE = 12.0
+#: Largest frame side rendered, pixels.
+MAX_SIDE = 8192
 
 
 @dataclass(frozen=True)
@@ -194,7 +197,7 @@ def render_clip(
     DataError
         Bad settings, or a ball that leaves the frame.
     """
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = checks.generator(seed, error=DataError)
     if liftoff is None:
         if law is None:
             from bouncelab.laws import Rigid
@@ -202,18 +205,20 @@ def render_clip(
             law = Rigid.published("A")
         liftoff = np.asarray(law.predict(np.asarray(landing, dtype=float)[None, :], plausible=None),  # any state
                              dtype=float)[0]
-    h, w = (int(v) for v in size)
-    if h < 16 or w < 16:
-        raise DataError(f"size must be at least 16 x 16 pixels; got {size!r}", option="size")
-    if not (np.isfinite(radius_px) and 2.0 <= radius_px < min(h, w) / 2):
+    try:
+        h, w = size
+    except (TypeError, ValueError):
+        raise DataError(f"size must be (height, width) in pixels; got {checks.shown(size)}", option="size") from None
+    if isinstance(h, float | np.floating) and float(h).is_integer():  # (256.0 is a whole number of pixels)
+        h = int(h)
+    if isinstance(w, float | np.floating) and float(w).is_integer():
+        w = int(w)
+    h, w = (checks.count(v, "size", 16, maximum=MAX_SIDE, error=DataError) for v in (h, w))
+    if not 2.0 <= checks.finite(radius_px, "radius_px", error=DataError) < min(h, w) / 2:
         raise DataError(f"radius_px must be in [2, {min(h, w) / 2}); got {radius_px!r}", option="radius_px")
-    if not (np.isfinite(noise) and noise >= 0):
-        raise DataError(f"noise must be a non-negative number of grey levels; got {noise!r}", option="noise")
-    if isinstance(bit_depth, bool) or not isinstance(bit_depth, int | np.integer) or not 8 <= bit_depth <= 16:
-        raise DataError(f"bit_depth must be a whole number of bits from 8 to 16; got {bit_depth!r}",
-                        option="bit_depth")
-    if not (np.isfinite(motion_blur) and 0 <= motion_blur <= 1):
-        raise DataError(f"motion_blur must be in [0, 1]; got {motion_blur!r}", option="motion_blur")
+    checks.positive(noise, "noise", allow_zero=True, error=DataError)
+    checks.count(bit_depth, "bit_depth", 8, maximum=16, error=DataError)
+    checks.fraction(motion_blur, "motion_blur", closed=True, error=DataError)
     track = simulate_tracked_bounce(
         landing, liftoff, fps=fps, n_before=n_before, n_after=n_after, contact_frames=contact_frames,
         position_noise=0.0, angle_noise=0.0, frame_offset=frame_offset, seed=rng,

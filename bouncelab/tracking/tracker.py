@@ -15,6 +15,7 @@ import numpy as np
 import xarray as xr
 
 from bouncelab.analysis.measurement import FRAME_RATE_RANGE
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError, Hint
 from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.tracking.detect import estimate_background, find_ball
@@ -151,12 +152,11 @@ def track_clip(
         label = "array" if isinstance(source, np.ndarray) else str(source)
     if fps is not None:
         fps = check_fps(fps, label, fps_source)
-    if not (np.isfinite(ball_radius_m) and 0 < ball_radius_m < 1):
+    if not (0 < checks.finite(ball_radius_m, "ball_radius_m", error=DataError) < 1):
         raise DataError(f"ball_radius_m must be a radius in metres in (0, 1); got {ball_radius_m!r}", file=label,
                         option="ball_radius_m")
-    if pixels_per_metre is not None and not (np.isfinite(pixels_per_metre) and pixels_per_metre > 0):
-        raise DataError(f"pixels_per_metre must be positive; got {pixels_per_metre!r}", file=label,
-                        option="pixels_per_metre")
+    if pixels_per_metre is not None:
+        checks.positive(pixels_per_metre, "pixels_per_metre", error=DataError)
     frames = open_clip(source, name=label, memory_budget=memory_budget)
     times, fps, time_source = frame_times(frames, fps, label, fps_source)
     frames.check_working_memory()
@@ -165,6 +165,10 @@ def track_clip(
         radius_range = (4.0, h / 2.0)
         if pixels_per_metre is not None:
             r_px = pixels_per_metre * ball_radius_m
+            if not 1.0 <= r_px <= max(h, _w):
+                raise DataError(f"pixels_per_metre={pixels_per_metre:g} makes the ball {r_px:.3g} px in radius in "
+                                f"{_w} x {h} frames: is the scale in pixels per metre?", file=label,
+                                option="pixels_per_metre")
             radius_range = (0.8 * r_px, 1.2 * r_px)
     bg = estimate_background(frames)
 
@@ -379,11 +383,17 @@ def check_fps(fps, label: str, source: str = "argument") -> float:
                              hints=[Hint("fps", None, "the camera's recording rate, e.g. 5000"),
                                     Hint("manifest", None, "with an fps column")])
     given = fps
-    try:
-        fps = float(fps)
-    except (TypeError, ValueError, OverflowError):
-        raise FrameRateError(f"{what} is not a number of frames per second: {given!r}", fps=given,
-                             source=source, file=label) from None
+    why = ""
+    if isinstance(fps, str) and source != "argument":  # a manifest's cell, a file name's digits: text to read
+        try:
+            fps = float(fps)
+        except ValueError:
+            why = "text that is not a number"
+    else:  # an argument: a real number (not True, "5000" or 5000j: core.checks' rule)
+        fps, why = checks.as_float(fps)
+    if why:
+        raise FrameRateError(f"{what} is not a number of frames per second: {checks.shown(given)} ({why})",
+                             fps=given, source=source, file=label) from None
     lo, hi = FPS_RANGE
     if not np.isfinite(fps):
         raise FrameRateError(f"{what} must be a finite number of frames per second; got {given!r}", fps=given,

@@ -9,6 +9,7 @@ import xarray as xr
 
 from bouncelab.analysis.measurement.bounce import measure_bounce
 from bouncelab.analysis.measurement.contact import detect_contact
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 from bouncelab.core.units import COMPONENTS
 
@@ -99,9 +100,8 @@ def interval_coverage(
     """
     from bouncelab.analysis.trajectories import simulate_tracked_bounce
 
-    if isinstance(n_bounces, bool) or not isinstance(n_bounces, int | np.integer) or n_bounces < 1:
-        raise DataError(f"n_bounces must be a positive integer; got {n_bounces!r}", option="n_bounces")
-    rng = np.random.default_rng(seed)
+    n_bounces = checks.count(n_bounces, "n_bounces", 1, maximum=10_000_000, error=DataError)
+    rng = np.random.default_rng(checks.seed(seed, error=DataError))
     estimators = {
         "paper PI": ("differences", "prediction"),
         "paper CI": ("differences", "confidence"),

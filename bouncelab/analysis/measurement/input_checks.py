@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 
 #: Largest relative deviation of a frame interval from the mean interval that is
@@ -20,10 +21,7 @@ FRAME_RATE_RANGE = (1.0, 1.0e7)
 
 
 def _as_1d(value, name: str) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{name} must be numeric; got {type(value).__name__}", column=name, option=name) from exc
+    arr = checks.real_array(value, name, "one value per frame", error=DataError)
     if arr.ndim != 1:
         raise DataError(f"{name} must be 1-D (one value per frame); got shape {arr.shape}", column=name, option=name)
     return arr
@@ -42,6 +40,7 @@ def _frame_interval(t: np.ndarray, *, jitter_rtol: float = JITTER_RTOL, missing_
     With ``missing_frames``, an interval may span a whole number of frame periods (frames a camera dropped,
     whose times the file records): ``dt`` is then the period, each interval within ``jitter_rtol`` of a
     multiple of it."""
+    checks.positive(jitter_rtol, "jitter_rtol", allow_zero=True, error=DataError)
     _check_finite(t, "t")
     if t.size < 2:
         raise DataError(f"need at least 2 frame times; got {t.size}", column="t")
@@ -86,16 +85,9 @@ def frame_periods(steps: np.ndarray) -> np.ndarray:
 
 
 def _check_level(level: float) -> float:
-    try:
-        lv = float(level)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"level must be a number in (0, 1); got {level!r}", option="level") from exc
-    if not (0.0 < lv < 1.0):
-        raise DataError(f"level must be in (0, 1); got {level!r}", option="level")
-    return lv
+    return checks.fraction(level, "level", error=DataError)
 
 
 def _check_int_at_least(name: str, value, low: int) -> None:
     """DataError unless ``value`` is an integer (not a bool) of at least ``low``."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
-        raise DataError(f"{name} must be an integer >= {low}; got {value!r}", option=name)
+    checks.count(value, name, low, error=DataError)

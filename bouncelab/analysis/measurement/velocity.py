@@ -18,6 +18,7 @@ from bouncelab.analysis.measurement.input_checks import (
     frame_periods,
 )
 from bouncelab.analysis.measurement.results import VelocityEstimate
+from bouncelab.core import checks
 from bouncelab.core.errors import DataError
 
 IntervalKind = Literal["prediction", "confidence"]
@@ -143,10 +144,9 @@ def estimate_velocity(
         raise DataError(f"need at least 4 frames to estimate a velocity with an interval; got {tt.size}", column="t")
     _check_finite(xx, "pos")
     dt = _frame_interval(tt, jitter_rtol=jitter_rtol, missing_frames=missing_frames)
-    try:
-        t_e = float(t_eval)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"t_eval must be a time in s; got {t_eval!r}", option="t_eval") from exc
+    t_e, why = checks.as_float(t_eval)
+    if why:
+        raise DataError(f"t_eval must be a time in s; got {checks.shown(t_eval)} ({why})", option="t_eval")
     if not np.isfinite(t_e):
         raise DataError(f"t_eval must be finite; got {t_eval!r}", option="t_eval")
 
