@@ -96,11 +96,13 @@ def test_writers_refuse_a_fifo_a_device_a_socket_and_a_folder(tmp_path):
 @needs_fifo
 def test_every_kind_of_writer_refuses_a_fifo(tmp_path):
     """Surfaces, campaigns, exported laws, rendered clips: every writer goes through core.atomic."""
+    from bouncelab.export import export_surface, to_c
     from bouncelab.ground import preset
     from bouncelab.tracking import render_clip
 
     clip = render_clip(size=(32, 64), radius_px=4.0, n_before=4, n_after=4, seed=0)
-    writers = {"s.json": preset("green-fast").to_json, "law.h": bl.PennerFixed.published("A").to_c,
+    writers = {"s.json": preset("green-fast").to_json, "law.h": lambda p: to_c(bl.PennerFixed.published("A"), p),
+               "surface.cs": lambda p: export_surface("green-fast", "cs", p),
                "clip.npz": clip.save, "c.nc": lambda p: bl.save_campaign(bl.load_campaign("A"), p)}
     for name, write in writers.items():
         fifo = tmp_path / name

@@ -29,7 +29,7 @@ _WHAT = {"c": "C99 header", "js": "JavaScript ES module", "cs": "C# class"}
 
 def add_parser(sub) -> argparse.ArgumentParser:
     """Register the ``export`` subcommand on ``sub`` (the main parser's subparsers)."""
-    from bouncelab.export import DEFAULT_CLASS, DEFAULT_PREFIX, LANGUAGES
+    from bouncelab.export.names import DEFAULT_CLASS, DEFAULT_PREFIX, LANGUAGES
 
     p = sub.add_parser(
         "export", help="write a law, or a surface's ground phase, as a C99 header, a JavaScript module or a C# class",

@@ -31,29 +31,34 @@ the only one that imports both them and the emitters.
 
 from __future__ import annotations
 
-from bouncelab.export.errors import ExportError
-from bouncelab.export.ground import (
-                                     DEFAULT_SURFACE_CLASS,
-                                     DEFAULT_SURFACE_PREFIX,
-                                     REFUSALS,
-                                     export_surface,
-                                     surface_c,
-                                     surface_cs,
-                                     surface_js,
+import importlib
+from typing import Any
+
+from bouncelab.export.names import (
+    DEFAULT_CLASS,
+    DEFAULT_PREFIX,
+    DEFAULT_SURFACE_CLASS,
+    DEFAULT_SURFACE_PREFIX,
+    LANGUAGES,
 )
-from bouncelab.export.law import (
-                                  DEFAULT_CLASS,
-                                  DEFAULT_PREFIX,
-                                  LANGUAGES,
-                                  c_header,
-                                  cs_class,
-                                  export_law,
-                                  js_module,
-                                  to_c,
-                                  to_cs,
-                                  to_js,
-)
+
+# The translator is imported on first use (PEP 562): the command line's parser reads only the names above.
+_LAZY = {"ExportError": "errors", **dict.fromkeys(("REFUSALS", "export_surface", "surface_c", "surface_cs",
+                                                   "surface_js"), "ground"),
+         **dict.fromkeys(("c_header", "cs_class", "export_law", "js_module", "to_c", "to_cs", "to_js"), "law")}
 
 __all__ = ["DEFAULT_CLASS", "DEFAULT_PREFIX", "DEFAULT_SURFACE_CLASS", "DEFAULT_SURFACE_PREFIX", "LANGUAGES",
            "REFUSALS", "ExportError", "c_header", "cs_class", "export_law", "export_surface", "js_module",
            "surface_c", "surface_cs", "surface_js", "to_c", "to_cs", "to_js"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"bouncelab.export.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'bouncelab.export' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

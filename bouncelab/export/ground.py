@@ -60,6 +60,7 @@ from bouncelab.export.law import (
     _nested,
     _xml,
 )
+from bouncelab.export.names import DEFAULT_SURFACE_CLASS, DEFAULT_SURFACE_PREFIX
 from bouncelab.ground import _kernels as gk
 from bouncelab.ground.bounce3d import compiled_lift, lift_plane
 from bouncelab.ground.runout import DEFAULT_MAX_BOUNCES, DEFAULT_MIN_APEX_M
@@ -68,10 +69,6 @@ from bouncelab.ground.surface import GRAVITY, Surface, preset
 __all__ = ["DEFAULT_SURFACE_CLASS", "DEFAULT_SURFACE_PREFIX", "REFUSALS", "export_surface", "finish_bounce",
            "finish_run", "prepare_bounce", "prepare_run", "surface_c", "surface_cs", "surface_js"]
 
-#: The prefix of every name an exported surface header defines, unless told another.
-DEFAULT_SURFACE_PREFIX = "bouncelab_"
-#: The name of an exported surface's C# class, unless told another.
-DEFAULT_SURFACE_CLASS = "BouncelabSurface"
 
 # Refusal codes of the entry points (bouncelab_run's result, the `code` of a JavaScript error).
 NOT_FINITE, ZERO_NORMAL, NOT_UP, TOO_FAST, TOO_MUCH_SPIN, TOO_STEEP, NOT_LANDING, NO_ANSWER = range(-1, -9, -1)

@@ -34,18 +34,12 @@ from bouncelab.export.emit.cs import cs_literal
 from bouncelab.export.emit.js import js_literal
 from bouncelab.export.errors import ExportError
 from bouncelab.export.frontend import FLOAT, ArrayType, Translation, TupleType, is_jit_function, value_type
+from bouncelab.export.names import DEFAULT_CLASS, DEFAULT_PREFIX, LANGUAGES
 from bouncelab.laws.base import BounceModel
 
 __all__ = ["DEFAULT_CLASS", "DEFAULT_PREFIX", "LANGUAGES", "c_header", "cs_class", "export_law", "js_module", "to_c",
            "to_cs", "to_js"]
 
-#: The languages :func:`export_law` writes: C99 (a header; C++ compilers accept it), JavaScript (an ES module)
-#: and C# (a static class; Unity, Godot, Mono and .NET compile it).
-LANGUAGES = ("c", "js", "cs")
-#: The prefix of every name an exported C header defines, unless told another.
-DEFAULT_PREFIX = "bouncelab_"
-#: The name of an exported C# class, unless told another.
-DEFAULT_CLASS = "BouncelabLaw"
 
 _PREFIX = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _CS_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
