@@ -173,8 +173,8 @@ def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, li
 
 
 def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
-    """The columns named by ``columns=``, refusing a half-width named as a state's column (or the reverse) and a
-    speed or angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
+    """The columns ``columns=`` names; a half-width named as a state's column (or the reverse) refused, and a speed or
+    angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
     keys = (*STATES, *PI_STATES)
     if not isinstance(columns, Mapping) or set(columns) - {*keys, "setting"}:
         raise r.err(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}, e.g. "
@@ -247,9 +247,7 @@ def select_auto(r: Rows) -> dict[Role, Column]:
 
 def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: str, problems: list[str],
                     cols: dict[Role, Column]) -> str | None:
-    """Choose one state's interval columns by name (into ``cols``); what is wrong with them, if anything. Complete
-    Cartesian half-widths are read; polar ones of a Cartesian state (nothing to propagate them through) and a lone
-    spin's are ignored with a warning; a polar state's need all three and no Cartesian ones beside them."""
+    """One state's interval columns by name into ``cols`` (Cartesian, or a polar state's polar), else the fault."""
     pi, said = f"{state}_pi", _SAID[state]
     if several := [f"{pi}.{c}: several candidates {_names(found, pi, (c,))}" for c in (*COMPONENTS, *POLAR[:2])
                    if len(found[Role(pi, c)]) > 1]:
@@ -298,8 +296,8 @@ def check_absolute_units(r: Rows, cols: Mapping[Role, Column]) -> None:
 
 
 def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None) -> dict[Role, float]:
-    """The factor that makes each interval column a 95 % half-width: 1, or Z95 for a standard deviation.
-    ``intervals=None`` lets the names say; an ``err``/``unc`` name, which could be either, is refused."""
+    """The factor making each interval column a 95 % half-width (1, or Z95 for a standard deviation); ``intervals=None``
+    lets the names say, and an ``err``/``unc`` name, which could be either, is refused."""
     scales, unsure = {}, []
     meaning = {"pi95": "a 95 % half-width", "sd": "one standard deviation"}
     for role, col in ((k, c) for k, c in cols.items() if k.pi):
@@ -320,10 +318,6 @@ def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None)
                     hints=[Hint("intervals", "sd", f"standard deviations, multiplied by {Z95:.2f} to 95 % half-widths"),
                            Hint("intervals", "pi95", "95 % half-widths, as a campaign stores them")])
     return scales
-
-
-def _missing(v: Any) -> bool:
-    return is_empty(v) or str(v).strip().lower() in MISSING
 
 
 def missing_rows(r: Rows, names: Sequence[str]) -> dict[int, tuple[str, Any]]:
@@ -356,9 +350,8 @@ def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
 
 
 def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
-    """Whether a semicolon, tab or blank-separated table writes decimals with a comma (``15,2``), refusing what
-    does not say: ``3.000`` then (3000 or 3.0?), a file mixing ``15,2`` and ``15.2``, and ``3,000`` (or
-    ``1.500`` in a semicolon file) with no other decimal."""
+    """Whether a semicolon, tab or blank-separated table writes decimal commas (``15,2``), refusing what does not say:
+    ``3.000`` then (3000 or 3.0?), ``15,2`` beside ``15.2``, and ``3,000`` (or ``1.500`` with semicolons) alone."""
     if r.t.delimiter == ",":
         return r
     names = [n for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iufb"]
@@ -392,25 +385,28 @@ def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
     return replace(r, decimal_comma=comma is not None)
 
 
+def _missing(v: Any) -> bool:
+    return is_empty(v) or str(v).strip().lower() in MISSING
+
+
 def numbers(r: Rows, name: str, what: str = "bounce") -> tuple[np.ndarray, DataError | None]:
     """A column as floats, and the error of its first bad cell (or None)."""
     s = r.frame[name]
-    if s.dtype.kind in "iuf" and pd.api.types.is_numeric_dtype(s):
+    if typed := s.dtype.kind in "iuf" and pd.api.types.is_numeric_dtype(s):
         vals = s.to_numpy() if s.dtype == np.float64 else s.to_numpy(dtype=float, na_value=np.nan)
         if s.dtype.kind in "iu" and r.t.text is not None and not vals.all():  # pandas reads "-0" as the integer 0
             vals = np.copysign(vals, np.where([r.t.text(name)[k].lstrip()[:1] == "-" for k in r.rows], -1.0, 1.0))
-        if not np.isnan(vals).any() or r.t.lengths is not None:  # an array's NaN is refused as a value
-            return vals, None
-        i = int(np.flatnonzero(np.isnan(vals))[0])
-        said = f"missing value {r.cell(name, i)!r}" if r.t.text is not None else "missing value (NaN)"
-        return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
-    out = syn.to_numbers(s.to_numpy(), r.decimal_comma)
-    if not (bad := np.flatnonzero(np.isnan(out))).size:
-        return out, None
-    if not _missing(v := s.iloc[i := int(bad[0])]):
-        return out, r.err(f"non-numeric value {v!r}", name, i)
-    said = "empty cell" if is_empty(v) else f"missing value {v.strip()!r}"
-    return out, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
+    else:
+        vals = syn.to_numbers(s.to_numpy(), r.decimal_comma)
+    if not (bad := np.flatnonzero(np.isnan(vals))).size or (typed and r.t.lengths is not None):
+        return vals, None  # an array's NaN is refused as a value
+    i = int(bad[0])
+    v = r.t.text(name)[r.rows[i]] if typed and r.t.text is not None else s.iloc[i]
+    if not _missing(v):
+        return vals, r.err(f"non-numeric value {v!r}", name, i)
+    said = ("missing value (NaN)" if typed and r.t.text is None else "empty cell" if is_empty(v) else
+            f"missing value {v.strip()!r}")
+    return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
 
 
 def setting(r: Rows, name: str) -> np.ndarray:
@@ -430,18 +426,17 @@ def setting(r: Rows, name: str) -> np.ndarray:
             raise r.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a label",
                         name, i)
     labels = [v.strip() if isinstance(v, str) else v for v in cells]
-    numbers_ = [_label_number(v, x) for v, x in zip(labels, parsed, strict=True)]
-    if all(isinstance(x, int) for x in numbers_):  # beyond int64: kept exact as text
-        fits = all(abs(x) <= _INT64_MAX for x in numbers_)
-        return np.array(numbers_, dtype=np.int64) if fits else np.array([str(x) for x in numbers_])
-    if all(isinstance(x, float) for x in numbers_):
-        return np.array(numbers_, dtype=float)
+    found = [_label_number(v, x) for v, x in zip(labels, parsed, strict=True)]
+    if all(isinstance(x, int) for x in found):  # beyond int64: kept exact as text
+        fits = all(abs(x) <= _INT64_MAX for x in found)
+        return np.array(found, dtype=np.int64) if fits else np.array([str(x) for x in found])
+    if all(isinstance(x, float) for x in found):
+        return np.array(found, dtype=float)
     return np.array([str(int(v)) if isinstance(v, float) and v.is_integer() else str(v) for v in labels])
 
 
 def _label_number(v: Any, parsed: float) -> int | float | None:
-    """A setting label (``parsed``: its text as a number) as an exact int, a float (non-whole, up to 15 significant
-    digits), or None."""
+    """A label (``parsed``: its text's number) as an exact int, a float of up to 15 significant digits, else None."""
     if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.number | str):
         return None
     text = v.replace("\u2212", "-") if isinstance(v, str) else ""
@@ -455,8 +450,8 @@ def _label_number(v: Any, parsed: float) -> int | float | None:
 
 def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: str = "bounce"
                  ) -> tuple[Rows, dict[Role, Column], list[int]]:
-    """The chosen columns' numbers as written: rows with a missing cell dropped (``missing="drop"``) or the first
-    bad cell in row order refused; also the file's data rows dropped."""
+    """The chosen columns' numbers as written, rows with a missing cell dropped (``missing="drop"``: the file's data
+    rows dropped too) or the first bad cell in row order refused."""
     used: dict[str, Role] = {}
     for role, col in cols.items():
         if used.setdefault(col.name, role) != role:
@@ -553,8 +548,8 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
 
 
 def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mapping[Role, float]) -> dict[Role, Column]:
-    """A polar state's speed, angle and spin half-widths propagated to xdot, ydot, omega ones, to first order with
-    independent errors; checked as written first (the propagation squares a sign away)."""
+    """A polar state's speed, angle and spin half-widths propagated to xdot, ydot, omega ones (first order,
+    independent errors), checked as written first: the propagation squares a sign away."""
     roles = [Role(f"{state}_pi", c) for c in POLAR]
     raw = np.column_stack([cols[k].raw for k in roles])
     bad = ~(np.isfinite(raw) & (raw >= 0))
@@ -760,11 +755,9 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
     return out
 
 
-# ------------------------------------------------------------------------------------------------ words
-
 def _what(role: Role, polar: bool = False, asked: bool = False) -> str:
-    """What a role is, in words: ``the landing speed``, ``a half-width of the landing spin (a prediction interval)``;
-    ``asked``: ``the landing omega half-width`` (the spin of a polar state)."""
+    """A role in words: ``the landing spin itself``, ``a half-width of ...``; ``asked``: ``the landing omega
+    half-width`` (the spin of a polar state)."""
     comp = "spin" if role.comp == "omega" and (polar or not asked) else role.comp
     what = f"{_SAID[role.state.removesuffix('_pi')]} {comp}"
     if asked:
@@ -785,8 +778,8 @@ def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str] | s
 
 
 def _state_roles(names: Any) -> dict[str, str] | None:
-    """Component -> requested name for one entry of columns=: a list (xdot, ydot, omega), or a mapping with the keys
-    xdot, ydot, omega or speed, angle, spin (or omega)."""
+    """Component -> name of one entry of columns=: a list (xdot, ydot, omega) or a mapping of xdot, ydot, omega or
+    speed, angle, spin (or omega)."""
     if isinstance(names, Mapping):
         ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"},
                                       {"speed", "angle", "omega"})

@@ -119,6 +119,16 @@ def _data_shaped(cells: list[str], width: int) -> bool:
     return width >= 2 and abs(len(cells) - width) <= 1 and sum(map(is_number, cells[1:])) * 2 >= len(cells) - 1
 
 
+def encoding(raw: bytes) -> str:
+    """UTF-8 (with or without a BOM) if ``raw`` is, else Latin-1."""
+    if not raw.isascii():
+        try:
+            raw.decode("utf-8-sig")
+        except UnicodeDecodeError:
+            return "latin-1"
+    return "utf-8"
+
+
 class Line(NamedTuple):
     no: int  # 1-based
     text: str
@@ -241,12 +251,7 @@ def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_
     raw = read_regular_file(path, file) if raw is None else raw
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
-    enc = "utf-8"
-    if not raw.isascii():
-        try:
-            raw.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            enc = "latin-1"
+    enc = encoding(raw)
     start = len(codecs.BOM_UTF8) if enc == "utf-8" and raw.startswith(codecs.BOM_UTF8) else 0
     head = list(islice(lines(raw, start, enc), max(64, (header_row or 0) + 51)))  # the non-blank lines of the head
     given = names is not None
