@@ -19,7 +19,7 @@ import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
-from itertools import islice, takewhile
+from itertools import islice
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -104,7 +104,7 @@ def _split(line: str, delim: str | None) -> list[str]:
 
 
 def _sniff(lines: list[str]) -> str | None:
-    """Tab, semicolon or comma as :class:`csv.Sniffer` tells it (else the one splitting the header most); None: blanks."""
+    """Tab, semicolon or comma, as :class:`csv.Sniffer` tells (else what splits the header most); None: blanks."""
     try:
         delim = csv.Sniffer().sniff("\n".join(lines), delimiters="\t;,").delimiter
     except csv.Error:
@@ -224,7 +224,7 @@ def _uncommented(file: str, raw: bytes, enc: str, hd: _Header) -> tuple[bytes, i
         if _data_shaped(cells := _split(text := raw[start:end].decode(enc), hd.delim), len(hd.names)):
             if cells[0].strip().lower() in MISSING:
                 continue  # "#N/A,20.1,...": a row with a missing value
-            above = list(takewhile(lambda ln: ln.start <= start, lines(raw, hd.at, enc, hd.first_no)))
+            above = list(lines(raw[:end], hd.at, enc, hd.first_no))
             mark, row = text.lstrip()[0], sum(ln.start not in dict(cut) for ln in above[:-1]) + 1
             raise DataError(f"line {above[-1].no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
                             f"values like the data: delete the line if it is commented out, or remove the {mark!r}",
