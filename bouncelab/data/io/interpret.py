@@ -36,6 +36,7 @@ INTERVAL_KINDS = ("pi95", "sd")
 STATES, PI_STATES, POLAR = syn.STATES, syn.PI_STATES, syn.POLAR_ROLES
 _SAID = {"landing": "landing", "liftoff": "lift-off"}  # a state as messages write it
 KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
+_A = {"velocity": "a velocity", "spin": "a spin", "angle": "an angle"}  # a kind of unit in a sentence
 #: The units a column is read in when neither the file nor ``units=`` gives one.
 DEFAULT_UNITS = {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}
 _DROP = Hint("missing", "drop", "drops incomplete rows")
@@ -114,10 +115,11 @@ class Rows:
 def start(t: Table, radius_m: float = units.BALL_RADIUS_M, plausible=plausibility.PLAUSIBLE_RANGES) -> Rows:
     """The rows of a table, its unnamed columns left out; a header unit the units row contradicts refused."""
     for name in t.cells.columns:
-        unit, row = syn.split_header(name)[1], t.units.get(name, ("", ""))
-        if unit and row[1] == "units row" and not _same_unit(unit, row[0]):
-            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
-                            "them agree or remove one", file=t.file, column=name)
+        unit, (said, where) = syn.split_header(name)[1], t.units.get(name, ("", ""))
+        if unit and where == "units row" and unit.strip().lower() != said.strip().lower() and (
+                not syn.unit_of(unit) or syn.unit_of(unit) != syn.unit_of(said)):
+            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {said!r}", file=t.file,
+                            column=name)
     frame = t.cells if all(t.cells.columns) else t.cells.loc[:, [bool(n) for n in t.cells.columns]]
     return Rows(t, frame, np.arange(len(frame)), radius_m, plausible)
 
@@ -473,7 +475,7 @@ def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
     text, where = (text, where) if text is not None else r.t.units.get(col.name, (None, ""))
     known = {} if text is None else syn.unit_of(text)
     if text is not None and kind not in known and (known or not (col.whole and where == "header")):
-        what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
+        what = f"{_A[next(iter(known))]} unit, not {_A[kind]} unit" if known else "not a known unit"
         try:
             units.canonical_unit(text, kind)
         except DataError as exc:
@@ -742,14 +744,6 @@ def _what(role: Role, polar: bool = False, asked: bool = False) -> str:
     if asked:
         return f"the {what} half-width" if role.pi else f"the {what}"
     return f"a half-width of the {what} (a prediction interval)" if role.pi else f"the {what} itself"
-
-
-def _same_unit(a: str, b: str) -> bool:
-    return a.strip().lower() == b.strip().lower() or (bool(syn.unit_of(a)) and syn.unit_of(a) == syn.unit_of(b))
-
-
-def _a(word: str) -> str:
-    return ("an " if word[:1].lower() in "aeiou" else "a ") + word
 
 
 def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str] | str) -> list[str]:
