@@ -172,8 +172,7 @@ def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, li
 
 
 def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
-    """The columns ``columns=`` names; a half-width named as a state's column (or the reverse) refused, and a speed or
-    angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
+    """The columns ``columns=`` names; a half-width named as a state (or the reverse), a speed in a list refused."""
     keys = (*STATES, *PI_STATES)
     if not isinstance(columns, Mapping) or set(columns) - {*keys, "setting"}:
         raise r.err(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}; got {columns!r}")
@@ -345,8 +344,7 @@ def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
 
 
 def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
-    """Whether a semicolon, tab or blank-separated table writes decimal commas (``15,2``), refusing what does not say:
-    ``3.000`` then (3000 or 3.0?), ``15,2`` beside ``15.2``, and ``3,000`` (or ``1.500`` with semicolons) alone."""
+    """Whether a semicolon, tab or blank-separated file writes decimal commas; an ambiguous ``3.000`` refused."""
     if r.t.delimiter == ",":
         return r
     names = [n for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iufb"]

@@ -167,8 +167,7 @@ def relative_unit(name: str, unit_text: str | None) -> str | None:
 
 
 def to_numbers(cells: Any, decimal_comma: bool = False) -> np.ndarray:
-    """Cells of text as floats by :func:`pandas.to_numeric` (the loader's one number parser): NaN where a cell is no
-    number (``1_0``, ``1.2.3``); ``-0`` a signed zero; ``15,2`` with ``decimal_comma``; U+2212 a minus sign."""
+    """Cells as floats by :func:`pandas.to_numeric` (the one number parser), NaN if none; ``-0`` keeps its sign."""
     text = pd.Series(cells, dtype=object).astype(str).str.strip().str.replace("\u2212", "-", regex=False)
     vals = pd.to_numeric(text.str.replace(",", ".", regex=False) if decimal_comma else text, errors="coerce")
     return np.copysign(vals.to_numpy(dtype=float), np.where(text.str.startswith("-"), -1.0, 1.0))

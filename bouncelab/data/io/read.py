@@ -88,8 +88,7 @@ def units_row(names: Sequence[str], cells: Sequence, blank: Callable[[Any], bool
 
 
 def looks_like_title(title: list, header: list, first_row: list, blank: Callable[[Any], bool]) -> bool:
-    """Whether a line above the header is a title or note, conservatively (a data row is never taken for a header):
-    fewer cells than the header and no number, a header without numbers, and under it numbers or a units row."""
+    """Whether a line above the header is a title: fewer cells and no number, under it a header then data or units."""
     t, h, d = ([c for c in row if not blank(c)] for row in (title, header, first_row))
     return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(is_number, t)) and not any(map(is_number, h))
             and (any(map(is_number, d)) or is_units_row(first_row, blank)))
@@ -289,8 +288,7 @@ def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_
 
 def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
            usecols: list[int] | None = None) -> pd.DataFrame:
-    """pandas' reading of ``body`` from byte ``at``: the cells as written (``as_text``) or numbers where a column holds
-    only numbers; nothing taken as missing (``NA`` stays text); a longer row widens ``width``."""
+    """pandas' reading of ``body`` from ``at``: text (``as_text``) or typed columns, no NA; a longer row widens."""
     while True:
         (source := io.BytesIO(body)).seek(at)  # shares the bytes
         try:
@@ -408,8 +406,7 @@ def _scalar(v: Any) -> Any:
 
 
 def read_mat(path: Path, file: str, **_: Any) -> Table:
-    """A MATLAB v5/v7 file: vectors, (n, k) matrices (``M_1`` ... ``M_k``), cell arrays of strings and the fields
-    of structs and struct arrays as columns (``S.vx0`` where two structs share a field name)."""
+    """A MATLAB v5/v7 file: vectors, matrices (``M_1``...), cell arrays of strings, struct fields (``S.vx0``)."""
     import scipy.io
     from scipy.io.matlab import mat_struct
 
@@ -479,8 +476,7 @@ def open_netcdf(path: Path, file: str) -> xr.Dataset:
 
 
 def read_netcdf(path: Path, file: str, **_: Any) -> Table | xr.Dataset:
-    """A netCDF file: a bouncelab campaign (variables ``landing``, ``liftoff``) as its Dataset; any other, each 1-D
-    variable a column (an (n, k) one ``V_1`` ... ``V_k``), its unit from its name or its CF ``units`` attribute."""
+    """A netCDF file: a campaign as its Dataset, any other a table of its 1-D variables (CF ``units`` kept)."""
     ds = open_netcdf(path, file)
     if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
         return ds
