@@ -217,26 +217,3 @@ def test_random_files_load_the_numbers_written_or_raise_a_data_error(tmp_path_fa
     want = np.array([[float(c) for c in r] for r in cells[: len(rows)]])
     np.testing.assert_array_equal(states(ds), want)
     np.testing.assert_array_equal(np.signbit(states(ds)), np.signbit(want))
-
-
-def test_a_file_changed_while_it_is_read_is_refused(tmp_path, monkeypatch):
-    """A large plain file is parsed from the bytes read; cells read again later (a setting label's text) come from
-    the disk, and only if the file is the one that was parsed."""
-    from bouncelab.data.io import read
-
-    rows = ["1.5,900,-700,300,400,200,150", "2.5,901,-701,301,401,201,151"] * 20_000  # labels typed from text
-    path = tmp_path / "f.csv"
-    path.write_text(HEAD + "\n" + "\n".join(rows) + "\n")
-    first = read.read_regular_file
-
-    def read_then_change(p, file, *args, **kwargs):
-        data = first(p, file, *args, **kwargs)
-        monkeypatch.setattr(read, "read_regular_file", first)  # the first read only: the file changes after it
-        path.write_text(HEAD + "\n" + "\n".join(rows[:-1]) + "\n")
-        return data
-
-    assert bl.load_campaign(path).setting.values[:2].tolist() == [1.5, 2.5]
-    monkeypatch.setattr(read, "read_regular_file", read_then_change)
-    with pytest.raises(DataError) as exc:
-        bl.load_campaign(path)
-    assert exc.value.file == str(path) and "changed while it was being read" in exc.value.message

@@ -1,11 +1,10 @@
 """From one :class:`~bouncelab.data.io.read.Table` to numbers in known units: one pipeline of small functions.
 
 A :class:`Role` (state, component) says what a column holds; :func:`select_auto` or :func:`select_explicit`
-picks a :class:`Column` for each; :func:`read_columns` drops or refuses rows with a missing cell, finds the
-decimal mark and parses each column; :func:`with_units` finds each unit and scales; :func:`campaign_from_table`
-goes on to polar states, intervals and the unit guard. The landings of ``bouncelab predict`` and the shots ask
-the same steps for their own columns. Each refusal is a :class:`~bouncelab.core.errors.DataError` naming the
-file, the column as spelled there and the data row, with the options that would put it right as hints.
+picks a :class:`Column` for each; :func:`read_columns` parses them; :func:`with_units` scales them;
+:func:`campaign_from_table` goes on to polar states, intervals and the unit guard. The landings of ``bouncelab
+predict`` and the shots ask the same steps for their own columns. Each refusal is a DataError naming the file, the
+column as spelled there and the data row, with the options that would put it right as hints.
 """
 
 from __future__ import annotations
@@ -37,6 +36,7 @@ INTERVAL_KINDS = ("pi95", "sd")
 STATES, PI_STATES, POLAR = syn.STATES, syn.PI_STATES, syn.POLAR_ROLES
 _SAID = {"landing": "landing", "liftoff": "lift-off"}  # a state as messages write it
 KINDS = {"xdot": "velocity", "ydot": "velocity", "omega": "spin", "speed": "velocity", "angle": "angle"}
+_A = {"velocity": "a velocity", "spin": "a spin", "angle": "an angle"}  # a kind of unit in a sentence
 #: The units a column is read in when neither the file nor ``units=`` gives one.
 DEFAULT_UNITS = {"velocity": "radius/s", "spin": "rad/s", "angle": "deg"}
 _DROP = Hint("missing", "drop", "drops incomplete rows")
@@ -71,8 +71,7 @@ SETTING = Role("setting")
 
 @dataclass(frozen=True)
 class Column:
-    """The file's column read for a role: its name as spelled, whether its whole header matched (a bracket in it may
-    be part of the name), its unit and where that came from (``origin``), its numbers as written and scaled."""
+    """A column read for a role: its name, whether its whole header matched, its unit and ``origin``, its numbers."""
 
     name: str
     whole: bool = True
@@ -116,10 +115,11 @@ class Rows:
 def start(t: Table, radius_m: float = units.BALL_RADIUS_M, plausible=plausibility.PLAUSIBLE_RANGES) -> Rows:
     """The rows of a table, its unnamed columns left out; a header unit the units row contradicts refused."""
     for name in t.cells.columns:
-        unit, row = syn.split_header(name)[1], t.units.get(name, ("", ""))
-        if unit and row[1] == "units row" and not _same_unit(unit, row[0]):
-            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {row[0]!r}; make "
-                            "them agree or remove one", file=t.file, column=name)
+        unit, (said, where) = syn.split_header(name)[1], t.units.get(name, ("", ""))
+        if unit and where == "units row" and unit.strip().lower() != said.strip().lower() and (
+                not syn.unit_of(unit) or syn.unit_of(unit) != syn.unit_of(said)):
+            raise DataError(f"the header gives the unit {unit!r} but the units row under it says {said!r}", file=t.file,
+                            column=name)
     frame = t.cells if all(t.cells.columns) else t.cells.loc[:, [bool(n) for n in t.cells.columns]]
     return Rows(t, frame, np.arange(len(frame)), radius_m, plausible)
 
@@ -135,14 +135,13 @@ def warn(message: str, category: type[Warning] = UserWarning) -> None:
 def check_units_arg(given: Any, file: str) -> dict[str, str]:
     """``units=`` as canonical units; unknown keys and units, and relative ones, refused."""
     if given is not None and (not isinstance(given, Mapping) or set(given) - {"velocity", "spin", "angle"}):
-        raise DataError(f"units must be a mapping with the keys 'velocity', 'spin' and/or 'angle', e.g. {{'velocity': "
-                        f"'m/s', 'spin': 'rpm'}}; got {given!r}", file=file)
+        raise DataError(f"units must be a mapping of 'velocity', 'spin' and/or 'angle' to units; got {given!r}",
+                        file=file)
     out = {}
     for kind, unit in ((k, u) for k, u in (given or {}).items() if u is not None):
         if isinstance(unit, str) and syn.relative_word(unit) is not None:
-            raise DataError(f"the {kind} unit given, {unit!r}, is a relative unit: values and half-widths are read "
-                            "only in absolute units (convert a half-width in per cent first: times its value / 100)",
-                            file=file)
+            raise DataError(f"the {kind} unit given, {unit!r}, is a relative unit: give an absolute one (a half-width "
+                            "in per cent times its value / 100)", file=file)
         try:
             out[kind] = units.canonical_unit(unit, kind)
         except DataError as exc:
@@ -158,13 +157,13 @@ def find(r: Rows, requested: str, role: str) -> Column:
     found = [n for n in r.names if syn.normalize(n) in keys or syn.normalize(syn.split_header(n)[0]) in keys]
     if len(found) == 1:
         return Column(found[0], syn.normalize(found[0]) in keys)
-    raise r.err(f"{requested!r} (asked for as {role}) matches several columns: {found}; give the exact name of the "
-                "one to use" if found else f"no column matches {requested!r} (asked for as {role}); the file's "
-                f"columns are {r.names}", requested)
+    raise r.err(f"{requested!r} (asked for as {role}) matches several columns: {found}; give the exact name" if found
+                else f"no column matches {requested!r} (asked for as {role}); the file's columns are {r.names}",
+                requested)
 
 
 def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, list[Column]]:
-    """The columns whose names match each role's synonyms (or ``extra``'s names, :func:`syn.synonym_role`)."""
+    """The columns whose names match each role's synonyms (or ``extra``'s names)."""
     found: dict[Role, list[Column]] = {Role.of(role): [] for role in syn.ROLES}
     for name in r.names:
         if (match := syn.synonym_role(name, extra)) is not None:
@@ -173,17 +172,15 @@ def candidates(r: Rows, extra: Mapping[str, str] | None = None) -> dict[Role, li
 
 
 def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
-    """The columns named by ``columns=``, refusing a half-width named as a state's column (or the reverse) and a
-    speed or angle column in a list (read as xdot, ydot, omega: 40 degrees would be a velocity of 40)."""
+    """The columns ``columns=`` names; a half-width named as a state (or the reverse), a speed in a list refused."""
     keys = (*STATES, *PI_STATES)
     if not isinstance(columns, Mapping) or set(columns) - {*keys, "setting"}:
-        raise r.err(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}, e.g. "
-                    f"{{'landing': [...], 'liftoff': [...]}}; got {columns!r}")
+        raise r.err(f"columns must be a mapping with the keys {[*STATES, 'setting', *PI_STATES]}; got {columns!r}")
     cols: dict[Role, Column] = {}
     for key in (k for k in keys if columns.get(k) is not None or k in STATES):
         if (roles := _state_roles(columns.get(key))) is None:
-            raise r.err(f"the columns given for {key!r} must be a list of 3 column names (xdot, ydot, omega) or a "
-                        f"mapping {{'speed': ..., 'angle': ..., 'spin': ...}}; got {columns.get(key)!r}")
+            raise r.err(f"the columns of {key!r} are a list (xdot, ydot, omega) or a mapping {{'speed': ..., 'angle': "
+                        f"..., 'spin': ...}}; got {columns.get(key)!r}")
         cols.update({Role(key, c): find(r, n, f"{key} {c}") for c, n in roles.items()})
     if columns.get("setting") is not None:
         cols[SETTING] = find(r, str(columns["setting"]), "setting")
@@ -197,10 +194,9 @@ def select_explicit(r: Rows, columns: Any) -> dict[Role, Column]:
     for key in keys:
         if key in PI_STATES and Role(key, "speed") in cols and Role(key[:-3], "speed") not in cols:
             s = _SAID[key[:-3]]
-            raise r.err(f"polar half-widths (speed, angle, spin) are given for {key!r}, but the {s} is read from "
-                        f"Cartesian columns (xdot, ydot, omega): they are propagated through the polar state they "
-                        f"belong to; give the {s} as {{'speed': ..., 'angle': ..., 'spin': ...}} too, or {key!r} as a "
-                        "list of its xdot, ydot, omega half-widths", hints=[Hint("columns")])
+            raise r.err(f"polar half-widths are given for {key!r}, but the {s} is read from Cartesian columns: they "
+                        f"are propagated through a polar state; give the {s} as speed, angle, spin too, or {key!r} as "
+                        "xdot, ydot, omega half-widths", hints=[Hint("columns")])
         if isinstance(columns.get(key), Mapping) or not (
                 wrong := [c for c in COMPONENTS if Role(key, c) in said and said[Role(key, c)].comp in POLAR[:2]]):
             continue
@@ -247,9 +243,7 @@ def select_auto(r: Rows) -> dict[Role, Column]:
 
 def _auto_intervals(r: Rows, found: dict[Role, list[Column]], state: str, form: str, problems: list[str],
                     cols: dict[Role, Column]) -> str | None:
-    """Choose one state's interval columns by name (into ``cols``); what is wrong with them, if anything. Complete
-    Cartesian half-widths are read; polar ones of a Cartesian state (nothing to propagate them through) and a lone
-    spin's are ignored with a warning; a polar state's need all three and no Cartesian ones beside them."""
+    """One state's interval columns by name into ``cols`` (Cartesian, or a polar state's polar); else the fault."""
     pi, said = f"{state}_pi", _SAID[state]
     if several := [f"{pi}.{c}: several candidates {_names(found, pi, (c,))}" for c in (*COMPONENTS, *POLAR[:2])
                    if len(found[Role(pi, c)]) > 1]:
@@ -298,8 +292,7 @@ def check_absolute_units(r: Rows, cols: Mapping[Role, Column]) -> None:
 
 
 def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None) -> dict[Role, float]:
-    """The factor that makes each interval column a 95 % half-width: 1, or Z95 for a standard deviation.
-    ``intervals=None`` lets the names say; an ``err``/``unc`` name, which could be either, is refused."""
+    """The factor making each interval column a 95 % half-width (1, or Z95 for a standard deviation)."""
     scales, unsure = {}, []
     meaning = {"pi95": "a 95 % half-width", "sd": "one standard deviation"}
     for role, col in ((k, c) for k, c in cols.items() if k.pi):
@@ -307,23 +300,18 @@ def interval_scales(r: Rows, cols: Mapping[Role, Column], intervals: str | None)
         says = "pi95" if marker in syn.PI95_MARKERS else "sd" if marker in syn.SD_MARKERS else None
         if intervals is not None and says is not None and says != intervals:
             raise r.err(f"the interval columns are said to hold {meaning[intervals]}, but the name of {col.name!r} "
-                        f"({marker!r}) says it holds {meaning[says]} (rename the column if it does not)", col.name,
+                        f"({marker!r}) says {meaning[says]}", col.name,
                         hints=[Hint("intervals", says, "as the name says")])
         if intervals is None and marker in syn.AMBIGUOUS_MARKERS:
             unsure.append(col.name)
         else:
             scales[role] = Z95 if (intervals or says) == "sd" else 1.0
     if unsure:
-        raise r.err(f"the interval column{'s' if len(unsure) > 1 else ''} {unsure} may hold one standard deviation or "
-                    "the half-width of a 95 % interval, and the name does not say which (a standard deviation read as "
-                    "a half-width would give intervals 1.96 times too narrow)", unsure[0],
+        raise r.err(f"the interval columns {unsure} may hold standard deviations or 95 % half-widths, and the names do "
+                    "not say which (a standard deviation read as a half-width is 1.96 times too narrow)", unsure[0],
                     hints=[Hint("intervals", "sd", f"standard deviations, multiplied by {Z95:.2f} to 95 % half-widths"),
                            Hint("intervals", "pi95", "95 % half-widths, as a campaign stores them")])
     return scales
-
-
-def _missing(v: Any) -> bool:
-    return is_empty(v) or str(v).strip().lower() in MISSING
 
 
 def missing_rows(r: Rows, names: Sequence[str]) -> dict[int, tuple[str, Any]]:
@@ -356,9 +344,7 @@ def drop_missing(r: Rows, names: Sequence[str]) -> tuple[Rows, list[int]]:
 
 
 def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
-    """Whether a semicolon, tab or blank-separated table writes decimals with a comma (``15,2``), refusing what
-    does not say: ``3.000`` then (3000 or 3.0?), a file mixing ``15,2`` and ``15.2``, and ``3,000`` (or
-    ``1.500`` in a semicolon file) with no other decimal."""
+    """Whether a semicolon, tab or blank-separated file writes decimal commas; an ambiguous ``3.000`` refused."""
     if r.t.delimiter == ",":
         return r
     names = [n for n in dict.fromkeys(names) if r.frame[n].dtype.kind not in "iufb"]
@@ -392,25 +378,28 @@ def decimal_convention(r: Rows, names: Sequence[str]) -> Rows:
     return replace(r, decimal_comma=comma is not None)
 
 
+def _missing(v: Any) -> bool:
+    return is_empty(v) or str(v).strip().lower() in MISSING
+
+
 def numbers(r: Rows, name: str, what: str = "bounce") -> tuple[np.ndarray, DataError | None]:
     """A column as floats, and the error of its first bad cell (or None)."""
     s = r.frame[name]
-    if s.dtype.kind in "iuf" and pd.api.types.is_numeric_dtype(s):
+    if typed := s.dtype.kind in "iuf" and pd.api.types.is_numeric_dtype(s):
         vals = s.to_numpy() if s.dtype == np.float64 else s.to_numpy(dtype=float, na_value=np.nan)
         if s.dtype.kind in "iu" and r.t.text is not None and not vals.all():  # pandas reads "-0" as the integer 0
             vals = np.copysign(vals, np.where([r.t.text(name)[k].lstrip()[:1] == "-" for k in r.rows], -1.0, 1.0))
-        if not np.isnan(vals).any() or r.t.lengths is not None:  # an array's NaN is refused as a value
-            return vals, None
-        i = int(np.flatnonzero(np.isnan(vals))[0])
-        said = f"missing value {r.cell(name, i)!r}" if r.t.text is not None else "missing value (NaN)"
-        return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
-    out = syn.to_numbers(s.to_numpy(), r.decimal_comma)
-    if not (bad := np.flatnonzero(np.isnan(out))).size:
-        return out, None
-    if not _missing(v := s.iloc[i := int(bad[0])]):
-        return out, r.err(f"non-numeric value {v!r}", name, i)
-    said = "empty cell" if is_empty(v) else f"missing value {v.strip()!r}"
-    return out, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
+    else:
+        vals = syn.to_numbers(s.to_numpy(), r.decimal_comma)
+    if not (bad := np.flatnonzero(np.isnan(vals))).size or (typed and r.t.lengths is not None):
+        return vals, None  # an array's NaN is refused as a value
+    i = int(bad[0])
+    v = r.t.text(name)[r.rows[i]] if typed and r.t.text is not None else s.iloc[i]
+    if not _missing(v):
+        return vals, r.err(f"non-numeric value {v!r}", name, i)
+    said = ("missing value (NaN)" if typed and r.t.text is None else "empty cell" if is_empty(v) else
+            f"missing value {v.strip()!r}")
+    return vals, r.err(f"{said}; every {what} needs a value", name, i, [_DROP])
 
 
 def setting(r: Rows, name: str) -> np.ndarray:
@@ -430,18 +419,17 @@ def setting(r: Rows, name: str) -> np.ndarray:
             raise r.err(f"setting label {v.strip()!r} is not a finite number nor a name; every bounce needs a label",
                         name, i)
     labels = [v.strip() if isinstance(v, str) else v for v in cells]
-    numbers_ = [_label_number(v, x) for v, x in zip(labels, parsed, strict=True)]
-    if all(isinstance(x, int) for x in numbers_):  # beyond int64: kept exact as text
-        fits = all(abs(x) <= _INT64_MAX for x in numbers_)
-        return np.array(numbers_, dtype=np.int64) if fits else np.array([str(x) for x in numbers_])
-    if all(isinstance(x, float) for x in numbers_):
-        return np.array(numbers_, dtype=float)
+    found = [_label_number(v, x) for v, x in zip(labels, parsed, strict=True)]
+    if all(isinstance(x, int) for x in found):  # beyond int64: kept exact as text
+        fits = all(abs(x) <= _INT64_MAX for x in found)
+        return np.array(found, dtype=np.int64) if fits else np.array([str(x) for x in found])
+    if all(isinstance(x, float) for x in found):
+        return np.array(found, dtype=float)
     return np.array([str(int(v)) if isinstance(v, float) and v.is_integer() else str(v) for v in labels])
 
 
 def _label_number(v: Any, parsed: float) -> int | float | None:
-    """A setting label (``parsed``: its text as a number) as an exact int, a float (non-whole, up to 15 significant
-    digits), or None."""
+    """A label (``parsed``: its text's number) as an exact int, a float of up to 15 significant digits, else None."""
     if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.number | str):
         return None
     text = v.replace("\u2212", "-") if isinstance(v, str) else ""
@@ -455,16 +443,14 @@ def _label_number(v: Any, parsed: float) -> int | float | None:
 
 def read_columns(r: Rows, cols: Mapping[Role, Column], *, missing: str, what: str = "bounce"
                  ) -> tuple[Rows, dict[Role, Column], list[int]]:
-    """The chosen columns' numbers as written: rows with a missing cell dropped (``missing="drop"``) or the first
-    bad cell in row order refused; also the file's data rows dropped."""
+    """The columns' numbers as written, rows with a missing cell dropped (and said) or the first bad cell refused."""
     used: dict[str, Role] = {}
     for role, col in cols.items():
         if used.setdefault(col.name, role) != role:
             raise r.err(f"the same column is asked for as {used[col.name]} and as {role}", col.name)
     lengths = {n: r.t.lengths[n] for n in used} if r.t.lengths is not None else {}
     if len(set(lengths.values())) > 1:
-        raise r.err(f"the columns have different lengths {lengths}; one value per bounce in each",
-                    max(lengths, key=lambda k: lengths[k]))
+        raise r.err(f"the columns have different lengths {lengths}", max(lengths, key=lambda k: lengths[k]))
     r, dropped = drop_missing(r, list(used)) if missing == "drop" else (r, [])
     r = decimal_convention(r, [c.name for role, c in cols.items() if role != SETTING])
     out, errors = {}, []
@@ -487,14 +473,14 @@ def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
     text, where = (text, where) if text is not None else r.t.units.get(col.name, (None, ""))
     known = {} if text is None else syn.unit_of(text)
     if text is not None and kind not in known and (known or not (col.whole and where == "header")):
-        what = f"{_a(next(iter(known)))} unit, not {_a(kind)} unit" if known else "not a known unit"
+        what = f"{_A[next(iter(known))]} unit, not {_A[kind]} unit" if known else "not a known unit"
         try:
             units.canonical_unit(text, kind)
         except DataError as exc:
             raise r.err(f"the {where} gives the unit {text!r}, {what}; {exc.message}", col.name) from None
     if kind in given and kind in known and known[kind] != given[kind]:
-        raise r.err(f"the header says {known[kind]} but the {kind} unit given is {given[kind]}; remove one of them or "
-                    "make them agree", col.name, hints=[Hint("units", {kind: known[kind]}, "as the header says")])
+        raise r.err(f"the header says {known[kind]} but the {kind} unit given is {given[kind]}", col.name,
+                    hints=[Hint("units", {kind: known[kind]}, "as the header says")])
     if kind in given:
         return given[kind], "units="
     return (known[kind], "header") if kind in known else (default[kind], "assumed")
@@ -502,8 +488,7 @@ def column_unit(r: Rows, col: Column, kind: str, given: Mapping[str, str],
 
 def with_units(r: Rows, cols: dict[Role, Column], given: Mapping[str, str],
                scales: Mapping[Role, float] | None = None) -> dict[Role, Column]:
-    """Each state or interval column's unit and scaled numbers (radii/s, rad/s; angles in degrees); a half-width
-    without a unit has its value's."""
+    """Each column's unit and scaled numbers (radii/s, rad/s, degrees); a half-width without a unit has its value's."""
     out = dict(cols)
     for role in sorted((k for k in cols if k != SETTING), key=lambda k: k.pi):  # states first: intervals follow them
         unit, origin = column_unit(r, cols[role], kind := KINDS[role.comp], given)
@@ -519,8 +504,7 @@ def with_units(r: Rows, cols: dict[Role, Column], given: Mapping[str, str],
 
 
 def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Column]:
-    """A state given as speed, angle and spin with its xdot, ydot, refusing what is not a bounce: speeds >= 0, the
-    ball moving in +x, the angle positive below the horizontal for a landing, above it for a lift-off."""
+    """A state given as speed, angle and spin with its xdot, ydot; speeds < 0 and angles out of range refused."""
     sp, an, om = (cols[Role(state, c)] for c in POLAR)
     speed, angle, said, landing = sp.raw, an.scaled, _SAID[state], state == "landing"
     if (infinite := ~np.isfinite(np.column_stack([speed, an.raw, om.raw]))).any():
@@ -529,22 +513,19 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
         raise r.err(f"{said} {_POLAR_WORDS[k]} {r.cell(col.name, i, col.unit)} is not a finite number; every bounce "
                     "needs a finite speed, angle and spin", col.name, i)
     if an.origin == "assumed" and len(angle) and np.max(np.abs(angle)) <= _RADIAN_LIKE:
-        raise r.err(f"the file gives no unit for the {said} angles and every one is within +-{_RADIAN_LIKE:.2f}: read "
-                    "as degrees (the default) they are implausibly flat, they look like radians; say which (a unit in "
-                    f"the header says it too: '{an.name} (rad)' or '(deg)')", an.name,
+        raise r.err(f"the file gives no unit for the {said} angles and all are within +-{_RADIAN_LIKE:.2f}: they look "
+                    f"like radians, not degrees; say which (or a header '{an.name} (rad)')", an.name,
                     hints=[Hint("units", {"angle": "rad"})])
     bad_speed = ~(speed > 0) if landing else ~(speed >= 0)
     bad_angle = ~((angle > 0) & (angle <= 90)) if landing else ~((angle >= 0) & (angle < 180))
     if (rows := np.flatnonzero(bad_speed | bad_angle)).size and bad_speed[i := int(rows[0])]:
         raise r.err(f"{said} speed {r.cell(sp.name, i, sp.unit)}: a speed must be "
-                    f"{'positive' if landing else 'zero or positive'}; polar files give speeds >= 0 with the ball "
-                    "moving in +x (the angle gives the direction)", sp.name, i)
+                    f"{'positive' if landing else 'zero or positive'} (the angle gives the direction)", sp.name, i)
     if rows.size:
         raise r.err(f"{said} angle {r.cell(an.name, i, an.unit)} is not plausible: " + (
-            "a landing angle is positive below the horizontal, in (0, 90] degrees for a ball coming down in +x (a "
-            "file that measures it the other way needs the column negated)" if landing else "a lift-off angle is "
-            "positive above the horizontal, in [0, 180) degrees (0 to 90 going on in +x, above 90 going back; a "
-            "negative one would send the ball into the ground)"), an.name, i)
+            "a landing angle is positive below the horizontal, in (0, 90] degrees (negate a column measured the other "
+            "way)" if landing else "a lift-off angle is positive above the horizontal, in [0, 180) degrees (below 0 "
+            "the ball goes into the ground)"), an.name, i)
     cart = units.state_from_polar(np.column_stack([speed, angle, om.raw]), kind=state, speed_unit=sp.unit,
                                   spin_unit=om.unit, radius_m=r.radius)
     a = np.deg2rad(angle)  # the components in the file's speed unit, for the unit checks and their messages
@@ -553,8 +534,7 @@ def polar_state(r: Rows, cols: dict[Role, Column], state: str) -> dict[Role, Col
 
 
 def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mapping[Role, float]) -> dict[Role, Column]:
-    """A polar state's speed, angle and spin half-widths propagated to xdot, ydot, omega ones, to first order with
-    independent errors; checked as written first (the propagation squares a sign away)."""
+    """A polar state's half-widths propagated to xdot, ydot, omega ones, checked first (it squares a sign away)."""
     roles = [Role(f"{state}_pi", c) for c in POLAR]
     raw = np.column_stack([cols[k].raw for k in roles])
     bad = ~(np.isfinite(raw) & (raw >= 0))
@@ -562,8 +542,7 @@ def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mappi
     if bad.any():
         i, k = (int(v) for v in np.argwhere(bad)[0])
         why = "is negative" if raw[i, k] < 0 else "is not a finite number" if not np.isfinite(raw[i, k]) else (
-            f"is wider than any plausible angle half-width ({_MAX_ANGLE_HW:g} deg spans every direction a landing "
-            "can come from): check the column's unit")
+            f"is wider than any plausible angle half-width ({_MAX_ANGLE_HW:g} deg): check the column's unit")
         raise r.err(f"{interval_cell(r, cols[roles[k]], i, scales.get(roles[k], 1.0))} {why}", cols[roles[k]].name, i)
     polar, hws = (np.column_stack([cols[Role(s, c)].scaled for c in POLAR]) for s in (state, roles[0].state))
     try:
@@ -580,7 +559,7 @@ def polar_intervals(r: Rows, cols: dict[Role, Column], state: str, scales: Mappi
 
 
 def interval_cell(r: Rows, col: Column, i: int, factor: float) -> str:
-    """An interval cell for messages, quoting the number that was checked (a standard deviation x 1.96)."""
+    """An interval cell for messages, with the number checked (a standard deviation x 1.96)."""
     cell, unit = r.cell(col.name, i, col.unit or None), f" {col.unit}" if col.unit else ""
     return f"prediction-interval half-width {cell}" if factor == 1.0 else (
         f"standard deviation {cell} (x {factor:.2f}: {col.raw[i] * factor:.6g}{unit} as a 95 % half-width)")
@@ -616,7 +595,7 @@ def check_intervals(r: Rows, cols: Mapping[Role, Column], pi: str, arr: np.ndarr
 
 
 def check_landing_sign(r: Rows, cols: Mapping[Role, Column]) -> None:
-    """A Cartesian landing going up, quoted as written (as_states would quote radii/s); a polar one has its angle."""
+    """A Cartesian landing going up, quoted as written (as_states would quote radii/s)."""
     col = cols[Role("landing", "ydot")]
     if Role("landing", "speed") not in cols and (up := np.flatnonzero(col.scaled >= 0)).size and np.isfinite(
             [cols[Role("landing", c)].scaled[: up[0] + 1] for c in COMPONENTS]).all():
@@ -637,8 +616,7 @@ def states(r: Rows, cols: Mapping[Role, Column], state: str) -> np.ndarray:
 
 
 def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarray, np.ndarray]) -> None:
-    """Refuse numbers whose unit is not given and not certain, and numbers only a wrong unit makes (``arrays``:
-    the scaled landings and lift-offs)."""
+    """Refuse numbers whose unit is not given and not certain, and numbers only a wrong unit makes."""
     roles = [Role(s, c) for s in STATES for c in COMPONENTS]
     for kind in ("velocity", "spin"):
         if not (assumed := [k for k in roles if KINDS[k.comp] == kind and cols[k].origin == "assumed"]):
@@ -671,9 +649,8 @@ def check_plausible(r: Rows, cols: Mapping[Role, Column], arrays: tuple[np.ndarr
         col = cols[Role(why.state, why.component)]
         said = r.cell(col.name, why.row, col.unit) if why.row is not None else f"in {col.unit}"
         others = [Hint("units", {why.kind: u}) for u in plausibility.CANDIDATE_UNITS[why.kind] if u != col.unit]
-        raise r.err(f"{said} (unit from {col.origin}): {why.reason}; the {why.kind} unit is wrong (a unit in the "
-                    "column header also says it), or the values need wider plausible ranges", col.name, why.row,
-                    [*others, _WIDEN])
+        raise r.err(f"{said} (unit from {col.origin}): {why.reason}; the {why.kind} unit is wrong, or the values need "
+                    "wider plausible ranges", col.name, why.row, [*others, _WIDEN])
 
 
 def campaign_from_table(t: Table, *, columns: Any, given: dict[str, str], campaign: str, surface: str, source: str,
@@ -722,25 +699,23 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
                          intervals: str | None = None) -> xr.Dataset:
     """A campaign file written by save_campaign: in scaled units, loaded as it is (its arrays checked once)."""
     if columns is not None or given is not None or intervals is not None:
-        raise DataError("this is a bouncelab campaign file (scaled units, named variables, 95 % half-widths): it takes "
-                        "no column mapping, no units and no interval kind", file=file)
+        raise DataError("a bouncelab campaign file (scaled units, named variables) takes no columns, units or "
+                        "intervals", file=file)
     stored = ds.attrs.get("ball_radius_m")
     if stored is not None and ball_radius_m != units.BALL_RADIUS_M and float(stored) != float(ball_radius_m):
-        raise DataError(f"the campaign was scaled with a ball radius of {float(stored)!r} m, not {ball_radius_m!r}; a "
-                        "campaign file cannot be rescaled on loading", file=file)
+        raise DataError(f"the campaign was scaled with a ball radius of {float(stored)!r} m, not {ball_radius_m!r}",
+                        file=file)
     for var in ("landing", "liftoff", "landing_pi", "liftoff_pi"):
         if var in ds.variables and str(ds[var].attrs.get("units", "")).strip().lower() not in ("scaled", ""):
             raise DataError(f"the variable {var!r} says units={ds[var].attrs['units']!r}, but a campaign file holds "
-                            "scaled units (radii/s and rad/s, units='scaled'); convert it with "
-                            "bouncelab.core.units.to_scaled and save it with save_campaign, or rename the variables to "
-                            "load the file as a table", file=file, column=var)
+                            "scaled units (units='scaled'): convert it with bouncelab.core.units.to_scaled, or rename "
+                            "the variables to load the file as a table", file=file, column=var)
     ds = ds.set_coords("setting") if "setting" in ds.data_vars else ds  # a setting variable is still the setting
     if "setting" in ds.coords and ds["setting"].attrs.get("bouncelab_dtype") == "int64":
         try:  # save_campaign's netCDF-3 spelling of int64 settings
             labels = np.array([int(str(v)) for v in ds["setting"].values], dtype=np.int64)
         except (ValueError, OverflowError):
-            raise DataError("the setting labels marked int64 are not all integers", file=file,
-                            column="setting") from None
+            raise DataError("setting labels marked int64 are not all integers", file=file, column="setting") from None
         ds = ds.assign_coords(setting=("bounce", labels, {k: v for k, v in ds["setting"].attrs.items()
                                                            if k != "bouncelab_dtype"}))
     out = validate_campaign(ds.assign_attrs({"data_kind": "measured", "source": source, **ds.attrs}), file=file)
@@ -760,11 +735,8 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
     return out
 
 
-# ------------------------------------------------------------------------------------------------ words
-
 def _what(role: Role, polar: bool = False, asked: bool = False) -> str:
-    """What a role is, in words: ``the landing speed``, ``a half-width of the landing spin (a prediction interval)``;
-    ``asked``: ``the landing omega half-width`` (the spin of a polar state)."""
+    """A role in words: ``the landing spin itself``, ``a half-width of ...``; asked: ``the landing omega half-width``"""
     comp = "spin" if role.comp == "omega" and (polar or not asked) else role.comp
     what = f"{_SAID[role.state.removesuffix('_pi')]} {comp}"
     if asked:
@@ -772,21 +744,12 @@ def _what(role: Role, polar: bool = False, asked: bool = False) -> str:
     return f"a half-width of the {what} (a prediction interval)" if role.pi else f"the {what} itself"
 
 
-def _same_unit(a: str, b: str) -> bool:
-    return a.strip().lower() == b.strip().lower() or (bool(syn.unit_of(a)) and syn.unit_of(a) == syn.unit_of(b))
-
-
-def _a(word: str) -> str:
-    return ("an " if word[:1].lower() in "aeiou" else "a ") + word
-
-
 def _names(found: dict[Role, list[Column]], state: str, comps: Sequence[str] | str) -> list[str]:
     return [c.name for comp in ([comps] if isinstance(comps, str) else comps) for c in found[Role(state, comp)]]
 
 
 def _state_roles(names: Any) -> dict[str, str] | None:
-    """Component -> requested name for one entry of columns=: a list (xdot, ydot, omega), or a mapping with the keys
-    xdot, ydot, omega or speed, angle, spin (or omega)."""
+    """Component -> name of one entry of columns=: a list (xdot, ydot, omega) or a mapping of them or of speed, etc."""
     if isinstance(names, Mapping):
         ok = set(map(str, names)) in ({"xdot", "ydot", "omega"}, {"speed", "angle", "spin"},
                                       {"speed", "angle", "omega"})

@@ -5,11 +5,12 @@ A file with a header is read by the text backend and the steps of :mod:`bouncela
 as ``xdot0, ydot0, omega0`` or ``speed, angle, spin`` (any of the loader's names, and names without a phase marker:
 ``vx``, ``speed``...), in any order, other columns left alone; units from the header or a units row, else
 ``units=``, else the scaled ones and degrees. A file without a header is three numbers a line (blank, comma or
-semicolon separated): the columns ``xdot0 ydot0 omega0``.
+semicolon separated): the columns ``xdot0 ydot0 omega0``. A comment may follow a row (``1 -2 3  # note``).
 """
 
 from __future__ import annotations
 
+import codecs
 import os
 import re
 from collections.abc import Mapping
@@ -24,7 +25,7 @@ from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius
 from bouncelab.data.io import interpret as ip
 from bouncelab.data.io.interpret import DEFAULT_UNITS, KINDS, Role
 from bouncelab.data.io.names import _STEMS, POLAR_ROLES, POLAR_STEMS, is_number, synonym_role
-from bouncelab.data.io.read import is_empty, read_text
+from bouncelab.data.io.read import encoding, is_comment, is_empty, lines, read_text
 
 __all__ = ["DEFAULT_UNITS", "LandingTable", "read_landings"]
 
@@ -32,8 +33,7 @@ __all__ = ["DEFAULT_UNITS", "LandingTable", "read_landings"]
 # the landing's. One-letter stems are left out (``v`` is a ydot to the synonyms, a speed to many), but ``w``.
 _BARE = {stem: f"landing.{comp}" for comp, stems in (*_STEMS.items(), *POLAR_STEMS.items()) for stem in stems
          if len(stem) > 1 or stem == "w"}
-_ORDER = ("xdot", "ydot", "omega", "speed", "angle")
-_SHOWN = {"xdot": "xdot", "ydot": "ydot", "omega": "spin", "speed": "speed", "angle": "angle"}
+_SHOWN = {"xdot": "xdot", "ydot": "ydot", "omega": "spin", "speed": "speed", "angle": "angle"}  # in this order
 _ROWS = ("xdot0", "ydot0", "omega0")  # the columns of a file without a header
 _NAMING = ("name the columns xdot0, ydot0, omega0, or speed, angle, spin (the angle of incidence below the "
            "horizontal), e.g. a header 'speed,angle,spin' with a units row 'm/s,deg,rpm' under it; or leave the "
@@ -81,24 +81,18 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
             raise DataError("it is a folder, not a file of landings", file=name)
         check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end
         data = read_regular_file(path, name)
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        text = data.decode("latin-1")  # as the campaign loader reads a file that is not UTF-8
-    lines = [line if line.lstrip()[:1] in ("#", "%") else re.sub(r"\s+#.*$", "", line)  # a comment after a row
-             for line in re.split(r"\r\n|\r|\n", text)]
-    first = next((k for k, line in enumerate(lines) if line.strip() and line.lstrip()[:1] not in "#%"), None)
-    if first is None and "\x00" not in text:
+    raw = re.sub(rb"(?<=\S)[ \t]+#[^\r\n]*", b"", data.removeprefix(codecs.BOM_UTF8))  # a comment after a row
+    first = next((ln for ln in lines(raw, 0, encoding(raw)) if not is_comment(ln.text)), None)
+    if first is None and b"\x00" not in raw:
         raise DataError("no landing rows found (the file is empty or holds only comments)", file=name)
-    if first is not None and any(map(is_number, re.split(r"[,;\s]+", lines[first].strip()))):  # no header
-        table = read_text(None, name, raw=re.sub(r"[,;]", " ", "\n".join(lines)).encode(), names=_ROWS)
-        return _read(ip.start(table, radius, None), given, {Role("landing", c): ip.Column(n) for c, n in zip(
-            COMPONENTS, _ROWS, strict=True)})
+    if first is not None and any(map(is_number, re.split(r"[,;\s]+", first.text.strip()))):  # no header
+        table = read_text(None, name, raw=re.sub(rb"[,;]", b" ", raw), names=_ROWS)
+        return _read(ip.start(table, radius, None), given, dict(zip(
+            (Role("landing", c) for c in COMPONENTS), map(ip.Column, _ROWS), strict=True)))
     # A header that names landing columns is the header (not a title above a stray note with more cells).
     named = first is not None and any((m := synonym_role(c.strip(), _BARE)) and m[0].startswith("landing.")
-                                      for c in re.split(r"[,;\t]|\s+", lines[first]) if c.strip())
-    table = read_text(None, name, raw="\n".join(lines).encode(), header_row=first + 1 if named else None)
-    return _read(ip.start(table, radius, None), given)
+                                      for c in re.split(r"[,;\t]|\s+", first.text) if c.strip())
+    return _read(ip.start(read_text(None, name, raw=raw, header_row=first.no if named else None), radius, None), given)
 
 
 def _by_name(r: ip.Rows) -> tuple[str, dict[Role, ip.Column]]:
@@ -106,7 +100,7 @@ def _by_name(r: ip.Rows) -> tuple[str, dict[Role, ip.Column]]:
     if len(r.frame) == 0:
         raise r.err("the file has a header but no landing rows")
     found = ip.candidates(r, _BARE)  # the loader's synonyms (names with a phase: xdot0, vx_in...), then bare names
-    landing = {c: found[Role("landing", c)] for c in _ORDER}
+    landing = {c: found[Role("landing", c)] for c in _SHOWN}
     if several := [(c, cols) for c, cols in landing.items() if len(cols) > 1]:
         c, cols = several[0]
         raise r.err(f"the columns {[col.name for col in cols]} all name the landing's {_SHOWN[c]}; keep one, or rename "
@@ -120,7 +114,7 @@ def _by_name(r: ip.Rows) -> tuple[str, dict[Role, ip.Column]]:
     elif {"speed", "angle", "omega"} <= has and not has & {"xdot", "ydot"}:
         form, roles = "polar", POLAR_ROLES
     else:
-        read = {_SHOWN[c]: landing[c][0].name for c in _ORDER if c in has}
+        read = {_SHOWN[c]: landing[c][0].name for c in _SHOWN if c in has}
         raise r.err(f"the header names the landing's {read} but not its "
                     f"{' and '.join(_SHOWN[c] for c in COMPONENTS if c not in has)} (for xdot0, ydot0, omega0) nor its "
                     f"{' and '.join(_SHOWN[c] for c in POLAR_ROLES if c not in has)} (for speed, angle, spin); the "

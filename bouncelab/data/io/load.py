@@ -134,15 +134,8 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
                                    or header_row < 1):
         raise DataError(f"the header row is the 1-based line (text file) or row (spreadsheet) of the header, a whole "
                         f"number >= 1; got {header_row!r}", file=None if frame else where)
-    options = {"plausible": plausible, "missing": missing, "intervals": intervals, "ball_radius_m": radius,
-               "columns": columns, "surface": "" if surface is None else str(surface)}
-    if frame:
-        _not_for("a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
-        return interpret.campaign_from_table(read.read_dataframe(source, where), **options, source="pandas.DataFrame",
-                                             given=interpret.check_units_arg(units, where),
-                                             campaign="DataFrame" if campaign is None else str(campaign))
     embedded = " and ".join(map(repr, EMBEDDED_CAMPAIGNS))
-    if isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
+    if not frame and isinstance(source, str) and source.strip().upper() in EMBEDDED_CAMPAIGNS:
         name, surrogate = source.strip().upper(), DEFAULT_SURROGATE if surrogate is None else surrogate
         _not_for("an embedded campaign", header_row=header_row, intervals=intervals)
         with resources.as_file(_embedded_file(name, surrogate)) as path:
@@ -155,28 +148,33 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
             if (tag := f"surrogate {surrogate!r}") not in out.attrs["warning"]:
                 out.attrs["warning"] = f"Embedded {tag}: {out.attrs['warning']}"
         return out
-    file = os.fspath(source)
-    if surrogate is not None:  # a file is what it is: no surrogate to choose
-        raise DataError(f"the surrogate {surrogate!r} names which of the embedded campaigns {embedded} to load; "
-                        f"{file!r} is a file", file=file)
-    if not (path := Path(file).expanduser()).exists():
-        short = isinstance(source, str) and not Path(file).suffix and os.sep not in file and len(file) <= 2
-        said = f" (the embedded campaigns are {embedded})" if short else ""
-        raise FileNotFoundError(f"no such file: {file!r}{said}")
-    if path.is_dir():
-        raise DataError(f"it is a directory, not a data file; give the path of a file in it "
-                        f"({', '.join(SUPPORTED_SUFFIXES)})", file=file)
-    if (suffix := path.suffix.lower()) not in SUPPORTED_SUFFIXES:
-        raise DataError(f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
-                        f"{', '.join(SUPPORTED_SUFFIXES)}", file=file)
-    backend, given = read.BACKENDS[suffix], {"sheet": sheet, "header_row": header_row}
-    _not_for("this file", file, True, **{k: v for k, v in given.items() if k not in backend.options})
-    check_regular_file(path, file)
-    table = backend.read(path, file, **{k: v for k, v in given.items() if k in backend.options})
-    if isinstance(table, xr.Dataset):  # a campaign file
-        return interpret.campaign_from_netcdf(table, file=file, source=str(path.resolve()), columns=columns,
-                                              given=units, campaign=campaign, surface=surface, ball_radius_m=radius,
-                                              plausible=plausible, intervals=intervals)
-    return interpret.campaign_from_table(table, **options, given=interpret.check_units_arg(units, file),
-                                         campaign=path.stem if campaign is None else str(campaign),
-                                         source=str(path.resolve()))
+    if frame:
+        _not_for("a DataFrame", where, surrogate=surrogate, sheet=sheet, header_row=header_row)
+        table, name, source_text = read.read_dataframe(source, where), "DataFrame", "pandas.DataFrame"
+    else:
+        if surrogate is not None:  # a file is what it is: no surrogate to choose
+            raise DataError(f"the surrogate {surrogate!r} names which of the embedded campaigns {embedded} to load; "
+                            f"{where!r} is a file", file=where)
+        if not (path := Path(where).expanduser()).exists():
+            short = isinstance(source, str) and not path.suffix and os.sep not in where and len(where) <= 2
+            raise FileNotFoundError(f"no such file: {where!r}" + (f" (the embedded campaigns are {embedded})"
+                                                                  if short else ""))
+        if path.is_dir():
+            raise DataError(f"it is a directory, not a data file; give the path of a file in it "
+                            f"({', '.join(SUPPORTED_SUFFIXES)})", file=where)
+        if (suffix := path.suffix.lower()) not in SUPPORTED_SUFFIXES:
+            raise DataError(f"unknown file type {path.suffix or '(no suffix)'!r}; supported suffixes are "
+                            f"{', '.join(SUPPORTED_SUFFIXES)}", file=where)
+        backend, given = read.BACKENDS[suffix], {"sheet": sheet, "header_row": header_row}
+        _not_for("this file", where, True, **{k: v for k, v in given.items() if k not in backend.options})
+        check_regular_file(path, where)
+        table = backend.read(path, where, **{k: v for k, v in given.items() if k in backend.options})
+        name, source_text = path.stem, str(path.resolve())
+        if isinstance(table, xr.Dataset):  # a campaign file
+            return interpret.campaign_from_netcdf(table, file=where, source=source_text, columns=columns, given=units,
+                                                  campaign=campaign, surface=surface, ball_radius_m=radius,
+                                                  plausible=plausible, intervals=intervals)
+    return interpret.campaign_from_table(
+        table, columns=columns, given=interpret.check_units_arg(units, where), source=source_text,
+        campaign=name if campaign is None else str(campaign), surface="" if surface is None else str(surface),
+        ball_radius_m=radius, plausible=plausible, missing=missing, intervals=intervals)

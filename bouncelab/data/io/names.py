@@ -79,6 +79,9 @@ _POLAR_KEYS: dict[str, str] = {
 #: The components of a state given in polar form, in order (the spin is the ``omega`` role).
 POLAR_ROLES = ("speed", "angle", "omega")
 ROLES = (*(f"{s}.{c}" for s in (*STATES, *PI_STATES) for c in (*COMPONENTS, "speed", "angle")), "setting")
+_BRACKET = re.compile(r"^(.*?)[\s_]*[\[\(\{]([^\[\]\(\)\{\}]*)[\]\)\}]\s*$")
+# Relative units: a value as a fraction of another, which bouncelab does not read.
+_RELATIVE_WORDS = frozenset({"percent", "percentage", "pct", "rel", "relative", "fraction", "frac"})
 
 
 def normalize(name: str) -> str:
@@ -88,8 +91,7 @@ def normalize(name: str) -> str:
 
 
 def marked(key: str, table: Mapping[str, str]) -> tuple[str, str] | None:
-    """(``<state>_pi.<component>``, marker) of a state name of ``table`` with an interval marker before or
-    after it (``vx0_pi``, ``sd_speed_in``), else None."""
+    """(``<state>_pi.<component>``, marker) of a name of ``table`` with an interval marker around it, else None."""
     for m in _PI_MARKERS:
         for rest in (key[: -len(m)] if key.endswith(m) else None, key[len(m):] if key.startswith(m) else None):
             if rest and rest in table:
@@ -107,8 +109,7 @@ def role_of(key: str, polar: bool = False) -> str | None:
 
 
 def synonym_role(name: str, extra: Mapping[str, str] | None = None) -> tuple[str, bool] | None:
-    """(role, whether the whole name says it) of a column's name: the whole name first, then without its unit;
-    ``extra`` maps more normalised names to roles. None if the name is no synonym."""
+    """(role, whether the whole name says it) of a column's name, else without its unit; ``extra``: more names."""
     for key, whole in ((normalize(name), True), (normalize(split_header(name)[0]), False)):
         if (role := role_of(key) or role_of(key, polar=True) or (extra or {}).get(key)) is not None:
             return role, whole
@@ -135,25 +136,16 @@ def unit_of(text: str) -> dict[str, str]:
     return found
 
 
-_BRACKET = re.compile(r"^(.*?)[\s_]*[\[\(\{]([^\[\]\(\)\{\}]*)[\]\)\}]\s*$")
-
-
 def split_header(name: str) -> tuple[str, str | None]:
     """Split ``"vx0 [m/s]"`` into ``("vx0", "m/s")`` (also ``vx0_mps``, ``vx0 m/s``); ``(name, None)`` if no unit."""
-    m = _BRACKET.match(name)
-    if m and m.group(1).strip():
+    if (m := _BRACKET.match(name)) and m.group(1).strip():
         return m.group(1).strip(), m.group(2).strip()
     tokens = [t for t in re.split(r"[\s_]+", name.strip()) if t]
-    for k in (3, 2, 1):
-        if len(tokens) > k:
-            for joiner in ("", "/"):
-                if unit_of(cand := joiner.join(tokens[-k:])):
-                    return " ".join(tokens[:-k]), cand
+    for k in (k for k in (3, 2, 1) if len(tokens) > k):
+        for joiner in ("", "/"):
+            if unit_of(cand := joiner.join(tokens[-k:])):
+                return " ".join(tokens[:-k]), cand
     return name, None
-
-
-# Relative units: a value as a fraction of another, which bouncelab does not read.
-_RELATIVE_WORDS = frozenset({"percent", "percentage", "pct", "rel", "relative", "fraction", "frac"})
 
 
 def relative_word(text: str | None) -> str | None:
@@ -167,19 +159,15 @@ def relative_word(text: str | None) -> str | None:
 
 
 def relative_unit(name: str, unit_text: str | None) -> str | None:
-    """The relative unit a column's name or unit gives (``speed_in_pi (%)``, ``speed_in_pi_pct``), or None. A
-    ``%`` anywhere in the name counts; a word only as the unit or the last word (``v_rel_in`` is a name)."""
-    if "%" in name or "‰" in name:
-        return "%"
+    """The relative unit a column's name or unit gives: ``%`` anywhere, a word as the unit or the last word."""
     base, unit = split_header(name)
     last = [w for w in re.split(r"[\s_]+", base.strip()) if w][-1:]
-    return (relative_word(unit_text) or relative_word(unit)
+    return ("%" if "%" in name or "‰" in name else relative_word(unit_text) or relative_word(unit)
             or (relative_word(last[0]) if last and last[0].lower() in _RELATIVE_WORDS else None))
 
 
 def to_numbers(cells: Any, decimal_comma: bool = False) -> np.ndarray:
-    """Cells of text as floats, by :func:`pandas.to_numeric` (the loader's one number parser): NaN where a cell is no
-    number (``1_0``, ``1.2.3``); ``-0`` a signed zero; ``15,2`` with ``decimal_comma``; U+2212 a minus sign."""
+    """Cells as floats by :func:`pandas.to_numeric` (the one number parser), NaN if none; ``-0`` keeps its sign."""
     text = pd.Series(cells, dtype=object).astype(str).str.strip().str.replace("\u2212", "-", regex=False)
     vals = pd.to_numeric(text.str.replace(",", ".", regex=False) if decimal_comma else text, errors="coerce")
     return np.copysign(vals.to_numpy(dtype=float), np.where(text.str.startswith("-"), -1.0, 1.0))
@@ -197,8 +185,7 @@ def unit_cell(cell: object) -> str:
 
 
 def is_units_row(cells: list, blank) -> bool:
-    """Whether a row under the header gives units (``m/s, m/s, rpm``, ``[mph], [yds]``): no number, at least half of
-    it units (known, or written in brackets)."""
+    """Whether a row under the header gives units: no number, at least half of it units (known, or bracketed)."""
     texts = [str(c).strip() for c in cells if not blank(c)]
     if not texts or any(is_number(unit_cell(t)) for t in texts):
         return False

@@ -1,13 +1,13 @@
 """The format backends: each reads one kind of file (or a DataFrame) into one :class:`Table`.
 
 A backend finds the header, a units row under it and where each row is in the file; what the cells mean is for
-:mod:`bouncelab.data.io.interpret`. ``pandas.read_csv`` reads text tables (the delimiter told by
-:class:`csv.Sniffer`), ``pandas.read_excel`` workbooks, ``scipy.io.loadmat`` MATLAB files and
-``xarray.open_dataset`` netCDF files. :data:`BACKENDS` maps each suffix to its backend.
+:mod:`bouncelab.data.io.interpret`. pandas reads text tables (the delimiter told by :class:`csv.Sniffer`) and
+workbooks, ``scipy.io.loadmat`` MATLAB files, xarray netCDF files. :data:`BACKENDS` maps each suffix to its backend.
 """
 
 from __future__ import annotations
 
+import codecs
 import csv
 import importlib.util
 import io
@@ -37,7 +37,11 @@ DATAFRAME_NAME = "<DataFrame>"
 MISSING = frozenset({"", "na", "n/a", "n.a.", "nan", "null", "none", "missing", "-", "--", "?", "#n/a", "#na",
                      "#value!", "#ref!", "#div/0!", "#num!", "#name?", "#null!"})
 _BREAK = re.compile(rb"\r\n|\r|\n")  # lines end at these only, as in spreadsheets
-_TAB_ONLY = re.compile(rb"(?:^|[\r\n])[ \t]*\t[ \t]*(?:[\r\n]|$)")
+NETCDF_SUFFIXES = (".nc", ".netcdf")
+#: Seconds the crash probe of a ``.mat`` file may take before the file is refused.
+MAT_PROBE_TIMEOUT_S = 60.0
+_LOADMAT = dict(squeeze_me=True, struct_as_record=False, chars_as_strings=True)
+_PROBE = f"import sys, scipy.io\ntry: scipy.io.loadmat(sys.argv[1], **{_LOADMAT!r})\nexcept BaseException: pass\n"
 
 
 def module_available(name: str) -> bool:
@@ -84,15 +88,13 @@ def units_row(names: Sequence[str], cells: Sequence, blank: Callable[[Any], bool
 
 
 def looks_like_title(title: list, header: list, first_row: list, blank: Callable[[Any], bool]) -> bool:
-    """Whether a line above the header is a title or note (``Bounce test 2026-03-14, turf B``). Conservative, so
-    that a data row is never taken for a header: fewer cells than the header under it and no number, the
-    header has no number, and the row under it has one or is a units row."""
+    """Whether a line above the header is a title: fewer cells and no number, under it a header then data or units."""
     t, h, d = ([c for c in row if not blank(c)] for row in (title, header, first_row))
     return (0 < len(t) < len(h) and len(h) >= 2 and not any(map(is_number, t)) and not any(map(is_number, h))
             and (any(map(is_number, d)) or is_units_row(first_row, blank)))
 
 
-def _comment(line: str) -> bool:
+def is_comment(line: str) -> bool:
     return line.lstrip().startswith(("#", "%"))
 
 
@@ -100,9 +102,8 @@ def _split(line: str, delim: str | None) -> list[str]:
     return line.split() if delim is None else next(csv.reader([line], delimiter=delim))
 
 
-def sniff(lines: list[str]) -> str | None:
-    """The delimiter of a table's lines: tab, semicolon or comma as :class:`csv.Sniffer` tells it (else the one that
-    splits the header most); None for runs of blanks."""
+def _sniff(lines: list[str]) -> str | None:
+    """Tab, semicolon or comma, as :class:`csv.Sniffer` tells (else what splits the header most); None: blanks."""
     try:
         delim = csv.Sniffer().sniff("\n".join(lines), delimiters="\t;,").delimiter
     except csv.Error:
@@ -111,28 +112,38 @@ def sniff(lines: list[str]) -> str | None:
 
 
 def _data_shaped(cells: list[str], width: int) -> bool:
-    """A ``#`` line after the header is data (``#N/A,20.1,...``) if it is shaped like a row: within one cell of
-    the header's width (trailing separators not counted), at least half of it numbers."""
+    """Whether a ``#`` line is shaped like a row: the header's width give or take one, at least half of it numbers."""
     while cells and not cells[-1]:
         cells = cells[:-1]
     return width >= 2 and abs(len(cells) - width) <= 1 and sum(map(is_number, cells[1:])) * 2 >= len(cells) - 1
 
 
-class _Line(NamedTuple):
+def encoding(raw: bytes) -> str:
+    """UTF-8 (with or without a BOM) if ``raw`` is, else Latin-1."""
+    if not raw.isascii():
+        try:
+            raw.decode("utf-8-sig")
+        except UnicodeDecodeError:
+            return "latin-1"
+    return "utf-8"
+
+
+class Line(NamedTuple):
     no: int  # 1-based
     text: str
+    start: int  # its first byte
     end: int  # the byte after its line break
 
 
-def _lines(raw: bytes, start: int, enc: str, first: int = 1):
+def lines(raw: bytes, start: int = 0, enc: str = "latin-1", first: int = 1):
     """The non-blank lines of ``raw`` from byte ``start`` (line ``first``)."""
     pos, no = start, first
     for m in _BREAK.finditer(raw, start):
         if (text := raw[pos:m.start()].decode(enc)).strip():
-            yield _Line(no, text, m.end())
+            yield Line(no, text, pos, m.end())
         pos, no = m.end(), no + 1
     if (text := raw[pos:].decode(enc)).strip():
-        yield _Line(no, text, len(raw))
+        yield Line(no, text, pos, len(raw))
 
 
 class _Header(NamedTuple):
@@ -145,22 +156,21 @@ class _Header(NamedTuple):
 
 def _titles_above(text: list[str], k: int, h: int) -> bool:
     """Whether line ``h`` is the header and the lines from ``k`` to it are titles (:func:`looks_like_title`)."""
-    below = [t for t in text[h:h + 50] if not _comment(t)]
-    if len(below) < 2 or _comment(text[h]):
+    below = [t for t in text[h:h + 50] if not is_comment(t)]
+    if len(below) < 2 or is_comment(text[h]):
         return False
-    delim = sniff(below)
+    delim = _sniff(below)
     try:
-        header, first, *titles = (_split(t, delim) for t in (*below[:2], *text[k:h]) if not _comment(t))
+        header, first, *titles = (_split(t, delim) for t in (*below[:2], *text[k:h]) if not is_comment(t))
     except csv.Error:
         return False
     return all(looks_like_title(t, header, first, lambda c: not c.strip()) for t in titles)
 
 
-def _find_header(file: str, raw: bytes, head: list[_Line], header_row: int | None) -> _Header:
-    """The header (the line ``header_row`` names, else the first that is neither a comment nor a title), its
-    delimiter, and the units row under it."""
+def _find_header(file: str, raw: bytes, head: list[Line], header_row: int | None) -> _Header:
+    """The header (line ``header_row``, else the first neither a comment nor a title), its delimiter, its units row."""
     text = [ln.text for ln in head]
-    if (k := next((k for k, t in enumerate(text) if not _comment(t)), None)) is None:
+    if (k := next((k for k, t in enumerate(text) if not is_comment(t)), None)) is None:
         raise DataError("the file is empty (no header, no data)", file=file)
     if header_row is None:
         h = next((h for h in range(k + 1, min(k + 11, len(head) - 1)) if _titles_above(text, k, h)), k)
@@ -168,8 +178,8 @@ def _find_header(file: str, raw: bytes, head: list[_Line], header_row: int | Non
         said = (f"the file has {n} lines" if header_row > (n := len(raw.splitlines())) else
                 f"line {header_row} is blank; a header names the columns")
         raise DataError(f"header row {header_row}: {said}", file=file)
-    below = [t for t in text[h + 1:h + 50] if not _comment(t)]
-    delim = sniff([text[h], *below])
+    below = [t for t in text[h + 1:h + 50] if not is_comment(t)]
+    delim = _sniff([text[h], *below])
     try:
         names = [c.strip() for c in _split(text[h], delim)] if delim is not None else [
             n.replace("\x00", " ") for n in re.sub(r"\s+(?=[\[\(\{][^\s\]\)\}]*[\]\)\}](\s|$))", "\x00",
@@ -180,7 +190,7 @@ def _find_header(file: str, raw: bytes, head: list[_Line], header_row: int | Non
     while names and not names[-1]:
         names.pop()
     check_names(names, file)
-    k = next((k for k in range(h + 1, len(head)) if not _comment(text[k])), None)
+    k = next((k for k in range(h + 1, len(head)) if not is_comment(text[k])), None)
     if k is not None and not any(_data_shaped(_split(t, delim), len(names)) for t in text[h + 1:k]):
         cells = _split(text[k], delim)  # a units row is the first row: not under a commented-out row
         if (delim is not None or len(cells) == len(names)) and (units := units_row(names, cells, lambda c: not c)):
@@ -201,65 +211,60 @@ def _wrong_width(file: str, hd: _Header, given: bool, lineno: int, n: int, row: 
                      row=row)
 
 
-def _kept_lines(file: str, raw: bytes, enc: str, hd: _Header, given: bool) -> tuple[bytes, list[int]]:
-    """The data lines of a file with comment lines among them (a comment shaped like a row refused), and their
-    line numbers; a blank-separated row must have the header's width."""
-    kept: list[_Line] = []
-    for ln in _lines(raw, hd.at, enc, hd.first_no):
-        if _comment(ln.text):
-            if not _data_shaped(cells := _split(ln.text, hd.delim), len(hd.names)):
-                continue
-            if cells[0].strip().lower() not in MISSING:
-                mark = ln.text.lstrip()[0]
-                raise DataError(f"line {ln.no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
-                                f"values like the data: delete the line if it is commented out, or remove the "
-                                f"{mark!r}", file=file, row=len(kept) + 1)
-        elif hd.delim is None and len(ln.text.split()) != len(hd.names):
-            raise _wrong_width(file, hd, given, ln.no, len(ln.text.split()), len(kept) + 1)
-        kept.append(ln)
-    return "\n".join(ln.text for ln in kept).encode(enc), [ln.no for ln in kept]
+def _uncommented(file: str, raw: bytes, enc: str, hd: _Header) -> tuple[bytes, int]:
+    """The data (``raw`` from byte ``at``) with its comment lines emptied, one shaped like a row refused."""
+    cut: list[tuple[int, int]] = []  # (start, end) of each comment line's text
+    lo = hd.at  # the start of the line of the mark before: each byte is searched once
+    for k in sorted(k for mark in (b"#", b"%") for k in _finds(raw, mark, hd.at)):  # bytes.find: at memory speed
+        lo = start = max(raw.rfind(b"\n", lo, k), raw.rfind(b"\r", lo, k), lo - 1) + 1
+        if raw[start:k].strip():
+            continue  # a mark within a line ("3 # note" is a cell)
+        end = m.start() if (m := _BREAK.search(raw, k)) else len(raw)
+        if _data_shaped(cells := _split(text := raw[start:end].decode(enc), hd.delim), len(hd.names)):
+            if cells[0].strip().lower() in MISSING:
+                continue  # "#N/A,20.1,...": a row with a missing value
+            above = list(lines(raw[:end], hd.at, enc, hd.first_no))
+            mark, row = text.lstrip()[0], sum(ln.start not in dict(cut) for ln in above[:-1]) + 1
+            raise DataError(f"line {above[-1].no} starts with {mark!r} like a comment but holds a row of {len(cells)} "
+                            f"values like the data: delete the line if it is commented out, or remove the {mark!r}",
+                            file=file, row=row)
+        cut.append((start, end))
+    if not cut:
+        return raw, hd.at
+    bounds = [hd.at, *(b for span in cut for b in span), len(raw)]
+    return b"".join(raw[a:b] for a, b in zip(bounds[::2], bounds[1::2], strict=True)), 0
+
+
+def _finds(raw: bytes, mark: bytes, at: int):
+    k = raw.find(mark, at)
+    while k >= 0:
+        yield k
+        k = raw.find(mark, k + 1)
 
 
 def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_row: int | None = None,
               names: Sequence[str] | None = None) -> Table:
     """A ``.csv``, ``.tsv`` or ``.txt`` table (``raw``, else read from ``path``): UTF-8 (a BOM is fine) else Latin-1;
     see docs/data.md. With ``names`` the file has no header: every line that is not a comment is a row of these
-    columns, blank-separated. The cells of a large plain file read from ``path`` are read again from it when a
-    message or a label needs their text, so that the bytes need not stay in memory."""
-    if raw is None:
-        stamp = ((st := path.stat()).st_size, st.st_mtime_ns)
-        raw = read_regular_file(path, file)
-    else:
-        path = None
+    columns, blank-separated. The bytes stay in memory: messages quote cells as written and name their lines."""
+    raw = read_regular_file(path, file) if raw is None else raw
     if b"\x00" in raw:
         raise DataError("the file holds NUL bytes: it is not a text table (a binary or damaged file?)", file=file)
-    enc = "utf-8"
-    if not raw.isascii():
-        try:
-            raw.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            enc = "latin-1"
-    start = 3 if enc == "utf-8" and raw.startswith(b"\xef\xbb\xbf") else 0
-    head = list(islice(_lines(raw, start, enc), max(64, (header_row or 0) + 51)))  # the non-blank lines of the head
+    enc = encoding(raw)
+    start = len(codecs.BOM_UTF8) if enc == "utf-8" and raw.startswith(codecs.BOM_UTF8) else 0
+    head = list(islice(lines(raw, start, enc), max(64, (header_row or 0) + 51)))  # the non-blank lines of the head
     given = names is not None
     hd = _Header(list(names), None, {}, start, 1) if given else _find_header(file, raw, head, header_row)
+    body, at = _uncommented(file, raw, enc, hd)
     width, delim = len(hd.names), hd.delim
-    body, at, linenos = raw, hd.at, []  # the data: raw from byte at, or the lines kept of it
-    if not _plain(raw, at, delim):  # comment lines: refuse those shaped like data, skip the others
-        (body, linenos), at = _kept_lines(file, raw, enc, hd, given), 0
     frame = _parse(file, body, at, delim, width, enc, as_text=delim != ",")
-    kept = body if path is None or body is not raw else None  # else read again from the disk when asked
-
-    def data() -> bytes:
-        if kept is not None:
-            return kept
-        if (len(again := read_regular_file(path, file)), path.stat().st_mtime_ns) != stamp:
-            raise DataError("the file changed while it was being read; load it again", file=file)
-        return again
+    if delim == "\t":  # a line of tabs is a blank line
+        frame = frame[frame.ne("").any(axis=1)].reset_index(drop=True)
+    linenos: list[int] = []
 
     def locate(row: int, column: str | None = None) -> str:
-        if not linenos:  # every non-blank line is a row: found when a message asks
-            linenos.extend(ln.no for ln in _lines(data(), at, enc, hd.first_no))
+        if not linenos:  # found when a message asks
+            linenos.extend(ln.no for ln in lines(body, at, enc, hd.first_no))
         return f"line {linenos[row]}"
 
     bad = frame.iloc[:, width:].ne("").any(axis=1)  # a cell beyond the header's width
@@ -273,29 +278,17 @@ def read_text(path: Path | None, file: str, *, raw: bytes | None = None, header_
 
     @cache
     def text(column: str) -> list[str]:
+        if frame[column].dtype.kind == "O" and all(isinstance(v, str) for v in frame[column]):
+            return frame[column].tolist()
         j = hd.names.index(column)
-        if frame.iloc[:, j].dtype.kind == "O" and all(isinstance(v, str) for v in frame.iloc[:, j]):
-            return frame.iloc[:, j].tolist()
-        return _parse(file, data(), at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
+        return _parse(file, body, at, delim, width, enc, as_text=True, usecols=[j]).iloc[:, 0].tolist()
 
     return Table(file, frame, hd.units, locate, text, delimiter=delim)
 
 
-def _plain(raw: bytes, at: int, delim: str | None) -> bool:
-    """Whether pandas reads each non-blank line of ``raw`` from ``at`` as a row: no comment line, no tab-only line."""
-    for mark in (b"#", b"%"):  # bytes.find: a scan of a large file at memory speed
-        k = raw.find(mark, at)
-        while k >= 0:
-            if not raw[max(raw.rfind(b"\n", at, k), raw.rfind(b"\r", at, k), at - 1) + 1:k].strip():
-                return False
-            k = raw.find(mark, k + 1)
-    return not (delim == "\t" and _TAB_ONLY.search(raw, at))
-
-
 def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: str, *, as_text: bool,
            usecols: list[int] | None = None) -> pd.DataFrame:
-    """pandas' reading of the data lines (``body`` from byte ``at``): every cell as written (``as_text``) or numbers
-    where a column holds only numbers; nothing taken as missing (``NA`` stays text); a longer row widens ``width``."""
+    """pandas' reading of ``body`` from ``at``: text (``as_text``) or typed columns, no NA; a longer row widens."""
     while True:
         (source := io.BytesIO(body)).seek(at)  # shares the bytes
         try:
@@ -304,7 +297,8 @@ def _parse(file: str, body: bytes, at: int, delim: str | None, width: int, enc: 
                 warnings.simplefilter("error", pd.errors.ParserWarning)  # cells beyond ``width`` would be lost
                 return pd.read_csv(source, sep=r"\s+" if delim is None else delim, header=None, index_col=False,
                                    names=range(width), usecols=usecols, dtype=str if as_text else None,
-                                   na_filter=False, encoding=enc, quoting=csv.QUOTE_NONE if delim is None else 0)
+                                   na_filter=False, encoding=enc, quoting=csv.QUOTE_NONE if delim is None else 0,
+                                   skipinitialspace=delim == "\t")
         except pd.errors.EmptyDataError:
             return pd.DataFrame(columns=range(width), dtype=object)
         except pd.errors.ParserWarning:  # the first row is the longer one
@@ -344,10 +338,11 @@ def read_excel(path: Path, file: str, *, sheet: str | int | None = None, header_
             sheet = visible[0] if sheet is None else sheet  # the first sheet a person sees in Excel
             if isinstance(sheet, str) and sheet.isdigit() and sheet not in names:
                 sheet = int(sheet)  # "1" (as a command line gives it): the sheet named "1", else the index 1
-            if isinstance(sheet, int) and not isinstance(sheet, bool) and not 0 <= sheet < len(names):
-                raise DataError(f"sheet index {sheet} out of range; the workbook's sheets are {names}", file=file)
-            if (name := names[sheet] if isinstance(sheet, int) and not isinstance(sheet, bool) else str(sheet)) \
-                    not in names:
+            if isinstance(sheet, int) and not isinstance(sheet, bool):
+                if not 0 <= sheet < len(names):
+                    raise DataError(f"sheet index {sheet} out of range; the workbook's sheets are {names}", file=file)
+                sheet = names[sheet]
+            if (name := str(sheet)) not in names:
                 raise DataError(f"no sheet {sheet!r}; the workbook's sheets are {names}", file=file)
             grid = pd.read_excel(xf, sheet_name=name, header=None, dtype=object).values.tolist()
     except DataError:
@@ -410,15 +405,8 @@ def _scalar(v: Any) -> Any:
     return (v.item() if isinstance(v, np.number) else v) if ok else None
 
 
-#: Seconds the crash probe of a ``.mat`` file may take before the file is refused.
-MAT_PROBE_TIMEOUT_S = 60.0
-_LOADMAT = dict(squeeze_me=True, struct_as_record=False, chars_as_strings=True)
-_PROBE = f"import sys, scipy.io\ntry: scipy.io.loadmat(sys.argv[1], **{_LOADMAT!r})\nexcept BaseException: pass\n"
-
-
 def read_mat(path: Path, file: str, **_: Any) -> Table:
-    """A MATLAB v5/v7 file: vectors, (n, k) matrices (``M_1`` ... ``M_k``), cell arrays of strings and the fields
-    of structs and struct arrays as columns (``S.vx0`` where two structs share a field name)."""
+    """A MATLAB v5/v7 file: vectors, matrices (``M_1``...), cell arrays of strings, struct fields (``S.vx0``)."""
     import scipy.io
     from scipy.io.matlab import mat_struct
 
@@ -488,8 +476,7 @@ def open_netcdf(path: Path, file: str) -> xr.Dataset:
 
 
 def read_netcdf(path: Path, file: str, **_: Any) -> Table | xr.Dataset:
-    """A netCDF file: a bouncelab campaign (variables ``landing``, ``liftoff``) as its Dataset; any other, each 1-D
-    variable a column (an (n, k) one ``V_1`` ... ``V_k``), its unit from its name or its CF ``units`` attribute."""
+    """A netCDF file: a campaign as its Dataset, any other a table of its 1-D variables (CF ``units`` kept)."""
     ds = open_netcdf(path, file)
     if "landing" in ds.data_vars or "liftoff" in ds.data_vars:
         return ds
@@ -518,6 +505,5 @@ BACKENDS: dict[str, Backend] = {
     **dict.fromkeys((".csv", ".tsv", ".txt"), Backend(read_text, ("header_row",))),
     **dict.fromkeys((".xlsx", ".xls"), Backend(read_excel, ("sheet", "header_row"))),
     ".mat": Backend(read_mat),
-    **dict.fromkeys((".nc", ".netcdf"), Backend(read_netcdf)),
+    **dict.fromkeys(NETCDF_SUFFIXES, Backend(read_netcdf)),
 }
-NETCDF_SUFFIXES = (".nc", ".netcdf")

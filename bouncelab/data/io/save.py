@@ -77,8 +77,7 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
 
 
 def _storable_settings(ds: xr.Dataset, engine: str) -> xr.Dataset:
-    """netCDF-3 (the scipy engine) has no 64-bit integers: store settings beyond int32 as text and mark them,
-    so that loading gives the same int64 labels back."""
+    """Settings beyond int32 as marked text: netCDF-3 (the scipy engine) has no 64-bit integers."""
     if engine != "scipy" or "setting" not in ds.coords or ds["setting"].dtype.kind not in "iu":
         return ds
     s = ds["setting"].values
