@@ -528,3 +528,45 @@ def test_json_options_of_thousands_of_digits_are_usage_errors(capsys):
     assert main(["fit", "Rigid", "A", "--bounds", '{"r": [0, ' + huge + "]}"]) == 2
     assert main(["fit", "Rigid", "A", "--option", f"maxeval={huge}"]) == 4  # (kept as text: not a count)
     assert "Traceback" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value", ["abc", "nan", "-1"])
+def test_a_campaign_files_ball_radius_is_checked_before_it_is_compared(tmp_path, value):
+    """A netCDF campaign with `ball_radius_m="abc"`, loaded with another radius, was a bare ValueError."""
+    from bouncelab.core.errors import DataError
+
+    ds = bl.load_campaign("A")
+    ds.attrs["ball_radius_m"] = value
+    path = tmp_path / "c.nc"
+    ds.to_netcdf(path)
+    with pytest.raises(DataError) as err:
+        bl.load_campaign(path, ball_radius_m=0.02)
+    assert err.value.file == str(path)
+
+
+@pytest.mark.parametrize("source", [3, None, 3.5, ["A"]])
+def test_a_source_that_is_no_path_is_refused_by_name(source):
+    from bouncelab.core.errors import DataError
+
+    with pytest.raises(DataError) as err:
+        bl.load_campaign(source)
+    assert err.value.option == "source"
+
+
+def test_save_campaign_to_something_that_is_no_path_is_an_output_error():
+    from bouncelab.core.errors import OutputError
+
+    with pytest.raises(OutputError) as err:
+        bl.save_campaign(bl.load_campaign("A"), 3)
+    assert err.value.reason == "not a path"
+
+
+def test_a_missing_data_file_is_a_typed_error_that_is_still_a_file_not_found_error(tmp_path):
+    from bouncelab.core.errors import DataError, MissingFileError
+    from bouncelab.data.io.landings import read_landings
+
+    for read in (bl.load_campaign, read_landings):
+        with pytest.raises(MissingFileError) as err:
+            read(str(tmp_path / "none.csv"))
+        assert isinstance(err.value, DataError) and isinstance(err.value, FileNotFoundError)
+        assert err.value.file == str(tmp_path / "none.csv")

@@ -702,7 +702,8 @@ def campaign_from_netcdf(ds: xr.Dataset, *, file: str, source: str, columns: Any
         raise DataError("a bouncelab campaign file (scaled units, named variables) takes no columns, units or "
                         "intervals", file=file)
     stored = ds.attrs.get("ball_radius_m")
-    if stored is not None and ball_radius_m != units.BALL_RADIUS_M and float(stored) != float(ball_radius_m):
+    if stored is not None and ball_radius_m != units.BALL_RADIUS_M and \
+            units.ball_radius(stored, file=file) != float(ball_radius_m):  # (the file's own value checked first)
         raise DataError(f"the campaign was scaled with a ball radius of {float(stored)!r} m, not {ball_radius_m!r}",
                         file=file)
     for var in ("landing", "liftoff", "landing_pi", "liftoff_pi"):

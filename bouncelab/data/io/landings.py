@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bouncelab.core.errors import DataError
+from bouncelab.core.errors import DataError, MissingFileError
 from bouncelab.core.files import check_regular_file, read_regular_file
 from bouncelab.core.units import BALL_RADIUS_M, COMPONENTS, ball_radius
 from bouncelab.data.io import interpret as ip
@@ -76,7 +76,7 @@ def read_landings(file: str | os.PathLike[str], *, data: bytes | None = None, un
     radius, given = ball_radius(radius_m, file=name), ip.check_units_arg(units, name)
     if data is None:
         if not (path := Path(name).expanduser()).exists():
-            raise FileNotFoundError(f"no such file: {name!r}")
+            raise MissingFileError(f"no such file: {name!r}", file=name)
         if path.is_dir():
             raise DataError("it is a folder, not a file of landings", file=name)
         check_regular_file(path, name)  # a FIFO would hang, /dev/zero never end

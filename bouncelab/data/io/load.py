@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import xarray as xr
 
-from bouncelab.core.errors import DataError, ParameterError
+from bouncelab.core.errors import DataError, MissingFileError, ParameterError
 from bouncelab.core.files import MAX_FILE_BYTES as MAX_FILE_BYTES  # re-exported: the largest file read
 from bouncelab.core.files import check_regular_file
 from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
@@ -119,6 +119,10 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
     >>> ds = load_campaign("bounces.csv", units={"velocity": "m/s", "spin": "rpm"})  # doctest: +SKIP
     """
     frame = "pandas" in sys.modules and isinstance(source, sys.modules["pandas"].DataFrame)
+    if not frame and not isinstance(source, str | os.PathLike):
+        names = " or ".join(map(repr, EMBEDDED_CAMPAIGNS))
+        raise DataError(f"source must be a file's path, the name of an embedded campaign ({names}) or a pandas "
+                        f"DataFrame; got {type(source).__name__} {source!r:.60}", option="source")
     where = read.DATAFRAME_NAME if frame else str(source)
     if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
@@ -157,8 +161,8 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
                             f"{where!r} is a file", file=where)
         if not (path := Path(where).expanduser()).exists():
             short = isinstance(source, str) and not path.suffix and os.sep not in where and len(where) <= 2
-            raise FileNotFoundError(f"no such file: {where!r}" + (f" (the embedded campaigns are {embedded})"
-                                                                  if short else ""))
+            raise MissingFileError(f"no such file: {where!r}" + (f" (the embedded campaigns are {embedded})"
+                                                                 if short else ""), file=where)
         if path.is_dir():
             raise DataError(f"it is a directory, not a data file; give the path of a file in it "
                             f"({', '.join(SUPPORTED_SUFFIXES)})", file=where)

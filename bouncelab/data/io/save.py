@@ -44,6 +44,9 @@ def save_campaign(ds: xr.Dataset, path: str | os.PathLike[str], *, engine: str |
         The file cannot be written (a missing or read-only folder, a folder in the way, a full disk): an
         ``OSError`` naming the path (``err.path``), its ``reason`` and ``errno``; nothing is written.
     """
+    if not isinstance(path, str | os.PathLike):
+        raise OutputError(f"save_campaign writes to a file's path; got {type(path).__name__} {path!r:.60}",
+                          path=repr(path), reason="not a path")
     path = Path(path).expanduser()
     file = os.fspath(path)
     if path.suffix.lower() not in NETCDF_SUFFIXES:
