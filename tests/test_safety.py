@@ -570,3 +570,11 @@ def test_a_missing_data_file_is_a_typed_error_that_is_still_a_file_not_found_err
             read(str(tmp_path / "none.csv"))
         assert isinstance(err.value, DataError) and isinstance(err.value, FileNotFoundError)
         assert err.value.file == str(tmp_path / "none.csv")
+
+
+def test_a_campaign_name_that_no_file_can_hold_is_refused():
+    from bouncelab.core.errors import DataError
+
+    with pytest.raises(DataError) as err:
+        bl.load_campaign("A", campaign="turf \ud800")
+    assert err.value.option == "campaign"

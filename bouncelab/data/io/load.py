@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import xarray as xr
 
+from bouncelab.core.checks import text
 from bouncelab.core.errors import DataError, MissingFileError, ParameterError
 from bouncelab.core.files import MAX_FILE_BYTES as MAX_FILE_BYTES  # re-exported: the largest file read
 from bouncelab.core.files import check_regular_file
@@ -124,6 +125,9 @@ def load_campaign(source: str | os.PathLike[str] | pd.DataFrame, *, columns: Map
         raise DataError(f"source must be a file's path, the name of an embedded campaign ({names}) or a pandas "
                         f"DataFrame; got {type(source).__name__} {source!r:.60}", option="source")
     where = read.DATAFRAME_NAME if frame else str(source)
+    for option, value in (("campaign", campaign), ("surface", surface)):  # names written into files: UTF-8 text
+        if value is not None:
+            text(str(value), option, error=DataError)
     if surrogate is not None and surrogate not in EMBEDDED_SURROGATES:
         raise DataError(f"surrogate must be one of {', '.join(map(repr, EMBEDDED_SURROGATES))}; got {surrogate!r}")
     radius = ball_radius(ball_radius_m, file=where)
