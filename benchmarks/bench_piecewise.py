@@ -1,6 +1,6 @@
 """Fit time of the piecewise-affine law from 10^3 to 10^6 bounces (its delta-optimal plane search).
 
-Run: ``python benchmarks/bench_piecewise.py`` (about a minute and a half; ``--quick``: 10^3 and 3 x 10^4 bounces,
+Run: ``python benchmarks/bench_piecewise.py`` (about 30 s; ``--quick``: 10^3 and 3 x 10^4 bounces,
 the peer at both, for CI). Bounces are drawn around campaign B's landings (5 % jitter) with lift-offs
 from the published law B plus noise of 5 % of |p0| per component. For each size the table gives the
 time of ``bouncelab.fit(PiecewiseAffine, data)`` (default method "plane": above ``max_search_bounces``
