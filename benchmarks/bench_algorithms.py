@@ -1,7 +1,7 @@
 """Which NLopt algorithms reach the minimum of delta: the measurement behind bouncelab's defaults.
 
 Run: ``python benchmarks/bench_algorithms.py`` (about 30 s for the default 48 problems; ``--problems 200``
-takes about 2 minutes).
+takes about 2 minutes; ``--quick``: 4 problems, one per law, a few seconds, for CI).
 Random fitting problems (each rigid-family law, 20 to 700 bounces, noise 2 to 20 % of |p0|, random
 true parameters) are solved by every global algorithm followed by every local polish, through
 ``bouncelab.fitting.search.global_search`` with fit()'s default budget (``default_maxeval``);
@@ -47,9 +47,12 @@ def problem(rng: np.random.Generator, i: int):
 
 def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--problems", type=int, default=48)
+    ap.add_argument("--problems", type=int, default=None, help="random problems (default 48; 4 with --quick)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--quick", action="store_true", help="4 problems, one per law: checks the benchmark runs (CI)")
     args = ap.parse_args(argv)
+    if args.problems is None:
+        args.problems = len(LAWS) if args.quick else 48
     rng = np.random.default_rng(args.seed)
     combos = list(itertools.product(GLOBAL_ALGORITHMS, LOCAL_ALGORITHMS))
     fails = dict.fromkeys(combos, 0)
@@ -57,6 +60,7 @@ def main(argv: list[str] | None = None) -> dict:
     times: dict = {c: [] for c in combos}
     for i in range(args.problems):
         _, n, f, d = problem(rng, i)
+        f(np.full(d, 0.5))  # compile or load the law's kernels outside the timing
         found = {}
         for combo in combos:
             t = time.perf_counter()

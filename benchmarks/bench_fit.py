@@ -1,9 +1,9 @@
 """Fit time of the rigid family on one ~700-bounce campaign, against SciPy's differential evolution.
 
-Run: ``python benchmarks/bench_fit.py`` (about 10 s). For each law, bouncelab.fit (default
-NLopt DIRECT_L + Nelder-Mead, compiled objective) is timed over several seeds, and
-``scipy.optimize.differential_evolution(tol=1e-12, polish=True)`` on a straightforward NumPy
-delta is timed in the same run on the same data and bounds. Targets (issue 3): median fit under
+Run: ``python benchmarks/bench_fit.py`` (about 10 s; ``--quick``: 2 fits and 1 peer run per law, for CI).
+For each law, bouncelab.fit (default NLopt DIRECT_L + Nelder-Mead, compiled objective) is timed over
+several seeds, and ``scipy.optimize.differential_evolution(tol=1e-12, polish=True)`` on a straightforward
+NumPy delta is timed in the same run on the same data and bounds. Targets (issue 3): median fit under
 50 ms, at least 20x faster than the peer, at equal delta (within 1e-7).
 
 ``--baseline PATH`` instead times the same fits here and in the bouncelab at PATH (a checkout of another
@@ -74,11 +74,18 @@ def side_by_side(baseline: str, campaign: str, seeds: int, rounds: int) -> None:
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--campaign", default="B", help="embedded campaign (B has 693 bounces)")
-    ap.add_argument("--seeds", type=int, default=11, help="bouncelab fits per law")
-    ap.add_argument("--peer-seeds", type=int, default=2, help="differential-evolution runs per law")
+    ap.add_argument("--seeds", type=int, default=None, help="bouncelab fits per law (default 11; 2 with --quick)")
+    ap.add_argument("--peer-seeds", type=int, default=None,
+                    help="differential-evolution runs per law (default 2; 1 with --quick)")
     ap.add_argument("--baseline", help="path of another bouncelab checkout to time side by side")
-    ap.add_argument("--rounds", type=int, default=3, help="alternations with the baseline")
+    ap.add_argument("--rounds", type=int, default=None,
+                    help="alternations with the baseline (default 3; 1 with --quick)")
+    ap.add_argument("--quick", action="store_true", help="fewer fits: checks the benchmark runs (CI)")
     args = ap.parse_args(argv)
+    quick = {"seeds": 2, "peer_seeds": 1, "rounds": 1} if args.quick else {"seeds": 11, "peer_seeds": 2, "rounds": 3}
+    for key, value in quick.items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
     if args.baseline:
         side_by_side(args.baseline, args.campaign, args.seeds, args.rounds)
         return []

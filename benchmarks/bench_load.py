@@ -1,6 +1,7 @@
 """Loading a large CSV file: ``bouncelab.load_campaign`` against ``pandas.read_csv`` + the same checks.
 
-Run: ``python benchmarks/bench_load.py`` (10^6 rows, about 20 s) or ``--rows N``. The file is
+Run: ``python benchmarks/bench_load.py`` (10^6 rows, about 20 s) or ``--rows N`` (``--quick``: 60,000 rows, above
+the size where the compiled checks start, best of 2, for CI). The file is
 written in a temporary folder from campaign B's bounces (repeated), with a header such as
 ``xdot0 (radii/s)``; both sides read the same file in the same run, each the best of
 ``--repeats`` (default 3). The peer is what a script would do by hand: ``pandas.read_csv``, then
@@ -99,9 +100,12 @@ def peak_memory(which: str, path: Path) -> int | None:
 
 def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--rows", type=int, default=1_000_000)
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--rows", type=int, default=None, help="rows of the file (default 10^6; 60,000 with --quick)")
+    ap.add_argument("--repeats", type=int, default=None, help="timings of each side (default 3; 2 with --quick)")
+    ap.add_argument("--quick", action="store_true", help="a small file: checks the benchmark runs (CI)")
     args = ap.parse_args(argv)
+    args.rows = args.rows or (60_000 if args.quick else 1_000_000)
+    args.repeats = args.repeats or (2 if args.quick else 3)
     with tempfile.TemporaryDirectory(prefix="bouncelab-bench-load-") as tmp:
         path = Path(tmp) / "bounces.csv"
         write_file(path, args.rows)
@@ -114,7 +118,8 @@ def main(argv: list[str] | None = None) -> dict:
     agree = bool(np.array_equal(ds.landing.values, landing) and np.array_equal(ds.liftoff.values, liftoff))
     ratio = ours / peer
     print(f"load a {args.rows:,}-row CSV file ({size:.0f} MB), {os.cpu_count()} cores, best of {args.repeats}")
-    print(f"{'bouncelab.load_campaign':<34}{ours:>8.2f} s   target < 3 s: {'met' if ours < 3 else 'NOT MET'}")
+    at_size = ("met" if ours < 3 else "NOT MET") if args.rows == 1_000_000 else "(it is set for 10^6 rows)"
+    print(f"{'bouncelab.load_campaign':<34}{ours:>8.2f} s   target < 3 s: {at_size}")
     print(f"{'pandas.read_csv + checks':<34}{peer:>8.2f} s")
     print(f"{'ratio':<34}{ratio:>8.2f} x   target <= 3x: {'met' if ratio <= 3 else 'NOT MET'}")
     if mem["bouncelab"] is not None:

@@ -16,7 +16,7 @@ against scikit-image's ``hough_circle``, on the same frames (time per frame, cen
 Run::
 
     python benchmarks/bench_tracking.py --clips 40          # about 3 minutes
-    python benchmarks/bench_tracking.py --clips 8 --quick   # a quick look
+    python benchmarks/bench_tracking.py --quick             # 4 clips, the detectors on 12 frames (CI)
 """
 
 from __future__ import annotations
@@ -92,11 +92,13 @@ def _compare_circle_detectors(frames_list, truths, n_frames: int = 60) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--clips", type=int, default=40)
+    ap.add_argument("--clips", type=int, default=None, help="clips rendered (default 40; 4 with --quick)")
     ap.add_argument("--seed", type=int, default=100)
-    ap.add_argument("--quick", action="store_true", help="skip the circle-detector comparison")
+    ap.add_argument("--quick", action="store_true",
+                    help="4 clips and the circle detectors compared on 12 frames: checks it runs (CI)")
     ap.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
     args = ap.parse_args()
+    args.clips = args.clips or (4 if args.quick else 40)
 
     from bouncelab.tracking import measure_clip, track_clip
 
@@ -154,18 +156,17 @@ def main() -> None:
               f"(mean half-widths {', '.join(f'{h:.1f}' for h in half)})")
     if failures:
         print(f"{len(failures)} measurement(s) failed: " + "; ".join(failures[:5]))
-    if not args.quick:
-        cmp_ = _compare_circle_detectors(frames_kept, truths)
-        res["circle_detectors"] = cmp_
-        print("rough circle detection on the same frames:")
-        print(f"  OpenCV HoughCircles: {cmp_['opencv_ms_per_frame']:.2f} ms/frame, median centre error "
-              f"{cmp_['opencv_centre_err_px_median']:.2f} px, missed {cmp_['opencv_missed']}")
-        if "skimage_ms_per_frame" in cmp_:
-            print(f"  scikit-image hough_circle: {cmp_['skimage_ms_per_frame']:.2f} ms/frame, median centre error "
-                  f"{cmp_['skimage_centre_err_px_median']:.2f} px, missed {cmp_['skimage_missed']}; "
-                  f"ratio {cmp_['skimage_ms_per_frame'] / cmp_['opencv_ms_per_frame']:.0f}x slower")
-        else:
-            print("  scikit-image: not installed (pip install scikit-image to compare)")
+    cmp_ = _compare_circle_detectors(frames_kept, truths, n_frames=12 if args.quick else 60)
+    res["circle_detectors"] = cmp_
+    print("rough circle detection on the same frames:")
+    print(f"  OpenCV HoughCircles: {cmp_['opencv_ms_per_frame']:.2f} ms/frame, median centre error "
+          f"{cmp_['opencv_centre_err_px_median']:.2f} px, missed {cmp_['opencv_missed']}")
+    if "skimage_ms_per_frame" in cmp_:
+        print(f"  scikit-image hough_circle: {cmp_['skimage_ms_per_frame']:.2f} ms/frame, median centre error "
+              f"{cmp_['skimage_centre_err_px_median']:.2f} px, missed {cmp_['skimage_missed']}; "
+              f"ratio {cmp_['skimage_ms_per_frame'] / cmp_['opencv_ms_per_frame']:.0f}x slower")
+    else:
+        print("  scikit-image: not installed (pip install scikit-image to compare)")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(res, fh, indent=2)

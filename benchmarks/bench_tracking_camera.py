@@ -15,11 +15,13 @@ measured three ways:
 
 Errors: the largest velocity error of landing and lift-off as a % of the speed (target 0.5 %), the largest
 spin error over 2 % |omega| + 5 rad/s (target below 1). Then the time to read every frame of one .cine,
-bouncelab's reader against ``pims.Cine`` (if installed), in one run, as a ratio.
+bouncelab's reader against ``pims.Cine`` (if installed), in one run, as a ratio, and whether the two read the
+same pixels.
 
 Run::
 
     python benchmarks/bench_tracking_camera.py --clips 12      # about 2 minutes
+    python benchmarks/bench_tracking_camera.py --quick         # 2 clips, 3 read timings: checks it runs (CI)
 """
 
 from __future__ import annotations
@@ -63,7 +65,7 @@ def _read_speed(path: Path, repeats: int = 9) -> str:
             reader.close()
 
     try:
-        import pims  # noqa: F401
+        import pims
     except ImportError:
         return f"reading {n} frames: bouncelab {n / min(_timed(ours) for _ in range(repeats)):.0f} frames/s; pims " \
                "not installed"
@@ -72,9 +74,14 @@ def _read_speed(path: Path, repeats: int = 9) -> str:
         times["bouncelab"].append(_timed(ours))
         times["pims"].append(_timed(theirs))
     ta, tb = min(times["bouncelab"]), min(times["pims"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        reader = pims.Cine(str(path))
+        same = all(np.array_equal(cine.frame(k), np.asarray(reader.get_frame(k))) for k in range(n))
+        reader.close()
     return (f"reading {n} frames of {cine.width} x {cine.height} (12 bits in 16-bit words), best of {repeats}: "
             f"bouncelab {n / ta:.0f} frames/s, pims {n / tb:.0f} frames/s; bouncelab {tb / ta:.2f}x the speed of "
-            "pims (each frame read out of the file, top row first)")
+            f"pims (each frame read out of the file, top row first); the same pixels: {same}")
 
 
 def _timed(fn) -> float:
@@ -85,24 +92,31 @@ def _timed(fn) -> float:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--clips", type=int, default=12)
+    ap.add_argument("--clips", type=int, default=None, help="clips rendered (default 12; 2 with --quick)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--quick", action="store_true", help="2 clips and 3 read timings: checks it runs (CI)")
     args = ap.parse_args()
+    args.clips = args.clips or (2 if args.quick else 12)
 
+    with tempfile.TemporaryDirectory(prefix="bouncelab-bench-camera-") as folder:  # ~46 MB a clip: removed after
+        _measure(args.clips, args.seed, args.quick, Path(folder))
+
+
+def _measure(clips: int, seed: int, quick: bool, folder: Path) -> None:
+    """Render, write, track and measure ``clips`` clips in ``folder``; print the table and the read speeds."""
     from bouncelab import Rigid
     from bouncelab.tracking import measure_clip, read_frames, render_clip, track_clip
     from bouncelab.tracking.cine import write_cine
 
-    rng = np.random.default_rng(args.seed)
+    rng = np.random.default_rng(seed)
     law = Rigid.published("A")
-    landings = np.column_stack([rng.uniform(800, 1300, args.clips), -rng.uniform(600, 900, args.clips),
-                                rng.uniform(-200, 600, args.clips)])
+    landings = np.column_stack([rng.uniform(800, 1300, clips), -rng.uniform(600, 900, clips),
+                                rng.uniform(-200, 600, clips)])
     liftoffs = law.predict(landings)
     rows = []
-    folder = Path(tempfile.mkdtemp())
-    for k in range(args.clips):
+    for k in range(clips):
         clip = render_clip(landings[k], liftoffs[k], size=(256, 512), radius_px=20.0, n_before=40, n_after=40,
-                           bit_depth=12, seed=args.seed + k)
+                           bit_depth=12, seed=seed + k)
         n = len(clip.frames)
         before = int(rng.integers(4, 31))  # frames before touch-down (frame 40) where the two go missing
         keep = np.ones(n, bool)
@@ -128,7 +142,7 @@ def main() -> None:
         v, w = r[:, col], r[:, col + 1]
         print(f"{label:32}: velocity error median {np.median(v):.3f} %, max {v.max():.3f} %, within 0.5 %: "
               f"{np.mean(v < 0.5):.0%}; spin within target: {np.mean(w < 1):.0%} (worst {w.max():.2f})")
-    print(_read_speed(folder / "full00.cine"))
+    print(_read_speed(folder / "full00.cine", repeats=3 if quick else 9))
 
 
 if __name__ == "__main__":

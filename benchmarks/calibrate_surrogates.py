@@ -34,7 +34,9 @@ The best candidate is re-evaluated on fresh seeds and its calibration table prin
 writes the result as JSON.
 
 Run: ``python benchmarks/calibrate_surrogates.py --campaign A --maxiter 3`` (about a minute per
-campaign on 2 cores). Needs the ``cluster`` extra (``pip install -e ".[cluster]"``).
+campaign on 2 cores). Needs the ``cluster`` extra (``pip install -e ".[cluster]"``). ``--quick`` (CI) runs
+the default pipeline on a tiny budget: campaign A, 32 candidates (the Sobol start and one generation; only
+``r0`` scatters), one replicate, on a local cluster of one worker; options given beside it win.
 """
 
 from __future__ import annotations
@@ -57,6 +59,10 @@ import bouncelab as bl
 from bouncelab.laws import law_class
 from bouncelab.simulation import LauncherDesign, LogNormal, Normal, Turf, simulate_campaign
 from bouncelab.simulation import calibration as cal
+
+#: ``--quick``: the options it changes (any given on the command line is kept)
+QUICK = {"campaign": ["A"], "maxiter": 1, "popsize": 1, "replicates": 1, "final_seeds": 1, "workers": 1,
+         "scatter": ["r0"]}
 
 
 @dataclass(frozen=True)
@@ -325,7 +331,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--budget", type=float, default=300.0, help="Nelder-Mead wall time per campaign (s)")
     ap.add_argument("--scatter", nargs="+", default=None, metavar="NAME",
                     help="parameters that vary from spot to spot (default: all); the others do not scatter")
+    ap.add_argument("--quick", action="store_true", help="the default pipeline on a tiny budget (CI)")
     args = ap.parse_args(argv)
+    if args.quick:
+        for key, value in QUICK.items():
+            if getattr(args, key) == ap.get_default(key):
+                setattr(args, key, value)
     scatter = None if args.scatter is None else tuple(args.scatter)
     results = []
     for campaign in args.campaign:
