@@ -578,3 +578,24 @@ def test_a_campaign_name_that_no_file_can_hold_is_refused():
     with pytest.raises(DataError) as err:
         bl.load_campaign("A", campaign="turf \ud800")
     assert err.value.option == "campaign"
+
+
+def test_sigterm_that_nlopt_turns_into_a_forced_stop_still_ends_the_process_of_sigterm():
+    """A SIGTERM landing in NLopt's glue came out as ForcedStop, then as a Ctrl-C (exit 130 or 1), not SIGTERM."""
+    code = ("import os, signal, time, nlopt\n"
+            "from bouncelab.core.atomic import sigterm_raises\n"
+            "from bouncelab.fitting.search import run_nlopt\n"
+            "class Glue:\n"
+            "    def optimize(self, x0):\n"
+            "        try:\n"
+            "            os.kill(os.getpid(), signal.SIGTERM)\n"
+            "            time.sleep(5)\n"
+            "        except BaseException:\n"
+            "            pass\n"
+            "        raise nlopt.ForcedStop('stopped in the glue')\n"
+            "with sigterm_raises():\n"
+            "    run_nlopt(Glue(), [0.0], [])\n"
+            "print('survived')\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=60)
+    assert proc.returncode == -signal.SIGTERM, proc.stderr
+    assert "survived" not in proc.stdout

@@ -52,6 +52,16 @@ class _Terminated(BaseException):
     """SIGTERM arrived during a write or a run (raised by the handler :func:`sigterm_raises` installs)."""
 
 
+#: The SIGTERM the handler raised, kept so that code which sees the exception only as something else (NLopt turns
+#: an exception in its glue into ForcedStop) can raise it again (:func:`pending_termination`).
+_RAISED: list[_Terminated] = []
+
+
+def pending_termination() -> BaseException | None:
+    """The exception SIGTERM raised inside the running :func:`sigterm_raises` block, if it did (else None)."""
+    return _RAISED[-1] if _RAISED else None
+
+
 @contextlib.contextmanager
 def sigterm_raises() -> Iterator[None]:
     """During the block, SIGTERM (what ``timeout``, batch schedulers and systemd send) raises an exception,
@@ -66,7 +76,8 @@ def sigterm_raises() -> Iterator[None]:
 
     def handler(signum: int, frame: Any) -> None:
         signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM does not cut the cleanup short
-        raise _Terminated
+        _RAISED.append(_Terminated())
+        raise _RAISED[-1]
 
     previous = signal.signal(signal.SIGTERM, handler)
     try:
@@ -77,6 +88,7 @@ def sigterm_raises() -> Iterator[None]:
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
+        _RAISED.clear()
 
 
 @contextlib.contextmanager

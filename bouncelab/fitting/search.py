@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import nlopt
 import numpy as np
 
+from bouncelab.core.atomic import pending_termination
 from bouncelab.core.errors import FitError
 
 __all__ = ["GLOBAL_ALGORITHMS", "LOCAL_ALGORITHMS", "SearchOutcome", "global_search", "run_nlopt"]
@@ -130,6 +131,8 @@ def run_nlopt(opt: nlopt.opt, x0: np.ndarray, raised: list[BaseException]) -> No
         if interrupt is not None and exc is not interrupt:
             raise interrupt from None
         if isinstance(exc, nlopt.ForcedStop):
+            if not raised and (term := pending_termination()) is not None:  # SIGTERM in the glue, not Ctrl-C
+                raise term from None
             raise (raised[-1] if raised else KeyboardInterrupt("interrupted inside NLopt")) from None
         raise
 
