@@ -98,6 +98,7 @@ def test_compiled_example_matches_numpy(compiled_law, campaign_b):
     assert set(law.regime(p0)) == {"affine"}
 
 
+@pytest.mark.slow  # ~6 s on a cold numba cache
 def test_examples_compare_bootstrap_cross_validate(numpy_law, compiled_law, campaign_a):
     cmp = bl.compare(campaign_a, ["Rigid", numpy_law, compiled_law], split="setting")
     names = ["Rigid", "laws_new:SpeedRestitution", "laws_new_compiled:AffineMap"]
