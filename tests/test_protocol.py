@@ -439,9 +439,10 @@ def test_user_laws_from_the_command_line_without_pythonpath(tmp_path):
 
 @pytest.mark.slow
 def test_reproduce_compares_a_user_law(tmp_path, monkeypatch):
-    from bouncelab.cli import reproduce as rp
+    import bouncelab as rp
+    from bouncelab.report import steps
 
-    monkeypatch.setattr(rp, "BOOTSTRAP_RESAMPLES", 5)
+    monkeypatch.setattr(steps, "BOOTSTRAP_RESAMPLES", 5)
     law = _load("laws_new").SpeedRestitution
     report = rp.reproduce(["A"], out=tmp_path / "rep", figures=False, progress=False, laws=[law])
     table3 = (tmp_path / "rep" / "tables" / "A_table3.md").read_text()
