@@ -197,8 +197,7 @@ def test_woodbury_likelihood_is_the_joint_normal_of_each_setting() -> None:
                            box={"r": (0.0, 1.0), "mu": (0.0, 1.5)}, landing_sd=np.tile(SD_LAND, (12, 1)),
                            liftoff_sd=np.tile(SD_LIFT, (12, 1)), with_tau=True, tau_prior=np.full(3, 100.0),
                            groups=data.setting.values)
-    x = np.log([0.5, 0.4, 0.25, 0.3, 0.05, 0.08, 2.0, 2.0, 5.0])
-    x[:2] = [0.5, 0.4]
+    x = np.array([0.5, 0.4, 0.25, 0.3, 0.05, 0.08, 2.0, 2.0, 5.0])  # medians, scales, discrepancies
     mean, _, cov, shared, _ = post._moments(x[None])
     full = np.zeros((36, 36))
     xx, yy, ww, xy, xw, yw = (c[0] for c in cov)
@@ -223,7 +222,7 @@ def test_shared_part_matches_monte_carlo() -> None:
                            box={"r": (0.0, 1.0), "mu": (0.0, 1.5)}, landing_sd=None, liftoff_sd=np.ones((2, 3)),
                            with_tau=False, tau_prior=np.ones(3), groups=np.array([1, 1]), nodes=9)
     sigma, s = np.array([0.25, 0.3]), np.array([0.1, 0.15])
-    x = np.r_[0.5, 0.4, np.log(sigma), np.log(s)]
+    x = np.r_[0.5, 0.4, sigma, s]
     mean, _, cov, shared, _ = post._moments(x[None])
     n = 400_000
     v = rng.standard_normal((n, 1, 2))
@@ -287,7 +286,7 @@ def _approx_loglike(land, lift, sd, approximation):
     post = H._LogPosterior(bl.Rigid(r=0.5, mu=0.4), land, lift, free=["r"], vary=["r"], box={"r": (0.0, 1.0)},
                            landing_sd=None, liftoff_sd=np.tile(sd, (len(land), 1)), with_tau=False,
                            tau_prior=np.ones(3), approximation=approximation)
-    return lambda a, b: post.log_likelihood(np.array([a, b]))
+    return lambda a, b: post.log_likelihood(np.array([a, math.exp(b)]))  # b: the scale's logarithm
 
 
 def test_marginal_likelihood_against_brute_force(small_case) -> None:
@@ -833,9 +832,12 @@ def test_burn_in_and_stopping_rule() -> None:
     assert burn <= 100 and not done  # 300 steps are not 50 autocorrelation times
 
 
-def test_threads_do_not_change_the_samples() -> None:
-    """The walkers' log posteriors are shared between threads (emcee's pool): the samples are the same bits."""
+def test_threads_do_not_change_the_samples(monkeypatch) -> None:
+    """The rows of the walkers' batched law call are shared between threads (forced here: Rigid is too cheap to be
+    shared otherwise): the samples are the same bits."""
     from bouncelab.core._parallel import num_threads, set_num_threads
+
+    monkeypatch.setattr(H, "PARALLEL_SECONDS", 0.0)
 
     data = varying_campaign(40, seed=13)
     before = num_threads()
@@ -849,7 +851,7 @@ def test_threads_do_not_change_the_samples() -> None:
     finally:
         set_num_threads(before)
     pd.testing.assert_frame_equal(runs[0].samples, runs[1].samples, check_exact=True)
-    assert runs[0].diagnostics["start"] == "laplace"
+    assert runs[0].diagnostics["start"] in ("laplace", "diagonal")  # (diagonal: a discrepancy piled at zero)
 
 
 def test_chains_that_stop_apart_are_pooled_over_their_common_tail(monkeypatch) -> None:

@@ -88,7 +88,9 @@ Priors
 Population values: uniform over the law's search box (``bounds=`` overrides it). Scales
 :math:`\sigma_j, s_j`: half-normal with standard deviation 1 (in the transformed space).
 Discrepancy (or noise) :math:`\tau_c`: half-normal with the standard deviation of the
-component's lift-offs in the data. The scales and discrepancies are sampled as logarithms.
+component's lift-offs in the data. The scales and discrepancies are sampled as they are (not as logarithms:
+one the data cannot tell from zero has a posterior with a long exponential tail in the logarithm, which no move
+of the sampler crosses quickly; on its own scale it is a bounded, smooth density).
 
 Sampling and convergence
 ------------------------
@@ -252,8 +254,8 @@ class _LogPosterior:
     """The approximate log posterior of the population values, scales and discrepancies (picklable).
 
     The vector it takes: the free parameters' population values (medians for the varying ones),
-    then ``log sigma`` of each varying parameter (with the setting level), ``log s`` of each,
-    then ``log tau`` of each component (when sampled). :meth:`batch` evaluates many vectors in one
+    then ``sigma`` of each varying parameter (with the setting level), ``s`` of each,
+    then ``tau`` of each component (when sampled). :meth:`batch` evaluates many vectors in one
     law call; calling the object evaluates one.
     """
 
@@ -354,16 +356,15 @@ class _LogPosterior:
         """Per row of X: the law's numbers, the total scales t, the setting level's share rho^2 of t^2, tau."""
         nf, nv = len(self.free), len(self.vary)
         theta = self._theta(X)
-        with np.errstate(over="ignore"):
-            logs = np.exp(X[:, nf:nf + self._n_scales])
-            tau = np.exp(X[:, nf + self._n_scales:]) if self.with_tau else np.zeros((len(X), 3))
+        scales = X[:, nf:nf + self._n_scales]
+        tau = X[:, nf + self._n_scales:] if self.with_tau else np.zeros((len(X), 3))
         if "setting" in self.levels:
-            sigma, s = logs[:, :nv], logs[:, nv:]
+            sigma, s = scales[:, :nv], scales[:, nv:]
             t = np.hypot(sigma, s)
             with np.errstate(invalid="ignore", divide="ignore"):
                 rho2 = np.where(t > 0, (sigma / np.where(t > 0, t, 1.0)) ** 2, 0.0)
         else:
-            t, rho2 = logs, np.zeros_like(logs)
+            t, rho2 = scales, np.zeros_like(scales)
         return theta, t, rho2, tau
 
     def split(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -387,12 +388,33 @@ class _LogPosterior:
         nf, ns = len(self.free), self._n_scales
         lp = 0.0
         for j in range(nf, len(v)):
-            if not abs(v[j]) < 50:
-                return -math.inf
-            # half-normal priors on the scales and tau, sampled as logarithms (hence the + log s, + log tau)
+            # half-normal priors on the scales and tau (zero or more; a thousand prior sds is no value)
             sd = self.scale_prior if j < nf + ns else self._tau_prior[j - nf - ns]
-            lp += v[j] - 0.5 * (math.exp(v[j]) / sd) ** 2
+            if not 0.0 <= v[j] <= 1e3 * sd:
+                return -math.inf
+            lp -= 0.5 * (v[j] / sd) ** 2
         return lp
+
+    def _priors(self) -> list[float]:
+        return [self.scale_prior] * self._n_scales + (self._tau_prior if self.with_tau else [])
+
+    def zero_piles(self, x: np.ndarray) -> np.ndarray:
+        """Which numbers of ``x`` are scales or discrepancies within a tenth of their prior sd of zero."""
+        out = np.zeros(len(x), bool)
+        out[len(self.free):] = np.asarray(x[len(self.free):]) < 0.1 * np.asarray(self._priors())
+        return out
+
+    def pile_widths(self, x: np.ndarray) -> np.ndarray:
+        """Spread of walkers over a pile at zero: the value, at least a tenth of the prior sd (others: zero)."""
+        out = np.zeros(len(x))
+        out[len(self.free):] = np.maximum(np.abs(x[len(self.free):]), 0.1 * np.asarray(self._priors()))
+        return out
+
+    def widths(self, x: np.ndarray) -> np.ndarray:
+        """Small steps of each sampled number about ``x`` (for finite differences): a thousandth of the search box
+        of a population value; of a scale or discrepancy a thousandth of its value, at least 1e-5 of its prior sd."""
+        rest = [1e-3 * max(abs(float(v)), 1e-2 * sd) for v, sd in zip(x[len(self.free):], self._priors(), strict=True)]
+        return np.array([1e-3 * (self.box[f][1] - self.box[f][0]) for f in self.free] + rest)
 
     # -------------------------------------------------------------- the law on many parameter rows
     def _law_rows(self, params: np.ndarray) -> np.ndarray:
@@ -736,8 +758,8 @@ def calibrate(
                          nodes=int(nodes), groups=setting if two_levels else None)
     # start: the point fit, small scales, the fit's residual spread as discrepancy; then the mode
     resid = pf - fitted._evaluate(p0)
-    x0 = np.r_[[getattr(fitted, n) for n in free], np.full(post._n_scales, math.log(0.1)),
-               np.log(np.maximum(0.5 * resid.std(axis=0), 1e-6 * tau_prior)) if with_tau else []]
+    x0 = np.r_[[getattr(fitted, n) for n in free], np.full(post._n_scales, 0.1),
+               np.maximum(0.5 * resid.std(axis=0), 1e-3 * tau_prior) if with_tau else []]
     for j, name in enumerate(free):  # a median on the edge of its transform's range cannot start the search
         if name in post.transforms and not post.transforms[name].inside(x0[j]):
             lo, hi = post.box[name]
@@ -817,10 +839,13 @@ SETTLE_EVALS = 25
 
 
 def _mode(post: Any, x0: np.ndarray) -> np.ndarray:
-    """A point near the posterior's mode, from ``x0`` (Nelder-Mead, stopped once it settles; see SETTLE_GAIN).
+    """A point near the posterior's mode, from ``x0``.
 
-    The point only starts the sampler: the walkers are then spread by the Hessian there and burnt in.
-    Each evaluation is one law call on every bounce, its rows shared between threads.
+    With a batched log posterior (:class:`_LogPosterior`): L-BFGS-B within the prior's box (scales and
+    discrepancies at zero or more), its gradient by central differences, all ``2 n + 1`` points in one batched
+    law call; it stops once ten iterations gain less than :data:`SETTLE_GAIN`. Otherwise, or where that
+    fails, Nelder-Mead, stopped once it settles (see SETTLE_GAIN). The point only starts the sampler: the walkers
+    are then spread by the Hessian there and burnt in.
     """
     from scipy.optimize import minimize
 
@@ -829,6 +854,10 @@ def _mode(post: Any, x0: np.ndarray) -> np.ndarray:
         raise FitError("the calibration cannot start: the point fit has zero posterior density (a parameter on "
                        "the edge of its physical range, or a degenerate covariance)", option="bounds",
                        hints=[Hint("bounds", None, "wider, or away from the edge of the physical range")])
+    if hasattr(post, "batch") and hasattr(post, "widths"):
+        found = _gradient_mode(post, x)
+        if found is not None:
+            return found
     window = SETTLE_EVALS * len(x)
     best: list[tuple[float, np.ndarray]] = []  # the best (value, point) after each evaluation
 
@@ -846,6 +875,64 @@ def _mode(post: Any, x0: np.ndarray) -> np.ndarray:
     except _Settled:
         pass
     return best[-1][1]
+
+
+def _gradient_mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray | None:
+    """L-BFGS-B on the batched log posterior (see :func:`_mode`); None if it found no finite point better than x0."""
+    from scipy.optimize import minimize
+
+    n = len(x0)
+    lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
+    for j, name in enumerate(post.free):
+        lo, hi = post.box[name]
+        tr = post.transforms.get(name)
+        span = hi - lo
+        # a varying parameter's median stays inside its transform's open range
+        lower[j] = lo + (1e-9 * span if tr is not None and tr.kind in ("logit", "log") and lo <= tr.a else 0.0)
+        upper[j] = hi - (1e-9 * span if tr is not None and tr.kind in ("logit", "neglog") and hi >= tr.b else 0.0)
+    lower[len(post.free):] = 0.0
+    eye = np.eye(n)
+    best: list[tuple[float, np.ndarray]] = [(-float(post(x0)), x0.copy())]
+    history: list[float] = []
+
+    def value_and_gradient(z: np.ndarray) -> tuple[float, np.ndarray]:
+        h = post.widths(z)
+        # central differences; one-sided (second order) against a bound
+        down = z - h < lower
+        up = z + h > upper
+        points = [z]
+        for j in range(n):
+            if down[j]:
+                points += [z + h[j] * eye[j], z + 2 * h[j] * eye[j]]
+            elif up[j]:
+                points += [z - h[j] * eye[j], z - 2 * h[j] * eye[j]]
+            else:
+                points += [z + h[j] * eye[j], z - h[j] * eye[j]]
+        v = post.batch(np.array(points))
+        f0, pairs = v[0], v[1:].reshape(n, 2)
+        if not math.isfinite(f0):
+            return 1e300, np.zeros(n)
+        grad = np.where(down, (4 * pairs[:, 0] - pairs[:, 1] - 3 * f0) / (2 * h),
+                        np.where(up, -(4 * pairs[:, 0] - pairs[:, 1] - 3 * f0) / (2 * h),
+                                 (pairs[:, 0] - pairs[:, 1]) / (2 * h)))
+        grad = np.where(np.isfinite(grad), grad, 0.0)
+        if -f0 < best[-1][0]:
+            best.append((-f0, z.copy()))
+        return -f0, -grad
+
+    def settle(_: Any) -> None:
+        history.append(best[-1][0])
+        if len(history) > 10 and history[-11] - history[-1] < SETTLE_GAIN:
+            raise _Settled
+
+    try:
+        minimize(value_and_gradient, np.clip(x0, lower, upper), jac=True, method="L-BFGS-B",
+                 bounds=list(zip(lower, upper, strict=True)), callback=settle,
+                 options={"maxiter": 50 * n, "ftol": 1e-12, "gtol": 1e-8})
+    except _Settled:
+        pass
+    f, z = best[-1]
+    return z if math.isfinite(f) and f < 1e300 else None
 
 
 def _values(post: Any, points: Sequence[np.ndarray]) -> np.ndarray:
@@ -866,14 +953,24 @@ def _laplace(post: Any, mode: np.ndarray) -> tuple[np.ndarray, str]:
     used, and where that fails too, a small ball: the sampler then spreads out on its own.
     """
     n = len(mode)
-    widths = np.array([1e-3 * (post.box[f][1] - post.box[f][0]) for f in post.free] + [1e-2] * (n - len(post.free)))
+    widths = post.widths(mode) if hasattr(post, "widths") else \
+        np.array([1e-3 * (post.box[f][1] - post.box[f][0]) for f in post.free] + [1e-2] * (n - len(post.free)))
     eye = np.eye(n)
     first = _values(post, [mode] + [mode + sign * widths[j] * eye[j] for j in range(n) for sign in (1.0, -1.0)])
     f0, ends = first[0], first[1:].reshape(n, 2)
-    curv = (ends[:, 0] + ends[:, 1] - 2 * f0) / widths ** 2
-    if not (math.isfinite(f0) and np.all(np.isfinite(curv)) and np.all(curv < 0)):
+    with np.errstate(invalid="ignore"):
+        curv = (ends[:, 0] + ends[:, 1] - 2 * f0) / widths ** 2
+    curved = np.isfinite(curv) & (curv < 0)
+    # a scale or discrepancy whose posterior piles up at zero has no curvature there: its walkers spread over the
+    # pile (a tenth of its prior sd, or its value) and the start is the diagonal
+    piled = getattr(post, "zero_piles", lambda x: np.zeros(len(x), bool))(mode) & ~curved
+    if not (math.isfinite(f0) and np.all(curved | piled)):
         return np.diag(widths), "ball"
-    h = 1.0 / np.sqrt(-curv)  # steps of one standard deviation
+    with np.errstate(invalid="ignore", divide="ignore"):
+        h = np.where(curved, 1.0 / np.sqrt(np.where(curved, -curv, 1.0)), 0.0)  # steps of one standard deviation
+    if piled.any():
+        h[piled] = post.pile_widths(mode)[piled]
+        return np.diag(h), "diagonal"
     pairs = [(j, k) for j in range(n) for k in range(j + 1, n)]
     axes = [mode + sign * h[j] * eye[j] for j in range(n) for sign in (1.0, -1.0)]
     corners = [mode + a * h[j] * eye[j] + b * h[k] * eye[k] for j, k in pairs
@@ -918,37 +1015,51 @@ MOVE_WEIGHTS = (0.4, 0.1, 0.5)
 
 
 class _Independence:
-    """An independence proposal for emcee's ``MHMove``: a multivariate t about ``mean`` with scale ``L L^T``.
+    """An independence proposal for emcee's ``MHMove``: a multivariate t about ``mean`` with scale ``L L^T``, its
+    draws reflected into the non-negative range of the scales and discrepancies (``positive``: their indices).
 
     Its proposals do not depend on the walker's position, so the Metropolis-Hastings ratio carries the
-    proposal's density at the old point over the new one; any proposal leaves the posterior invariant, and
-    one close to the posterior makes successive samples nearly independent.
+    proposal's density at the old point over the new one (a reflected density: the sum over the reflections);
+    any proposal leaves the posterior invariant, and one close to the posterior makes successive samples nearly
+    independent. Without the reflection, a scale whose posterior piles up near zero would see half its proposals
+    fall below zero and be refused.
     """
 
-    def __init__(self, mean: np.ndarray, chol: np.ndarray, df: float = PROPOSAL_DF) -> None:
+    def __init__(self, mean: np.ndarray, chol: np.ndarray, positive: Sequence[int] = (), df: float = PROPOSAL_DF
+                 ) -> None:
         self.mean = np.asarray(mean, dtype=float)
         self.chol = np.asarray(chol, dtype=float)
         self.whiten = np.linalg.inv(self.chol)  # a few numbers: cheaper than a triangular solve per call
         self.df = float(df)
+        self.positive = np.asarray(positive, dtype=int)
+        # every sign pattern of the reflected coordinates (2^k of them; k is at most a handful)
+        k = len(self.positive)
+        self._signs = 1.0 - 2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)[None, :]) & 1)
 
     def log_density(self, x: np.ndarray) -> np.ndarray:
-        """The log density up to its constant."""
-        z = (np.atleast_2d(x) - self.mean) @ self.whiten.T
-        return -0.5 * (self.df + len(self.mean)) * np.log1p((z ** 2).sum(axis=1) / self.df)
+        """The log density of the reflected proposal, up to its constant."""
+        x = np.atleast_2d(x)
+        flipped = np.repeat(x[None], len(self._signs), axis=0)  # (patterns, points, ndim)
+        flipped[:, :, self.positive] *= self._signs[:, None, :]
+        z = (flipped - self.mean) @ self.whiten.T
+        log_t = -0.5 * (self.df + len(self.mean)) * np.log1p((z ** 2).sum(axis=-1) / self.df)
+        top = log_t.max(axis=0)
+        return top + np.log(np.exp(log_t - top).sum(axis=0))
 
     def __call__(self, coords: np.ndarray, random: np.random.RandomState) -> tuple[np.ndarray, np.ndarray]:
         k, d = coords.shape
         z = random.standard_normal((k, d))
         g = random.chisquare(self.df, k)
         proposed = self.mean + (z @ self.chol.T) * np.sqrt(self.df / g)[:, None]
+        proposed[:, self.positive] = np.abs(proposed[:, self.positive])
         return proposed, self.log_density(coords) - self.log_density(proposed)
 
     @classmethod
-    def of_chain(cls, chain: np.ndarray) -> _Independence | None:
+    def of_chain(cls, chain: np.ndarray, positive: Sequence[int] = ()) -> _Independence | None:
         """About the mean and covariance of a (steps, walkers, ndim) chain; None if the covariance is singular."""
         flat = chain.reshape(-1, chain.shape[-1])
         try:
-            return cls(flat.mean(axis=0), np.linalg.cholesky(np.atleast_2d(np.cov(flat, rowvar=False))))
+            return cls(flat.mean(axis=0), np.linalg.cholesky(np.atleast_2d(np.cov(flat, rowvar=False))), positive)
         except np.linalg.LinAlgError:
             return None
 
@@ -963,7 +1074,8 @@ def _run_chain(task: tuple) -> dict[str, Any]:
 
     post, start, steps, max_steps, tau_multiple, burn_taus, seed, progress, proposal = task
     walkers, ndim = start.shape
-    independence = None if proposal is None else _Independence(*proposal)
+    positive = list(range(len(getattr(post, "free", [])), ndim)) if hasattr(post, "widths") else []
+    independence = None if proposal is None else _Independence(*proposal, positive=positive)
     random_state = np.random.RandomState(seed).get_state()
     state: Any = start
     parts: list[np.ndarray] = []
@@ -988,7 +1100,7 @@ def _run_chain(task: tuple) -> dict[str, Any]:
         burn, done = _burn(chain, tau_multiple, burn_taus)
         if steps is None and done:
             break
-        independence = _Independence.of_chain(chain[len(chain) // 2:]) or independence
+        independence = _Independence.of_chain(chain[len(chain) // 2:], positive) or independence
     chain = np.concatenate(parts)
     return {"chain": chain[burn:], "acceptance": accepted / total, "steps": total, "burn": burn}
 
@@ -1073,8 +1185,6 @@ def _thin(kept: np.ndarray, diagnostics: dict[str, Any], columns: list[str], n_f
         flat = flat[np.linspace(0, len(flat) - 1, most).round().astype(int)]
     diagnostics["thin"] = thin
     frame = pd.DataFrame(flat, columns=columns)
-    logs = columns[n_free:]
-    frame[logs] = np.exp(frame[logs])  # stored as values, not logarithms
     return frame
 
 
@@ -1123,7 +1233,7 @@ class Posterior:
         Bounces of the calibration data.
     mode
         The point near the posterior's mode that the sampler started from: where the mode search
-        settled, not the exact mode (logarithms for scales and discrepancies).
+        settled, not the exact mode.
     notes
         Anything a reader should know (synthetic data, no convergence ...).
     data_kind
