@@ -212,6 +212,32 @@ def test_woodbury_likelihood_is_the_joint_normal_of_each_setting() -> None:
     assert len(edges) - 1 == 4 and post.levels == ("setting", "bounce")
 
 
+def test_nodes_are_chosen_at_the_mode() -> None:
+    """nodes=None takes the fewest Hermite nodes that give the posterior's shape about the mode as 7 do: a law smooth on
+    the scale of the spread (r of bounces that all slip: the lift-off is smooth in r) needs 3; mu of bounces that
+    slip for some spots and roll for others (a kink) keeps 7."""
+    rng = np.random.default_rng(0)
+    # every bounce slips whatever its spot's r (fast, with topspin): the lift-off is smooth in r
+    land = np.repeat(np.column_stack([rng.uniform(1300, 1700, 20), rng.uniform(-600, -400, 20),
+                                      rng.uniform(200, 400, 20)]), 4, axis=0)
+    r = np.repeat(LOGIT.inverse(0.25 * rng.standard_normal(20)), 4)
+    lift = rigid_rows(land, r, np.full(80, 0.4)) + SD_LIFT * rng.standard_normal((80, 3))
+    assert set(bl.Rigid(r=0.3, mu=0.4).regime(land)) == set(bl.Rigid(r=0.7, mu=0.4).regime(land)) == {"slip_forward"}
+    common = {"box": {"r": (0.0, 1.0), "mu": (0.0, 1.5)}, "landing_sd": None, "liftoff_sd": np.tile(SD_LIFT, (80, 1)),
+              "with_tau": False, "tau_prior": np.ones(3), "groups": np.repeat(np.arange(20), 4)}
+    smooth = H._LogPosterior(bl.Rigid(r=0.5, mu=0.4), land, lift, free=["r"], vary=["r"], **common)
+    mode = np.array([0.5, 0.25, 0.01])
+    assert H._fewest_nodes(smooth, mode, np.diag([0.02, 0.03, 0.005]), rng).nodes == 3
+    data = spot_campaign(20, 4, seed=9)
+    p0, pf = data.landing.values, data.liftoff.values
+    common["groups"] = data.setting.values
+    kinked = H._LogPosterior(bl.Rigid(r=0.5, mu=0.4), p0, pf, free=["r", "mu"], vary=["r", "mu"], **common)
+    mode = np.array([0.5, 0.4, 0.25, 0.3, 0.01, 0.01])
+    chosen = H._fewest_nodes(kinked, mode, np.diag([0.02, 0.03, 0.03, 0.03, 0.005, 0.005]), rng)
+    assert chosen.nodes == 7 and chosen is kinked
+    assert kinked.with_nodes(3).nodes == 3 and kinked.nodes == 7  # a copy: the original keeps its rule
+
+
 def test_shared_part_matches_monte_carlo() -> None:
     """The split of a bounce's spread into the part the repeats of its setting share (Mehler: order k of the Hermite
     expansion correlates as rho^2k) against Monte Carlo draws of the two-level model: two repeats' covariance and
@@ -256,7 +282,9 @@ def small_case():
 def _grid_posterior(loglike, mr: np.ndarray, ls: np.ndarray) -> tuple[float, float, float]:
     """Posterior median of the population median of r and of the scale, and the sd of the former, on a grid
     (uniform prior on the median, half-normal(1) prior on the scale, as calibrate's)."""
-    table = np.array([[loglike(a, b) for b in ls] for a in mr]) + (ls - 0.5 * np.exp(ls) ** 2)[None, :]
+    grid = getattr(loglike, "grid", None)  # a whole grid in one batched call, where the log likelihood offers it
+    values = grid(mr, ls) if grid is not None else np.array([[loglike(a, b) for b in ls] for a in mr])
+    table = values + (ls - 0.5 * np.exp(ls) ** 2)[None, :]
     p = np.exp(table - table.max())
     p /= p.sum()
     pm, ps = p.sum(axis=1), p.sum(axis=0)
@@ -279,6 +307,17 @@ def _brute_loglike(land: np.ndarray, lift: np.ndarray, sd: np.ndarray):
         top = logn.max(axis=1, keepdims=True)
         return float((top[:, 0] + np.log((np.exp(logn - top) * weights).sum(axis=1))).sum())
 
+    def grid(mr: np.ndarray, ls: np.ndarray) -> np.ndarray:  # the same, every grid point in one law call
+        z = LOGIT.forward(mr)[:, None, None] + np.exp(ls)[None, :, None] * nodes[None, None, :]  # (a, b, node)
+        r = LOGIT.inverse(z).ravel()
+        pred = rigid_rows(np.tile(land, (len(r), 1)), np.repeat(r, n), np.full(n * len(r), 0.4))
+        res = (lift[None, :, :] - pred.reshape(len(r), n, 3)) / sd
+        logn = (-0.5 * (res ** 2).sum(-1) - np.log(sd).sum() - 1.5 * math.log(2 * math.pi)).reshape(
+            len(mr), len(ls), len(nodes), n)
+        top = logn.max(axis=2, keepdims=True)
+        return (top[:, :, 0] + np.log((np.exp(logn - top) * weights[:, None]).sum(axis=2))).sum(axis=-1)
+
+    loglike.grid = grid  # type: ignore[attr-defined]
     return loglike
 
 
@@ -286,7 +325,15 @@ def _approx_loglike(land, lift, sd, approximation):
     post = H._LogPosterior(bl.Rigid(r=0.5, mu=0.4), land, lift, free=["r"], vary=["r"], box={"r": (0.0, 1.0)},
                            landing_sd=None, liftoff_sd=np.tile(sd, (len(land), 1)), with_tau=False,
                            tau_prior=np.ones(3), approximation=approximation)
-    return lambda a, b: post.log_likelihood(np.array([a, math.exp(b)]))  # b: the scale's logarithm
+    def loglike(a: float, b: float) -> float:  # b: the scale's logarithm
+        return post.log_likelihood(np.array([a, math.exp(b)]))
+
+    def grid(mr: np.ndarray, ls: np.ndarray) -> np.ndarray:
+        a, b = np.meshgrid(mr, ls, indexing="ij")
+        return post.log_likelihoods(np.column_stack([a.ravel(), np.exp(b.ravel())])).reshape(len(mr), len(ls))
+
+    loglike.grid = grid  # type: ignore[attr-defined]
+    return loglike
 
 
 def test_marginal_likelihood_against_brute_force(small_case) -> None:
@@ -350,7 +397,7 @@ def test_posterior_summary_report_and_population(quick_posterior) -> None:
     d = post.diagnostics
     assert d["steps"] == 60 and d["burn"] == 20 and d["walkers"] == 20 and 0 < d["acceptance"] < 1
     assert len(d["autocorr"]) == len(d["rhat"]) == 9
-    assert d["approximation"] == "hermite (7 nodes)"
+    assert d["approximation"] in [f"hermite ({q} nodes, chosen at the mode)" for q in H.AUTO_NODES]
     scales = post.scales()
     assert list(scales.index) == ["r", "mu"]
     assert list(scales.columns) == [f"{k}{e}" for k in ("setting", "bounce", "new_spot") for e in ("", "_low", "_high")]
@@ -688,6 +735,7 @@ def test_noise_free_lift_off_where_the_data_separate_it(quick_posterior) -> None
     ({"vary": ["r"], "approximation": "exact"}, "approximation"),
     ({"vary": ["r"], "nodes": 4}, "nodes"),
     ({"vary": ["r"], "nodes": 1}, "nodes"),
+    ({"vary": ["r"], "nodes": 7.0}, "nodes"),
     ({"vary": ["r"], "by": "spot"}, "by"),
     ({"vary": ["r"], "by": "setting"}, "by"),  # these data have no launcher settings
     ({"vary": ["r"], "sample_weight": np.ones(40)}, "sample_weight"),

@@ -114,6 +114,7 @@ diagnostics then pool every walker of every chain over their common length.
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 import time
@@ -267,22 +268,7 @@ class _LogPosterior:
         if approximation not in APPROXIMATIONS:
             raise FitError(f"approximation must be one of {APPROXIMATIONS}; got {approximation!r}",
                            option="approximation")
-        self.approximation = approximation
-        # the points along each varying parameter's axis, in units of its total scale (of the step for "linear"),
-        # and for Hermite quadrature the matrix from the nodes' values to the scaled Hermite coefficients
-        q = {"hermite": nodes, "unscented": 3, "linear": 1}[approximation]
-        if approximation == "linear":
-            self._offsets, self._centre, self._hermite = np.ones(1), 0, np.empty((0, 0))
-        else:
-            z, wq = np.polynomial.hermite_e.hermegauss(q)
-            if approximation == "unscented":  # the unscented transform's points on one axis: +-sqrt(3)
-                z, wq = np.array([-math.sqrt(3.0), 0.0, math.sqrt(3.0)]), np.array([1.0, 4.0, 1.0]) / 6.0
-            wq = wq / wq.sum()
-            self._centre = q // 2
-            self._offsets = np.delete(z, self._centre)
-            basis = np.array([np.polynomial.hermite_e.hermeval(z, np.eye(q)[k]) / math.sqrt(math.factorial(k))
-                              for k in range(q)])
-            self._hermite = basis * wq[None, :]
+        self._rule(approximation, nodes)
         self.law = law
         p0 = np.ascontiguousarray(landing, dtype=np.float64)
         y = np.ascontiguousarray(liftoff, dtype=np.float64)
@@ -334,6 +320,31 @@ class _LogPosterior:
         self._row_seconds: list[float] = []  # the law's time per row, from calls on this thread
         self._land_cov: list[np.ndarray] | None = None
         self.fix_landing(None)
+
+    def _rule(self, approximation: str, nodes: int) -> None:
+        """The points along each varying parameter's axis, in units of its total scale (of the step for "linear"),
+        and for Hermite quadrature the matrix from the nodes' values to the scaled Hermite coefficients."""
+        self.approximation = approximation
+        self.nodes = {"hermite": int(nodes), "unscented": 3, "linear": 1}[approximation]
+        if approximation == "linear":
+            self._offsets, self._centre, self._hermite = np.ones(1), 0, np.empty((0, 0))
+            return
+        q = self.nodes
+        z, wq = np.polynomial.hermite_e.hermegauss(q)
+        if approximation == "unscented":  # the unscented transform's points on one axis: +-sqrt(3)
+            z, wq = np.array([-math.sqrt(3.0), 0.0, math.sqrt(3.0)]), np.array([1.0, 4.0, 1.0]) / 6.0
+        wq = wq / wq.sum()
+        self._centre = q // 2
+        self._offsets = np.delete(z, self._centre)
+        basis = np.array([np.polynomial.hermite_e.hermeval(z, np.eye(q)[k]) / math.sqrt(math.factorial(k))
+                          for k in range(q)])
+        self._hermite = basis * wq[None, :]
+
+    def with_nodes(self, nodes: int) -> _LogPosterior:
+        """The same log posterior with another number of Hermite nodes (a shallow copy: the data are shared)."""
+        other = copy.copy(self)
+        other._rule("hermite", nodes)
+        return other
 
     # -------------------------------------------------------------- layout
     @property
@@ -609,7 +620,7 @@ def calibrate(
     by: str | None = None,
     discrepancy: bool = True,
     approximation: str = "hermite",
-    nodes: int = 7,
+    nodes: int | None = None,
     walkers: int | None = None,
     steps: int | None = None,
     max_steps: int = 20_000,
@@ -651,8 +662,10 @@ def calibrate(
         ``"hermite"`` (default), ``"unscented"`` or ``"linear"``: how the per-bounce and per-setting
         parameters are marginalised (see the module documentation).
     nodes
-        Gauss-Hermite nodes per varying parameter of ``approximation="hermite"`` (odd, at least 3;
-        the law is called on ``1 + (nodes - 1) V`` points per bounce).
+        Gauss-Hermite nodes per varying parameter of ``approximation="hermite"`` (odd, from 3 to 21;
+        the law is called on ``1 + (nodes - 1) V`` points per bounce). None (default): chosen at the
+        mode, the fewest of 3, 5 and 7 that give the posterior's shape near the mode as 7 do (see
+        :data:`NODES_TOLERANCE`).
     walkers
         Walkers of the ensemble (default: two per sampled number plus two, at least 24; even).
     steps
@@ -714,8 +727,9 @@ def calibrate(
     if approximation not in APPROXIMATIONS:
         raise FitError(f"approximation must be one of {APPROXIMATIONS}; got {approximation!r}",
                        option="approximation")
-    if isinstance(nodes, bool) or not isinstance(nodes, int | np.integer) or nodes < 3 or nodes % 2 == 0 or nodes > 21:
-        raise FitError(f"nodes must be an odd whole number from 3 to 21; got {nodes!r}", option="nodes")
+    if nodes is not None and (isinstance(nodes, bool) or not isinstance(nodes, int | np.integer) or nodes < 3
+                              or nodes % 2 == 0 or nodes > 21):
+        raise FitError(f"nodes must be None or an odd whole number from 3 to 21; got {nodes!r}", option="nodes")
     p0, pf, setting = campaign_arrays(data)
     repeated = setting is not None and pd.Series(setting).value_counts().max() >= 2
     if by == "setting" and not repeated:
@@ -755,7 +769,8 @@ def calibrate(
     tau_prior = np.maximum(pf.std(axis=0), 1e-6)
     post = _LogPosterior(fitted, p0, pf, free=free, vary=vary, box=point.bounds, landing_sd=landing_sd,
                          liftoff_sd=liftoff_sd, with_tau=with_tau, tau_prior=tau_prior, approximation=approximation,
-                         nodes=int(nodes), groups=setting if two_levels else None)
+                         nodes=AUTO_NODES[-1] if nodes is None else int(nodes),
+                         groups=setting if two_levels else None)
     # start: the point fit, small scales, the fit's residual spread as discrepancy; then the mode
     resid = pf - fitted._evaluate(p0)
     x0 = np.r_[[getattr(fitted, n) for n in free], np.full(post._n_scales, 0.1),
@@ -770,6 +785,8 @@ def calibrate(
     walkers = max(24, 2 * ndim + 2) if walkers is None else check_count(walkers, "walkers", 2 * ndim + 2)
     walkers += walkers % 2
     spread, start_kind = _laplace(post, mode)
+    if approximation == "hermite" and nodes is None and post.vary:
+        post = _fewest_nodes(post, mode, spread, np.random.default_rng([seed, 1 << 20]))
     proposal = (mode, spread) if start_kind == "laplace" else None
     tasks = []
     for c in range(chains):
@@ -800,7 +817,8 @@ def calibrate(
                       "posterior", ConvergenceWarning, stacklevel=2)
         notes.append(f"NOT CONVERGED: {diagnostics['reason']}")
     diagnostics["start"] = start_kind
-    diagnostics["approximation"] = approximation + (f" ({int(nodes)} nodes)" if approximation == "hermite" else "")
+    diagnostics["approximation"] = approximation + (
+        f" ({post.nodes} nodes{', chosen at the mode' if nodes is None else ''})" if approximation == "hermite" else "")
     diagnostics["elapsed_s"] = time.perf_counter() - start_time
     measurement = {
         "landing_sd": None if post.landing_sd is None else np.median(landing_sd, axis=0).tolist(),
@@ -933,6 +951,33 @@ def _gradient_mode(post: _LogPosterior, x0: np.ndarray) -> np.ndarray | None:
         pass
     f, z = best[-1]
     return z if math.isfinite(f) and f < 1e300 else None
+
+
+#: The Hermite rules :func:`calibrate` chooses among with ``nodes=None`` (the last is the reference).
+AUTO_NODES = (3, 5, 7)
+#: A rule is taken when, at points drawn about the mode, the log posterior relative to the mode's differs from the
+#: reference's by at most this (a few tenths: the posterior's shape where the sampler goes is the same).
+NODES_TOLERANCE = 0.5
+
+
+def _fewest_nodes(post: _LogPosterior, mode: np.ndarray, spread: np.ndarray, rng: np.random.Generator
+                  ) -> _LogPosterior:
+    """The log posterior with the fewest nodes of :data:`AUTO_NODES` whose shape about the mode matches the reference
+    rule's: at 4 x (sampled numbers) points drawn from the normal approximation at the mode (inside the prior), the
+    log posterior minus its value at the mode is within :data:`NODES_TOLERANCE` of the reference's. A law smooth
+    on the scale of the spread needs few nodes; one with a kink there (slip to roll) keeps them all."""
+    points = _start(post, mode, spread, 4 * len(mode), rng)
+    X = np.vstack([mode, points])
+    reference = post.batch(X)
+    if not np.isfinite(reference).all():
+        return post
+    for q in AUTO_NODES[:-1]:
+        cheaper = post.with_nodes(q)
+        values = cheaper.batch(X)
+        if np.all(np.isfinite(values)) and np.max(np.abs((values - values[0]) - (reference - reference[0]))) \
+                <= NODES_TOLERANCE:
+            return cheaper
+    return post
 
 
 def _values(post: Any, points: Sequence[np.ndarray]) -> np.ndarray:

@@ -1,3 +1,4 @@
+import logging
 from concurrent.futures import ThreadPoolExecutor
 
 from distributed import Client, LocalCluster
@@ -22,7 +23,8 @@ if __name__ == "__main__":  # worker processes import this file: start the pools
     print("loky, identical to serial:", loky.samples.equals(serial.samples))
 
     # 3. dask: the Client's concurrent.futures face, or the Client itself; on a real cluster only the Client changes.
-    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster, Client(cluster) as client:
+    quiet = {"dashboard_address": ":0", "silence_logs": logging.CRITICAL}
+    with LocalCluster(n_workers=2, threads_per_worker=1, **quiet) as cluster, Client(cluster) as client:
         futures = bl.bootstrap(bl.PennerFixed, ds, n=40, seed=1, executor=client.get_executor())
         direct = bl.bootstrap(bl.PennerFixed, ds, n=40, seed=1, executor=client)
     print("dask client.get_executor(), identical to serial:", futures.samples.equals(serial.samples))
