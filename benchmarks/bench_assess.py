@@ -187,7 +187,7 @@ def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = Tr
     land = np.repeat(base, repeats, axis=0) + rng.normal(0.0, [15.0, 15.0, 30.0], (n, 3))
     z_r = np.repeat(S_R * rng.standard_normal(n_settings), repeats)
     z_mu = np.repeat(S_MU * rng.standard_normal(n_settings), repeats)
-    r = 1.0 / (1.0 + np.exp(-(np.log(R_MED / (1 - R_MED)) + z_r)))
+    r = 0.5 * (1.0 + np.tanh(0.5 * (np.log(R_MED / (1 - R_MED)) + z_r)))  # the logistic as calibrate writes it
     true = predict_per_bounce(bl.Rigid, land, np.column_stack([r, MU_MED * np.exp(z_mu)]))
     pis = {"landing_pi": np.tile(1.96 * np.array(SD_LAND), (n, 1)),
            "liftoff_pi": np.tile(1.96 * np.array(SD_LIFT), (n, 1))} if intervals else {}

@@ -1360,7 +1360,8 @@ class Posterior:
         lines = [f"[[Calibration]] {law_name(self.law)} on {self.n_bounces} bounces, hierarchical (emcee)",
                  f"    varying {levels}: " + (", ".join(
                      f"{v} ({self.transforms[v].describe()})" for v in self.vary) or "none"),
-                 f"    residual term: {self.residual}" + ("" if self.with_tau else " (none fitted)"),
+                 f"    residual term: {self.residual}" + ("" if self.with_tau else " (none fitted)")
+                 + (f"; marginalised by {d['approximation']}" if "approximation" in d else ""),
                  f"    sampler: {d['chains']} chain(s) x {d['walkers'] // d['chains']} walkers x {_span(d, 'steps')} "
                  f"steps, burn-in {_span(d, 'burn')}, {d['kept_steps']} kept per walker, acceptance "
                  f"{d['acceptance']:.2f}, {d['elapsed_s']:.1f} s",
