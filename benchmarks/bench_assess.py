@@ -1,15 +1,24 @@
-"""Time of ``bouncelab.assess`` and ``bouncelab.calibrate`` on a 693-bounce campaign, beside the plain fit.
+"""Time of ``bouncelab.assess`` and ``bouncelab.calibrate`` on a 693-bounce campaign, beside the plain fit; and the
+coverage of ``calibrate``'s default intervals on campaigns from a known process.
 
-Run: ``python benchmarks/bench_assess.py`` (about a minute without TurfContact's calibration; add
-``--turf`` for it, which takes about a quarter of an hour). Issue 24's targets, on 2 cores:
+Run: ``python benchmarks/bench_assess.py`` (a few minutes without TurfContact's calibration; add
+``--turf`` for it, issue 30's target 20 minutes; ``--quick`` for a short check that the script runs). Issue 24's
+targets, on 2 cores:
 
 * ``assess`` of a rigid-family law (default Rigid, with assess's default counts: 5 folds,
   100 bootstrap resamples, 4 global starts, profiles of 11 + 2 x 3 points per parameter) under 10 s;
 * ``calibrate`` of a rigid-family law (default Rigid, ``vary=["r", "mu"]``, run until converged)
   under 2 minutes;
 * ``calibrate`` of TurfContact (``vary=["mu", "lam"]``) under 20 minutes: one chain, its walkers
-  shared by the threads of the process (``--chains N`` with ``--workers`` runs N chains on the dask
-  workers instead; each chain still needs the full length, so that does not shorten the run).
+  evaluated in one batched law call whose rows the threads of the process share (``--chains N`` with
+  ``--workers`` runs N chains on the dask workers instead; each chain still needs the full length, so that
+  does not shorten the run).
+
+``--coverage`` measures issue 30's done-when instead: Rigid with r and mu drawn per launcher setting (the
+repeats of a setting share its spot; 100 settings x 6 repeats, both regimes, known measurement noise), with and
+without interval columns; ``calibrate(vary=["r", "mu"])`` with defaults; the error of the population medians and
+the share of fresh measured bounces on new spots (200 fresh settings x 6) inside the default 95 % intervals, per
+component, over the bounces and averaged over the fresh settings, and whether ``check()`` gives the same shares.
 
 Each row prints the time of the plain ``bouncelab.fit`` of the same law on the same data. The
 compiled kernels are loaded before any timing (one small fit). ``--workers N`` also times
@@ -48,6 +57,14 @@ def _timed(f, *args, **kwargs):
     return time.perf_counter() - t, out
 
 
+def _timed_cpu(f, *args, **kwargs):
+    """Wall time, this process's CPU time (all its threads) and the result: on a shared machine the CPU time says
+    what the work cost, the wall time what it took beside the other jobs."""
+    t, c = time.perf_counter(), time.process_time()
+    out = f(*args, **kwargs)
+    return time.perf_counter() - t, time.process_time() - c, out
+
+
 def _client(workers: int):
     from distributed import Client, LocalCluster
 
@@ -67,7 +84,17 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--turf-vary", nargs="+", default=["mu", "lam"], help="TurfContact parameters that vary")
     ap.add_argument("--chains", type=int, default=None,
                     help="TurfContact's chains (default 1; with --workers they run on the cluster)")
+    ap.add_argument("--coverage", action="store_true",
+                    help="measure the coverage of calibrate's default intervals on known campaigns instead")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1], help="campaign seeds of --coverage")
+    ap.add_argument("--settings", type=int, default=100, help="launcher settings of --coverage's campaigns")
+    ap.add_argument("--quick", action="store_true", help="small counts: a check that the script runs (CI)")
     args = ap.parse_args(argv)
+    if args.coverage:
+        return coverage(args.seeds, 10 if args.quick else args.settings, quick=args.quick)
+    quick = {"n_bootstrap": 40, "starts": 1, "profile_points": 3, "local_points": 0} if args.quick else {}
+    if args.quick:
+        args.turf = False
 
     ds = bl.load_campaign(args.campaign, surrogate=args.surrogate)
     n = ds.sizes["bounce"]
@@ -79,7 +106,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
     # assess
     fit_s, _ = _timed(bl.fit, args.assess_law, ds)
-    secs, result = _timed(bl.assess, args.assess_law, ds, seed=0)
+    secs, result = _timed(bl.assess, args.assess_law, ds, seed=0, **quick)
     rows.append({"task": f"assess {args.assess_law}", "s": secs, "fit_s": fit_s, "target_s": 10.0,
                  "note": ", ".join(f"{k}: {v}" for k, v in result.verdicts.items())})
     print(f"  assess {args.assess_law}: {secs:.1f} s (plain fit {fit_s:.3f} s)", flush=True)
@@ -87,8 +114,8 @@ def main(argv: list[str] | None = None) -> list[dict]:
     if args.workers:
         cluster, client = _client(args.workers)
         client.run(_warm_up, args.assess_law, args.campaign, args.surrogate)
-        bl.assess(args.assess_law, ds, n_bootstrap=4, starts=1, profile_points=3, local_points=0, client=client)
-        secs_c, remote = _timed(bl.assess, args.assess_law, ds, seed=0, client=client)
+        bl.assess(args.assess_law, ds, n_bootstrap=40, starts=1, profile_points=3, local_points=0, executor=client)
+        secs_c, remote = _timed(bl.assess, args.assess_law, ds, seed=0, executor=client, **quick)
         same = remote.parameters.equals(result.parameters) and remote.profiles.equals(result.profiles)
         rows.append({"task": f"assess {args.assess_law}, {args.workers} workers", "s": secs_c, "fit_s": fit_s,
                      "target_s": 10.0, "note": "same result as serial" if same else "DIFFERS from serial"})
@@ -98,11 +125,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
     fit_s, _ = _timed(bl.fit, args.calibrate_law, ds)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", bl.errors.BouncelabWarning)
-        secs, post = _timed(bl.calibrate, args.calibrate_law, ds, vary=["r", "mu"], seed=0)
+        secs, cpu, post = _timed_cpu(bl.calibrate, args.calibrate_law, ds, vary=["r", "mu"], seed=0,
+                                     **({"steps": 30} if args.quick else {}))
     unconverged = any(issubclass(w.category, ConvergenceWarning) for w in caught)
     d = post.diagnostics
     rows.append({"task": f"calibrate {args.calibrate_law} (vary r, mu)", "s": secs, "fit_s": fit_s, "target_s": 120.0,
-                 "note": f"{'converged' if post.converged and not unconverged else 'NOT converged'}; "
+                 "note": f"{'converged' if post.converged and not unconverged else 'NOT converged'}; CPU {cpu:.0f} s; "
                          f"{d['walkers']} walkers x {d['steps']} steps, acceptance {d['acceptance']:.2f}, "
                          f"max autocorrelation {max(d['autocorr']):.0f}, max R-hat {max(d['rhat']):.3f}"})
     print(f"  calibrate {args.calibrate_law}: {secs:.1f} s, {rows[-1]['note']}", flush=True)
@@ -113,14 +141,16 @@ def main(argv: list[str] | None = None) -> list[dict]:
         chains = args.chains or 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", bl.errors.BouncelabWarning)
-            secs, post = _timed(bl.calibrate, bl.TurfContact, ds, vary=args.turf_vary, seed=0, chains=chains,
-                                client=client if args.chains else None)
+            load_before = _load()
+            secs, cpu, post = _timed_cpu(bl.calibrate, bl.TurfContact, ds, vary=args.turf_vary, seed=0, chains=chains,
+                                         executor=client if args.chains else None)
         d = post.diagnostics
         where = f"{chains} chain(s)" + (f" on {args.workers} workers" if client is not None and args.chains
-                                         else f", walkers on {bl.laws.num_threads()} threads")
+                                         else f", batched walkers on {bl.laws.num_threads()} threads")
         rows.append({"task": f"calibrate TurfContact (vary {', '.join(args.turf_vary)})", "s": secs, "fit_s": fit_s,
                      "target_s": 1200.0,
                      "note": f"{'converged' if post.converged else 'NOT converged: ' + d['reason']}; {where}; "
+                         f"CPU {cpu:.0f} s; load average {load_before} before, {_load()} after; "
                              f"{d['walkers']} walkers x {d['steps']} steps, acceptance {d['acceptance']:.2f}, "
                              f"max autocorrelation {max(d['autocorr']):.0f}, max R-hat {max(d['rhat']):.3f}"})
         print(f"  calibrate TurfContact: {secs:.0f} s, {rows[-1]['note']}", flush=True)
@@ -134,6 +164,91 @@ def main(argv: list[str] | None = None) -> list[dict]:
     for r in rows:
         met = "yes" if r["s"] <= r["target_s"] else "NO"
         print(f"| {r['task']} | {r['s']:.1f} | {r['target_s']:.0f} | {met} | {r['fit_s']:.3f} | {r['note']} |")
+    return rows
+
+
+# ------------------------------------------------------------------------------ coverage on a known process
+R_MED, MU_MED, S_R, S_MU = 0.5, 0.4, 0.25, 0.3
+SD_LAND, SD_LIFT = (4.0, 4.0, 15.0), (5.0, 5.0, 20.0)
+
+
+def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = True):
+    """Rigid with r (logit-normal: median 0.5, scale 0.25) and mu (log-normal: 0.4, 0.3) drawn per launcher setting,
+    the repeats of a setting on its spot, landings scattered about the setting's (both regimes), measured with known
+    normal errors (stated as 95 % intervals when ``intervals``); settings labelled by seed (fresh ones are new)."""
+    import numpy as np
+
+    from bouncelab.laws import predict_per_bounce
+
+    rng = np.random.default_rng(seed)
+    base = np.column_stack([rng.uniform(300, 1200, n_settings), rng.uniform(-700, -200, n_settings),
+                            rng.uniform(-300, 600, n_settings)])
+    n = n_settings * repeats
+    land = np.repeat(base, repeats, axis=0) + rng.normal(0.0, [15.0, 15.0, 30.0], (n, 3))
+    z_r = np.repeat(S_R * rng.standard_normal(n_settings), repeats)
+    z_mu = np.repeat(S_MU * rng.standard_normal(n_settings), repeats)
+    r = 0.5 * (1.0 + np.tanh(0.5 * (np.log(R_MED / (1 - R_MED)) + z_r)))  # the logistic as calibrate writes it
+    true = predict_per_bounce(bl.Rigid, land, np.column_stack([r, MU_MED * np.exp(z_mu)]))
+    pis = {"landing_pi": np.tile(1.96 * np.array(SD_LAND), (n, 1)),
+           "liftoff_pi": np.tile(1.96 * np.array(SD_LIFT), (n, 1))} if intervals else {}
+    return bl.make_campaign(land + np.array(SD_LAND) * rng.standard_normal((n, 3)),
+                            true + np.array(SD_LIFT) * rng.standard_normal((n, 3)),
+                            setting=np.repeat(np.arange(n_settings) + 10_000 * seed, repeats), **pis)
+
+
+def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]:
+    import numpy as np
+    import pandas as pd
+
+    print(f"calibrate(Rigid, vary=['r', 'mu']) with defaults on {settings} settings x 6 repeats per seed; fresh: "
+          f"{2 * settings} new settings x 6; load average before: {_load()}", flush=True)
+    rows = []
+    for intervals in (True, False):
+        for seed in seeds:
+            data = spot_campaign(settings, 6, seed, intervals)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", bl.errors.BouncelabWarning)
+                secs, post = _timed(bl.calibrate, bl.Rigid, data, vary=["r", "mu"], seed=0,
+                                    **({"steps": 30} if quick else {}))
+            fresh = spot_campaign(2 * settings, 6, seed + 1000, intervals)
+            lo, hi = post.interval(fresh.landing.values)
+            pf = fresh.liftoff.values
+            inside = (pf >= lo) & (pf <= hi)
+            by_setting = pd.DataFrame(inside).groupby(fresh.setting.values).mean()
+            check = post.check(fresh).loc["all", ["xdot", "ydot", "omega"]].to_numpy(dtype=float)
+            med = post.samples.median()
+            sc = post.scales()
+            converged = post.converged and not any(issubclass(w.category, ConvergenceWarning) for w in caught)
+            row = {"intervals": "yes" if intervals else "no", "seed": seed, "s": secs,
+                   "converged": "yes" if converged else "NO",
+                   "r_err_pct": 100 * (med["r"] / R_MED - 1), "mu_err_pct": 100 * (med["mu"] / MU_MED - 1),
+                   "cover": inside.mean(axis=0), "cover_by_setting": by_setting.mean().to_numpy(),
+                   # settings whose repeats are all inside, per component (the repeats share a spot: a setting's
+                   # bounces miss together when its spot is an unusual one)
+                   "settings_all_inside": (by_setting == 1.0).mean().to_numpy(),
+                   "settings_most_outside": (by_setting < 0.5).mean().to_numpy(),
+                   "check_same": bool(np.array_equal(check, inside.mean(axis=0))),
+                   "scales": {v: (sc.loc[v, "new_spot"], sc.loc[v, "new_spot_low"], sc.loc[v, "new_spot_high"])
+                              for v in ("r", "mu")}}
+            rows.append(row)
+            print(f"  intervals={row['intervals']} seed {seed}: {secs:.0f} s, converged {row['converged']}; r "
+                  f"{row['r_err_pct']:+.1f} %, mu {row['mu_err_pct']:+.1f} %; coverage {np.round(row['cover'], 3)}, "
+                  f"by setting {np.round(row['cover_by_setting'], 3)} (settings all inside "
+                  f"{np.round(row['settings_all_inside'], 3)}, most outside "
+                  f"{np.round(row['settings_most_outside'], 3)}); check() same: {row['check_same']}", flush=True)
+    print(f"\nload average after: {_load()}")
+    print("| intervals | seed | r error | mu error | coverage xdot, ydot, omega (by bounce) | by setting (mean) | "
+          "settings with all repeats inside | settings with most outside | check() same | new-spot scale r (95 %) | "
+          "mu | time, s | converged |")
+    print("|---|---:|---:|---:|---|---|---|---|---|---|---|---:|---|")
+    for r in rows:
+        sr, sm = r["scales"]["r"], r["scales"]["mu"]
+        print(f"| {r['intervals']} | {r['seed']} | {r['r_err_pct']:+.1f} % | {r['mu_err_pct']:+.1f} % | "
+              f"{', '.join(f'{v:.3f}' for v in r['cover'])} | {', '.join(f'{v:.3f}' for v in r['cover_by_setting'])} | "
+              f"{', '.join(f'{v:.2f}' for v in r['settings_all_inside'])} | "
+              f"{', '.join(f'{v:.2f}' for v in r['settings_most_outside'])} | {'yes' if r['check_same'] else 'NO'} | "
+              f"{sr[0]:.3f} [{sr[1]:.3f}, {sr[2]:.3f}] (true {S_R}) | "
+              f"{sm[0]:.3f} [{sm[1]:.3f}, {sm[2]:.3f}] (true {S_MU}) | {r['s']:.0f} | {r['converged']} |")
     return rows
 
 

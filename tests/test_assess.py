@@ -3,14 +3,19 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
 
 import bouncelab as bl
 from bouncelab.core.errors import FitError
-from bouncelab.fitting.assessment import VERDICTS, Assessment, assess
+from bouncelab.fitting.assessment import VERDICTS, Assessment, SmallBootstrapWarning, assess, min_bootstrap
 from bouncelab.laws import BounceModel, Parameter
+
+# small bootstrap counts keep these tests quick; test_too_few_resamples_for_the_level_warn checks the warning
+pytestmark = pytest.mark.filterwarnings("ignore::bouncelab.fitting.assessment.SmallBootstrapWarning")
 
 _RIGID = bl.Rigid(r=0.5, mu=0.5)
 
@@ -226,18 +231,70 @@ def test_bad_options_are_refused(rigid_data, kwargs) -> None:
     assert e.value.option == next(iter(kwargs))
 
 
-# ------------------------------------------------------------------------------ on a dask client
-def test_assess_on_client_equals_serial(rigid_data) -> None:
+# ------------------------------------------------------------------------------ on an executor
+_EXECUTOR_KWARGS = {"n_bootstrap": 8, "starts": 3, "profile_points": 5, "seed": 4}
+
+
+@pytest.fixture(scope="module")
+def serial_assessment(rigid_data) -> Assessment:
+    return assess(bl.Rigid, rigid_data, **_EXECUTOR_KWARGS)
+
+
+def _same(a: Assessment, b: Assessment) -> None:
+    for name in ("parameters", "profiles", "starts", "scores", "correlation"):
+        pd.testing.assert_frame_equal(getattr(a, name), getattr(b, name), check_exact=True)
+    pd.testing.assert_frame_equal(a.bootstrap.samples, b.bootstrap.samples, check_exact=True)
+
+
+def test_assess_on_a_thread_pool_equals_serial(rigid_data, serial_assessment) -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        _same(assess(bl.Rigid, rigid_data, executor=pool, **_EXECUTOR_KWARGS), serial_assessment)
+    other = assess(bl.Rigid, rigid_data, **{**_EXECUTOR_KWARGS, "seed": 5})
+    assert not other.starts.equals(serial_assessment.starts)  # the seed matters: the comparison above could fail
+
+
+def test_client_is_a_deprecated_alias_of_executor(rigid_data, serial_assessment) -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        with pytest.warns(DeprecationWarning, match=r"assess\(client=...\) is deprecated"):
+            _same(assess(bl.Rigid, rigid_data, client=pool, **_EXECUTOR_KWARGS), serial_assessment)
+        with ThreadPoolExecutor(max_workers=1) as other, pytest.warns(DeprecationWarning), \
+                pytest.raises(FitError) as e:
+            assess(bl.Rigid, rigid_data, executor=pool, client=other, **_EXECUTOR_KWARGS)
+        assert e.value.option == "client"
+
+
+def test_assess_on_dask_equals_serial(rigid_data, serial_assessment) -> None:
+    """A dask Client itself and its concurrent.futures face (client.get_executor()) both give the serial result."""
     distributed = pytest.importorskip("distributed", reason="dask.distributed is not installed")
-    kwargs = {"n_bootstrap": 8, "starts": 3, "profile_points": 5, "seed": 4}
-    serial = assess(bl.Rigid, rigid_data, **kwargs)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cl, \
             distributed.Client(cl) as client:
-        remote = assess(bl.Rigid, rigid_data, client=client, **kwargs)
-    for name in ("parameters", "profiles", "starts", "scores", "correlation"):
-        pd.testing.assert_frame_equal(getattr(remote, name), getattr(serial, name), check_exact=True)
-    other = assess(bl.Rigid, rigid_data, **{**kwargs, "seed": 5})
-    assert not other.starts.equals(serial.starts)  # the seed matters: the comparison above could fail
+        _same(assess(bl.Rigid, rigid_data, executor=client, **_EXECUTOR_KWARGS), serial_assessment)
+        _same(assess(bl.Rigid, rigid_data, executor=client.get_executor(), **_EXECUTOR_KWARGS), serial_assessment)
+
+
+def test_too_few_resamples_for_the_level_warn(rigid_data) -> None:
+    """assess(n_bootstrap=2) reported a 95 % interval excluding its own estimate without a word: fewer resamples than
+    put one in each tail of the interval (2 / (1 - level)) now warn, and the notes say so."""
+    assert [min_bootstrap(x) for x in (0.95, 0.9, 0.5, 0.99)] == [40, 20, 4, 200]
+    kwargs = {"starts": 0, "profile_points": 3, "local_points": 0, "seed": 1}
+    with pytest.warns(SmallBootstrapWarning, match="2 bootstrap resamples are too few for 95 % intervals") as rec:
+        result = assess(bl.Rigid, rigid_data, n_bootstrap=2, **kwargs)
+    assert len([w for w in rec if issubclass(w.category, SmallBootstrapWarning)]) == 1
+    assert any("too few for 95 % intervals" in note for note in result.notes)
+    assert "too few" in str(result)
+    table = result.parameters
+    excluded = ~((table["ci_low"] <= table["estimate"]) & (table["estimate"] <= table["ci_high"]))
+    assert excluded.any()  # what the warning is about: here the "interval" misses the estimate
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", SmallBootstrapWarning)
+        assess(bl.Rigid, rigid_data, n_bootstrap=4, level=0.5, **kwargs)  # enough for a 50 % interval: silent
+        assess(bl.Rigid, rigid_data, n_bootstrap=0, **kwargs)  # no bootstrap, no interval: silent
+    with pytest.warns(SmallBootstrapWarning):
+        assess(bl.Rigid, rigid_data, n_bootstrap=39, **kwargs)
 
 
 def test_prediction_interval_weighted_objective() -> None:

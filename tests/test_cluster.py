@@ -134,3 +134,13 @@ def test_process_cluster_equals_serial(campaign) -> None:
         serial = bl.bootstrap(bl.PennerVarying, campaign, n=8, seed=1)
         remote = bl.bootstrap(bl.PennerVarying, campaign, n=8, seed=1, executor=c)
     pd.testing.assert_frame_equal(remote.samples, serial.samples, check_exact=True)
+
+
+def test_client_executor_face_equals_serial(client, campaign) -> None:
+    """dask's concurrent.futures face (client.get_executor()) is an executor like any other: the serial numbers."""
+    serial = bl.bootstrap(bl.PennerFixed, campaign, n=6, seed=11)
+    remote = bl.bootstrap(bl.PennerFixed, campaign, n=6, seed=11, executor=client.get_executor())
+    pd.testing.assert_frame_equal(remote.samples, serial.samples, check_exact=True)
+    cv = bl.cross_validate(bl.Rigid, campaign, k=3, seed=2, executor=client.get_executor())
+    pd.testing.assert_frame_equal(cv.folds, bl.cross_validate(bl.Rigid, campaign, k=3, seed=2).folds,
+                                  check_exact=True)

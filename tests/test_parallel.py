@@ -216,30 +216,32 @@ def test_read_only_install_run_by_another_user(tmp_path):
         float(bl.PennerVarying.published("A").predict([[900.0, -700.0, 150.0]])[0, 0]), rel=1e-15)
 
 
-def test_thread_map_keeps_order_and_runs_inner_loops_serially(threads):
-    """ThreadMap (calibrate's emcee pool): results in the items' order, equal to a plain map for any thread count;
-    a large prediction inside an item runs serially (no nested sharing) and gives the same bits."""
+def test_run_rows_from_few_rows_keeps_order_and_runs_inner_loops_serially(threads):
+    """run_rows with a low min_rows (calibrate's batched law calls, whose rows may each cost an integration):
+    every part in order, the same bits for any number of threads; a prediction inside a part, on a pool thread or
+    on the calling thread, runs serially (no nested sharing); the calling thread is released afterwards."""
     from bouncelab.core import _parallel
-    from bouncelab.core._parallel import ThreadMap
+    from bouncelab.core._parallel import run_rows
 
     law = bl.PennerVarying.published("A")
     rng = np.random.default_rng(3)
-    arrays = [np.abs(rng.normal(500.0, 300.0, (n, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
-              for n in (5, PARALLEL_MIN + 7, 1, 300, 40)]
-    expected = [law.predict(a, plausible=None) for a in arrays]
-    seen_in_pool = []
-
-    def item(a: np.ndarray) -> np.ndarray:
-        seen_in_pool.append(getattr(_parallel._local, "in_pool", False))
-        return law.predict(a, plausible=None)
-
+    p = np.abs(rng.normal(500.0, 300.0, (PARALLEL_MIN + 700, 3))) * np.array([1.0, -1.0, 1.0]) + [0.0, -1.0, 0.0]
+    expected = law.predict(p, plausible=None)
     for n_threads in (1, 2, 3):
         threads(n_threads)
-        seen_in_pool.clear()
-        got = ThreadMap().map(item, iter(arrays))
-        assert len(got) == len(arrays)
-        for g, e in zip(got, expected, strict=True):
-            np.testing.assert_array_equal(g, e)
-        assert all(seen_in_pool) == (n_threads > 1)
-    assert ThreadMap().map(item, []) == []
-    assert not getattr(_parallel._local, "in_pool", False)  # the calling thread is released afterwards
+        out = np.empty_like(p)
+        seen: list[bool] = []
+
+        def part(out: np.ndarray, seen: list[bool], start: int, stop: int) -> tuple[int, int]:
+            seen.append(getattr(_parallel._local, "in_pool", False))
+            out[start:stop] = law.predict(p[start:stop], plausible=None)  # a large part shares unless inside one
+            return start, stop
+
+        parts = run_rows(part, len(p), out, seen, min_rows=512, min_part=len(p) // 3)
+        np.testing.assert_array_equal(out, expected)
+        assert [a for a, _ in parts] == sorted(a for a, _ in parts) and parts[0][0] == 0 and parts[-1][1] == len(p)
+        assert len(parts) == (1 if n_threads == 1 else 4)  # parts of len(p) // 3 rows, the last one short
+        assert all(seen) == (n_threads > 1)
+        assert not getattr(_parallel._local, "in_pool", False)
+    threads(2)
+    assert run_rows(lambda a, b: (a, b), 300, min_rows=512) == [(0, 300)]  # below min_rows: one serial call

@@ -321,3 +321,71 @@ def test_held_out_errors_is_what_compare_and_assess_report():
     assert cmp.heldout["Rigid"].scores == alone.scores
     pair = held_out_errors(bl.Rigid, (data.landing.values[:60], data.liftoff.values[:60]), k=4, seed=0)
     assert pair.split == "bounce" and pair.scores["n"] == 60
+
+
+# ------------------------------------------------------------------------------ one parallel interface: executor=
+def _thread_pool():
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(max_workers=2)
+
+
+def test_compare_bootstrap_and_cross_validate_on_a_thread_pool_equal_serial(campaign_b):
+    """Issue 31: executor= takes any concurrent.futures.Executor; the results are the serial ones, bit for bit."""
+    data = campaign_b.isel(bounce=slice(0, 300))
+    with _thread_pool() as pool:
+        laws = ["Rigid", "PennerFixed"]
+        pd.testing.assert_frame_equal(bl.compare(data, laws, seed=5, executor=pool).table,
+                                      bl.compare(data, laws, seed=5).table, check_exact=True)
+        serial = bl.bootstrap(bl.PennerFixed, data, n=6, seed=11)
+        pooled = bl.bootstrap(bl.PennerFixed, data, n=6, seed=11, executor=pool)
+        pd.testing.assert_frame_equal(pooled.samples, serial.samples, check_exact=True)
+        assert not bl.bootstrap(bl.PennerFixed, data, n=6, seed=12, executor=pool).samples.equals(serial.samples)
+        pd.testing.assert_frame_equal(bl.cross_validate(bl.Rigid, data, k=3, seed=2, executor=pool).folds,
+                                      bl.cross_validate(bl.Rigid, data, k=3, seed=2).folds, check_exact=True)
+
+
+def test_map_tasks_batches_on_an_executor_and_keeps_the_order():
+    """map_tasks sends an Executor a few batches per worker (submit) and returns the results in task order; any
+    object with map() works too; anything else is refused."""
+    from concurrent.futures import Executor
+
+    from bouncelab.fitting.tasks import BATCHES_PER_WORKER, map_tasks
+
+    class CountingExecutor(Executor):
+        def __init__(self):
+            self._inner = _thread_pool()
+            self._max_workers = 2
+            self.submitted = 0
+
+        def submit(self, fn, /, *args, **kwargs):
+            self.submitted += 1
+            return self._inner.submit(fn, *args, **kwargs)
+
+        def shutdown(self, wait=True, **kwargs):
+            self._inner.shutdown(wait=wait)
+
+    with CountingExecutor() as ex:
+        out = map_tasks(abs, range(-50, 50), ex)
+    assert out == [abs(i) for i in range(-50, 50)]
+    assert ex.submitted == 2 * BATCHES_PER_WORKER  # 100 tasks in 8 batches of 13 (the last short)
+    assert map_tasks(abs, [], ex) == []
+
+    class Mapper:  # multiprocessing.Pool-like
+        def map(self, fn, items):
+            return [fn(i) for i in items]
+
+    assert map_tasks(abs, [-1, 2, -3], Mapper()) == [1, 2, 3]
+    with pytest.raises(FitError) as e:
+        map_tasks(abs, [1], object())
+    assert e.value.option == "executor"
+
+
+@pytest.mark.slow  # worker processes start and compile the laws: 10-30 s
+def test_loky_reusable_executor_equals_serial(campaign_b):
+    """loky's reusable executor (joblib's, processes): the same bootstrap as serially."""
+    loky = pytest.importorskip("joblib.externals.loky", reason="joblib is not installed")
+    data = campaign_b.isel(bounce=slice(0, 200))
+    serial = bl.bootstrap(bl.Rigid, data, n=6, seed=3)
+    pooled = bl.bootstrap(bl.Rigid, data, n=6, seed=3, executor=loky.get_reusable_executor(max_workers=2))
+    pd.testing.assert_frame_equal(pooled.samples, serial.samples, check_exact=True)

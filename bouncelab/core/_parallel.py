@@ -1,12 +1,16 @@
 """A small thread pool for compiled loops that release the GIL: fork-, spawn- and thread-safe.
 
-Prediction of large arrays and the error sums of large fits are cut into parts
-and run by serial ``nogil`` numba loops on a :class:`~concurrent.futures.ThreadPoolExecutor`
-(no OpenMP or TBB runtime). A forked child starts with a fresh pool; a loop
-called from inside the pool runs serially (no nested waiting). The number of
-threads is the number of CPUs this process may use, or the environment
-variable ``BOUNCELAB_NUM_THREADS``, or :func:`set_num_threads`; results never
-depend on it.
+One primitive shares work between threads: :func:`run_rows` (rows whose results are independent, such
+as predictions) and :func:`run_chunked` (partial sums, cut at fixed multiples of :data:`CHUNK`). Prediction
+of large arrays, the error sums of large fits and the batched log posteriors of :func:`bouncelab.calibrate`
+are cut into parts and run by serial ``nogil`` loops on a :class:`~concurrent.futures.ThreadPoolExecutor`
+(no OpenMP or TBB runtime). A forked child starts with a fresh pool; a loop called from inside a shared
+part, on a pool thread or on the calling thread, runs serially (no nested waiting). The number of threads
+is the number of CPUs this process may use, or the environment variable ``BOUNCELAB_NUM_THREADS``, or
+:func:`set_num_threads`; results never depend on it.
+
+This pool is for the loops inside one computation. Independent tasks (fits of resamples, folds, chains)
+go to a user's :class:`concurrent.futures.Executor` through :func:`bouncelab.fitting.map_tasks`.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-__all__ = ["CHUNK", "PARALLEL_MIN", "ThreadMap", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
+__all__ = ["CHUNK", "PARALLEL_MIN", "num_threads", "run_chunked", "run_rows", "set_num_threads"]
 
 #: Rows per chunk of a loop whose partial results are combined (sums): every call of at least
 #: :data:`PARALLEL_MIN` rows is cut at multiples of it, serial or threaded, so sums do not depend on threads.
@@ -120,48 +124,29 @@ def _share(fn: Callable, args: tuple, cuts: list[int], results: list | None) -> 
     pool = _get_pool() if threads > 1 else None
     futures = [pool.submit(_in_worker, work) for _ in range(threads - 1)] if pool is not None else []
     try:
-        work()
+        _in_worker(work)  # the calling thread shares the parts: loops inside them run serially there too
     finally:
         for f in futures:
             f.result()
 
 
-def run_rows(fn: Callable, n: int, *args: Any) -> list[Any]:
+def run_rows(fn: Callable, n: int, *args: Any, min_rows: int = PARALLEL_MIN, min_part: int = CHUNK // 2
+             ) -> list[Any]:
     """Call ``fn(*args, start, stop)`` over ``[0, n)`` for a loop whose rows are independent (prediction).
 
-    From :data:`PARALLEL_MIN` rows the range is cut into parts of at least ``CHUNK / 2`` rows, shared
-    by the calling thread and the pool; where the cuts fall cannot change any row's result. Returns
-    the parts' results (e.g. whether their rows were valid).
+    From ``min_rows`` rows (default :data:`PARALLEL_MIN`, right for loops of a microsecond a row; an
+    expensive row, such as an integrated contact, pays for threads far sooner) the range is cut into
+    parts of at least ``min_part`` rows, shared by the calling thread and the pool; where the cuts fall
+    cannot change any row's result. Returns the parts' results in order (e.g. whether their rows were valid).
     """
     threads = num_threads()
-    if n < PARALLEL_MIN or threads == 1 or getattr(_local, "in_pool", False):
+    if n < max(min_rows, 2) or threads == 1 or getattr(_local, "in_pool", False):
         return [fn(*args, 0, n)]
-    size = max(CHUNK // 2, n // (16 * threads))
+    size = max(1, min_part, n // (16 * threads))
     cuts = [*range(0, n, size), n]
     results: list[Any] = [None] * (len(cuts) - 1)
     _share(fn, args, cuts, results)
     return results
-
-
-class ThreadMap:
-    """An object with ``map(fn, items)`` that shares the items between the calling thread and the pool.
-
-    For work that spends its time in compiled loops releasing the GIL, one item each (e.g. the
-    walkers of an ``emcee`` ensemble, its ``pool=``). Results come back in the items' order and
-    do not depend on the number of threads; loops called inside run serially (no nested sharing).
-    """
-
-    def map(self, fn: Callable, items: Any) -> list[Any]:
-        items = list(items)
-        if num_threads() == 1 or len(items) < 2 or getattr(_local, "in_pool", False):
-            return [fn(item) for item in items]
-        results: list[Any] = [None] * len(items)
-        _local.in_pool = True  # the calling thread shares the work: its own loops run serially too
-        try:
-            _share(lambda k, _next: fn(items[k]), (), list(range(len(items) + 1)), results)  # one item a part
-        finally:
-            _local.in_pool = False
-        return results
 
 
 def run_chunked(fn: Callable, n: int, *args: Any) -> list[Any]:

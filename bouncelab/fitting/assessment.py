@@ -56,12 +56,18 @@ Cost
 A full fit, ``k`` fold fits, ``n_bootstrap`` bootstrap refits, ``starts`` global fits and
 ``profile_points + 2 local_points`` fits per free number. The defaults (5, 100, 4, 11 + 2 x 3) take a few seconds
 for a law of the rigid family on a campaign of 700 bounces; every count is a keyword.
-The refits run on ``client`` (a :class:`dask.distributed.Client` or any executor of
+The refits run on ``executor`` (any :class:`concurrent.futures.Executor`, a dask ``Client``: see
 :func:`~bouncelab.fitting.tasks.map_tasks`) with exactly the serial results.
+
+The bootstrap's percentile interval at ``level`` needs at least one resample in each tail:
+``n_bootstrap`` below :math:`2 / (1 - \text{level})` (40 at the default 95 %) gives an interval
+that is just the range of a few refits, which can exclude the estimate itself; :func:`assess`
+then warns (:class:`SmallBootstrapWarning`) and says so in its notes.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -70,7 +76,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from bouncelab.core.errors import FitError
+from bouncelab.core.errors import BouncelabWarning, FitError
 from bouncelab.data.campaign import make_campaign, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import (
@@ -86,14 +92,15 @@ from bouncelab.fitting.objective import bounce_weights, objective_weighting, obj
 from bouncelab.fitting.problem import resolve_fixed
 from bouncelab.fitting.result import FitResult, _indent
 from bouncelab.fitting.splits import CrossValidation, cross_validate
-from bouncelab.fitting.tasks import map_tasks
+from bouncelab.fitting.tasks import map_tasks, resolve_executor
 from bouncelab.fitting.uncertainty import Bootstrap, bootstrap
 from bouncelab.fitting.vector import ParameterVector
 from bouncelab.laws.base import BounceModel
 from bouncelab.laws.registry import law_name
 from bouncelab.metrics import ERROR_COLUMNS, error_terms
 
-__all__ = ["START_ALGORITHMS", "VERDICTS", "Assessment", "HeldOut", "assess", "held_out_errors"]
+__all__ = ["START_ALGORITHMS", "VERDICTS", "Assessment", "HeldOut", "SmallBootstrapWarning", "assess",
+           "held_out_errors", "min_bootstrap"]
 
 #: The verdicts of :func:`assess`, from best to worst (see the module documentation).
 VERDICTS = ("identifiable", "weakly identifiable", "not identifiable")
@@ -106,6 +113,16 @@ _FIT_KEYS = ("objective", "bounds", "fixed", "free", "plausible")
 
 #: A parameter takes part in a near-null Jacobian direction when its component there is at least this.
 _NULL_PART = 0.2
+
+
+class SmallBootstrapWarning(BouncelabWarning):
+    """Too few bootstrap resamples for the level of the interval reported (see :func:`min_bootstrap`)."""
+
+
+def min_bootstrap(level: float) -> int:
+    """The fewest resamples whose percentile interval at ``level`` has a resample in each tail: ``2 / (1 - level)``
+    rounded up (40 at 95 %). Fewer make the interval the range of a few refits, which can exclude the estimate."""
+    return int(np.ceil(2.0 / (1.0 - level) - 1e-9))
 
 
 @dataclass
@@ -300,6 +317,7 @@ def assess(
     level: float = 0.95,
     seed: int = 0,
     method: str | None = None,
+    executor: Any = None,
     client: Any = None,
     correlation: float = 0.9,
     null_tol: float = 1e-3,
@@ -323,7 +341,8 @@ def assess(
     k
         Folds of the cross-validation (at most the number of settings, or bounces).
     n_bootstrap
-        Bootstrap resamples (0 skips the bootstrap: no intervals, no correlations).
+        Bootstrap resamples (0 skips the bootstrap: no intervals, no correlations; fewer than
+        :func:`min_bootstrap` at ``level``, 40 at 95 %, warn).
     starts
         Independent global fits from random start points in the search box, by the
         algorithms of :data:`START_ALGORITHMS` in turn, each with its own seed (0 skips them).
@@ -342,9 +361,12 @@ def assess(
         Fitting method of the full fit, the folds and the bootstrap (default: the law's).
         The starts and the profiles use the generic ``"global"`` method, which can hold any
         parameter; options of ``method`` in ``fit_kwargs`` reach them only when it is ``"global"``.
+    executor
+        Where to run the refits: any :class:`concurrent.futures.Executor` (a ``ThreadPoolExecutor``,
+        loky's reusable executor, dask's ``client.get_executor()``), a dask ``Client``, or None
+        (serially); see :func:`~bouncelab.fitting.tasks.map_tasks`. The result is the same.
     client
-        Where to run the refits: a :class:`dask.distributed.Client`, any executor accepted by
-        :func:`~bouncelab.fitting.tasks.map_tasks`, or None (serially). The result is the same.
+        Deprecated alias of ``executor`` (a :class:`DeprecationWarning`); it will be removed.
     correlation
         Bootstrap correlation (absolute) from which two parameters are named correlated.
     null_tol
@@ -366,12 +388,18 @@ def assess(
         Bad counts or thresholds, ``sample_weight`` (folds and resamples could not carry it),
         too few settings or bounces for ``k`` folds, anything :func:`bouncelab.fit` refuses.
 
+    Warns
+    -----
+    SmallBootstrapWarning
+        ``n_bootstrap`` too few for intervals at ``level`` (fewer than :func:`min_bootstrap`).
+
     Examples
     --------
     >>> import bouncelab as bl
     >>> result = bl.assess(bl.Rigid, bl.load_campaign("B"))  # doctest: +SKIP
     >>> result.parameters["verdict"]                           # doctest: +SKIP
     """
+    executor = resolve_executor(executor, client, "assess")
     law = law_instance(model)
     refuse_sample_weight(fit_kwargs, "assess")
     seed = check_seed(seed)
@@ -383,6 +411,13 @@ def assess(
     profile_points = check_count(profile_points, "profile_points", minimum=3)
     local_points = check_count(local_points, "local_points", minimum=0)
     level = check_fraction(level, "level")
+    small_bootstrap = None
+    if 0 < n_bootstrap < min_bootstrap(level):
+        small_bootstrap = (f"{n_bootstrap} bootstrap resamples are too few for {100 * level:g} % intervals (at least "
+                           f"{min_bootstrap(level)} put a resample in each tail): the intervals are the range of a few "
+                           "refits and can exclude the estimate; use n_bootstrap >= "
+                           f"{min_bootstrap(level)}, or a lower level")
+        warnings.warn(f"assess: {small_bootstrap}", SmallBootstrapWarning, stacklevel=2)
     correlation = check_fraction(correlation, "correlation")
     null_tol = _positive(null_tol, "null_tol")
     tol = _positive(tol, "tol", zero=True)
@@ -410,13 +445,13 @@ def assess(
     later_level = {**fit_level, "plausible": None}
 
     # 2. held-out errors by grouped folds
-    held_out = _held_out(law, cv_data, k=k, seed=seed, executor=client, split=split, method=method, **later)
+    held_out = _held_out(law, cv_data, k=k, seed=seed, executor=executor, split=split, method=method, **later)
     cv = held_out.cross_validation
     # 3. the bootstrap
     boot = None
     if n_bootstrap:
         boot = bootstrap(law, cv_data if with_pis else (p0, pf, groups), n=n_bootstrap, by="setting", level=level,
-                         seed=seed, executor=client, method=method, **later)
+                         seed=seed, executor=executor, method=method, **later)
 
     # 4. starts and profiles, one batch of tasks
     box = full.bounds
@@ -442,7 +477,7 @@ def assess(
             start, kwargs = _held_at(estimate_law, e, float(value), held, box, later_level)
             tasks.append((start, fit_data, seed, {**global_options, **kwargs}))
             profile_keys.append((e.name, float(value)))
-    thetas = map_tasks(_fit_task, tasks, client)
+    thetas = map_tasks(_fit_task, tasks, executor)
 
     # per-bounce objective terms, and the noise test of a change from the estimate
     inv = bounce_weights(data, p0) if with_pis else None
@@ -539,6 +574,8 @@ def assess(
         [[n, *train, np.nan], [test["n"], *(test[c] for c in ERROR_COLUMNS), test["delta_sd"]]],
         index=pd.Index(["training", "held-out"], name="data"), columns=["n", *ERROR_COLUMNS, "delta_sd"])
     scores["n"] = scores["n"].astype(int)
+    if small_bootstrap is not None:
+        notes.insert(0, small_bootstrap)
     note = synthetic_warning(data)
     if note is not None:
         notes.insert(0, note)

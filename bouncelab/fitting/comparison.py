@@ -410,7 +410,8 @@ def compare(
     seed
         Seed of the split, of the folds and of every fit.
     executor
-        Where to run the fits and the folds (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
+        Where to run the fits and the folds: any :class:`concurrent.futures.Executor` or a dask ``Client``
+        (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default. The result does not depend on it.
     errors
         ``"raise"`` (default): a law that cannot be fitted to these data stops the comparison.
         ``"skip"``: it is left out and recorded, with the reason, in :attr:`Comparison.skipped`

@@ -104,7 +104,8 @@ def cross_validate(model: Any, data: xr.Dataset, *, k: int = 5, seed: int = 0, e
     seed
         Seed of the fold assignment and of each fit.
     executor
-        Where to run the folds (see :func:`bouncelab.fitting.tasks.map_tasks`); serially by default.
+        Where to run the folds: any :class:`concurrent.futures.Executor` or a dask ``Client`` (see
+        :func:`bouncelab.fitting.tasks.map_tasks`); serially by default. The result does not depend on it.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` (e.g. ``objective``, ``method``).
 

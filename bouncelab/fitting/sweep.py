@@ -44,8 +44,8 @@ def sweep(model: Any, data: Any, grid: Mapping[str, Sequence[Any]] | Sequence[Ma
         Name -> values (every combination, the first name varying slowest) or a
         sequence of points, each a mapping name -> value.
     executor
-        Where to run the points (see :func:`bouncelab.fitting.tasks.map_tasks`), e.g. a
-        :class:`dask.distributed.Client`; the result does not depend on it.
+        Where to run the points: any :class:`concurrent.futures.Executor` or a dask ``Client`` (see
+        :func:`bouncelab.fitting.tasks.map_tasks`); the result does not depend on it.
     seed
         Seed of every fit.
     **fit_kwargs

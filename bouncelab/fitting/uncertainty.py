@@ -102,8 +102,9 @@ def bootstrap(
     seed
         Seed of the resampling; every refit uses the same fit seed.
     executor
-        Where to run the refits (see :func:`bouncelab.fitting.tasks.map_tasks`); the
-        resamples are drawn first, so the result does not depend on it.
+        Where to run the refits: any :class:`concurrent.futures.Executor` or a dask ``Client`` (see
+        :func:`bouncelab.fitting.tasks.map_tasks`); the resamples are drawn first, so the result
+        does not depend on it.
     **fit_kwargs
         Passed to :func:`bouncelab.fit` (objective, bounds, method ...).
 

@@ -17,7 +17,6 @@ import pandas as pd
 
 from bouncelab.core.errors import DataError, ParameterError
 from bouncelab.core.units import COMPONENTS
-from bouncelab.data.campaign import interval_sds
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.plots import _common as c
 
@@ -95,22 +94,19 @@ def plot_corner(posterior: Any, *, columns: list[str] | None = None, bins: int =
 
 def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> pd.DataFrame:
     """Per launcher setting with two or more repeats: the observed and the predicted standard deviation
-    of each lift-off component (columns ``observed_<c>``, ``predicted_<c>``, and ``n``).
+    of each lift-off component over the setting's repeats (columns ``observed_<c>``, ``predicted_<c>``, and ``n``).
 
-    The prediction pools :meth:`~bouncelab.fitting.hierarchical.Posterior.predict`'s draws (with
-    measurement error, each bounce's own from the data's intervals when it has them) over the
-    setting's measured landings, so it includes the landings' own scatter as the repeats do.
+    The prediction pools :meth:`~bouncelab.fitting.hierarchical.Posterior.predict`'s draws of measured
+    lift-offs (each bounce's own measurement errors from the data's intervals where the posterior separates
+    them) over the setting's measured landings, the repeats of a setting on one spot (``spots=``: they share
+    its setting-level draw, as the repeats do), so it includes the landings' own scatter as the repeats do.
     """
     _check_posterior(posterior)
     p0, pf, setting = campaign_arrays(data)
     if setting is None:
         raise DataError("plot_spread needs the launcher setting of each bounce (a 'setting' coordinate)",
                         column="setting")
-    land_sd, lift_sd = interval_sds(data, len(p0))
-    sd = None
-    if land_sd is not None or lift_sd is not None:
-        sd = (np.zeros_like(p0) if land_sd is None else land_sd, np.zeros_like(p0) if lift_sd is None else lift_sd)
-    draws = posterior.predict(p0, n, measurement_error=True, measurement_sd=sd, seed=seed)
+    draws = posterior.predict(p0, n, measurement_sd=posterior.measurement_sd_of(data), spots=setting, seed=seed)
     rows = {}
     labels = np.asarray(setting)
     for s in pd.unique(labels):
@@ -118,7 +114,8 @@ def spread_table(posterior: Any, data: Any, *, n: int = 400, seed: int = 0) -> p
         if len(idx) < 2:
             continue
         obs = pf[idx].std(axis=0, ddof=1)
-        pred = draws[:, idx, :].reshape(-1, 3).std(axis=0, ddof=1)
+        # the spread of the repeats within each draw (one spot per draw), as the observed one, averaged as variances
+        pred = np.sqrt(draws[:, idx, :].var(axis=1, ddof=1).mean(axis=0))
         rows[s] = {"n": len(idx), **{f"observed_{k}": v for k, v in zip(COMPONENTS, obs, strict=True)},
                    **{f"predicted_{k}": v for k, v in zip(COMPONENTS, pred, strict=True)}}
     if not rows:
