@@ -1,6 +1,7 @@
 """Bootstrap time serial vs a two-worker dask cluster, and a check that both give the same numbers.
 
-Run: ``python benchmarks/bench_cluster.py`` (about a minute; needs the ``cluster`` extra). The
+Run: ``python benchmarks/bench_cluster.py`` (about a minute; needs the ``cluster`` extra; ``--quick`` for a short
+check that the script runs). The
 bootstrap of one law on an embedded campaign is timed serially and on a ``LocalCluster`` of two
 worker processes with one thread each (the code is the same on a real cluster: pass its
 ``Client``). Cluster start-up and the workers' first load of the compiled laws are outside the
@@ -46,7 +47,11 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--campaign", default="B", help="embedded campaign (B has 693 bounces)")
     ap.add_argument("-n", type=int, default=200, help="resamples (default 200)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    ap.add_argument("--quick", action="store_true",
+                    help="8 resamples of Rigid on campaign A: a check that the script runs (CI); measures nothing")
     args = ap.parse_args(argv)
+    if args.quick:
+        args.law, args.campaign, args.n = "Rigid", "A", 8
     load0 = os.getloadavg()[0]
     ds = bl.load_campaign(args.campaign, surrogate="published")
     law = bl.laws.registered_laws()[args.law]

@@ -56,18 +56,13 @@ WHERE_INSTALLED = [
     ("bench_tracking_camera.py", lambda: importlib.util.find_spec("pims"), "the same pixels: True"),
 ]
 
-#: Scripts whose ``--quick`` a colleague is adding (issue 30); the lead removes this at merge.
-COLLEAGUE_ADDS_QUICK = {"bench_assess.py", "bench_cluster.py"}
-
-
 def scripts() -> list[str]:
     """The benchmark scripts: every benchmarks/*.py run as a program."""
     return sorted(p.name for p in BENCHMARKS.glob("*.py") if 'if __name__ == "__main__"' in p.read_text())
 
 
 def cases() -> list:
-    return [pytest.param(name, marks=pytest.mark.xfail(reason="colleague adds --quick", strict=False))
-            if name in COLLEAGUE_ADDS_QUICK else name for name in scripts()]
+    return scripts()
 
 
 def takes_quick(source: str) -> bool:
