@@ -223,7 +223,8 @@ def test_synthetic_campaign_says_so() -> None:
 @pytest.mark.parametrize("kwargs", [
     {"k": 1}, {"k": 500},  # too few folds; more folds than launcher settings
     {"n_bootstrap": 1}, {"starts": -1}, {"profile_points": 2}, {"level": 1.5}, {"correlation": 0},
-    {"null_tol": 0}, {"tol": -1}, {"seed": -1}, {"sample_weight": np.ones(100)},
+    {"null_tol": 0}, {"null_tol": True}, {"null_tol": 10**400}, {"tol": -1}, {"tol": "0.1"}, {"tol": float("nan")},
+    {"seed": -1}, {"sample_weight": np.ones(100)},
 ])
 def test_bad_options_are_refused(rigid_data, kwargs) -> None:
     with pytest.raises(FitError) as e:

@@ -76,6 +76,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from bouncelab.core import checks
 from bouncelab.core.errors import BouncelabWarning, FitError
 from bouncelab.data.campaign import make_campaign, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
@@ -419,8 +420,8 @@ def assess(
                            f"{min_bootstrap(level)}, or a lower level")
         warnings.warn(f"assess: {small_bootstrap}", SmallBootstrapWarning, stacklevel=2)
     correlation = check_fraction(correlation, "correlation")
-    null_tol = _positive(null_tol, "null_tol")
-    tol = _positive(tol, "tol", zero=True)
+    null_tol = checks.positive(null_tol, "null_tol", error=FitError)
+    tol = checks.positive(tol, "tol", allow_zero=True, error=FitError)
     if not law.parameter_specs:
         raise FitError(f"assess needs a law with parameters; {law_name(law)} has none", law=law_name(law))
 
@@ -868,18 +869,4 @@ def _judge(e: _Element, prof: pd.DataFrame, in_null: Mapping[str, set[str]],
     return {"profile_low": lo_end, "profile_high": hi_end,
             "profile_max_change": float(prof["change"].max()), "at_bound": at_bound, "verdict": verdict,
             "reason": reason}
-
-
-
-
-def _positive(value: Any, name: str, *, zero: bool = False) -> float:
-    try:
-        v = float(value)
-        ok = np.isfinite(v) and (v >= 0 if zero else v > 0)
-    except (TypeError, ValueError):
-        ok = False
-    if not ok or isinstance(value, bool):
-        raise FitError(f"{name} must be a {'non-negative' if zero else 'positive'} number; got {value!r}",
-                       option=name)
-    return v
 
