@@ -129,16 +129,21 @@ def fraction(value: Any, name: str, *, closed: bool = False, error: type[Bouncel
     return x
 
 
+def _whole(value: Any) -> int | None:
+    """``value`` as an int if it is one (``int`` or NumPy's, by ``operator.index``; not a bool), else None."""
+    if isinstance(value, bool | np.bool_):
+        return None
+    try:
+        return operator.index(value)
+    except TypeError:
+        return None
+
+
 def count(value: Any, name: str, minimum: int = 0, *, maximum: int | None = None,
           error: type[BouncelabError] = ParameterError) -> int:
     """``value`` as an int in ``[minimum, maximum]`` (a count: ``int`` or NumPy's, not a bool, not ``5.0``),
     or ``error`` naming ``name``."""
-    n = None
-    if not isinstance(value, bool | np.bool_):
-        try:
-            n = operator.index(value)
-        except TypeError:
-            pass
+    n = _whole(value)
     if n is None or n < minimum or (maximum is not None and n > maximum):
         want = f"an integer of at least {minimum}" + ("" if maximum is None else f" and at most {maximum:,}")
         why = _why_not(value) or ("" if n is not None or not isinstance(value, numbers.Real) else
@@ -149,12 +154,7 @@ def count(value: Any, name: str, minimum: int = 0, *, maximum: int | None = None
 
 def seed(value: Any, name: str = "seed", *, error: type[BouncelabError] = ParameterError) -> int:
     """``value`` as an int in [0, 2**63) (a random seed), or ``error`` naming ``name``."""
-    n = None
-    if not isinstance(value, bool | np.bool_):
-        try:
-            n = operator.index(value)
-        except TypeError:
-            pass
+    n = _whole(value)
     if n is None or not 0 <= n <= SEED_MAX:
         raise _refuse(error, name, value, f"{name} must be an integer in [0, 2**63); got {shown(value)}")
     return n

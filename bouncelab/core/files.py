@@ -33,34 +33,17 @@ def check_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -
         st = path.stat()  # follows symlinks: a link to /dev/zero is a device
     except (OSError, ValueError) as exc:
         raise _unreadable(exc, file) from None
-    if not stat.S_ISREG(st.st_mode):
-        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-        raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
-                        file=file)
-    if st.st_size > max_bytes:
-        raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {max_bytes / 2**30:g} GiB "
-                        "bouncelab reads (bouncelab.core.files.MAX_FILE_BYTES)", file=file)
+    _refuse_irregular(st, file, max_bytes)
     return st
 
 
 def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) -> bytes:
     """The whole file, read without blocking on a FIFO that replaced it since a check (DataError naming ``file``)."""
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except (OSError, ValueError) as exc:  # (ValueError: a NUL or a lone surrogate in the name)
-        raise _unreadable(exc, file) from None
+    fd = _open_nonblocking(path, file)
     try:
         with os.fdopen(fd, "rb") as fh:
             st = os.fstat(fh.fileno())
-            if not stat.S_ISREG(st.st_mode):
-                kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-                if stat.S_ISDIR(st.st_mode):
-                    kind = "a folder"
-                raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
-                                file=file)
-            if st.st_size > max_bytes:
-                raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {max_bytes / 2**30:g} GiB "
-                                "bouncelab reads (bouncelab.core.files.MAX_FILE_BYTES)", file=file)
+            _refuse_irregular(st, file, max_bytes, folder=True)
             # read what the file holds (a read of max_bytes would reserve a GiB), then anything it grew by
             data = fh.read(min(st.st_size, max_bytes) + 1)
             if len(data) > st.st_size:
@@ -75,17 +58,10 @@ def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
 def read_head(path: Path, file: str, nbytes: int) -> bytes:
     """At most the first ``nbytes`` bytes of the regular file ``path`` (a header; a longer file is not refused,
     its rest not read), or a DataError naming ``file``: missing, a FIFO, a device, a folder."""
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except (OSError, ValueError) as exc:  # (ValueError: a NUL or a lone surrogate in the name)
-        raise _unreadable(exc, file) from None
+    fd = _open_nonblocking(path, file)
     try:
         with os.fdopen(fd, "rb") as fh:
-            st = os.fstat(fh.fileno())
-            if not stat.S_ISREG(st.st_mode):
-                kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-                raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
-                                file=file)
+            _refuse_irregular(os.fstat(fh.fileno()), file)
             return fh.read(nbytes)
     except OSError as exc:
         raise _unreadable(exc, file) from None
@@ -100,6 +76,28 @@ def read_regular_text(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
     except UnicodeDecodeError as exc:
         raise DataError(f"the file is not UTF-8 text (byte {exc.start}: {data[exc.start:exc.start + 1]!r})",
                         file=file) from None
+
+
+def _open_nonblocking(path: Path, file: str) -> int:
+    """A read-only descriptor of ``path`` that does not block on a FIFO, or the DataError naming ``file``."""
+    try:
+        return os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as exc:  # (ValueError: a NUL or a lone surrogate in the name)
+        raise _unreadable(exc, file) from None
+
+
+def _refuse_irregular(st: os.stat_result, file: str, max_bytes: int | None = None, *, folder: bool = False) -> None:
+    """A DataError naming ``file`` unless ``st`` is a regular file of at most ``max_bytes`` (None: any size);
+    ``folder``: a folder is called one (else "not a regular file", as any other kind without a name)."""
+    if not stat.S_ISREG(st.st_mode):
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+        if folder and stat.S_ISDIR(st.st_mode):
+            kind = "a folder"
+        raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
+                        file=file)
+    if max_bytes is not None and st.st_size > max_bytes:
+        raise DataError(f"the file is {st.st_size / 2**30:.1f} GiB, more than the {max_bytes / 2**30:g} GiB "
+                        "bouncelab reads (bouncelab.core.files.MAX_FILE_BYTES)", file=file)
 
 
 def _unreadable(exc: OSError | ValueError, file: str) -> DataError:

@@ -32,6 +32,7 @@ import hashlib
 import inspect
 import math
 import textwrap
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -50,14 +51,14 @@ from bouncelab.export.emit.js import js_literal
 from bouncelab.export.errors import ExportError
 from bouncelab.export.frontend import FLOAT, INT, ArrayType, Translation, is_jit_function, leaf_types, value_type
 from bouncelab.export.law import (
-    _CS_KEYWORDS,
-    _CS_NAME,
-    _PREFIX,
-    LANGUAGES,
     _c_string,
+    _check_cs_names,
+    _check_language,
+    _check_prefix,
     _cs_string,
     _js_string,
     _nested,
+    _written,
     _xml,
 )
 from bouncelab.export.names import DEFAULT_SURFACE_CLASS, DEFAULT_SURFACE_PREFIX
@@ -218,6 +219,25 @@ class _Arg:
     name: str = ""
     value: Any = None
     type: Any = None
+
+
+
+def _arg_writer(value: str, literal: Callable[[Any, Any], str], caller: Mapping[str, str],
+                scratch: str) -> Callable[[_Arg], str]:
+    """How one language writes an entry point's argument (:meth:`_Surface.arguments`): a baked value as
+    ``value`` + its name, a literal integer by ``literal``, the caller's array under its name in ``caller``
+    (else its own), a scratch array as ``scratch`` + its name."""
+
+    def text(a: _Arg) -> str:
+        if a.kind == "value":
+            return f"{value}{a.name}"
+        if a.kind == "literal":
+            return literal(a.value, leaf_types(a.type)[0])
+        if a.kind == "caller":
+            return caller.get(a.name, a.name)
+        return f"{scratch}{a.name}"
+
+    return text
 
 
 class _Surface:
@@ -401,14 +421,7 @@ def export_surface(surface: Any, lang: str, path: str | Path | None = None, *, p
     OutputError
         ``path`` cannot be written; nothing is written then.
     """
-    if lang not in LANGUAGES:
-        raise ParameterError(f"cannot export to {lang!r}: the languages are {', '.join(map(repr, LANGUAGES))}",
-                             parameter="lang", value=lang)
-    for name, value, owner in (("prefix", prefix, "c"), ("class_name", class_name, "cs"),
-                               ("namespace", namespace, "cs")):
-        if value is not None and lang != owner:
-            raise ParameterError(f"{name} is for {'C headers' if owner == 'c' else 'C# classes'}, not --lang "
-                                 f"{lang}", parameter=name, value=value)
+    _check_language(lang, prefix, class_name, namespace)
     options = {"radius_m": radius_m, "min_apex_m": min_apex_m, "max_bounces": max_bounces}
     if lang == "c":
         text = surface_c(surface, prefix=DEFAULT_SURFACE_PREFIX if prefix is None else prefix, **options)
@@ -417,19 +430,13 @@ def export_surface(surface: Any, lang: str, path: str | Path | None = None, *, p
     else:
         text = surface_cs(surface, class_name=DEFAULT_SURFACE_CLASS if class_name is None else class_name,
                           namespace=namespace, **options)
-    if path is not None:
-        from bouncelab.core.atomic import write_output
-
-        write_output(path, text, "the exported surface")
-    return text
+    return _written(text, path, "the exported surface")
 
 
 # ------------------------------------------------------------------------------------------- C
 def surface_c(surface: Any, prefix: str = DEFAULT_SURFACE_PREFIX, **options: Any) -> str:
     """The surface's ground phase as a self-contained C99 header (see :func:`export_surface`)."""
-    if not isinstance(prefix, str) or not _PREFIX.match(prefix):
-        raise ParameterError(f"prefix must be a C identifier such as 'bouncelab_' or 'green_'; got {prefix!r}",
-                             parameter="prefix", value=prefix)
+    _check_prefix(prefix, "green_")
     s = _Surface(surface, **options)
     p = prefix
     em = CEmitter(s.program, prefix)
@@ -439,14 +446,7 @@ def surface_c(surface: Any, prefix: str = DEFAULT_SURFACE_PREFIX, **options: Any
                             lambda n, t, text: f"static const double {n}{''.join(f'[{k}]' for k in t.shape)} = {text};",
                             c_literal)
 
-    def text(a: _Arg) -> str:
-        if a.kind == "value":
-            return f"{p}p_{a.name}"
-        if a.kind == "literal":
-            return c_literal(a.value, leaf_types(a.type)[0])
-        if a.kind == "caller":
-            return "t_rest" if a.name == "time" else a.name
-        return a.name  # a scratch array: a local of the entry point
+    text = _arg_writer(f"{p}p_", c_literal, {"time": "t_rest"}, "")  # a scratch array: a local of the entry point
 
     def call(key: str) -> str:
         fn = s.entries[key]
@@ -552,14 +552,7 @@ def surface_js(surface: Any, **options: Any) -> str:
     consts = _declare_baked(s, lambda n: f"$p_{n}", lambda n, t, text: f"const {n} = {text};",
                             lambda n, t, text: f"const {n} = {text};", js_literal)
 
-    def text(a: _Arg) -> str:
-        if a.kind == "value":
-            return f"$p_{a.name}"
-        if a.kind == "literal":
-            return js_literal(a.value, leaf_types(a.type)[0])
-        if a.kind == "caller":
-            return {"time": "$TIME", "v_out": "vOut", "w_out": "wOut"}.get(a.name, a.name)
-        return f"${a.name}"
+    text = _arg_writer("$p_", js_literal, {"time": "$TIME", "v_out": "vOut", "w_out": "wOut"}, "$")
 
     def call(key: str, indent: str = "  ") -> str:
         return f"\n{indent}".join(em.entry_call(s.entries[key].name, s.arguments(key, text)))
@@ -655,14 +648,7 @@ _CS_MEMBERS = frozenset({"SurfaceName", "LawName", "MaxBounces", "Bounce3D", "Ru
 def surface_cs(surface: Any, class_name: str = DEFAULT_SURFACE_CLASS, namespace: str | None = None,
                **options: Any) -> str:
     """The surface's ground phase as a self-contained C# file (see :func:`export_surface`)."""
-    if (not isinstance(class_name, str) or not _CS_NAME.match(class_name) or class_name in _CS_KEYWORDS
-            or class_name in _CS_MEMBERS):
-        raise ParameterError(f"class_name must be a C# identifier such as 'BouncelabSurface' or 'GreenFast'; got "
-                             f"{class_name!r}", parameter="class_name", value=class_name)
-    if namespace is not None and (not isinstance(namespace, str) or not all(
-            _CS_NAME.match(part) and part not in _CS_KEYWORDS for part in namespace.split("."))):
-        raise ParameterError(f"namespace must be C# identifiers joined by dots such as 'Golf.Bounce'; got "
-                             f"{namespace!r}", parameter="namespace", value=namespace)
+    _check_cs_names(class_name, namespace, _CS_MEMBERS, "'BouncelabSurface' or 'GreenFast'")
     s = _Surface(surface, **options)
     em = CSharpEmitter(s.program)
     definitions = em.definitions()
@@ -670,14 +656,7 @@ def surface_cs(surface: Any, class_name: str = DEFAULT_SURFACE_CLASS, namespace:
                             lambda n, t, text: f"private static readonly {em.type_name(ir.ArrayType(t.shape))} {n} = "
                                                f"{text};", cs_literal)
 
-    def text(a: _Arg) -> str:
-        if a.kind == "value":
-            return f"p_{a.name}"
-        if a.kind == "literal":
-            return cs_literal(a.value, leaf_types(a.type)[0])
-        if a.kind == "caller":
-            return {"time": "s_time", "v_out": "vOut", "w_out": "wOut"}.get(a.name, a.name)
-        return f"s_{a.name}"
+    text = _arg_writer("p_", cs_literal, {"time": "s_time", "v_out": "vOut", "w_out": "wOut"}, "s_")
 
     def call(key: str) -> str:
         return f"{em.function_name(s.entries[key].name)}({', '.join(s.arguments(key, text))})"

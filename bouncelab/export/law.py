@@ -57,6 +57,48 @@ _RPM = 2.0 * math.pi / 60.0
 _WHAT = {"c": "a C99 header", "js": "an ES module", "cs": "a C# class"}
 
 
+# Checks and output shared with the surface's export (bouncelab.export.ground).
+def _check_language(lang: Any, prefix: Any, class_name: Any, namespace: Any) -> None:
+    """``lang`` is a language of :data:`LANGUAGES`, and the options given belong to it."""
+    if lang not in LANGUAGES:
+        raise ParameterError(f"cannot export to {lang!r}: the languages are {', '.join(map(repr, LANGUAGES))}",
+                             parameter="lang", value=lang)
+    for name, value, owner in (("prefix", prefix, "c"), ("class_name", class_name, "cs"),
+                               ("namespace", namespace, "cs")):
+        if value is not None and lang != owner:
+            raise ParameterError(f"{name} is for {'C headers' if owner == 'c' else 'C# classes'}, not --lang "
+                                 f"{lang}", parameter=name, value=value)
+
+
+def _check_prefix(prefix: Any, example: str) -> None:
+    """``prefix`` is a C identifier (the error suggests ``'bouncelab_'`` or ``example``)."""
+    if not isinstance(prefix, str) or not _PREFIX.match(prefix):
+        raise ParameterError(f"prefix must be a C identifier such as 'bouncelab_' or '{example}'; got {prefix!r}",
+                             parameter="prefix", value=prefix)
+
+
+def _check_cs_names(class_name: Any, namespace: Any, members: frozenset[str], examples: str) -> None:
+    """``class_name`` is a C# identifier, not a keyword nor one of the class's ``members`` (the error suggests
+    ``examples``); ``namespace`` is None or C# identifiers joined by dots."""
+    if (not isinstance(class_name, str) or not _CS_NAME.match(class_name) or class_name in _CS_KEYWORDS
+            or class_name in members):
+        raise ParameterError(f"class_name must be a C# identifier such as {examples}; got "
+                             f"{class_name!r}", parameter="class_name", value=class_name)
+    if namespace is not None and (not isinstance(namespace, str) or not all(
+            _CS_NAME.match(part) and part not in _CS_KEYWORDS for part in namespace.split("."))):
+        raise ParameterError(f"namespace must be C# identifiers joined by dots such as 'Golf.Bounce'; got "
+                             f"{namespace!r}", parameter="namespace", value=namespace)
+
+
+def _written(text: str, path: str | Path | None, what: str) -> str:
+    """``text``, written first to ``path`` if one is given (``what`` names it in an error)."""
+    if path is not None:
+        from bouncelab.core.atomic import write_output
+
+        write_output(path, text, what)
+    return text
+
+
 def export_law(law: Any, lang: str, path: str | Path | None = None, *, prefix: str | None = None,
                class_name: str | None = None, namespace: str | None = None) -> str:
     """The law as C99 (``lang="c"``), JavaScript (``"js"``) or C# (``"cs"``) source; also written to ``path``.
@@ -95,25 +137,14 @@ def export_law(law: Any, lang: str, path: str | Path | None = None, *, prefix: s
     OutputError
         ``path`` cannot be written; nothing is written then.
     """
-    if lang not in LANGUAGES:
-        raise ParameterError(f"cannot export to {lang!r}: the languages are {', '.join(map(repr, LANGUAGES))}",
-                             parameter="lang", value=lang)
-    for name, value, owner in (("prefix", prefix, "c"), ("class_name", class_name, "cs"),
-                               ("namespace", namespace, "cs")):
-        if value is not None and lang != owner:
-            raise ParameterError(f"{name} is for {'C headers' if owner == 'c' else 'C# classes'}, not --lang "
-                                 f"{lang}", parameter=name, value=value)
+    _check_language(lang, prefix, class_name, namespace)
     if lang == "c":
         text = c_header(law, prefix=DEFAULT_PREFIX if prefix is None else prefix)
     elif lang == "js":
         text = js_module(law)
     else:
         text = cs_class(law, class_name=DEFAULT_CLASS if class_name is None else class_name, namespace=namespace)
-    if path is not None:
-        from bouncelab.core.atomic import write_output
-
-        write_output(path, text, "the exported law")
-    return text
+    return _written(text, path, "the exported law")
 
 
 def to_c(law: Any, path: str | Path | None = None, *, prefix: str = DEFAULT_PREFIX) -> str:
@@ -220,9 +251,7 @@ class _Kernel:
 # ------------------------------------------------------------------------------------------- C
 def c_header(law: Any, prefix: str = DEFAULT_PREFIX) -> str:
     """The law as a self-contained C99 header (see :func:`export_law`)."""
-    if not isinstance(prefix, str) or not _PREFIX.match(prefix):
-        raise ParameterError(f"prefix must be a C identifier such as 'bouncelab_' or 'turf_a_'; got {prefix!r}",
-                             parameter="prefix", value=prefix)
+    _check_prefix(prefix, "turf_a_")
     k = _Kernel(law)
     em = CEmitter(k.program, prefix)
     p = prefix
@@ -410,14 +439,7 @@ export function predictRows(rows) {{
 # ------------------------------------------------------------------------------------------- C#
 def cs_class(law: Any, class_name: str = DEFAULT_CLASS, namespace: str | None = None) -> str:
     """The law as a self-contained C# file (see :func:`export_law`)."""
-    if (not isinstance(class_name, str) or not _CS_NAME.match(class_name) or class_name in _CS_KEYWORDS
-            or class_name in _CS_MEMBERS):
-        raise ParameterError(f"class_name must be a C# identifier such as 'BouncelabLaw' or 'TurfA'; got "
-                             f"{class_name!r}", parameter="class_name", value=class_name)
-    if namespace is not None and (not isinstance(namespace, str) or not all(
-            _CS_NAME.match(part) and part not in _CS_KEYWORDS for part in namespace.split("."))):
-        raise ParameterError(f"namespace must be C# identifiers joined by dots such as 'Golf.Bounce'; got "
-                             f"{namespace!r}", parameter="namespace", value=namespace)
+    _check_cs_names(class_name, namespace, _CS_MEMBERS, "'BouncelabLaw' or 'TurfA'")
     k = _Kernel(law)
     em = CSharpEmitter(k.program)
     definitions = em.definitions()

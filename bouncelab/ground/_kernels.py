@@ -98,6 +98,16 @@ def _along(x, y, z, nx, ny, nz):
 
 
 @jit(inline="always")
+def _unit(x, y, z):
+    """``(True, x / |x|, ...)`` for a vector of non-zero length, else ``(False, 0, 0, 0)``."""
+    xx = x * x + y * y + z * z
+    if xx > 0.0:
+        s = math.sqrt(xx)
+        return True, x / s, y / s, z / s
+    return False, 0.0, 0.0, 0.0
+
+
+@jit(inline="always")
 def travel_frame(vx, vy, vz, nx, ny, nz):
     """The plane of travel of a ball touching the plane of unit normal n: h and b = n x h.
 
@@ -109,11 +119,8 @@ def travel_frame(vx, vy, vz, nx, ny, nz):
     """
     tx, ty, tz = _along(vx, vy, vz, nx, ny, nz)
     tx, ty, tz = _along(tx, ty, tz, nx, ny, nz)
-    vv = tx * tx + ty * ty + tz * tz
-    if vv > 0.0:
-        s = math.sqrt(vv)
-        tx, ty, tz = tx / s, ty / s, tz / s
-    else:
+    found, tx, ty, tz = _unit(tx, ty, tz)
+    if not found:
         tx, ty, tz = _any_tangent(nx, ny, nz)
     return tx, ty, tz, ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx
 
@@ -130,16 +137,10 @@ def contact_frame(vx, vy, vz, wx, wy, wz, nx, ny, nz):
     """
     vtx, vty, vtz = _along(vx, vy, vz, nx, ny, nz)
     ux, uy, uz = _along(vtx + (ny * wz - nz * wy), vty + (nz * wx - nx * wz), vtz + (nx * wy - ny * wx), nx, ny, nz)
-    uu = ux * ux + uy * uy + uz * uz
-    if uu > 0.0:
-        s = math.sqrt(uu)
-        tx, ty, tz = ux / s, uy / s, uz / s
-    else:
-        vv = vtx * vtx + vty * vty + vtz * vtz
-        if vv > 0.0:
-            s = math.sqrt(vv)
-            tx, ty, tz = vtx / s, vty / s, vtz / s
-        else:
+    found, tx, ty, tz = _unit(ux, uy, uz)
+    if not found:
+        found, tx, ty, tz = _unit(vtx, vty, vtz)
+        if not found:
             tx, ty, tz = _any_tangent(nx, ny, nz)
     if vtx * tx + vty * ty + vtz * tz < 0.0:
         tx, ty, tz = -tx, -ty, -tz

@@ -258,6 +258,18 @@ def penner_tilt_factors(P, varying, scale):
     return out
 
 
+@jit(inline="always")
+def add_errors(sd, sx, sy, sw, PF, i, a, b, c, g):
+    """The four error sums with row ``i`` added: the prediction ``(a, b, c)`` against the lift-off ``PF[i]``,
+    weighted by ``g`` (the row's 1 / norm). Inlined into the error loops: the same operations in the same order
+    as written out there before, so the same bits."""
+    ex = PF[i, 0] - a
+    ey = PF[i, 1] - b
+    ew = PF[i, 2] - c
+    return (sd + math.sqrt(ex * ex + ey * ey + ew * ew) * g, sx + abs(ex) * g, sy + abs(ey) * g,
+            sw + abs(ew) * g)
+
+
 @jit(nogil=True, fastmath=ROW_FLAGS)
 def penner_error_sums(P0, PF, inv_norm, factor, r, mu, angle, start, stop):
     """The four error sums of a Penner law with each landing's tilt factor precomputed.
@@ -272,14 +284,7 @@ def penner_error_sums(P0, PF, inv_norm, factor, r, mu, angle, start, stop):
     for i in range(start, stop):
         beta = min(angle * factor[i], HALF_PI)
         a, b, c, _ = _penner(P0[i, 0], P0[i, 1], P0[i, 2], r, mu, beta)
-        ex = PF[i, 0] - a
-        ey = PF[i, 1] - b
-        ew = PF[i, 2] - c
-        g = inv_norm[i]
-        sd += math.sqrt(ex * ex + ey * ey + ew * ew) * g
-        sx += abs(ex) * g
-        sy += abs(ey) * g
-        sw += abs(ew) * g
+        sd, sx, sy, sw = add_errors(sd, sx, sy, sw, PF, i, a, b, c, inv_norm[i])
     return sd, sx, sy, sw
 
 
@@ -378,6 +383,11 @@ def row_status(x, y, w, bx, by, bw, guard):
     limit_bits, min_s2, max_s2, max_w, tan_a = guard
     fault = landing_fault_(x, y, w, min_s2, max_s2, max_w, tan_a)
     return fault if valid_bits(bx, by, bw, limit_bits) else INVALID
+
+
+# Every row loop reads its landing and calls row_status in four lines of its own: a helper returning
+# (x, y, w, status) gives the same bits but made the generic prediction loop 1.3x slower (measured,
+# notes/w-dups.md), so those lines stay written out in each loop.
 
 
 @jit(nogil=True, fastmath=ROW_FLAGS)

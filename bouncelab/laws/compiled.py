@@ -73,7 +73,7 @@ class _Loops:
 
     def __init__(self, kernel: Any) -> None:
         from bouncelab.core._scans import is_landing_, landing_fault_
-        from bouncelab.laws._kernels import row_status
+        from bouncelab.laws._kernels import add_errors, row_status
 
         # The row loops also give the unit guard's verdict on their rows (0: every landing valid and
         # plausible; see row_status), so that the public methods check the landings in the pass that
@@ -128,14 +128,7 @@ class _Loops:
             sw = 0.0
             for i in range(start, stop):
                 a, b, c, _ = kernel(P0[i, 0], P0[i, 1], P0[i, 2], *args)
-                ex = PF[i, 0] - a
-                ey = PF[i, 1] - b
-                ew = PF[i, 2] - c
-                g = inv_norm[i]
-                sd += math.sqrt(ex * ex + ey * ey + ew * ew) * g
-                sx += abs(ex) * g
-                sy += abs(ey) * g
-                sw += abs(ew) * g
+                sd, sx, sy, sw = add_errors(sd, sx, sy, sw, PF, i, a, b, c, inv_norm[i])
             return sd, sx, sy, sw
 
         self.predict_rows = predict_rows

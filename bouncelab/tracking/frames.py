@@ -63,6 +63,7 @@ import numpy as np
 from bouncelab.core.errors import DataError, Hint, MissingFileError
 from bouncelab.core.files import check_regular_file
 from bouncelab.tracking._cv import cv2
+from bouncelab.tracking.pyav import wanted_frames
 
 __all__ = [
     "CAMERA_SUFFIXES",
@@ -404,14 +405,9 @@ class _VideoSource(_Source):
         return cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.ndim == 3 else img
 
     def raw(self, wanted):
-        want = None if wanted is None else sorted(set(wanted))
-        if want is not None and self.prefetched and all(k in self.prefetched for k in want):
-            frames, self.prefetched = self.prefetched, {}  # read once (for the background): not kept after
-            for k in want:
-                yield k, frames.pop(k)
-            return
-        wanted_set = None if want is None else set(want)
-        last = self.n - 1 if want is None else max(want, default=-1)
+        return wanted_frames(self, wanted, self._decode)
+
+    def _decode(self, wanted_set: set[int] | None, last: int) -> Iterator[tuple[int, np.ndarray]]:
         cap = cv2.VideoCapture(str(self.path))
         try:
             for k in range(last + 1):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -39,6 +40,21 @@ def _ffmpeg_errors() -> tuple[type[BaseException], ...]:
         if isinstance(err, type):
             errors.append(err)
     return tuple(errors)
+
+
+def wanted_frames(video: Any, wanted: Iterable[int] | None,
+                  decode: Callable[[set[int] | None, int], Iterator[tuple[int, np.ndarray]]]
+                  ) -> Iterator[tuple[int, np.ndarray]]:
+    """``(k, frame)`` for the frames ``wanted`` of ``video`` (default all), in order: from ``video.prefetched``
+    when it holds them all (frames read once, for the background: dropped then), else
+    ``decode(the frames wanted as a set or None for all, the last frame wanted)`` (a video's ``n`` frames)."""
+    want = None if wanted is None else sorted(set(wanted))
+    if want is not None and video.prefetched and all(k in video.prefetched for k in want):
+        frames, video.prefetched = video.prefetched, {}  # read once (for the background): not kept after
+        for k in want:
+            yield k, frames.pop(k)
+        return
+    yield from decode(None if want is None else set(want), video.n - 1 if want is None else max(want, default=-1))
 
 
 class AVVideo:
@@ -127,16 +143,11 @@ class AVVideo:
 
     def frames(self, wanted: Iterable[int] | None) -> Iterator[tuple[int, np.ndarray]]:
         """``(k, grey frame)`` for the frames ``wanted`` (default all), in order, decoding the file again."""
+        return wanted_frames(self, wanted, self._decode)
+
+    def _decode(self, wanted_set: set[int] | None, last: int) -> Iterator[tuple[int, np.ndarray]]:
         import av
 
-        want = None if wanted is None else sorted(set(wanted))
-        if want is not None and self.prefetched and all(k in self.prefetched for k in want):
-            frames, self.prefetched = self.prefetched, {}  # read once (for the background): not kept after
-            for k in want:
-                yield k, frames.pop(k)
-            return
-        wanted_set = None if want is None else set(want)
-        last = self.n - 1 if want is None else max(want, default=-1)
         errors = _ffmpeg_errors()
         k = -1
         try:

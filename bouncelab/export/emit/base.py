@@ -19,7 +19,7 @@ from typing import ClassVar
 
 from bouncelab.export import ir
 
-__all__ = ["Emitter", "pow_constants", "strip_parens"]
+__all__ = ["Emitter", "hypot_scaling", "pow_constants", "strip_parens"]
 
 
 def _dd(q: Fraction) -> tuple[float, float]:
@@ -38,6 +38,15 @@ def pow_constants() -> tuple[tuple[float, float], list[tuple[float, float]], lis
     atanh = [_dd(Fraction(1, 2 * k + 1)) for k in range(22)]
     fact = [_dd(Fraction(1, math.factorial(j))) for j in range(11)]
     return ln2, atanh, fact
+
+
+def hypot_scaling(indent: str) -> str:
+    """The lines of the JavaScript and C# outputs' hypot (both languages write them alike) that scale ``x >= y``
+    by an exact power of two where their squares would overflow or underflow, each line after ``indent``: one
+    text, so that the two outputs keep the same operations, and so the same bits."""
+    return "\n".join(indent + line for line in ("if (x > 1e150) s = 2.409919865102884e-181;",
+                                                 "else if (x < 1e-150) s = 4.149515568880993e+180;",
+                                                 "x *= s;", "y *= s;"))
 
 
 def strip_parens(text: str) -> str:

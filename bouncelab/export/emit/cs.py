@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from decimal import Decimal
 
 from bouncelab.export import ir
-from bouncelab.export.emit.base import Emitter, pow_constants
+from bouncelab.export.emit.base import Emitter, hypot_scaling, pow_constants
 from bouncelab.export.inline import inline, size
 
 #: Methods up to this size (statements and expression nodes) ask the JIT to inline them.
@@ -49,20 +49,17 @@ _HELPERS = {
     return BitConverter.Int64BitsToDouble(m | (BitConverter.DoubleToInt64Bits(y) & long.MinValue));
 }""",
     # sqrt(x^2 + y^2), scaled by an exact power of two where the squares would overflow or underflow
-    "hypot": """private static double h_hypot(double x, double y)
-{
+    "hypot": f"""private static double h_hypot(double x, double y)
+{{
     x = Math.Abs(x);
     y = Math.Abs(y);
     if (double.IsInfinity(x) || double.IsInfinity(y)) return double.PositiveInfinity;
     if (double.IsNaN(x) || double.IsNaN(y)) return double.NaN;
-    if (x < y) { double t = x; x = y; y = t; }
+    if (x < y) {{ double t = x; x = y; y = t; }}
     double s = 1.0;  // 2^-600 or 2^600: exact
-    if (x > 1e150) s = 2.409919865102884e-181;
-    else if (x < 1e-150) s = 4.149515568880993e+180;
-    x *= s;
-    y *= s;
+{hypot_scaling("    ")}
     return Math.Sqrt(x * x + y * y) / s;
-}""",
+}}""",
     # Goldberg's log1p and Kahan's expm1: a few units in the last place
     "log1p": """private static double h_log1p(double x)
 {

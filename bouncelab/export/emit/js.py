@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from typing import ClassVar
 
 from bouncelab.export import ir
-from bouncelab.export.emit.base import Emitter, pow_constants, strip_parens
+from bouncelab.export.emit.base import Emitter, hypot_scaling, pow_constants, strip_parens
 from bouncelab.export.inline import inline, size
 
 __all__ = ["JSEmitter", "js_literal", "js_pow"]
@@ -40,18 +40,15 @@ _HELPERS = {
                 "  $D[0] = (y < 0 || (y === 0 && 1 / y < 0)) ? -ax : ax;\n}",
     "isinf": "function $isinf(x) { return x === Infinity || x === -Infinity; }",
     # Math.hypot is variadic: V8 allocates its arguments. The C# output's hypot (the same operations, the same bits)
-    "hypot": """function $hypot() {
+    "hypot": f"""function $hypot() {{
   let x = Math.abs($D[0]), y = Math.abs($D[1]);
-  if (x === Infinity || y === Infinity) { $D[0] = Infinity; return; }
-  if (Number.isNaN(x) || Number.isNaN(y)) { $D[0] = NaN; return; }
-  if (x < y) { const t = x; x = y; y = t; }
+  if (x === Infinity || y === Infinity) {{ $D[0] = Infinity; return; }}
+  if (Number.isNaN(x) || Number.isNaN(y)) {{ $D[0] = NaN; return; }}
+  if (x < y) {{ const t = x; x = y; y = t; }}
   let s = 1.0;  // 2^-600 or 2^600: exact
-  if (x > 1e150) s = 2.409919865102884e-181;
-  else if (x < 1e-150) s = 4.149515568880993e+180;
-  x *= s;
-  y *= s;
+{hypot_scaling("  ")}
   $D[0] = Math.sqrt(x * x + y * y) / s;
-}""",
+}}""",
     "scratch": "// The numbers of pow, hypot and copysign: ($D[0] = x, $D[1] = y, $pow(), $D[0]).\n"
                "const $D = new Float64Array(4);",
 }
