@@ -599,3 +599,13 @@ def test_sigterm_that_nlopt_turns_into_a_forced_stop_still_ends_the_process_of_s
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=60)
     assert proc.returncode == -signal.SIGTERM, proc.stderr
     assert "survived" not in proc.stdout
+
+
+def test_a_folder_given_as_a_file_is_called_a_folder(tmp_path):
+    from bouncelab.core.errors import DataError
+    from bouncelab.core.files import check_regular_file, read_regular_file
+
+    for check in (check_regular_file, read_regular_file):
+        with pytest.raises(DataError, match="it is a folder, not a regular file") as err:
+            check(tmp_path, "the folder")
+        assert err.value.file == "the folder"

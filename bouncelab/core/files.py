@@ -23,7 +23,7 @@ MAX_FILE_BYTES = 1 << 30
 
 _KINDS = (
     (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
-    (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a folder"),
 )
 
 
@@ -43,7 +43,7 @@ def read_regular_file(path: Path, file: str, max_bytes: int = MAX_FILE_BYTES) ->
     try:
         with os.fdopen(fd, "rb") as fh:
             st = os.fstat(fh.fileno())
-            _refuse_irregular(st, file, max_bytes, folder=True)
+            _refuse_irregular(st, file, max_bytes)
             # read what the file holds (a read of max_bytes would reserve a GiB), then anything it grew by
             data = fh.read(min(st.st_size, max_bytes) + 1)
             if len(data) > st.st_size:
@@ -86,13 +86,11 @@ def _open_nonblocking(path: Path, file: str) -> int:
         raise _unreadable(exc, file) from None
 
 
-def _refuse_irregular(st: os.stat_result, file: str, max_bytes: int | None = None, *, folder: bool = False) -> None:
-    """A DataError naming ``file`` unless ``st`` is a regular file of at most ``max_bytes`` (None: any size);
-    ``folder``: a folder is called one (else "not a regular file", as any other kind without a name)."""
+def _refuse_irregular(st: os.stat_result, file: str, max_bytes: int | None = None) -> None:
+    """A DataError naming ``file`` and what it is unless ``st`` is a regular file of at most ``max_bytes``
+    (None: any size)."""
     if not stat.S_ISREG(st.st_mode):
-        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-        if folder and stat.S_ISDIR(st.st_mode):
-            kind = "a folder"
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "some other kind of file")
         raise DataError(f"it is {kind}, not a regular file; bouncelab reads data only from regular files",
                         file=file)
     if max_bytes is not None and st.st_size > max_bytes:
