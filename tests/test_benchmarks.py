@@ -7,7 +7,7 @@ where it checks that the two sides agree, that they do. A new script fails here 
 phrase below.
 
 The quick runs measure nothing: the figures come from full runs on a quiet machine (see the README). Together
-they take about 3 minutes from a cold numba cache on a 2-core machine (``notes/w-bench.md``), hence ``slow``.
+they take about 3 minutes from a cold numba cache on a 2-core machine, hence ``slow``.
 """
 
 from __future__ import annotations

@@ -92,7 +92,7 @@ def test_each_notebook_has_its_page_in_the_docs_with_tables_and_figures(name):
 @pytest.mark.slow
 @pytest.mark.parametrize("name", NOTEBOOKS)
 def test_each_notebook_runs_and_shows_what_it_says(name, tmp_path):
-    """Runs in CI (slow: 6-12 s each with the kernel's start; measured in notes/w-html.md)."""
+    """Runs in CI (slow: 6-12 s each with the kernel's start on a 2-core machine)."""
     nb, seconds = make_pages.execute(HERE / f"{name}.ipynb", tmp_path)
     errors = [o for c in nb.cells for o in c.get("outputs", []) if o.get("output_type") == "error"]
     assert not errors

