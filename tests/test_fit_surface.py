@@ -58,7 +58,7 @@ def simulate(n: int, surface: Surface, *, seed: int = 0, noise: float = 0.0, dec
                          index=pd.Index([f"s{i}" for i in range(n)], name="shot"))
     if sessions:
         frame["session"] = rng.integers(0, sessions, n).astype(str)
-    frame.attrs["spin_kind"] = "launch"
+    frame.attrs["spin_at"] = "launch"
     return frame, added
 
 
@@ -242,7 +242,7 @@ def _dataset(frame: pd.DataFrame) -> xr.Dataset:
     ds["landing_angle"] = ("shot", np.degrees(frame["landing_angle"].to_numpy()), {"units": "deg"})
     ds["spin_axis"] = ("shot", np.degrees(frame["spin_axis"].to_numpy()), {"units": "deg"})
     ds["launch_angle"] = ("shot", np.degrees(frame["launch_angle"].to_numpy()), {"units": "deg"})
-    ds["spin"] = ("shot", frame["spin"].to_numpy() / RPM, {"units": "rpm", "kind": "launch"})
+    ds["spin"] = ("shot", frame["spin"].to_numpy() / RPM, {"units": "rpm", "spin_at": "launch"})
     ds["landing_speed"].attrs["units"] = "m/s"
     return ds
 
@@ -256,12 +256,12 @@ def test_a_dataset_in_degrees_and_rpm_reads_as_the_si_frame():
     assert b.spin_kind == "launch" and list(b.labels) == list(frame.index) and list(b.club) == list(frame["club"])
     ds = _dataset(frame)
     ds["landing_angle"] = ("shot", frame["landing_angle"].to_numpy(), {"units": "rad"})
-    ds["spin"].attrs.pop("kind")
-    ds.attrs["spin_kind"] = "launch"
+    ds["spin"].attrs.pop("spin_at")
+    ds.attrs["spin_at"] = "launch"
     np.testing.assert_allclose(_shot_arrays(ds).landing_angle, a.landing_angle, rtol=1e-15)
     units = frame.copy()
     units["landing_angle"] = np.degrees(units["landing_angle"])
-    units.attrs = {"spin_kind": "launch", "units": {"landing_angle": "deg"}}
+    units.attrs = {"spin_at": "launch", "units": {"landing_angle": "deg"}}
     np.testing.assert_allclose(_shot_arrays(units).landing_angle, a.landing_angle, rtol=1e-15)
 
 
@@ -339,7 +339,7 @@ def test_bad_arguments_are_typed_errors_naming_them(few):
     assert _refusal(FitError, few, start={"stimp_m": 9.0}).option == "start"
     assert _refusal(FitError, few, seed=-1).option == "seed"
     landing = few.copy()
-    landing.attrs["spin_kind"] = "landing"
+    landing.attrs["spin_at"] = "landing"
     assert _refusal(FitError, landing, vary=["spin_decay"]).option == "vary"
     assert _refusal(FitError, few.drop(columns=["side", "side_total"]), vary=["heading_gain"]).option == "vary"
     no_kind = few.copy()
@@ -441,3 +441,35 @@ def test_a_fit_gives_the_same_bits_under_a_reduced_instruction_set(tmp_path):
         return json.loads(proc.stdout.splitlines()[-1])
 
     assert cross({}) == cross(reduced_instruction_set_env())
+
+
+# ------------------------------------------------------------------------------------------ the documented path
+def test_a_trackman_export_loads_and_fits_end_to_end(tmp_path):
+    """docs/simulators.md's path: a TrackMan-style export (units row, a blank cell) -> load_shots(missing="drop")
+    -> fit_surface -> predict. The shots load as the frame they were written from (the spin's kind included, under
+    the name load_shots gives it) and the fit runs on them."""
+    from bouncelab.core.errors import DroppedRowsWarning
+
+    frame, _ = simulate(40, FIXED, seed=21)
+    mph, yd, ft = 1609.344 / 3600, 0.9144, 0.3048
+    head = ("Club,Spin Rate,Spin Axis,Launch Angle,Carry Flat - Length,Carry Flat - Side,Carry Flat - Land. Angle,"
+            "Carry Flat - Ball Speed,Carry Flat - Time,Total,Side Total")
+    units = ",[rpm],[deg],[deg],[yds],[ft],[deg],[mph],[s],[yds],[ft]"
+    rows = [",".join([f.club, repr(f.spin / RPM), repr(math.degrees(f.spin_axis)), repr(math.degrees(f.launch_angle)),
+                      repr(f.carry / yd), repr(f.side / ft), repr(math.degrees(f.landing_angle)),
+                      repr(f.landing_speed / mph), repr(f.flight_time), repr(f.total / yd), repr(f.side_total / ft)])
+            for f in frame.itertuples()]
+    rows[5] = rows[5].replace(rows[5].split(",")[9], "")  # the monitor lost this shot's total
+    path = tmp_path / "session.csv"
+    path.write_text("\n".join([head, units, *rows]) + "\n", encoding="utf-8")
+    with pytest.warns(DroppedRowsWarning, match="row 6"):
+        shots = bl.ground.load_shots(path, missing="drop")
+    kept = frame.drop(index=frame.index[5])
+    a, b = _shot_arrays(kept), _shot_arrays(shots)
+    assert b.spin_kind == "launch"
+    for name in ("landing_speed", "landing_angle", "spin", "spin_axis", "launch_angle", "carry", "total", "side",
+                 "side_total", "flight_time"):
+        np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=1e-13, err_msg=name)
+    res = fit_surface(shots, folds=0, maxeval=60, local_maxeval=30, final_maxeval=20, seed=1)
+    predicted = res.predict(shots)
+    assert len(predicted) == 39 and np.isfinite(predicted[["roll", "total", "side_total"]].to_numpy()).all()

@@ -133,7 +133,7 @@ def surface_fit():
     var = {"landing_speed": (rng.normal(27.6, 2.0, n), "m/s"), "landing_angle": (rng.normal(37.7, 3.0, n), "deg"),
            "spin": (rng.normal(2440.0, 500.0, n), "rpm"), "carry": (rng.normal(230.0, 20.0, n), "m")}
     shots = xr.Dataset({k: ("shot", x, {"units": u}) for k, (x, u) in var.items()}, coords={"shot": np.arange(n)},
-                       attrs={"spin_kind": "landing"})
+                       attrs={"spin_at": "landing"})
     rest = predict_shots(shots, Surface("hidden", bl.Rigid(r=0.3, mu=0.6), sliding_friction=0.35, stimp_m=1.2))
     shots["total"] = ("shot", rest["total"].to_numpy() + rng.normal(0.0, 1.0, n), {"units": "m"})
     return fit_surface(shots, law="Rigid", seed=0, folds=2)

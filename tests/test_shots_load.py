@@ -59,6 +59,7 @@ def test_a_trackman_export_with_a_units_row_and_blank_cells_loads_with_missing_d
     np.testing.assert_array_equal(shots.landing_angle, column("Carry Flat - Land. Angle"))
     np.testing.assert_allclose(shots.spin, column("Spin Rate", RPM), rtol=1e-14)
     np.testing.assert_array_equal(shots.spin_axis, column("Spin Axis"))
+    np.testing.assert_array_equal(shots.launch_angle, column("Launch Angle"))
     np.testing.assert_allclose(shots.carry, column("Carry Flat - Length", YD), rtol=1e-14)
     np.testing.assert_allclose(shots.total, column("Total", YD), rtol=1e-14)
     np.testing.assert_allclose(shots.side, column("Carry Flat - Side", FT), rtol=1e-14)
@@ -67,7 +68,8 @@ def test_a_trackman_export_with_a_units_row_and_blank_cells_loads_with_missing_d
     assert shots.club.values.tolist() == ["Driver", "7 Iron", "7 Iron"]
     units = {v: shots[v].attrs["units"] for v in shots.data_vars if v != "club"}
     assert units == {"landing_speed": "m/s", "landing_angle": "deg", "spin": "rad/s", "spin_axis": "deg",
-                     "carry": "m", "total": "m", "side": "m", "side_total": "m", "flight_time": "s"}
+                     "launch_angle": "deg", "carry": "m", "total": "m", "side": "m", "side_total": "m",
+                     "flight_time": "s"}
     assert shots.carry.attrs["source_column"] == "Carry Flat - Length" and shots.carry.attrs["source_units"] == "yd"
     assert shots.spin.attrs["spin_at"] == "launch"
     described = [part.split(": ")[0] for part in shots.attrs["source_units"].split(", ")]
@@ -153,6 +155,8 @@ def test_a_generic_dataframe_with_units_and_a_landing_spin():
     ("Carry Flat - Length,Total", "[yds],[yds]", "860.5,284", "Carry Flat - Length", "550 m"),
     # a flight time in milliseconds said to be seconds
     ("Carry Flat - Time,Total", "[s],[yds]", "6710,284", "Carry Flat - Time", "20 s"),
+    # a launch angle beyond 90 degrees: no shot has it (another column taken for it, or another unit)
+    ("Launch Angle,Total", "[deg],[yds]", "210,284", "Launch Angle", "beyond 90 deg"),
 ])
 def test_the_unit_guard_refuses_numbers_only_another_unit_makes(tmp_path, head, units_row, row, column, said):
     path = tmp_path / "g.csv"

@@ -36,6 +36,7 @@ SHOT_VARIABLES: dict[str, tuple[str, str, str]] = {
     "landing_angle": ("angle", "deg", "angle of descent at landing, below the horizontal"),
     "spin": ("spin", "rad/s", "ball spin rate (total, about the spin axis)"),
     "spin_axis": ("angle", "deg", "tilt of the spin axis (positive: curving right, as the monitor gives it)"),
+    "launch_angle": ("angle", "deg", "vertical launch angle, above the horizontal (orients the spin axis)"),
     "carry": ("distance", "m", "carry distance along the target line"),
     "total": ("distance", "m", "total distance, carry and roll-out"),
     "side": ("distance", "m", "lateral offset at landing (positive: right, as the monitor gives it)"),
@@ -54,6 +55,7 @@ SHOT_COLUMNS: dict[str, tuple[str, ...]] = {
     "spin": ("Spin Rate", "Spin", "Total Spin", "TotalSpin", "Ball Spin", "Launch Spin"),
     "landing_spin": ("Landing Spin", "Land Spin", "Spin at Landing", "Landing Spin Rate"),
     "spin_axis": ("Spin Axis", "Axis"),
+    "launch_angle": ("Launch Angle", "Launch V", "VLA", "Vertical Launch Angle", "Launch Angle V"),
     "carry": ("Carry Flat - Length", "Carry", "Carry Distance", "Carry Dist"),
     "total": ("Total", "Est. Total Flat - Length", "Total Distance", "Total Dist", "TotalDistance"),
     "side": ("Carry Flat - Side", "Side", "Lateral", "Offline", "Carry Side", "Carry Lateral", "Carry Offline"),
@@ -92,6 +94,7 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
     spin             TrackMan ``Spin Rate``; GSPro ``TotalSpin``/``Total Spin``; FlightScope ``Spin``: the spin
                      at launch. A column ``Landing Spin`` is the spin at landing instead (attrs ``spin_at``).
     spin_axis        ``Spin Axis``
+    launch_angle     TrackMan ``Launch Angle``; FlightScope ``Launch V``; GSPro ``VLA``
     carry            TrackMan ``Carry Flat - Length``; ``Carry``, ``Carry Distance``
     total            TrackMan ``Total`` (or ``Est. Total Flat - Length``); ``Total Distance``
     side             TrackMan ``Carry Flat - Side``; FlightScope ``Lateral``; GSPro ``Offline``; ``Side``
@@ -100,7 +103,7 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
     club             ``Club``, ``Club Type`` (text, kept as written)
     ===============  ===================================================================================
 
-    Other columns (club speed, launch angle, heights...) are left alone. Units come from a units row under the
+    Other columns (club speed, ball speed at launch, heights...) are left alone. Units come from a units row under the
     header (TrackMan's ``[mph]``, ``[deg]``, ``[rpm]``, ``[yds]``, ``[ft]``, ``[s]``), the header (``Carry
     (yds)``, ``Ball (mph)``) or ``units=``; a speed, spin or distance without one is refused (a carry of 250 is
     yards or metres: bouncelab does not guess); angles without one are degrees, times seconds.
@@ -134,11 +137,11 @@ def load_shots(source: str | os.PathLike[str] | Any, *, columns: Mapping[str, st
         Dimension ``shot`` (coordinate 0, 1, ...; coordinate ``row``, the file's data row, 1-based). Variables
         where the file has them (:data:`SHOT_VARIABLES`): ``landing_speed`` (m/s), ``landing_angle`` (degrees
         below the horizontal), ``spin`` (rad/s; attrs ``spin_at``: ``"launch"`` or ``"landing"``),
-        ``spin_axis`` (deg), ``carry``, ``total``, ``side``, ``side_total`` (m), ``flight_time`` (s), ``club``
-        (text). Each has attrs ``units``, ``long_name``, ``source_column`` and ``source_units``. The Dataset's
-        attrs: ``source`` (the file, or ``"pandas.DataFrame"``), ``format`` (``"TrackMan"``,
-        ``"FlightScope"``, ``"GSPro"`` or ``"generic"``), ``spin_at``, ``data_kind`` and a ``note`` that a
-        monitor's carry, total and landing are its own estimates.
+        ``spin_axis`` and ``launch_angle`` (deg), ``carry``, ``total``, ``side``, ``side_total`` (m),
+        ``flight_time`` (s), ``club`` (text). Each has attrs ``units``, ``long_name``, ``source_column`` and
+        ``source_units``. The Dataset's attrs: ``source`` (the file, or ``"pandas.DataFrame"``), ``format``
+        (``"TrackMan"``, ``"FlightScope"``, ``"GSPro"`` or ``"generic"``), ``spin_at``, ``data_kind`` and a
+        ``note`` that a monitor's carry, total and landing are its own estimates.
 
     Raises
     ------
@@ -301,7 +304,7 @@ def _unit(r: ip.Rows, col: ip.Column, kind: str, given: Mapping[str, str]) -> tu
 def _guard(r: ip.Rows, col: ip.Column, var: str, kind: str, values: np.ndarray, plausible: PlausibleRanges) -> None:
     """Refuse a number only a wrong unit makes (the first in the file's order), and landing angles that are none."""
     limit = {"velocity": plausible.max_speed, "spin": plausible.max_spin * u.SPIN_UNITS["rpm"],
-             **_MAX}.get(kind, 90.0 if var == "landing_angle" else 360.0)
+             **_MAX}.get(kind, 90.0 if var in ("landing_angle", "launch_angle") else 360.0)
     bad = np.abs(values) > limit
     if var == "landing_angle":
         bad |= ~(values > 0)

@@ -245,10 +245,10 @@ def _shot_arrays(shots: Any, spin_kind: str | None = None, *, outcome: bool = Tr
     """The one adapter from :func:`bouncelab.ground.load_shots`'s result (or a DataFrame) to :class:`ShotArrays`.
 
     An xarray Dataset with dimension ``shot`` (units in each variable's ``attrs["units"]``; the
-    spin's kind in ``spin.attrs["kind"]`` or the Dataset's ``attrs["spin_kind"]``) or a pandas
-    DataFrame with the same column names in SI units (m/s, rad, rad/s, m, s) unless
+    spin's kind in ``spin.attrs["spin_at"]`` or the Dataset's ``attrs["spin_at"]``, as ``load_shots``
+    writes them) or a pandas DataFrame with the same column names in SI units (m/s, rad, rad/s, m, s) unless
     ``frame.attrs["units"]`` maps a column to its unit (``{"landing_angle": "deg"}``), the spin's
-    kind in ``frame.attrs["spin_kind"]``. ``spin_kind=`` overrides both.
+    kind in ``frame.attrs["spin_at"]``. ``spin_kind=`` overrides both.
     """
     import pandas as pd
     import xarray as xr
@@ -272,8 +272,8 @@ def _shot_arrays(shots: Any, spin_kind: str | None = None, *, outcome: bool = Tr
                                 column=name, option="units")
             return u
 
-        kind = shots["spin"].attrs.get("kind") if "spin" in names else None
-        kind = kind or shots.attrs.get("spin_kind")
+        kind = shots["spin"].attrs.get("spin_at") if "spin" in names else None
+        kind = kind or shots.attrs.get("spin_at")
     elif isinstance(shots, pd.DataFrame):
         labels = np.asarray(shots.index)
         names = set(shots.columns)
@@ -285,7 +285,7 @@ def _shot_arrays(shots: Any, spin_kind: str | None = None, *, outcome: bool = Tr
         def unit(name: str) -> Any:
             return frame_units.get(name)
 
-        kind = shots.attrs.get("spin_kind")
+        kind = shots.attrs.get("spin_at")
     else:
         raise DataError(f"shots must be the Dataset of bouncelab.ground.load_shots or a pandas DataFrame; got "
                         f"{type(shots).__name__}", option="shots")
@@ -295,8 +295,8 @@ def _shot_arrays(shots: Any, spin_kind: str | None = None, *, outcome: bool = Tr
                         f"{sorted(map(str, names))})", column=missing[0])
     kind = spin_kind if spin_kind is not None else kind
     if kind not in _SPIN_KINDS:
-        raise DataError(f"say whether the spin is the spin at launch or at landing (spin.attrs['kind'] or the "
-                        f"shots' attrs['spin_kind']: 'launch' or 'landing'); got {kind!r}", column="spin",
+        raise DataError(f"say whether the spin is the spin at launch or at landing (spin.attrs['spin_at'] or "
+                        f"the shots' attrs['spin_at']: 'launch' or 'landing'); got {kind!r}", column="spin",
                         option="spin_kind", hints=[Hint("spin_kind", "launch"), Hint("spin_kind", "landing")])
     if len(labels) == 0:
         raise FitError("the shots are empty", option="shots")

@@ -16,7 +16,7 @@ var = {"landing_speed": (rng.normal(27.6, 2.0, n), "m/s"), "landing_angle": (rng
        "carry": (rng.normal(230.0, 20.0, n), "m"), "side": (rng.normal(0.0, 15.0, n), "m"),
        "flight_time": (rng.normal(6.5, 0.4, n), "s")}
 shots = xr.Dataset({k: ("shot", v, {"units": u}) for k, (v, u) in var.items()}, coords={"shot": np.arange(n)},
-                   attrs={"spin_kind": "launch"})
+                   attrs={"spin_at": "launch"})
 shots["club"] = ("shot", np.where(rng.random(n) < 0.5, "Driver", "3 Wood"))
 hidden = Surface("hidden", bl.PennerFixed(r=0.3, mu=0.6, beta_deg=19.0), sliding_friction=0.35, stimp_m=1.2)
 rest = predict_shots(shots, hidden, spin_decay=0.04, heading_gain=1.5)
