@@ -48,7 +48,7 @@ def shots(n: int, seed: int = 0) -> pd.DataFrame:
         "launch_angle": np.radians(rng.normal(12.0, 2.0, n)),
         "carry": rng.normal(230.0, 20.0, n), "side": rng.normal(0.0, 15.0, n),
         "flight_time": rng.normal(6.5, 0.4, n), "club": np.where(rng.random(n) < 0.5, "Driver", "3 Wood")})
-    frame.attrs["spin_kind"] = "launch"
+    frame.attrs["spin_at"] = "launch"
     rest = predict_shots(frame, KNOWN, spin_decay=DECAY, heading_gain=GAIN)
     frame["total"] = rest["total"] + rng.normal(0.0, NOISE_M, n)
     frame["side_total"] = rest["side_total"]
