@@ -5,6 +5,7 @@ saving, validation of saved files and figures; executors."""
 
 from __future__ import annotations
 
+import copy
 import itertools
 import json
 import math
@@ -112,16 +113,28 @@ def test_calibrate_recovers_population_scales_and_covers_fresh_bounces() -> None
     assert check.loc["all", "n"] == 400 == check.loc["roll", "n"] + check.loc["slip", "n"]
 
 
-#: The done-when's campaigns (benchmarks/bench_assess.py --coverage measures the same): on seed 3 the normal
-#: approximation at the slip/roll kink misses, measured (intervals / none): population median of mu -8.8 % / -8.0 %
-#: (the realised setting draws' geometric mean is 0.406), xdot coverage 0.918 / 0.912, new-spot scale of mu 0.250
-#: [0.229, 0.286] against 0.3. Kept as expected failures, so that an approximation that fixes them shows as XPASS.
-_KINK_MISS = pytest.mark.xfail(reason="the normal approximation at Rigid's slip/roll kink: mu's population median "
-                                      "-8.8 % and xdot coverage 0.918 on this seed (measured)", strict=False)
+#: The done-when's campaigns (benchmarks/bench_assess.py --coverage measures the same): on seed 3 the approximate
+#: likelihood misses, measured (intervals / none): population median of mu -8.7 % / -8.0 % (the realised setting draws'
+#: geometric mean is 0.406), xdot coverage 0.916 / 0.911, new-spot scale of mu 0.249 / 0.246 against 0.3. The cause
+#: (notes/w-cal2.md): 84 of the 100 settings have repeats that slip for some of the setting's draws and roll for
+#: others, and there the joint normal of a setting's repeats is not their distribution
+#: (test_setting_likelihood_matches_brute_force_at_the_kink): at the true process the approximate log likelihood is
+#: 137 below the brute-force integral over the settings' draws (21 Hermite nodes: 118), and the brute force's maximum
+#: puts mu at 0.387 (-3.2 %) with setting scale 0.294, where the approximation's puts it at 0.343 and 0.273. Kept as
+#: expected failures, so that a likelihood that fixes them shows as XPASS.
+_KINK_MISS = pytest.mark.xfail(reason="the joint normal of a setting's repeats at Rigid's slip/roll kink: mu's "
+                                      "population median -8.7 % and xdot coverage 0.916 on this seed (measured)",
+                               strict=False)
 #: Seed 1 without interval columns: the default intervals over-cover omega (measured 0.962, 0.968, 0.986 for xdot,
-#: ydot, omega); the cause is not established (the one fitted noise per component is a suspect).
+#: ydot, omega). Measured causes (notes/w-cal2.md): the setting scale of mu comes out at 0.376 (the realised 100 draws
+#: have sd 0.340; the brute-force likelihood's maximum, with interval columns, 0.366), and one fitted noise per
+#: component cannot carry the landing's error propagated through the law, which differs by regime (omega: 20.7 for a
+#: rolling bounce, 25.7 for a slipping one; the fitted noise is 23.2, their mixture). At the mode's values the interval
+#: covers omega 0.985 of the fresh bounces; with the noise of a rolling bounce 0.972, with the setting scale at 0.3
+#: 0.964. interval() adds the noise once (a bounce that rolls for every draw: draws' sd = the noise).
 _NOISE_OVER = pytest.mark.xfail(reason="omega's default 95 % interval covered 0.986 of fresh bounces on this seed "
-                                       "without interval columns (measured; cause not established)", strict=False)
+                                       "without interval columns (measured: mu's setting scale 0.376 and one noise for "
+                                       "a regime-dependent landing error)", strict=False)
 
 
 @pytest.mark.long  # 0.5-2 minutes each on 2 cores; benchmarks/bench_assess.py --coverage measures the same
@@ -377,6 +390,89 @@ def test_sampler_reproduces_the_grid_posterior(small_case) -> None:
     assert med["scale_r"] == pytest.approx(s_u, rel=0.05)
     assert abs(med["r"] - m_b) < 0.6 * sd_u  # and that posterior is the brute-force one, within the tolerance above
     assert med["scale_r"] == pytest.approx(s_b, rel=0.15)
+
+
+def _setting_loglikes(post: H._LogPosterior, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per launcher setting of a Rigid two-level posterior, at ``x`` with both bounce-level scales zero: the log
+    likelihood of the approximation (Hermite, a joint normal per setting) and a brute-force one, the product of the
+    repeats' normal densities (the model's own per-bounce covariance D_i) integrated over the setting's draw on a
+    grid: in r over +-12 sd about the value the setting's ydot pins (ydot_F = -r ydot_0), in mu over +-7 setting
+    scales in steps of 0.01 (the brute force agrees with a grid twice as fine)."""
+    from scipy.special import logsumexp
+
+    assert x[4] == x[5] == 0.0
+    r_med, mu_med, sig_r, sig_mu = x[:4]
+    d = [c.copy() for c in post._land_cov]
+    for c in range(3):
+        d[c] = d[c] + post.liftoff_var[:, c] + x[6 + c] ** 2 + post.jitter[c]
+    vm = np.linspace(-7.0, 7.0, 1401)
+    approx, brute = [], []
+    for a, b in itertools.pairwise([*post._starts, post.n]):
+        one = copy.copy(post)  # the same posterior on this setting's repeats only
+        one.p0, one.y, one.n, one._starts = post.p0[a:b], post.y[a:b], b - a, np.array([0])
+        one.liftoff_var, one._land_cov = post.liftoff_var[a:b], [c[a:b] for c in post._land_cov]
+        approx.append(one.log_likelihood(x))
+        p, y = post.p0[a:b], post.y[a:b]
+        r_hat = -(y[:, 1] @ p[:, 1]) / (p[:, 1] @ p[:, 1])
+        half = 12 * math.sqrt(d[1][a:b].max() / (p[:, 1] @ p[:, 1]))
+        zr = np.linspace(LOGIT.forward(max(r_hat - half, 1e-6)), LOGIT.forward(min(r_hat + half, 1 - 1e-6)), 81)
+        vr = (zr - LOGIT.forward(r_med)) / sig_r
+        r, mu = np.meshgrid(LOGIT.inverse(zr), mu_med * np.exp(sig_mu * vm), indexing="ij")
+        log_w = (-0.5 * vr ** 2 + math.log((vr[1] - vr[0]) / (2 * math.pi)))[:, None] + \
+            (-0.5 * vm ** 2 + math.log(vm[1] - vm[0]))[None, :]
+        f = rigid_rows(np.repeat(p, r.size, axis=0), np.tile(r.ravel(), b - a), np.tile(mu.ravel(), b - a))
+        det, quad = H._det_quad([c[a:b, None, None] for c in d], y[:, None, None, :] - f.reshape(b - a, *r.shape, 3))
+        repeats = (-0.5 * (np.log(det) + quad + 3 * math.log(2 * math.pi))).sum(axis=0)
+        brute.append(float(logsumexp(repeats + log_w)))
+    return np.array(approx), np.array(brute)
+
+
+def _two_level(landing: np.ndarray, liftoff: np.ndarray, setting: np.ndarray) -> H._LogPosterior:
+    n = len(landing)
+    return H._LogPosterior(bl.Rigid(r=R_MED, mu=MU_MED), landing, liftoff, free=["r", "mu"], vary=["r", "mu"],
+                           box={"r": (0.0, 1.0), "mu": (0.0, 1.5)}, landing_sd=np.tile(SD_LAND, (n, 1)),
+                           liftoff_sd=np.tile(SD_LIFT, (n, 1)), with_tau=True, tau_prior=np.full(3, 100.0),
+                           groups=setting)
+
+
+#: The process of spot_campaign, its bounce-level scales and discrepancy zero (1e-3: the covariance stays proper).
+_TRUE_X = np.array([R_MED, MU_MED, S_R, S_MU, 0.0, 0.0, 1e-3, 1e-3, 1e-3])
+
+
+def test_setting_likelihood_matches_brute_force_away_from_the_kink() -> None:
+    """Settings whose repeats roll whatever their draw (contact point at rest: the lift-off is r-linear in ydot and
+    does not depend on mu): the joint normal of each setting's repeats is the brute-force integral over the setting's
+    draw, within 0.05 per setting (measured: at most 0.03). The check of the brute force the kink test rests on."""
+    rng = np.random.default_rng(4)
+    xy = np.repeat(np.column_stack([rng.uniform(300, 1200, 8), rng.uniform(-700, -200, 8)]), 6, axis=0)
+    xy = xy + rng.normal(0.0, 15.0, xy.shape)
+    land = np.column_stack([xy, -xy[:, 0]])
+    assert set(bl.Rigid(r=0.01, mu=0.02).regime(land)) == set(bl.Rigid(r=1.0, mu=5.0).regime(land)) == {"roll"}
+    true = rigid_rows(land, np.repeat(LOGIT.inverse(S_R * rng.standard_normal(8)), 6), np.full(48, MU_MED))
+    post = _two_level(land + SD_LAND * rng.standard_normal(land.shape), true + SD_LIFT * rng.standard_normal((48, 3)),
+                      np.repeat(np.arange(8), 6))
+    approx, brute = _setting_loglikes(post, _TRUE_X)
+    assert np.abs(approx - brute).max() < 0.05, approx - brute
+
+
+@pytest.mark.xfail(strict=True, reason="issue 30 (a), (c): the joint normal of a setting's repeats is not their "
+                                      "distribution where the setting's draw moves them across Rigid's slip/roll kink "
+                                      "(measured: up to 18.6 log units below the brute force per setting here)")
+def test_setting_likelihood_matches_brute_force_at_the_kink() -> None:
+    """The cause of the done-when campaigns' misses on seed 3 (mu's population median -8.7 %, xdot covering 0.916):
+    on settings whose repeats slip for some of the setting's draws and roll for others, the approximate likelihood
+    of the setting (a joint normal; on seed 3's campaign even a normal with the exact moments is 106 of the 137 log
+    units below, and 21 Hermite nodes recover 19) is not the brute-force integral over the setting's draw. Measured
+    on spot_campaign(8, 6, seed=9) at the true process, approximation minus brute force per setting: -2.24, -2.19,
+    -2.21, +0.59, -18.59, +1.34, -0.79, -0.33. A likelihood that integrates over the setting's draw makes this pass
+    (strict: remove the mark then)."""
+    data = spot_campaign(8, 6, seed=9)
+    p0 = data.landing.values
+    lo, hi = bl.Rigid(r=R_MED, mu=MU_MED * math.exp(-2 * S_MU)), bl.Rigid(r=R_MED, mu=MU_MED * math.exp(2 * S_MU))
+    assert np.mean(lo.regime(p0) != hi.regime(p0)) > 0.3  # many repeats change regime within +-2 setting scales
+    post = _two_level(p0, data.liftoff.values, data.setting.values)
+    approx, brute = _setting_loglikes(post, _TRUE_X)
+    assert np.abs(approx - brute).max() < 0.5, approx - brute
 
 
 # ------------------------------------------------------------------------------ the Posterior
