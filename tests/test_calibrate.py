@@ -116,7 +116,7 @@ def test_calibrate_recovers_population_scales_and_covers_fresh_bounces() -> None
 #: The done-when's campaigns (benchmarks/bench_assess.py --coverage measures the same): on seed 3 the approximate
 #: likelihood misses, measured (intervals / none): population median of mu -8.7 % / -8.0 % (the realised setting draws'
 #: geometric mean is 0.406), xdot coverage 0.916 / 0.911, new-spot scale of mu 0.249 / 0.246 against 0.3. The cause
-#: (notes/w-cal2.md): 84 of the 100 settings have repeats that slip for some of the setting's draws and roll for
+#: (measured 2026-11-28): 84 of the 100 settings have repeats that slip for some of the setting's draws and roll for
 #: others, and there the joint normal of a setting's repeats is not their distribution
 #: (test_setting_likelihood_matches_brute_force_at_the_kink): at the true process the approximate log likelihood is
 #: 137 below the brute-force integral over the settings' draws (21 Hermite nodes: 118), and the brute force's maximum
@@ -126,7 +126,7 @@ _KINK_MISS = pytest.mark.xfail(reason="the joint normal of a setting's repeats a
                                       "population median -8.7 % and xdot coverage 0.916 on this seed (measured)",
                                strict=False)
 #: Seed 1 without interval columns: the default intervals over-cover omega (measured 0.962, 0.968, 0.986 for xdot,
-#: ydot, omega). Measured causes (notes/w-cal2.md): the setting scale of mu comes out at 0.376 (the realised 100 draws
+#: ydot, omega). Measured causes: the setting scale of mu comes out at 0.376 (the realised 100 draws
 #: have sd 0.340; the brute-force likelihood's maximum, with interval columns, 0.366), and one fitted noise per
 #: component cannot carry the landing's error propagated through the law, which differs by regime (omega: 20.7 for a
 #: rolling bounce, 25.7 for a slipping one; the fitted noise is 23.2, their mixture). At the mode's values the interval

@@ -58,12 +58,14 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow  # mkdocs build: about 5 s
 def test_build_is_strict_clean(site: Path) -> None:
     for page in ("", "quickstart", "conventions", "laws", "fitting", "data", "analysis", "cli", "examples", "api",
                  "simulators", "sklearn", "cluster"):
         assert (site / page / "index.html").is_file(), f"page {page or 'index'} was not built"
 
 
+@pytest.mark.slow  # mkdocs build: about 5 s
 @pytest.mark.parametrize("page", sorted(API_NAMES))
 def test_api_pages_list_key_names(site: Path, page: str) -> None:
     html = (site / page / "index.html").read_text(encoding="utf-8")
@@ -72,6 +74,7 @@ def test_api_pages_list_key_names(site: Path, page: str) -> None:
     assert not missing, f"{page}: not documented: {missing}"
 
 
+@pytest.mark.slow  # mkdocs build: about 5 s
 def test_no_network_assets(site: Path) -> None:
     for path in site.rglob("*.html"):
         text = path.read_text(encoding="utf-8")
