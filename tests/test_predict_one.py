@@ -27,9 +27,7 @@ def golf_landings(n: int, seed: int = 0) -> np.ndarray:
     return np.column_stack([sign * speed * np.cos(angle), -speed * np.sin(angle), rng.uniform(-500.0, 1500.0, n)])
 
 
-# TurfContact's one-row kernel compiles in about 10 s from a cold numba cache: with the slow tests.
-@pytest.mark.parametrize("law", [pytest.param(law, marks=pytest.mark.slow) if isinstance(law, bl.TurfContact) else law
-                                 for law in LAWS], ids=lambda law: type(law).__name__)
+@pytest.mark.parametrize("law", LAWS, ids=lambda law: type(law).__name__)
 def test_predict_one_is_predict_of_one_landing(law):
     import warnings
 
