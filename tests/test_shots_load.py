@@ -148,7 +148,8 @@ def test_a_generic_dataframe_with_units_and_a_landing_spin():
 
 @pytest.mark.parametrize(("head", "units_row", "row", "column", "said"), [
     # spins in rpm said to be rad/s: 2450 rad/s is 23 396 rpm, which no golf ball reaches
-    ("Spin Rate,Carry Flat - Land. Angle", "[rad/s],[deg]", "2450,38.2", "Spin Rate", "rpm"),
+    ("Spin Rate,Carry Flat - Land. Angle", "[rad/s],[deg]", "2450,38.2", "Spin Rate",
+     "2450 rad/s is 23396 rpm, beyond 20000 rpm"),
     # a landing speed said to be m/s that only km/h makes (99 m/s)
     ("Carry Flat - Ball Speed,Total", "[m/s],[yds]", "99.0,284", "Carry Flat - Ball Speed", "90 m/s"),
     # carry in feet said to be yards: 860 yd is 786 m

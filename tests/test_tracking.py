@@ -331,6 +331,20 @@ def test_rendered_npz_clips_carry_their_frame_rate(tmp_path, capsys):
     out = tmp_path / "c.nc"
     assert main(["track", str(renamed), "--out", str(out), "--quiet"]) == 0, capsys.readouterr().err
     assert out.exists()
+    # A given --fps that disagrees with the clip's own rate is refused (it was taken silently: speeds off by 20 %);
+    # one that agrees is accepted.
+    assert main(["track", str(renamed), "--fps", "4000", "--out", str(tmp_path / "d.nc"), "--quiet"]) == 3
+    err = capsys.readouterr().err
+    assert "fps 4000 frames/s disagrees with the frame rate the clip file records (5000 frames/s)" in err
+    assert not (tmp_path / "d.nc").exists()
+    assert main(["track", str(renamed), "--fps", "5000", "--out", str(tmp_path / "e.nc"), "--quiet"]) == 0
+
+
+def test_a_clip_path_that_does_not_exist_is_named_before_any_frame_rate_question(tmp_path, capsys):
+    from bouncelab.cli.main import main
+
+    assert main(["track", str(tmp_path / "nope"), "--out", str(tmp_path / "c.nc")]) == 3
+    assert f"no such file or folder: '{tmp_path / 'nope'}'" in capsys.readouterr().err
 
 
 def test_cli_track_exit_codes(tmp_path, capsys):

@@ -316,10 +316,13 @@ def _guard(r: ip.Rows, col: ip.Column, var: str, kind: str, values: np.ndarray, 
     if var == "landing_angle" and values[i] <= 90:
         raise r.err(f"landing angle {r.cell(col.name, i, col.unit)} is not plausible: a landing angle is positive "
                     "below the horizontal, in (0, 90] degrees", col.name, i)
-    si = SHOT_VARIABLES[var][1]
-    shown = f"{limit / u.SPIN_UNITS['rpm']:g} rpm" if kind == "spin" else f"{limit:g} {si}"
-    raise r.err(f"{var.replace('_', ' ')} {r.cell(col.name, i, col.unit)} is {values[i]:.4g} {si}, "
-                f"{'negative' if values[i] < 0 else f'beyond {shown}'}, which no golf shot has: the unit is wrong "
+    # the value and the limit in one unit (spins in rpm, as monitors give them), converted only if written in another
+    unit, scale = ("rpm", u.SPIN_UNITS["rpm"]) if kind == "spin" else (SHOT_VARIABLES[var][1], 1.0)
+    said = r.cell(col.name, i, col.unit)
+    value = " is" if col.unit == unit else f" is {values[i] / scale:.5g} {unit},"
+    raise r.err(f"{var.replace('_', ' ')} {said}{value} "
+                f"{'negative' if values[i] < 0 else f'beyond {limit / scale:g} {unit}'}, which no golf shot has: "
+                "the unit is wrong "
                 "(check the units row, the header or units=)", col.name, i,
                 [Hint("plausible", None, "PLAUSIBLE_RANGES.widened(...) accepts such values on purpose")]
                 if kind in ("velocity", "spin") else [])

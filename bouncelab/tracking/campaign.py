@@ -21,7 +21,14 @@ from bouncelab.core.plausibility import PLAUSIBLE_RANGES, PlausibleRanges
 from bouncelab.core.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.data.campaign import make_campaign
 from bouncelab.tracking.frames import CAMERA_SUFFIXES, open_clip, stored_fps
-from bouncelab.tracking.tracker import FPS_SOURCES, check_fps, track_clip
+from bouncelab.tracking.tracker import (
+    FPS_AGREEMENT,
+    FPS_SOURCES,
+    FrameRateError,
+    check_fps,
+    fps_source_text,
+    track_clip,
+)
 
 __all__ = ["ClipFailure", "ClipSettings", "TrackedCampaign", "clip_settings", "measure_clip", "measure_clips"]
 
@@ -398,8 +405,13 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, DataError 
     failure = None
     try:
         fps, source = s.fps, s.fps_source if s.fps_source in FPS_SOURCES else "argument"
-        if fps is None and (stored := stored_fps(clip)) is not None:
-            fps, source = stored, "clip file"  # a rendered .npz clip knows its frame rate
+        stored = stored_fps(clip)  # a rendered .npz clip knows its frame rate
+        if fps is None and stored is not None:
+            fps, source = stored, "clip file"
+        elif fps is not None and stored is not None and abs(float(fps) / stored - 1.0) > FPS_AGREEMENT:
+            raise FrameRateError(f"{fps_source_text(source)} {float(fps):g} frames/s disagrees with the frame rate the "
+                                 f"clip file records ({stored:g} frames/s); leave the frame rate out to use it",
+                                 fps=fps, source=source, file=name)
         if fps is not None or not records_times(clip):
             fps = check_fps(fps, name, source)  # before reading a long clip for nothing
         frames = open_clip(clip, name=name, memory_budget=budget)

@@ -42,7 +42,8 @@ FPS_AGREEMENT = 1e-3
 
 
 class FrameRateError(DataError):
-    """A clip's frame rate is missing, not a number, or outside :data:`FPS_RANGE`.
+    """A clip's frame rate is missing, not a number, outside :data:`FPS_RANGE`, or disagrees with the rate or
+    times the clip file records.
 
     Attributes
     ----------
@@ -370,6 +371,11 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
 
 _SOURCE_TEXT = {"argument": "fps", "manifest": "the manifest's fps", "file name": "the fps in the file name",
                 "clip file": "the fps stored in the clip file"}
+
+
+def fps_source_text(source: str) -> str:
+    """How a message names a frame rate from ``source`` (one of :data:`FPS_SOURCES`): "fps", "the manifest's fps"..."""
+    return _SOURCE_TEXT[source]
 
 
 def check_fps(fps, label: str, source: str = "argument") -> float:
