@@ -319,9 +319,14 @@ def clip(tmp_path_factory):
 @pytest.mark.parametrize(("fps", "direction"), [("100", "low"), ("1e6", "high")])
 def test_a_wrong_frame_rate_is_blamed_on_fps_not_on_units(tmp_path, capsys, clip, fps, direction):
     """A clip filmed at 5000 frames/s tracked with --fps 100 (or 10^6): the speeds are 50 times too slow (200
-    times too fast). The unit guard's message ended with a Python call (bouncelab.core.units.to_scaled)."""
+    times too fast). The unit guard's message ended with a Python call (bouncelab.core.units.to_scaled). The clip
+    is saved without its own frame rate (a disagreeing --fps would be refused against it before tracking)."""
+    with np.load(clip) as data:
+        entries = {k: data[k] for k in data.files if k != "fps"}
+    bare = tmp_path / "bounce.npz"
+    np.savez(bare, **entries)
     out = tmp_path / "c.nc"
-    code, _, err = run(capsys, "track", str(clip), "--fps", fps, "--out", str(out), "--quiet")
+    code, _, err = run(capsys, "track", str(bare), "--fps", fps, "--out", str(out), "--quiet")
     assert code == EXIT_DATA
     assert f"--fps {float(fps):g}" in err and f"likely too {direction}" in err and "e.g. --fps 5000" in err
     assert "to_scaled" not in err and "plausible=" not in err
@@ -359,6 +364,7 @@ def test_a_catastrophic_pattern_is_stopped_not_hung(tmp_path, capsys, monkeypatc
     monkeypatch.setattr(track, "PATTERN_SECONDS", 0.2)
     monkeypatch.setattr(tracking_campaign, "_process_clip", lambda job: pytest.fail("tracked a clip"))
     name = tmp_path / ("a" * 40 + ".npz")
+    name.write_bytes(b"")  # it exists: the pattern is checked before the clip is read
     start = time.monotonic()
     code, _, err = run(capsys, "track", str(name), "--pattern", r"(?P<setting>(a+)+)$", "--out",
                        str(tmp_path / "c.nc"))
