@@ -28,7 +28,6 @@ bounces of the path, samples, air) are empty arrays in the translation: they hav
 
 from __future__ import annotations
 
-import hashlib
 import inspect
 import math
 import textwrap
@@ -56,6 +55,7 @@ from bouncelab.export.law import (
     _check_language,
     _check_prefix,
     _cs_string,
+    _guarded_header,
     _js_string,
     _nested,
     _written,
@@ -534,9 +534,7 @@ static inline const char *{p}refusal(int code) {{
     }}
 }}
 """
-    guard = f"{p.upper().strip('_')}_SURFACE_H_{hashlib.sha256(body.encode()).hexdigest()[:12].upper()}"
-    comment = _comment(s, "c", prefix=p)
-    return f"{comment}\n#ifndef {guard}\n#define {guard}\n\n{body}\n#endif /* {guard} */\n"
+    return _guarded_header(_comment(s, "c", prefix=p), body, p, "SURFACE")
 
 
 _CODE_NAMES = {NOT_FINITE: "not_finite", ZERO_NORMAL: "zero_normal", NOT_UP: "normal_not_up",

@@ -316,11 +316,7 @@ static inline const char *{p}regime_name(int code) {{
     }}
 }}
 """
-    guard = f"{p.upper().strip('_')}_LAW_H_{hashlib.sha256(body.encode()).hexdigest()[:12].upper()}"
-    comment = _comment(k, "c", prefix=prefix)
-    # The guard names the content: the same file included twice is read once, while two different laws
-    # exported with the same prefix collide loudly (redefinitions) instead of one silently hiding the other.
-    return f"{comment}\n#ifndef {guard}\n#define {guard}\n\n{body}\n#endif /* {guard} */\n"
+    return _guarded_header(_comment(k, "c", prefix=prefix), body, p, "LAW")
 
 
 # ------------------------------------------------------------------------------------------- JavaScript
@@ -547,6 +543,15 @@ public static class {class_name} {{
 
 
 # ------------------------------------------------------------------------------------------- the comment
+def _guarded_header(comment: str, body: str, prefix: str, kind: str) -> str:
+    """A C header: ``comment``, then ``body`` inside an include guard named by the prefix, the kind ("LAW",
+    "SURFACE") and the body's hash. The guard names the content: the same file included twice is read once,
+    while two different exports with the same prefix collide loudly (redefinitions) instead of one silently
+    hiding the other."""
+    guard = f"{prefix.upper().strip('_')}_{kind}_H_{hashlib.sha256(body.encode()).hexdigest()[:12].upper()}"
+    return f"{comment}\n#ifndef {guard}\n#define {guard}\n\n{body}\n#endif /* {guard} */\n"
+
+
 def _comment(k: _Kernel, lang: str, *, prefix: str = DEFAULT_PREFIX, class_name: str = DEFAULT_CLASS) -> str:
     from bouncelab.core import __version__
 
