@@ -168,37 +168,20 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 
 # ------------------------------------------------------------------------------ coverage on a known process
-R_MED, MU_MED, S_R, S_MU = 0.5, 0.4, 0.25, 0.3
-SD_LAND, SD_LIFT = (4.0, 4.0, 15.0), (5.0, 5.0, 20.0)
-
-
 def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = True):
-    """Rigid with r (logit-normal: median 0.5, scale 0.25) and mu (log-normal: 0.4, 0.3) drawn per launcher setting,
-    the repeats of a setting on its spot, landings scattered about the setting's (both regimes), measured with known
-    normal errors (stated as 95 % intervals when ``intervals``); settings labelled by seed (fresh ones are new)."""
-    import numpy as np
+    """The done-when's campaign, the tests' own (``tests/test_calibrate.py::spot_campaign``): Rigid with r
+    (logit-normal: median 0.5, scale 0.25) and mu (log-normal: 0.4, 0.3) drawn per launcher setting, the repeats of
+    a setting on its spot, measured with known normal errors (stated as 95 % intervals when ``intervals``)."""
+    from tests.test_calibrate import spot_campaign as campaign
 
-    from bouncelab.laws import predict_per_bounce
-
-    rng = np.random.default_rng(seed)
-    base = np.column_stack([rng.uniform(300, 1200, n_settings), rng.uniform(-700, -200, n_settings),
-                            rng.uniform(-300, 600, n_settings)])
-    n = n_settings * repeats
-    land = np.repeat(base, repeats, axis=0) + rng.normal(0.0, [15.0, 15.0, 30.0], (n, 3))
-    z_r = np.repeat(S_R * rng.standard_normal(n_settings), repeats)
-    z_mu = np.repeat(S_MU * rng.standard_normal(n_settings), repeats)
-    r = 0.5 * (1.0 + np.tanh(0.5 * (np.log(R_MED / (1 - R_MED)) + z_r)))  # the logistic as calibrate writes it
-    true = predict_per_bounce(bl.Rigid, land, np.column_stack([r, MU_MED * np.exp(z_mu)]))
-    pis = {"landing_pi": np.tile(1.96 * np.array(SD_LAND), (n, 1)),
-           "liftoff_pi": np.tile(1.96 * np.array(SD_LIFT), (n, 1))} if intervals else {}
-    return bl.make_campaign(land + np.array(SD_LAND) * rng.standard_normal((n, 3)),
-                            true + np.array(SD_LIFT) * rng.standard_normal((n, 3)),
-                            setting=np.repeat(np.arange(n_settings) + 10_000 * seed, repeats), **pis)
+    return campaign(n_settings, repeats, seed=seed, intervals=intervals)
 
 
 def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]:
     import numpy as np
     import pandas as pd
+
+    from tests.test_calibrate import MU_MED, R_MED, S_MU, S_R
 
     print(f"calibrate(Rigid, vary=['r', 'mu']) with defaults on {settings} settings x 6 repeats per seed; fresh: "
           f"{2 * settings} new settings x 6; load average before: {_load()}", flush=True)
