@@ -470,6 +470,9 @@ def test_a_trackman_export_loads_and_fits_end_to_end(tmp_path):
     for name in ("landing_speed", "landing_angle", "spin", "spin_axis", "launch_angle", "carry", "total", "side",
                  "side_total", "flight_time"):
         np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=1e-13, err_msg=name)
-    res = fit_surface(shots, folds=0, maxeval=60, local_maxeval=30, final_maxeval=20, seed=1)
+    res = fit_surface(shots, folds=2, maxeval=60, local_maxeval=30, final_maxeval=20, seed=1)
     predicted = res.predict(shots)
     assert len(predicted) == 39 and np.isfinite(predicted[["roll", "total", "side_total"]].to_numpy()).all()
+    # each search's time is a number of seconds (the polish loop once overwrote its start time with a point)
+    assert len(res.folds) >= 1
+    assert all(isinstance(v, float) and 0.0 <= v < 600.0 for v in res.folds["elapsed_s"])

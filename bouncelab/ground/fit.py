@@ -709,8 +709,8 @@ def _run_task(task: _Task) -> _Outcome:
             # (restitution against spin decay, say) in which one local search from one point can stall.
             fine = objective(first)
             best = None
-            for k, start in enumerate(_distinct(seen, POLISH_STARTS, 0.1)):
-                xk, fk, stop = _nlopt(nlopt.LN_BOBYQA, fine, start, task.local_maxeval, step=0.02)
+            for k, point in enumerate(_distinct(seen, POLISH_STARTS, 0.1)):
+                xk, fk, stop = _nlopt(nlopt.LN_BOBYQA, fine, point, task.local_maxeval, step=0.02)
                 stops.append(f"local {k + 1} {stop}")
                 if best is None or fk < best[1]:
                     best = (xk, fk)
