@@ -347,6 +347,20 @@ def test_a_clip_path_that_does_not_exist_is_named_before_any_frame_rate_question
     assert f"no such file or folder: '{tmp_path / 'nope'}'" in capsys.readouterr().err
 
 
+def test_a_missing_clip_among_others_fails_alone(tmp_path, capsys):
+    """A missing clip is one failed clip: the others are measured and written (the command's promise)."""
+    from bouncelab.cli.main import main
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 1)
+    good = next(clips.iterdir())
+    out = tmp_path / "c.nc"
+    assert main(["track", str(good), str(tmp_path / "nope.npz"), "--out", str(out), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "1 of 2 clip(s) measured" in err and "nope.npz" in err and "no such file" in err
+    assert out.exists()
+
+
 def test_cli_track_exit_codes(tmp_path, capsys):
     from bouncelab.cli.main import main
 

@@ -314,14 +314,14 @@ def run(args: argparse.Namespace) -> int:
 
     _check_outputs(args.out, args.figures)
     regex = _compile_pattern(args.pattern) if args.pattern is not None else None
-    missing = next((c for c in args.clips if not os.path.lexists(c)), None)
-    if missing is not None:  # before any question about the frame rate: the clip itself is not there
-        from bouncelab.core.errors import MissingFileError
-
-        raise MissingFileError("no such file or folder", file=missing)
     clips = expand_clips(args.clips)
     if args.fps is None and not args.manifest and regex is None \
             and not any(Path(c).suffix.lower() in (".npz", *CAMERA_SUFFIXES) for c in clips):
+        missing = next((c for c in args.clips if not os.path.lexists(c)), None)
+        if missing is not None:  # say that, not that a frame rate is needed (a missing clip among others is
+            from bouncelab.core.errors import MissingFileError  # one failed clip, as any clip that cannot be read)
+
+            raise MissingFileError("no such file or folder", file=missing)
         print("bouncelab track: --fps is needed: the frame rate is not in a manifest, a --pattern or the clips "
               "(.cine and .mraw files record it; e.g. --fps 5000)", file=sys.stderr)
         return EXIT_USAGE

@@ -412,6 +412,8 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, DataError 
             raise FrameRateError(f"{fps_source_text(source)} {float(fps):g} frames/s disagrees with the frame rate the "
                                  f"clip file records ({stored:g} frames/s); leave the frame rate out to use it",
                                  fps=fps, source=source, file=name)
+        if isinstance(clip, str | Path) and not Path(clip).exists():  # said as such, not as a missing frame rate
+            raise MissingFileError("no such file or folder", file=name)
         if fps is not None or not records_times(clip):
             fps = check_fps(fps, name, source)  # before reading a long clip for nothing
         frames = open_clip(clip, name=name, memory_budget=budget)
