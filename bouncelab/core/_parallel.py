@@ -1,6 +1,6 @@
 """A small thread pool for compiled loops that release the GIL: fork-, spawn- and thread-safe.
 
-One primitive shares work between threads: :func:`run_rows` (rows whose results are independent, such
+Two functions share work between threads: :func:`run_rows` (rows whose results are independent, such
 as predictions) and :func:`run_chunked` (partial sums, cut at fixed multiples of :data:`CHUNK`). Prediction
 of large arrays, the error sums of large fits and the batched log posteriors of :func:`bouncelab.calibrate`
 are cut into parts and run by serial ``nogil`` loops on a :class:`~concurrent.futures.ThreadPoolExecutor`

@@ -1,5 +1,5 @@
-"""One check per kind of argument: a finite real number, a positive one, a fraction, a count, a seed, a
-vector, a text.
+"""One check per kind of argument: a finite real number, a positive one, a fraction, a count, a seed, an
+array of real numbers, a text.
 
 Every layer checks its scalar arguments (and the numbers and texts of the files it reads) with these, so
 that a value is accepted or refused by the same rule everywhere, in the same words, naming the argument:
@@ -32,7 +32,7 @@ import numpy as np
 from bouncelab.core.errors import BouncelabError, ParameterError
 
 __all__ = ["SEED_MAX", "as_float", "count", "finite", "fraction", "generator", "positive", "real_array", "seed",
-           "shown", "text", "vector"]
+           "shown", "text"]
 
 #: Largest seed (NumPy's generators and NLopt take seeds below 2**63).
 SEED_MAX = 2**63 - 1
@@ -201,19 +201,6 @@ def generator(value: Any, name: str = "seed", *, error: type[BouncelabError] = P
     if isinstance(value, np.random.Generator):
         return value
     return np.random.default_rng(None if value is None else seed(value, name, error=error))
-
-
-def vector(value: Any, name: str, length: int = 3, *, error: type[BouncelabError] = ParameterError,
-           components: str | None = None) -> np.ndarray:
-    """``value`` as a new 1-D float array of ``length`` finite real numbers, or ``error`` naming ``name``
-    (``components`` words them, e.g. ``"[xdot, ydot, omega]"``)."""
-    what = components or f"{length} numbers"
-    arr = np.array(real_array(value, name, what, error=error))  # a copy: never the caller's array
-    if arr.shape != (length,):
-        raise _refuse(error, name, value, f"{name} must be {what}; got shape {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise _refuse(error, name, value, f"{name} has a NaN or infinite component: {arr.tolist()}")
-    return arr
 
 
 def text(value: Any, name: str, *, error: type[BouncelabError] = ParameterError, empty: bool = True) -> str:

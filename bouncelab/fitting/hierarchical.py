@@ -392,11 +392,6 @@ class _LogPosterior:
             t, rho2 = scales, np.zeros_like(scales)
         return theta, t, rho2, tau
 
-    def split(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """One vector's law numbers, total scales and discrepancies."""
-        theta, t, _, tau = self._split(np.asarray(x, dtype=float)[None, :])
-        return theta[0], t[0], tau[0]
-
     # -------------------------------------------------------------- prior
     def log_prior(self, x: np.ndarray) -> float:
         # plain Python on a handful of numbers: NumPy's per-call overhead would dominate here
@@ -535,13 +530,6 @@ class _LogPosterior:
         if self._land_cov is not None:
             cov = [a + b for a, b in zip(cov, self._land_cov, strict=True)]
         return mean, ok, cov, shared, tau
-
-    def moments(self, x: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
-        """One vector's approximate mean (n, 3) of the measured lift-offs and the six distinct entries of each
-        bounce's own covariance (xx, yy, ww, xy, xw, yw), each (n,), in the posterior's order of the bounces
-        (setting by setting with the setting level)."""
-        mean, _, cov, _, _ = self._moments(np.asarray(x, dtype=float)[None, :])
-        return mean[0], tuple(c[0] for c in cov)
 
     def log_likelihoods(self, X: np.ndarray) -> np.ndarray:
         """The log likelihood of each row of X (k, ndim); -inf where it cannot be evaluated."""
@@ -773,10 +761,6 @@ def calibrate(
                            law=law_name(fitted), option="vary")
     if len(set(vary)) != len(vary):
         raise FitError(f"vary names a parameter twice: {vary}", law=law_name(fitted), option="vary")
-    if any(not s.is_scalar and s.name not in point.fixed for s in specs.values()):
-        arrays = [s.name for s in specs.values() if not s.is_scalar]
-        raise FitError(f"calibrate samples scalar parameters only; the array parameter(s) {arrays} must be held",
-                       law=law_name(fitted), option="fixed", hints=[Hint("fixed", arrays)])
     two_levels = bool(vary) and by != "bounce" and repeated
     landing_sd, liftoff_sd = interval_sds(data, len(p0))
     with_tau = discrepancy or liftoff_sd is None
@@ -1278,7 +1262,8 @@ class Posterior:
         common tail), ``walkers`` (all chains), ``chains``, ``acceptance`` (mean fraction), ``autocorr``
         (infinite for a column in which some walker never moved) and ``rhat`` (per column of
         ``samples``), ``thin``, ``start`` (how the walkers started: ``"laplace"``, ``"diagonal"`` or
-        ``"ball"``; see the module documentation), ``elapsed_s``.
+        ``"ball"``; see the module documentation), ``approximation`` (the marginalisation rule, and for
+        ``"hermite"`` its number of nodes and whether they were chosen at the mode), ``elapsed_s``.
     measurement
         Typical measurement standard deviations of the calibration data (medians per component of
         ``landing_sd`` and ``liftoff_sd``), used by :meth:`predict` for new landings; None where the
