@@ -859,6 +859,16 @@ def test_vary_that_is_not_names_is_a_parameter_error(vary) -> None:
     assert e.value.parameter == "vary"
 
 
+def test_array_parameters_not_held_are_refused_before_the_point_fit(monkeypatch) -> None:
+    """PiecewiseAffine's maps are arrays, which calibrate does not sample: refused, naming them, before a point fit
+    (which took 10 s on PiecewiseAffine before it was refused)."""
+    monkeypatch.setattr(H, "fit", lambda *a, **k: pytest.fail("fitted before refusing"))
+    with pytest.raises(FitError) as e:
+        calibrate(bl.PiecewiseAffine, varying_campaign(40, seed=9), vary=["offset"])
+    assert e.value.option == "fixed" and "must be held" in e.value.message
+    assert {"A1", "b1", "A2", "b2", "normal"} <= set(e.value.hints[0].value)
+
+
 def test_one_bounce_per_setting_is_the_one_level_model() -> None:
     """Settings of one bounce each cannot separate the levels: every bounce is on its own spot, and the notes say so."""
     data = varying_campaign(40, seed=9).assign_coords(setting=("bounce", np.arange(40)))

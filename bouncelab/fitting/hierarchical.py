@@ -115,7 +115,8 @@ approximation of the posterior, from the Hessian at the start, then after every 
 from the mean and covariance of the second half of the chain so far. Every move leaves the
 posterior invariant, whatever its proposal; a good proposal makes successive samples nearly
 independent. The walkers start from the normal approximation of the posterior at its mode: the
-mode found by Nelder-Mead from a point fit, the covariance from a finite-difference Hessian there
+mode found by L-BFGS-B (batched central differences; Nelder-Mead where that fails) from a point fit, the
+covariance from a finite-difference Hessian there
 (the diagonal, or a small ball, where the Hessian is not negative definite; no independence move
 then until the first block has run). The sampler runs in blocks of :data:`BLOCK` steps; with
 ``steps=None`` until the chain after burn-in (five autocorrelation times, at most the first
