@@ -265,6 +265,23 @@ def test_a_dataset_in_degrees_and_rpm_reads_as_the_si_frame():
     np.testing.assert_allclose(_shot_arrays(units).landing_angle, a.landing_angle, rtol=1e-15)
 
 
+def test_distances_and_times_in_other_units_read_by_load_shots_table():
+    """fit_surface reads distances and times by load_shots' one table of units (yards, feet, centimetres, ms)."""
+    frame, _ = simulate(10, FIXED, seed=8)
+    a = _shot_arrays(frame)
+    other = frame.copy()
+    other["carry"], other["side"], other["flight_time"] = frame["carry"] / 0.9144, frame["side"] / 0.3048, \
+        frame["flight_time"] * 1000.0
+    other.attrs = {"spin_at": "launch", "units": {"carry": "yds", "side": "feet", "flight_time": "ms"}}
+    b = _shot_arrays(other)
+    for name in ("carry", "side", "flight_time"):
+        np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=1e-14, err_msg=name)
+    other.attrs["units"] = {"carry": "furlong"}
+    with pytest.raises(DataError, match="unknown distance unit 'furlong'") as e:
+        _shot_arrays(other)
+    assert (e.value.column, e.value.option) == ("carry", "units")
+
+
 def _refusal(exc_type, shots, **kw):
     with pytest.raises(exc_type) as err:
         fit_surface(shots, **kw)

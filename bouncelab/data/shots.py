@@ -233,7 +233,13 @@ def _units_arg(units: Any, where: str) -> dict[str, str]:
     return {**ip.check_units_arg(rest, where), **other}
 
 
-def _other_unit(text: str, kind: str, file: str, column: str | None = None) -> str:
+def shot_unit_factor(text: str, kind: str) -> float:
+    """The factor to SI of a ``kind`` (``"distance"`` or ``"time"``) unit as written (``"yds"``, ``"ft"``, ``"ms"``),
+    or a DataError listing the known ones."""
+    return _OTHER_UNITS[kind][_other_unit(text, kind, None)]
+
+
+def _other_unit(text: str, kind: str, file: str | None, column: str | None = None) -> str:
     key = str(text).strip().lower().replace(" ", "").strip("[](){}")
     if (key := _SPELLINGS.get(key, key)) not in _OTHER_UNITS[kind]:
         raise DataError(f"unknown {kind} unit {text!r}; known {kind} units: {', '.join(_OTHER_UNITS[kind])}",

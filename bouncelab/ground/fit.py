@@ -106,12 +106,9 @@ _REQUIRED = ("landing_speed", "landing_angle", "spin", "carry", "total")
 _NUMERIC = (*_REQUIRED, "spin_axis", "launch_angle", "side", "side_total", "flight_time")
 # variable -> (kind of unit, the unit assumed when none is given)
 _KINDS = {"landing_speed": ("velocity", "m/s"), "landing_angle": ("angle", "rad"), "spin": ("spin", "rad/s"),
-          "spin_axis": ("angle", "rad"), "launch_angle": ("angle", "rad"), "carry": ("length", "m"),
-          "total": ("length", "m"), "side": ("length", "m"), "side_total": ("length", "m"),
+          "spin_axis": ("angle", "rad"), "launch_angle": ("angle", "rad"), "carry": ("distance", "m"),
+          "total": ("distance", "m"), "side": ("distance", "m"), "side_total": ("distance", "m"),
           "flight_time": ("time", "s")}
-_LENGTH_UNITS = {"m": 1.0, "metre": 1.0, "metres": 1.0, "meter": 1.0, "meters": 1.0, "yd": 0.9144, "yds": 0.9144,
-                 "yard": 0.9144, "yards": 0.9144, "ft": 0.3048, "feet": 0.3048, "foot": 0.3048}
-_TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0}
 _SPIN_KINDS = ("launch", "landing")
 _GROUPS = ("auto", "shot", "session", "club")
 _MAX_SPEED = 90.0  # m/s: the unit guard's limits (bouncelab.core.plausibility.PLAUSIBLE_RANGES)
@@ -210,11 +207,12 @@ def _convert(values: np.ndarray, name: str, unit: Any) -> np.ndarray:
         if kind == "spin":
             return values * SPIN_UNITS[canon]
         return values * (ANGLE_UNITS[canon] * math.pi / 180.0)
-    table = _LENGTH_UNITS if kind == "length" else _TIME_UNITS
-    key = str(unit).strip().lower()
-    if key not in table:
-        raise DataError(f"unknown {kind} unit {unit!r}; known: {', '.join(table)}", column=name, option="units")
-    return values * table[key]
+    from bouncelab.data.shots import shot_unit_factor  # load_shots' table of distances and times: one table
+
+    try:
+        return values * shot_unit_factor(unit, kind)
+    except DataError as exc:
+        raise DataError(exc.message, column=name, option="units") from None
 
 
 def _column(source: Any, name: str, labels: np.ndarray, unit: Any) -> np.ndarray:
