@@ -472,3 +472,17 @@ def test_clips_in_parallel_processes_give_the_same_campaign(tmp_path):
     assert [f.clip for f in one.failures] == [f.clip for f in two.failures] == [str(clips / "broken_5000fps.avi")]
     for var in ("landing", "liftoff", "landing_pi", "liftoff_pi"):
         assert np.array_equal(one.campaign[var].values, two.campaign[var].values)
+
+
+@pytest.mark.parametrize("ppm", [1e9, 10.0])
+def test_a_scale_that_makes_no_ball_in_the_frame_is_refused(tmp_path, ppm):
+    """pixels_per_metre sets the ball's size in pixels: one that makes the ball bigger than the frame or smaller
+    than a pixel is not a scale in pixels per metre (millimetres, say), refused naming it before any tracking."""
+    from bouncelab.core.errors import DataError
+    from bouncelab.tracking import track_clip
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 1)
+    with pytest.raises(DataError, match="is the scale in pixels per metre") as e:
+        track_clip(next(clips.iterdir()), fps=5000.0, pixels_per_metre=ppm)
+    assert e.value.option == "pixels_per_metre"

@@ -69,9 +69,10 @@ def _run_batch(batch: tuple[Callable[[Any], Any], list[Any]]) -> list[Any]:
     return [function(t) for t in tasks]
 
 
-def _workers(executor: Executor) -> int:
-    """Workers of a concurrent.futures executor, as far as it tells (1 if it does not)."""
-    client = getattr(executor, "_client", None)  # dask's ClientExecutor
+def _workers(executor: Any) -> int:
+    """Worker threads of a dask Client (every one: scheduler_info lists only some) or of dask's ClientExecutor,
+    or the workers of a concurrent.futures executor as far as it tells (1 if it does not)."""
+    client = executor if is_dask_client(executor) else getattr(executor, "_client", None)  # (ClientExecutor's)
     if client is not None and is_dask_client(client):
         return max(1, sum(client.nthreads().values()))
     n = getattr(executor, "_max_workers", None)
@@ -105,9 +106,8 @@ def map_tasks(function: Callable[[Any], Any], tasks: Iterable[Any], executor: An
     if executor is None or not tasks:
         return [function(t) for t in tasks]
     if is_dask_client(executor):
-        slots = max(1, sum(executor.nthreads().values()))  # every worker thread (scheduler_info lists only some)
         # pure=False: every batch runs (no key hashing of large arguments; equal batches are not merged).
-        futures = executor.map(_run_batch, _batches(function, tasks, slots), pure=False)
+        futures = executor.map(_run_batch, _batches(function, tasks, _workers(executor)), pure=False)
         return [r for batch in executor.gather(futures) for r in batch]
     if isinstance(executor, Executor):
         futures = [executor.submit(_run_batch, b) for b in _batches(function, tasks, _workers(executor))]
