@@ -310,6 +310,15 @@ def test_nans_are_named_by_column_and_shot(few):
     assert "missing='drop'" in str(e)
 
 
+def test_text_and_bools_are_refused_not_read_as_numbers(few):
+    """A column of numbers written as text, or of bools, is a DataError naming the column (astype(float) took them)."""
+    text = few.assign(carry=few["carry"].map(lambda v: f"{v:.1f}"))
+    e = _refusal(DataError, text)
+    assert e.column == "carry" and "text" in str(e)
+    flags = few.assign(total=few["total"] > 0)
+    assert _refusal(DataError, flags).column == "total"
+
+
 def test_values_in_another_unit_are_refused(few):
     deg = few.copy()
     deg["landing_angle"] = np.degrees(deg["landing_angle"])  # degrees in a column said to be radians

@@ -32,7 +32,9 @@ measured lift-off :math:`y_i`:
   independent from bounce to bounce;
 * the landing and the lift-off are measured with independent normal errors of the standard
   deviations their 95 % prediction intervals state (``landing_pi / 1.96``,
-  ``liftoff_pi / 1.96``). Without lift-off intervals the measurement error of the lift-off cannot
+  ``liftoff_pi / 1.96``). Without landing intervals the landing's standard deviations are fitted
+  (``landing_noise_<component>``, one per component; ``landing_noise=``): pushed through the law, the
+  landing's error moves a rolling bounce's lift-off otherwise than a slipping one's. Without lift-off intervals the measurement error of the lift-off cannot
   be told apart from the discrepancy: then :math:`\tau` is fitted as one *noise* term holding both.
 
 The approximation
@@ -94,7 +96,13 @@ the repeats is not their distribution: on the 100-setting campaign of
 ``benchmarks/bench_assess.py --coverage`` (seed 3), at the true process, the log likelihood is 137
 below the brute-force integral over the settings' draws (21 nodes: 118), nearly all of it on the 84
 settings that straddle the kink, and the population median of ``mu`` comes out 8-9 % low (the
-brute force's maximum: 3 % low).
+brute force's maximum: 3 % low). So where it can, :func:`calibrate` does not use the joint normal for the
+setting level (``setting_integral="auto"``): where every free parameter varies and the law is compiled, each
+setting's likelihood is the integral over its draw, estimated by importance sampling
+(:mod:`bouncelab.fitting.setting_integral`: within 0.1 of the brute force per setting on those settings), with
+each bounce's own variation linearised at the draw (exact when the bounce-to-bounce scale is zero). Elsewhere
+(some free parameter held the same for every bounce, a law written in Python) the joint normal remains, and
+``posterior.diagnostics["setting_integral"]`` says which was used.
 :meth:`Posterior.predict` does not approximate: it draws per-bounce parameters and calls the law.
 
 Priors
@@ -152,6 +160,8 @@ from bouncelab.data.campaign import interval_sds, synthetic_warning
 from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_count, check_fraction, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.problem import resolve_fixed
+from bouncelab.fitting.setting_integral import SettingIntegral
+from bouncelab.fitting.setting_integral import det_quad as _det_quad
 from bouncelab.fitting.tasks import map_tasks, resolve_executor
 from bouncelab.fitting.vector import ParameterVector
 from bouncelab.laws import law_from_dict, law_name
@@ -163,6 +173,8 @@ __all__ = ["ConvergenceWarning", "Posterior", "calibrate", "load_posterior"]
 
 #: How :func:`calibrate` marginalises the per-bounce parameters (see the module documentation).
 APPROXIMATIONS = ("hermite", "linear", "unscented")
+#: How :func:`calibrate` integrates the setting level over a setting's draw.
+SETTING_INTEGRALS = ("auto", "importance", "normal")
 
 #: The levels of the population model: launcher setting (a spot shared by its repeats) and bounce.
 LEVELS = ("setting", "bounce")
@@ -279,7 +291,7 @@ class _LogPosterior:
                  vary: Sequence[str], box: Mapping[str, tuple[float, float]], landing_sd: np.ndarray | None,
                  liftoff_sd: np.ndarray | None, with_tau: bool, tau_prior: np.ndarray, scale_prior: float = 1.0,
                  step: float = 1e-4, approximation: str = "hermite", nodes: int = 7,
-                 groups: np.ndarray | None = None) -> None:
+                 groups: np.ndarray | None = None, landing_prior: np.ndarray | None = None) -> None:
         if approximation not in APPROXIMATIONS:
             raise FitError(f"approximation must be one of {APPROXIMATIONS}; got {approximation!r}",
                            option="approximation")
@@ -317,6 +329,11 @@ class _LogPosterior:
         self.liftoff_var = None if liftoff_sd is None else liftoff_sd ** 2
         self.with_tau = with_tau
         self.tau_prior = np.asarray(tau_prior, dtype=float)
+        # the landing's measurement error fitted (one sd per component) where the data do not state it
+        if landing_prior is not None and self.landing_sd is not None:
+            raise FitError("a landing noise is fitted only where the data have no landing intervals",
+                           option="landing_noise")
+        self.landing_prior = None if landing_prior is None else [float(v) for v in landing_prior]
         self.scale_prior = float(scale_prior)
         self.step = float(step)
         self.n = n
@@ -335,6 +352,8 @@ class _LogPosterior:
         self._row_seconds: list[float] = []  # the law's time per row, from calls on this thread
         self._land_cov: list[np.ndarray] | None = None
         self.fix_landing(None)
+        #: the setting level by importance sampling over each setting's draw (None: the joint normal)
+        self.setting_integral: SettingIntegral | None = None
 
     def _rule(self, approximation: str, nodes: int) -> None:
         """The points along each varying parameter's axis, in units of its total scale (of the step for "linear"),
@@ -367,11 +386,17 @@ class _LogPosterior:
         noise = "discrepancy" if self.liftoff_var is not None else "noise"
         setting = [f"setting_scale_{v}" for v in self.vary] if "setting" in self.levels else []
         return [*self.free, *setting, *(f"scale_{v}" for v in self.vary),
-                *((f"{noise}_{c}" for c in COMPONENTS) if self.with_tau else ())]
+                *((f"{noise}_{c}" for c in COMPONENTS) if self.with_tau else ()),
+                *((f"landing_noise_{c}" for c in COMPONENTS) if self.landing_prior is not None else ())]
 
     @property
     def ndim(self) -> int:
-        return len(self.free) + self._n_scales + (3 if self.with_tau else 0)
+        return len(self.free) + self._n_scales + (3 if self.with_tau else 0) + \
+            (3 if self.landing_prior is not None else 0)
+
+    def landing_noise(self, X: np.ndarray) -> np.ndarray | None:
+        """The fitted landing noise of each row of X (w, 3), or None where the data state the landing's error."""
+        return None if self.landing_prior is None else X[:, self.ndim - 3:]
 
     def _theta(self, X: np.ndarray) -> np.ndarray:
         theta = np.repeat(self.theta0[None, :], len(X), axis=0)
@@ -383,7 +408,7 @@ class _LogPosterior:
         nf, nv = len(self.free), len(self.vary)
         theta = self._theta(X)
         scales = X[:, nf:nf + self._n_scales]
-        tau = X[:, nf + self._n_scales:] if self.with_tau else np.zeros((len(X), 3))
+        tau = X[:, nf + self._n_scales:nf + self._n_scales + 3] if self.with_tau else np.zeros((len(X), 3))
         if "setting" in self.levels:
             sigma, s = scales[:, :nv], scales[:, nv:]
             t = np.hypot(sigma, s)
@@ -410,14 +435,19 @@ class _LogPosterior:
         lp = 0.0
         for j in range(nf, len(v)):
             # half-normal priors on the scales and tau (zero or more; a thousand prior sds is no value)
-            sd = self.scale_prior if j < nf + ns else self._tau_prior[j - nf - ns]
+            sd = self.scale_prior if j < nf + ns else self._rest_prior[j - nf - ns]
             if not 0.0 <= v[j] <= 1e3 * sd:
                 return -math.inf
             lp -= 0.5 * (v[j] / sd) ** 2
         return lp
 
     def _priors(self) -> list[float]:
-        return [self.scale_prior] * self._n_scales + (self._tau_prior if self.with_tau else [])
+        return [self.scale_prior] * self._n_scales + self._rest_prior
+
+    @property
+    def _rest_prior(self) -> list[float]:
+        """Prior sds of the numbers after the scales: tau's, then the landing noise's."""
+        return (self._tau_prior if self.with_tau else []) + (self.landing_prior or [])
 
     def zero_piles(self, x: np.ndarray) -> np.ndarray:
         """Which numbers of ``x`` are scales or discrepancies within a tenth of their prior sd of zero."""
@@ -444,11 +474,18 @@ class _LogPosterior:
         if not self._rows:  # a law written in Python (or with array parameters): one call per row, one thread
             return np.stack([self._vec.predict(self.law, self.p0, th) for th in params]) if k else \
                 np.empty((0, n, 3))
+        return self.rows(np.tile(self.p0, (k, 1)), np.repeat(params, n, axis=0)).reshape(k, n, 3)
+
+    def rows(self, landing: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+        """The law on each landing (N, 3) with its own row of numbers (N, P): (N, 3); one call of a compiled law,
+        its rows shared between threads where they take long enough to pay."""
+        if not self._rows:
+            return np.stack([self._vec.predict(self.law, p[None, :], th)[0] for p, th in zip(landing, numbers,
+                                                                                             strict=True)]) \
+                if len(landing) else np.empty((0, 3))
         from bouncelab.laws.varying import predict_per_bounce
 
-        total = k * n
-        landing = np.tile(self.p0, (k, 1))
-        numbers = np.repeat(params, n, axis=0)
+        total = len(landing)
         out = np.empty((total, 3))
 
         def part(start: int, stop: int) -> None:
@@ -465,12 +502,14 @@ class _LogPosterior:
                 self._row_seconds.append((time.perf_counter() - start) / max(total, 1))
         else:
             run_rows(part, total, min_rows=2, min_part=max(64, -(-total // (2 * num_threads()))))
-        return out.reshape(k, n, 3)
+        return out
 
     def fix_landing(self, x: np.ndarray | None) -> None:
         """Hold the landing derivative G at the law's numbers of ``x`` (None: the point fit's) and keep the
-        covariance G Sigma_0 G^T it gives each bounce."""
-        if self.landing_sd is None:
+        covariance G Sigma_0 G^T it gives each bounce (with a fitted landing noise: the entries of each component's
+        column g_c g_c^T for a unit sd, scaled by the noise at each evaluation)."""
+        self._land_unit: list[list[np.ndarray]] | None = None
+        if self.landing_sd is None and self.landing_prior is None:
             self._land_cov = None
             return
         theta = self.theta0 if x is None else self._theta(np.asarray(x, dtype=float)[None, :])[0]
@@ -480,9 +519,22 @@ class _LogPosterior:
             moved[c][:, c] += self.h_land[:, c]
         out = self._vec.predict(self.law, np.ascontiguousarray(np.concatenate([self.p0, *moved])), theta)
         mean = out[:n]
-        cols = np.stack([(out[(c + 1) * n:(c + 2) * n] - mean) * (self.landing_sd[:, c] / self.h_land[:, c])[:, None]
+        sd = self.landing_sd if self.landing_sd is not None else np.ones((n, 3))
+        cols = np.stack([(out[(c + 1) * n:(c + 2) * n] - mean) * (sd[:, c] / self.h_land[:, c])[:, None]
                          for c in range(3)])
-        self._land_cov = _outer6(cols)
+        if self.landing_sd is not None:
+            self._land_cov = _outer6(cols)
+        else:
+            self._land_cov = None
+            self._land_unit = [_outer6(cols[c:c + 1]) for c in range(3)]
+
+    def landing_entries(self, X: np.ndarray) -> list[np.ndarray] | None:
+        """The six entries (each (w, n), or (n,) when stated by the data) of each bounce's landing-error covariance
+        pushed through the law, G Sigma_0 G^T, for each row of X; None without a landing error."""
+        if self._land_unit is None:
+            return self._land_cov
+        lam2 = self.landing_noise(X) ** 2  # (w, 3)
+        return [sum(lam2[:, c:c + 1] * self._land_unit[c][e] for c in range(3)) for e in range(6)]
 
     # -------------------------------------------------------------- moments and likelihood
     def _moments(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], np.ndarray | None, np.ndarray]:
@@ -528,13 +580,16 @@ class _LogPosterior:
             cov[c] = cov[c] + diag[:, c:c + 1]
             if self.liftoff_var is not None:
                 cov[c] = cov[c] + self.liftoff_var[:, c]
-        if self._land_cov is not None:
-            cov = [a + b for a, b in zip(cov, self._land_cov, strict=True)]
+        land = self.landing_entries(X)
+        if land is not None:
+            cov = [a + b for a, b in zip(cov, land, strict=True)]
         return mean, ok, cov, shared, tau
 
     def log_likelihoods(self, X: np.ndarray) -> np.ndarray:
         """The log likelihood of each row of X (k, ndim); -inf where it cannot be evaluated."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
+        if self.setting_integral is not None:
+            return self.setting_integral.log_likelihoods(self, X)
         mean, ok, cov, shared, _ = self._moments(X)
         r = self.y[None] - mean
         det, quad = _det_quad(cov, r)
@@ -561,23 +616,6 @@ class _LogPosterior:
 
     def __call__(self, x: np.ndarray) -> float:
         return float(self.batch(np.asarray(x, dtype=float)[None, :])[0])
-
-
-def _det_quad(c: Sequence[np.ndarray], r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Determinants of symmetric 3 x 3 matrices given by their entries (xx, yy, ww, xy, xw, yw), and the
-    quadratic forms r^T C^-1 r, in closed form (cofactors: far faster than batched LAPACK calls on 3 x 3)."""
-    a, d, f, b, cc, e = c
-    A = d * f - e * e
-    B = cc * e - b * f
-    C = b * e - cc * d
-    D = a * f - cc * cc
-    E = b * cc - a * e
-    F = a * d - b * b
-    det = a * A + b * B + cc * C
-    x, y, z = r[..., 0], r[..., 1], r[..., 2]
-    adj = A * x * x + D * y * y + F * z * z + 2.0 * (B * x * y + C * x * z + E * y * z)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return det, adj / det
 
 
 def _woodbury(c: Sequence[np.ndarray], det: np.ndarray, W: np.ndarray, r: np.ndarray, starts: np.ndarray
@@ -622,8 +660,10 @@ def calibrate(
     *,
     by: str | None = None,
     discrepancy: bool = True,
+    landing_noise: bool | None = None,
     approximation: str = "hermite",
     nodes: int | None = None,
+    setting_integral: str = "auto",
     walkers: int | None = None,
     steps: int | None = None,
     max_steps: int = 20_000,
@@ -661,6 +701,12 @@ def calibrate(
         Fit a model discrepancy (one standard deviation per component). Without lift-off
         prediction intervals in the data a noise term is always fitted, holding measurement error
         and discrepancy alike.
+    landing_noise
+        Fit the landing's measurement error (one standard deviation per component, pushed through the law by
+        its derivative with respect to the landing, like a stated one). None (default): where the data have no
+        landing prediction intervals. Its effect on a lift-off differs by regime (a rolling bounce's spin
+        follows the landing's speed, a slipping one's its spin), which one residual term per component cannot
+        carry. True where the data have landing intervals is a FitError.
     approximation
         ``"hermite"`` (default), ``"unscented"`` or ``"linear"``: how the per-bounce and per-setting
         parameters are marginalised (see the module documentation).
@@ -669,6 +715,12 @@ def calibrate(
         the law is called on ``1 + (nodes - 1) V`` points per bounce). None (default): chosen at the
         mode, the fewest of 3, 5 and 7 that give the posterior's shape near the mode as 7 do (see
         :data:`NODES_TOLERANCE`).
+    setting_integral
+        How the setting level is integrated over a setting's draw: ``"importance"`` (importance sampling,
+        :mod:`bouncelab.fitting.setting_integral`: its fixed points need every free parameter to vary and a
+        compiled law), ``"normal"`` (the joint normal of the setting's repeats, by ``approximation``; biased where
+        a setting's draw moves its repeats across a kink of the law) or ``"auto"`` (default): importance sampling
+        where it applies, else the joint normal. Only used with the setting level.
     walkers
         Walkers of the ensemble (default: two per sampled number plus two, at least 24; even).
     steps
@@ -733,6 +785,9 @@ def calibrate(
     if nodes is not None and (isinstance(nodes, bool) or not isinstance(nodes, int | np.integer) or nodes < 3
                               or nodes % 2 == 0 or nodes > 21):
         raise FitError(f"nodes must be None or an odd whole number from 3 to 21; got {nodes!r}", option="nodes")
+    if setting_integral not in SETTING_INTEGRALS:
+        raise FitError(f"setting_integral must be one of {SETTING_INTEGRALS}; got {setting_integral!r}",
+                       option="setting_integral")
     p0, pf, setting = campaign_arrays(data)
     repeated = setting is not None and pd.Series(setting).value_counts().max() >= 2
     if by == "setting" and not repeated:
@@ -766,25 +821,41 @@ def calibrate(
     landing_sd, liftoff_sd = interval_sds(data, len(p0))
     with_tau = discrepancy or liftoff_sd is None
     tau_prior = np.maximum(pf.std(axis=0), 1e-6)
+    stated = landing_sd is not None and np.any(np.asarray(landing_sd) > 0)
+    if landing_noise is not None and not isinstance(landing_noise, bool | np.bool_):
+        raise FitError(f"landing_noise must be None, True or False; got {landing_noise!r}", option="landing_noise")
+    if landing_noise and stated:
+        raise FitError("landing_noise=True: the data state the landing's measurement error (landing intervals); "
+                       "it is not fitted as well", option="landing_noise", hints=[Hint("landing_noise", None)])
+    fit_landing = (not stated) if landing_noise is None else bool(landing_noise)
+    landing_prior = np.maximum(p0.std(axis=0), 1e-6) if fit_landing else None
     post = _LogPosterior(fitted, p0, pf, free=free, vary=vary, box=point.bounds, landing_sd=landing_sd,
                          liftoff_sd=liftoff_sd, with_tau=with_tau, tau_prior=tau_prior, approximation=approximation,
                          nodes=AUTO_NODES[-1] if nodes is None else int(nodes),
-                         groups=setting if two_levels else None)
+                         groups=setting if two_levels else None, landing_prior=landing_prior)
     # start: the point fit, small scales, the fit's residual spread as discrepancy; then the mode
     resid = pf - fitted._evaluate(p0)
     x0 = np.r_[[getattr(fitted, n) for n in free], np.full(post._n_scales, 0.1),
-               np.maximum(0.5 * resid.std(axis=0), 1e-3 * tau_prior) if with_tau else []]
+               np.maximum(0.5 * resid.std(axis=0), 1e-3 * tau_prior) if with_tau else [],
+               0.02 * landing_prior if fit_landing else []]
     for j, name in enumerate(free):  # a median on the edge of its transform's range cannot start the search
         if name in post.transforms and not post.transforms[name].inside(x0[j]):
             lo, hi = post.box[name]
             x0[j] = lo + 1e-3 * (hi - lo) if x0[j] <= lo else hi - 1e-3 * (hi - lo)
     mode = _mode(post, x0)
     post.fix_landing(mode)  # the landing derivative at the mode, held while sampling
+    importance = _use_importance(setting_integral, post, two_levels, law_name(fitted))
+    if importance:
+        # the proposals are placed at the joint normal's mode, the mode is found again with the integral, and the
+        # proposals are placed once more there (the sampler then runs on that fixed likelihood)
+        for _ in range(2):
+            post.setting_integral = SettingIntegral(post, mode, seed=seed)
+            mode = _mode(post, mode)
     ndim = post.ndim
     walkers = max(24, 2 * ndim + 2) if walkers is None else check_count(walkers, "walkers", 2 * ndim + 2)
     walkers += walkers % 2
     spread, start_kind = _laplace(post, mode)
-    if approximation == "hermite" and nodes is None and post.vary:
+    if approximation == "hermite" and nodes is None and post.vary and not importance:
         post = _fewest_nodes(post, mode, spread, np.random.default_rng([seed, 1 << 20]))
     proposal = (mode, spread) if start_kind == "laplace" else None
     tasks = []
@@ -807,6 +878,9 @@ def calibrate(
     if liftoff_sd is None:
         notes.append("the data carry no lift-off prediction intervals: the fitted noise holds measurement error and "
                      "model discrepancy alike, and predictions are of measured lift-offs only")
+    if fit_landing:
+        notes.append("the landing's measurement error is fitted (landing_noise_<component>)" + (
+            "" if landing_noise else ": the data carry no landing prediction intervals"))
     if vary and not two_levels:
         notes.append("one level of variation: every bounce on its own spot" + (
             " (by='bounce')" if by == "bounce" else " (the data have no launcher settings with repeats)"))
@@ -818,6 +892,15 @@ def calibrate(
     diagnostics["start"] = start_kind
     diagnostics["approximation"] = approximation + (
         f" ({post.nodes} nodes{', chosen at the mode' if nodes is None else ''})" if approximation == "hermite" else "")
+    if importance:  # the rule above then marginalises nothing: say what did
+        diagnostics["approximation"] = "importance sampling over each setting's draw, each bounce's own variation " \
+            "linearised at the draw"
+    if two_levels:
+        integral = post.setting_integral
+        diagnostics["setting_integral"] = "joint normal" if integral is None else (
+            f"importance sampling ({integral.nodes} fixed points per setting, {integral.walker_points} from each "
+            f"point's population; effective fixed points at the mode: smallest "
+            f"{integral.effective_sizes(post, mode).min():.1f})")
     diagnostics["elapsed_s"] = time.perf_counter() - start_time
     measurement = {
         "landing_sd": None if post.landing_sd is None else np.median(landing_sd, axis=0).tolist(),
@@ -827,7 +910,24 @@ def calibrate(
                      samples=samples, diagnostics=diagnostics, measurement=measurement,
                      residual="discrepancy" if liftoff_sd is not None else "noise", with_tau=with_tau,
                      n_bounces=len(p0), mode=dict(zip(columns, mode.tolist(), strict=True)), notes=notes,
-                     data_kind=_data_kind(data), levels=list(post.levels))
+                     data_kind=_data_kind(data), levels=list(post.levels), landing_noise=fit_landing)
+
+
+def _use_importance(choice: str, post: _LogPosterior, two_levels: bool, name: str) -> bool:
+    """Whether the setting level is integrated by importance sampling: it needs the setting level, every free
+    parameter varying (its fixed points hold all the law's numbers) and a compiled law (its rows)."""
+    if choice == "normal" or not two_levels:
+        return False
+    why = None
+    if set(post.free) != set(post.vary):
+        why = (f"the free parameters {[f for f in post.free if f not in post.vary]} do not vary (the fixed points "
+               "would need the law at every sampled value of them)")
+    elif not post._rows:
+        why = "the law is not compiled with scalar parameters (its rows would be called one by one)"
+    if why is not None and choice == "importance":
+        raise FitError(f"setting_integral='importance' cannot be used here: {why}", law=name,
+                       option="setting_integral", hints=[Hint("setting_integral", "normal")])
+    return why is None
 
 
 def _check_vary(vary: Any) -> list[str]:
@@ -1035,8 +1135,12 @@ def _laplace(post: Any, mode: np.ndarray) -> tuple[np.ndarray, str]:
 
 def _start(post: Any, mode: np.ndarray, spread: np.ndarray, walkers: int,
            rng: np.random.Generator) -> np.ndarray:
-    """Walkers drawn from the normal approximation at the mode, each redrawn until inside the prior."""
+    """Walkers drawn from the normal approximation at the mode, each redrawn until inside the prior. Scales and
+    discrepancies are drawn folded at zero (a mode at zero for several of them would otherwise leave a start inside
+    the prior rare, and walkers piled on the mode)."""
     start = mode + rng.standard_normal((walkers, len(mode))) @ spread.T
+    nf = len(getattr(post, "free", mode))
+    start[:, nf:] = np.abs(start[:, nf:])
     for w in range(walkers):
         shrink = 1.0
         while not math.isfinite(post.log_prior(start[w])):
@@ -1045,6 +1149,7 @@ def _start(post: Any, mode: np.ndarray, spread: np.ndarray, walkers: int,
                 start[w] = mode
                 break
             start[w] = mode + shrink * (spread @ rng.standard_normal(len(mode)))
+            start[w, nf:] = np.abs(start[w, nf:])
     return start
 
 
@@ -1256,7 +1361,8 @@ class Posterior:
         parameters) by parameter name, ``setting_scale_<name>`` (setting-to-setting standard
         deviation in the transformed space; with the setting level only), ``scale_<name>``
         (bounce-to-bounce standard deviation, within a setting when there is a setting level), and
-        ``discrepancy_<component>`` or ``noise_<component>`` (scaled units).
+        ``discrepancy_<component>`` or ``noise_<component>`` (scaled units), and ``landing_noise_<component>``
+        where the landing's measurement error was fitted (scaled units).
     diagnostics
         ``converged``, ``reason``, ``steps`` and ``burn`` (the most over the chains; per chain in
         ``chain_steps`` and ``chain_burn``), ``kept_steps`` (per walker after burn-in: the chains'
@@ -1285,6 +1391,10 @@ class Posterior:
         The calibration data's ``data_kind`` attribute (``"synthetic surrogate"`` marks figures).
     levels
         The levels of the variation: ``["setting", "bounce"]`` or ``["bounce"]`` (every bounce on its own spot).
+    landing_noise
+        Whether the landing's measurement error was fitted (``landing_noise_<component>`` in ``samples``, scaled
+        units): where the calibration data had no landing intervals. :meth:`predict` then draws the true landing
+        about the measured one with it, as it does with the data's own landing errors.
     """
 
     law: BounceModel
@@ -1301,6 +1411,7 @@ class Posterior:
     notes: list[str] = field(default_factory=list)
     data_kind: str = "unknown"
     levels: list[str] = field(default_factory=lambda: ["bounce"])
+    landing_noise: bool = False
 
     # ------------------------------------------------------------------ summaries
     @property
@@ -1361,6 +1472,7 @@ class Posterior:
                  f"    varying {levels}: " + (", ".join(
                      f"{v} ({self.transforms[v].describe()})" for v in self.vary) or "none"),
                  f"    residual term: {self.residual}" + ("" if self.with_tau else " (none fitted)")
+                 + ("; the landing's measurement error fitted (landing_noise)" if self.landing_noise else "")
                  + (f"; marginalised by {d['approximation']}" if "approximation" in d else ""),
                  f"    sampler: {d['chains']} chain(s) x {d['walkers'] // d['chains']} walkers x {_span(d, 'steps')} "
                  f"steps, burn-in {_span(d, 'burn')}, {d['kept_steps']} kept per walker, acceptance "
@@ -1481,6 +1593,9 @@ class Posterior:
         specs = [s.name for s in self.law.parameter_specs]
         base = ParameterVector(self.law).of(self.law)
         tau = rows[:, [col[f"{self.residual}_{c}"] for c in COMPONENTS]] if self.with_tau else None
+        # a fitted landing noise is the landing's measurement error (measured bounces only)
+        lam = rows[:, [col[f"landing_noise_{c}"] for c in COMPONENTS]] \
+            if self.landing_noise and measurement_error else None
         per = max(1, CHUNK_DRAWS // n)
         for block, start in enumerate(range(0, m, per)):
             sl = slice(start, min(m, start + per))
@@ -1501,8 +1616,8 @@ class Posterior:
                 else:
                     theta[:, :, j] = rows[:, col[name]][:, None]
             land = np.broadcast_to(p[sl], (n, k, 3)).copy()
-            if land_sd is not None:
-                land += land_sd[sl] * brng.standard_normal((n, k, 3))
+            if land_sd is not None or lam is not None:
+                land += (land_sd[sl] if land_sd is not None else lam[:, None, :]) * brng.standard_normal((n, k, 3))
                 land[:, :, 1] = np.minimum(land[:, :, 1], -1e-9)  # a measured landing error never turns it upward
             out = _predict_rows(self.law, land.reshape(-1, 3), theta.reshape(-1, len(base))).reshape(n, k, 3)
             if tau is not None:  # the discrepancy (part of the lift-off) or the noise (measured only)
@@ -1538,8 +1653,9 @@ class Posterior:
             given = (land, lift)
         if given[0] is not None and self.measurement.get("landing_sd") is None:
             raise FitError("measurement_sd gives a landing error, but the calibration data had no landing prediction "
-                           "intervals: the landing's measurement error is inside the fitted residual already",
-                           option="measurement_sd")
+                           "intervals: the landing's measurement error is " + (
+                               "the fitted landing noise" if self.landing_noise else "inside the fitted residual")
+                           + " already", option="measurement_sd")
         if given[1] is not None and self.residual == "noise":
             raise FitError("measurement_sd gives a lift-off error, but the calibration data had no lift-off "
                            "prediction intervals: the fitted noise holds the lift-off's measurement error already",
@@ -1631,7 +1747,8 @@ class Posterior:
             "law": self.law.to_dict(), "free": list(self.free), "vary": list(self.vary),
             "levels": list(self.levels),
             "transforms": {k: t.to_dict() for k, t in self.transforms.items()},
-            "residual": self.residual, "with_tau": self.with_tau, "n_bounces": self.n_bounces,
+            "residual": self.residual, "with_tau": self.with_tau, "landing_noise": self.landing_noise,
+            "n_bounces": self.n_bounces,
             "measurement": self.measurement, "mode": self.mode,
             "diagnostics": {k: _json_number(v) for k, v in self.diagnostics.items()},
             "samples": {c: self.samples[c].tolist() for c in self.samples.columns},
@@ -1837,9 +1954,14 @@ def _read_posterior(cls: type[Posterior], d: Any, file: str | None) -> Posterior
         measurement[key] = None if v is None else f.numbers(v, f"measurement.{key}", length=3, low=0.0)
     if (measurement["liftoff_sd"] is None) != (residual == "noise"):
         raise f.fail("measurement.liftoff_sd", "must be given exactly when the residual is a discrepancy")
+    landing_noise = f.flag(d.get("landing_noise", False), "landing_noise")
+    if landing_noise and measurement["landing_sd"] is not None:
+        raise f.fail("landing_noise", "a landing noise is fitted only where the data had no landing intervals "
+                                      "(measurement.landing_sd is given)")
     # the samples: exactly the columns calibrate writes, equally long, finite, in range
     columns = [*free, *(f"setting_scale_{v}" for v in vary if "setting" in levels), *(f"scale_{v}" for v in vary),
-               *((f"{residual}_{c}" for c in COMPONENTS) if with_tau else ())]
+               *((f"{residual}_{c}" for c in COMPONENTS) if with_tau else ()),
+               *((f"landing_noise_{c}" for c in COMPONENTS) if landing_noise else ())]
     raw = f.mapping(f.get(d, "samples"), "samples")
     if set(raw) != set(columns):
         raise f.fail("samples", f"must have the columns {columns}; got {sorted(map(str, raw))}")
@@ -1886,4 +2008,4 @@ def _read_posterior(cls: type[Posterior], d: Any, file: str | None) -> Posterior
     del theta
     return cls(law=law, free=free, vary=vary, transforms=transforms, samples=samples, diagnostics=diagnostics,
                measurement=measurement, residual=residual, with_tau=with_tau, n_bounces=n_bounces, mode=mode,
-               notes=notes, data_kind=data_kind, levels=levels)
+               notes=notes, data_kind=data_kind, levels=levels, landing_noise=landing_noise)

@@ -77,6 +77,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bouncelab.core.checks import real_array
 from bouncelab.core.errors import DataError, FitError, Hint, ParameterError
 from bouncelab.core.units import ANGLE_UNITS, BALL_RADIUS_M, SPEED_UNITS, SPIN_UNITS, canonical_unit
 from bouncelab.laws.parameters import Parameter, Parameters
@@ -219,11 +220,8 @@ def _column(source: Any, name: str, labels: np.ndarray, unit: Any) -> np.ndarray
     raw = np.asarray(source)
     if raw.ndim != 1:
         raise DataError(f"{name} must have one value per shot; got shape {raw.shape}", column=name)
-    try:
-        values = raw.astype(float)
-    except (TypeError, ValueError):
-        raise DataError(f"{name} must be numbers; got {raw.dtype} values such as {raw[:1].tolist()}",
-                        column=name) from None
+    # text, bools and dates are refused, not turned into numbers by astype(float)
+    values = real_array(raw, name, "one per shot", error=DataError, column=name)
     bad = ~np.isfinite(values)
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
