@@ -34,8 +34,9 @@ measured lift-off :math:`y_i`:
   deviations their 95 % prediction intervals state (``landing_pi / 1.96``,
   ``liftoff_pi / 1.96``). Without landing intervals the landing's standard deviations are fitted
   (``landing_noise_<component>``, one per component; ``landing_noise=``): pushed through the law, the
-  landing's error moves a rolling bounce's lift-off otherwise than a slipping one's. Without lift-off intervals the measurement error of the lift-off cannot
-  be told apart from the discrepancy: then :math:`\tau` is fitted as one *noise* term holding both.
+  landing's error moves a rolling bounce's lift-off otherwise than a slipping one's. Without lift-off
+  intervals the measurement error of the lift-off cannot be told apart from the discrepancy: then
+  :math:`\tau` is fitted as one *noise* term holding both.
 
 The approximation
 -----------------
