@@ -1136,21 +1136,22 @@ def _laplace(post: Any, mode: np.ndarray) -> tuple[np.ndarray, str]:
 
 def _start(post: Any, mode: np.ndarray, spread: np.ndarray, walkers: int,
            rng: np.random.Generator) -> np.ndarray:
-    """Walkers drawn from the normal approximation at the mode, each redrawn until inside the prior. Scales and
-    discrepancies are drawn folded at zero (a mode at zero for several of them would otherwise leave a start inside
-    the prior rare, and walkers piled on the mode)."""
+    """Walkers drawn from the normal approximation at the mode, each redrawn (closer) until inside the prior. A
+    walker never inside after twenty redraws takes its first draw with the scales and discrepancies folded at zero
+    (where several of them sit at zero a draw inside is rare; walkers piled on the mode would never spread), or
+    the mode where that is outside too."""
     start = mode + rng.standard_normal((walkers, len(mode))) @ spread.T
     nf = len(getattr(post, "free", mode))
-    start[:, nf:] = np.abs(start[:, nf:])
     for w in range(walkers):
+        first = start[w].copy()
         shrink = 1.0
         while not math.isfinite(post.log_prior(start[w])):
             shrink *= 0.5
             if shrink < 1e-6:
-                start[w] = mode
+                first[nf:] = np.abs(first[nf:])
+                start[w] = first if math.isfinite(post.log_prior(first)) else mode
                 break
             start[w] = mode + shrink * (spread @ rng.standard_normal(len(mode)))
-            start[w, nf:] = np.abs(start[w, nf:])
     return start
 
 
