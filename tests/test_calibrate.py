@@ -899,8 +899,7 @@ def test_a_fitted_landing_noise_is_a_stated_landing_error_of_that_size() -> None
 
 
 def test_calibrate_fits_the_landing_noise_only_where_the_data_do_not_state_it(tmp_path) -> None:
-    """landing_noise=None fits it where the data have no landing intervals (a note says so) and not where they
-    have; True with landing intervals, or a value that is not None/True/False, is a FitError naming the option; a
+    """landing_noise=None fits it where the data have no landing intervals (a note says so), False leaves it out; a
     saved posterior keeps it, and a file claiming it beside stated landing errors is refused."""
     data = spot_campaign(6, 3, seed=13, intervals=False)
     with pytest.warns(ConvergenceWarning):
@@ -918,11 +917,17 @@ def test_calibrate_fits_the_landing_noise_only_where_the_data_do_not_state_it(tm
     with pytest.warns(ConvergenceWarning):
         off = calibrate(bl.Rigid, data, vary=["r", "mu"], steps=10, walkers=24, seed=0, landing_noise=False)
     assert not off.landing_noise and "landing_noise_omega" not in off.samples.columns
+
+
+def test_a_landing_noise_that_cannot_be_fitted_is_refused_before_the_point_fit(monkeypatch) -> None:
+    """landing_noise=True beside the data's own landing intervals, or not None/True/False: a FitError naming the
+    option, before any fitting."""
+    monkeypatch.setattr(H, "fit", lambda *a, **k: pytest.fail("fitted before refusing"))
     with pytest.raises(FitError) as e:
         calibrate(bl.Rigid, spot_campaign(6, 3, seed=13), vary=["r"], landing_noise=True)
-    assert e.value.option == "landing_noise"
+    assert e.value.option == "landing_noise" and "state the landing's measurement error" in e.value.message
     with pytest.raises(FitError) as e:
-        calibrate(bl.Rigid, data, vary=["r"], landing_noise="yes")
+        calibrate(bl.Rigid, spot_campaign(6, 3, seed=13, intervals=False), vary=["r"], landing_noise="yes")
     assert e.value.option == "landing_noise"
 
 

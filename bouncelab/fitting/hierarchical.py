@@ -284,7 +284,8 @@ class _LogPosterior:
 
     The vector it takes: the free parameters' population values (medians for the varying ones),
     then ``sigma`` of each varying parameter (with the setting level), ``s`` of each,
-    then ``tau`` of each component (when sampled). :meth:`batch` evaluates many vectors in one
+    then ``tau`` of each component (when sampled), then the landing noise of each component (when fitted).
+    :meth:`batch` evaluates many vectors in one
     law call; calling the object evaluates one.
     """
 
@@ -796,6 +797,14 @@ def calibrate(
                        "bounces or more share a value); " + ("the data have none" if setting is None else
                                                              "every setting of the data has one bounce"),
                        option="by", hints=[Hint("by", "bounce")])
+    landing_sd, liftoff_sd = interval_sds(data, len(p0))
+    stated = landing_sd is not None and bool(np.any(np.asarray(landing_sd) > 0))
+    if landing_noise is not None and not isinstance(landing_noise, bool | np.bool_):
+        raise FitError(f"landing_noise must be None, True or False; got {landing_noise!r}", option="landing_noise")
+    if landing_noise and stated:
+        raise FitError("landing_noise=True: the data state the landing's measurement error (landing intervals); "
+                       "it is not fitted as well", option="landing_noise", hints=[Hint("landing_noise", None)])
+    fit_landing = (not stated) if landing_noise is None else bool(landing_noise)
     held = resolve_fixed(law, fit_kwargs.get("fixed"), fit_kwargs.get("free"))
     arrays = [s.name for s in law.parameter_specs if not s.is_scalar]
     if any(name not in held for name in arrays):  # before the point fit, which may take long
@@ -819,16 +828,8 @@ def calibrate(
     if len(set(vary)) != len(vary):
         raise FitError(f"vary names a parameter twice: {vary}", law=law_name(fitted), option="vary")
     two_levels = bool(vary) and by != "bounce" and repeated
-    landing_sd, liftoff_sd = interval_sds(data, len(p0))
     with_tau = discrepancy or liftoff_sd is None
     tau_prior = np.maximum(pf.std(axis=0), 1e-6)
-    stated = landing_sd is not None and np.any(np.asarray(landing_sd) > 0)
-    if landing_noise is not None and not isinstance(landing_noise, bool | np.bool_):
-        raise FitError(f"landing_noise must be None, True or False; got {landing_noise!r}", option="landing_noise")
-    if landing_noise and stated:
-        raise FitError("landing_noise=True: the data state the landing's measurement error (landing intervals); "
-                       "it is not fitted as well", option="landing_noise", hints=[Hint("landing_noise", None)])
-    fit_landing = (not stated) if landing_noise is None else bool(landing_noise)
     landing_prior = np.maximum(p0.std(axis=0), 1e-6) if fit_landing else None
     post = _LogPosterior(fitted, p0, pf, free=free, vary=vary, box=point.bounds, landing_sd=landing_sd,
                          liftoff_sd=liftoff_sd, with_tau=with_tau, tau_prior=tau_prior, approximation=approximation,
