@@ -489,6 +489,19 @@ def test_importance_setting_likelihood_at_a_vanishing_setting_scale() -> None:
     assert post.log_likelihood(x) == pytest.approx(direct, rel=1e-8)
 
 
+@pytest.mark.parametrize("importance", [False, True], ids=["joint-normal", "importance"])
+def test_a_negative_scale_has_no_likelihood(importance) -> None:
+    """Scales, discrepancies and landing noises are standard deviations: a row with a negative one has log
+    likelihood -inf in both paths (not the likelihood of its square, nor of zero), as one with NaN does."""
+    post = _kink_case(True)
+    if importance:
+        post.setting_integral = SettingIntegral(post, _TRUE_X)
+    X = np.tile(_TRUE_X, (5, 1))
+    X[1, 2], X[2, 4], X[3, 6], X[4, 0] = -0.1, -0.01, -1.0, np.nan
+    out = post.log_likelihoods(X)
+    assert np.isfinite(out[0]) and (out[1:] == -math.inf).all(), out
+
+
 def test_importance_setting_likelihood_does_not_depend_on_threads() -> None:
     """Walkers are independent rows of the compiled estimate: the same bits on one thread as on two."""
     from bouncelab.core import _parallel
@@ -527,6 +540,19 @@ def test_calibrate_chooses_the_setting_integral() -> None:
     with pytest.raises(FitError) as e:
         calibrate(bl.Rigid, data, vary=["r"], setting_integral="exact")
     assert e.value.option == "setting_integral"
+    # a rule chosen for the joint normal keeps it under "auto", and conflicts with "importance"
+    with pytest.warns(ConvergenceWarning):
+        chosen = calibrate(bl.Rigid, data, vary=["r", "mu"], steps=10, walkers=20, seed=0, nodes=5)
+    assert chosen.diagnostics["setting_integral"] == "joint normal" and chosen.diagnostics["approximation"] == \
+        "hermite (5 nodes)"
+    with pytest.raises(FitError, match="approximation= and nodes="):
+        calibrate(bl.Rigid, data, vary=["r", "mu"], approximation="linear", setting_integral="importance")
+    # no setting level: nothing to integrate, said as such
+    with pytest.warns(ConvergenceWarning):
+        one = calibrate(bl.Rigid, data, vary=["r", "mu"], steps=10, walkers=20, seed=0, by="bounce")
+    assert one.diagnostics["setting_integral"] == "none (one level)"
+    with pytest.raises(FitError, match="no setting level"):
+        calibrate(bl.Rigid, data, vary=["r", "mu"], by="bounce", setting_integral="importance")
 
 
 # ------------------------------------------------------------------------------ the Posterior
@@ -926,6 +952,7 @@ def test_a_landing_noise_that_cannot_be_fitted_is_refused_before_the_point_fit(m
     with pytest.raises(FitError) as e:
         calibrate(bl.Rigid, spot_campaign(6, 3, seed=13), vary=["r"], landing_noise=True)
     assert e.value.option == "landing_noise" and "state the landing's measurement error" in e.value.message
+    assert "landing_noise=None" in str(e.value)
     with pytest.raises(FitError) as e:
         calibrate(bl.Rigid, spot_campaign(6, 3, seed=13, intervals=False), vary=["r"], landing_noise="yes")
     assert e.value.option == "landing_noise"

@@ -317,6 +317,11 @@ def test_text_and_bools_are_refused_not_read_as_numbers(few):
     assert e.column == "carry" and "text" in str(e)
     flags = few.assign(total=few["total"] > 0)
     assert _refusal(DataError, flags).column == "total"
+    # a missing cell in a column of objects is a missing value, named with its shot, not a refused element
+    holed = few.assign(carry=few["carry"].astype(object))
+    holed.iloc[3, holed.columns.get_loc("carry")] = None
+    e = _refusal(DataError, holed)
+    assert (e.column, e.row, e.row_label) == ("carry", 4, "s3") and "missing='drop'" in str(e)
 
 
 def test_values_in_another_unit_are_refused(few):

@@ -98,8 +98,9 @@ the repeats is not their distribution: on the 100-setting campaign of
 below the brute-force integral over the settings' draws (21 nodes: 118), nearly all of it on the 84
 settings that straddle the kink, and the population median of ``mu`` comes out 8-9 % low (the
 brute force's maximum: 3 % low). So where it can, :func:`calibrate` does not use the joint normal for the
-setting level (``setting_integral="auto"``): where every free parameter varies and the law is compiled, each
-setting's likelihood is the integral over its draw, estimated by importance sampling
+setting level (``setting_integral="auto"``): where every free parameter varies, the law is compiled and
+neither ``approximation`` nor ``nodes`` is given, each setting's likelihood is the integral over its draw,
+estimated by importance sampling
 (:mod:`bouncelab.fitting.setting_integral`: within 0.1 of the brute force per setting on those settings), with
 each bounce's own variation linearised at the draw (exact when the bounce-to-bounce scale is zero). Elsewhere
 (some free parameter held the same for every bounce, a law written in Python) the joint normal remains, and
@@ -153,7 +154,7 @@ import pandas as pd
 import xarray as xr
 
 from bouncelab.core._parallel import num_threads, run_rows
-from bouncelab.core.errors import BouncelabWarning, DataError, FitError, Hint, ParameterError
+from bouncelab.core.errors import BouncelabWarning, Code, DataError, FitError, Hint, ParameterError
 from bouncelab.core.slip_roll import SLIP_ROLL_CLASSES, _slip_codes
 from bouncelab.core.units import COMPONENTS
 from bouncelab.core.validation import as_states
@@ -590,8 +591,10 @@ class _LogPosterior:
     def log_likelihoods(self, X: np.ndarray) -> np.ndarray:
         """The log likelihood of each row of X (k, ndim); -inf where it cannot be evaluated."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
+        # scales, discrepancies and noises are standard deviations: a negative one is no model (not its square's)
+        negative = (X[:, len(self.free):] < 0).any(axis=1)
         if self.setting_integral is not None:
-            return self.setting_integral.log_likelihoods(self, X)
+            return np.where(negative, -math.inf, self.setting_integral.log_likelihoods(self, X))
         mean, ok, cov, shared, _ = self._moments(X)
         r = self.y[None] - mean
         det, quad = _det_quad(cov, r)
@@ -600,7 +603,7 @@ class _LogPosterior:
         if shared is not None and shared.shape[1]:
             value = value + _woodbury(cov, det, shared, r, self._starts)
         out = -0.5 * (value + 3 * self.n * math.log(2 * math.pi))
-        good = ok & np.isfinite(out) & (det > 0).all(axis=1)
+        good = ok & np.isfinite(out) & (det > 0).all(axis=1) & ~negative
         return np.where(good, out, -math.inf)
 
     def log_likelihood(self, x: np.ndarray) -> float:
@@ -708,7 +711,8 @@ def calibrate(
         its derivative with respect to the landing, like a stated one). None (default): where the data have no
         landing prediction intervals. Its effect on a lift-off differs by regime (a rolling bounce's spin
         follows the landing's speed, a slipping one's its spin), which one residual term per component cannot
-        carry. True where the data have landing intervals is a FitError.
+        carry. Landing intervals that are all zero state no error: the noise is then fitted. True where the data
+        have landing intervals is a FitError.
     approximation
         ``"hermite"`` (default), ``"unscented"`` or ``"linear"``: how the per-bounce and per-setting
         parameters are marginalised (see the module documentation).
@@ -722,7 +726,8 @@ def calibrate(
         :mod:`bouncelab.fitting.setting_integral`: its fixed points need every free parameter to vary and a
         compiled law), ``"normal"`` (the joint normal of the setting's repeats, by ``approximation``; biased where
         a setting's draw moves its repeats across a kink of the law) or ``"auto"`` (default): importance sampling
-        where it applies, else the joint normal. Only used with the setting level.
+        where it applies and neither ``approximation`` nor ``nodes`` is given, else the joint normal.
+        ``posterior.diagnostics["setting_integral"]`` says which was used.
     walkers
         Walkers of the ensemble (default: two per sampled number plus two, at least 24; even).
     steps
@@ -757,7 +762,8 @@ def calibrate(
         ``vary`` that is not a name or a list of names.
     FitError
         A name in ``vary`` that is not a free scalar parameter of the law, bad counts, a bad ``by``,
-        ``sample_weight``, or a ``bounds`` outside the physical range.
+        ``sample_weight``, a ``bounds`` outside the physical range, ``landing_noise=True`` beside the data's
+        landing intervals, ``setting_integral="importance"`` where it cannot apply (named in the message).
     DataError
         Bad data, or prediction intervals with non-finite values.
 
@@ -803,7 +809,8 @@ def calibrate(
         raise FitError(f"landing_noise must be None, True or False; got {landing_noise!r}", option="landing_noise")
     if landing_noise and stated:
         raise FitError("landing_noise=True: the data state the landing's measurement error (landing intervals); "
-                       "it is not fitted as well", option="landing_noise", hints=[Hint("landing_noise", None)])
+                       "it is not fitted as well", option="landing_noise",
+                       hints=[Hint("landing_noise", Code("None"), "the data's own landing errors are used")])
     fit_landing = (not stated) if landing_noise is None else bool(landing_noise)
     held = resolve_fixed(law, fit_kwargs.get("fixed"), fit_kwargs.get("free"))
     arrays = [s.name for s in law.parameter_specs if not s.is_scalar]
@@ -846,7 +853,8 @@ def calibrate(
             x0[j] = lo + 1e-3 * (hi - lo) if x0[j] <= lo else hi - 1e-3 * (hi - lo)
     mode = _mode(post, x0)
     post.fix_landing(mode)  # the landing derivative at the mode, held while sampling
-    importance = _use_importance(setting_integral, post, two_levels, law_name(fitted))
+    importance = _use_importance(setting_integral, post, two_levels, law_name(fitted),
+                                 rule_chosen=approximation != "hermite" or nodes is not None)
     if importance:
         # the proposals are placed at the joint normal's mode, the mode is found again with the integral, and the
         # proposals are placed once more there (the sampler then runs on that fixed likelihood)
@@ -882,7 +890,7 @@ def calibrate(
                      "model discrepancy alike, and predictions are of measured lift-offs only")
     if fit_landing:
         notes.append("the landing's measurement error is fitted (landing_noise_<component>)" + (
-            "" if landing_noise else ": the data carry no landing prediction intervals"))
+            "" if landing_noise else ": the data carry no landing prediction intervals (or only zero ones)"))
     if vary and not two_levels:
         notes.append("one level of variation: every bounce on its own spot" + (
             " (by='bounce')" if by == "bounce" else " (the data have no launcher settings with repeats)"))
@@ -897,8 +905,10 @@ def calibrate(
     if importance:  # the rule above then marginalises nothing: say what did
         diagnostics["approximation"] = "importance sampling over each setting's draw, each bounce's own variation " \
             "linearised at the draw"
-    if two_levels:
-        integral = post.setting_integral
+    integral = post.setting_integral
+    if not two_levels:
+        diagnostics["setting_integral"] = "none (one level)"
+    else:
         diagnostics["setting_integral"] = "joint normal" if integral is None else (
             f"importance sampling ({integral.nodes} fixed points per setting, {integral.walker_points} from each "
             f"point's population; effective fixed points at the mode: smallest "
@@ -915,17 +925,26 @@ def calibrate(
                      data_kind=_data_kind(data), levels=list(post.levels), landing_noise=fit_landing)
 
 
-def _use_importance(choice: str, post: _LogPosterior, two_levels: bool, name: str) -> bool:
+def _use_importance(choice: str, post: _LogPosterior, two_levels: bool, name: str, rule_chosen: bool = False
+                    ) -> bool:
     """Whether the setting level is integrated by importance sampling: it needs the setting level, every free
-    parameter varying (its fixed points hold all the law's numbers) and a compiled law (its rows)."""
-    if choice == "normal" or not two_levels:
+    parameter varying (its fixed points hold all the law's numbers) and a compiled law (its rows). With "auto" a
+    marginalisation rule the caller chose (``approximation``, ``nodes``) keeps the joint normal it builds;
+    "importance" where it cannot apply, or beside such a rule, is a FitError."""
+    if choice == "normal":
         return False
     why = None
-    if set(post.free) != set(post.vary):
+    if not two_levels:
+        why = ("there is no setting level (it needs launcher settings with repeats, varying parameters and "
+               "by='setting' or None)")
+    elif set(post.free) != set(post.vary):
         why = (f"the free parameters {[f for f in post.free if f not in post.vary]} do not vary (the fixed points "
                "would need the law at every sampled value of them)")
     elif not post._rows:
         why = "the law is not compiled with scalar parameters (its rows would be called one by one)"
+    elif rule_chosen:
+        why = ("approximation= and nodes= choose the rule of the joint normal, which importance sampling replaces "
+               "at the setting level")
     if why is not None and choice == "importance":
         raise FitError(f"setting_integral='importance' cannot be used here: {why}", law=name,
                        option="setting_integral", hints=[Hint("setting_integral", "normal")])

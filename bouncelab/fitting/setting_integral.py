@@ -17,7 +17,7 @@ draw: exact when the bounce-to-bounce scale :math:`s` is zero). Where the landin
 
 Where a setting's draw moves its repeats across a kink of the law (Rigid's slip to roll) the repeats'
 lift-offs are far from jointly normal, and the joint normal of :mod:`bouncelab.fitting.hierarchical`
-misses the integral by up to 18 log units per setting (measured; see ``tests/test_calibrate.py``). Here it
+misses the integral by up to 19 log units per setting (measured; see ``tests/test_calibrate.py``). Here it
 is estimated by importance sampling, with two sets of points per setting:
 
 * ``nodes`` fixed points drawn once from a proposal :math:`q_g` built at the mode of the joint-normal

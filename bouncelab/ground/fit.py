@@ -220,6 +220,10 @@ def _column(source: Any, name: str, labels: np.ndarray, unit: Any) -> np.ndarray
     raw = np.asarray(source)
     if raw.ndim != 1:
         raise DataError(f"{name} must have one value per shot; got shape {raw.shape}", column=name)
+    if raw.dtype == object:  # a missing cell (None, pandas' NA) is a missing value, named below with its row
+        import pandas as pd
+
+        raw = np.array([math.nan if v is None or v is pd.NA else v for v in raw], dtype=object)
     # text, bools and dates are refused, not turned into numbers by astype(float)
     values = real_array(raw, name, "one per shot", error=DataError, column=name)
     bad = ~np.isfinite(values)
