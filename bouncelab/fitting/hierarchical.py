@@ -163,7 +163,6 @@ from bouncelab.data.inputs import campaign_arrays
 from bouncelab.fitting.fitter import check_count, check_fraction, check_seed, fit, law_instance, refuse_sample_weight
 from bouncelab.fitting.problem import resolve_fixed
 from bouncelab.fitting.setting_integral import SettingIntegral
-from bouncelab.fitting.setting_integral import det_quad as _det_quad
 from bouncelab.fitting.tasks import map_tasks, resolve_executor
 from bouncelab.fitting.vector import ParameterVector
 from bouncelab.laws import law_from_dict, law_name
@@ -349,11 +348,14 @@ class _LogPosterior:
         self._open_hi = [(j, t.b) for j, t in varying if t.kind in ("logit", "neglog")]
         self._tau_prior = self.tau_prior.tolist()
         self._n_scales = len(self.vary) * len(self.levels)
+        # prior sds of the numbers after the free parameters: the scales, tau, the landing noise
+        self._prior_sds = [self.scale_prior] * self._n_scales + (self._tau_prior if with_tau else []) + \
+            (self.landing_prior or [])
         # a compiled law with scalar parameters takes one parameter row per landing: every walker and sigma point
         # in one call, shared between threads; any other law is called once per row of parameter values
         self._rows = isinstance(law, CompiledLaw) and all(s.is_scalar for s in law.parameter_specs)
         self._row_seconds: list[float] = []  # the law's time per row, from calls on this thread
-        self._land_cov: list[np.ndarray] | None = None
+        self._land_cols: np.ndarray | None = None
         self.fix_landing(None)
         #: the setting level by importance sampling over each setting's draw (None: the joint normal)
         self.setting_integral: SettingIntegral | None = None
@@ -406,19 +408,26 @@ class _LogPosterior:
         theta[:, self._free_idx] = X[:, :len(self.free)]
         return theta
 
-    def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Per row of X: the law's numbers, the total scales t, the setting level's share rho^2 of t^2, tau."""
+    def scales_and_tau(self, X: np.ndarray) -> tuple[np.ndarray | None, np.ndarray, np.ndarray]:
+        """Per row of X: the setting scales (None without the setting level), the bounce scales and tau (zeros
+        when not sampled)."""
         nf, nv = len(self.free), len(self.vary)
-        theta = self._theta(X)
         scales = X[:, nf:nf + self._n_scales]
         tau = X[:, nf + self._n_scales:nf + self._n_scales + 3] if self.with_tau else np.zeros((len(X), 3))
         if "setting" in self.levels:
-            sigma, s = scales[:, :nv], scales[:, nv:]
+            return scales[:, :nv], scales[:, nv:], tau
+        return None, scales, tau
+
+    def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Per row of X: the law's numbers, the total scales t, the setting level's share rho^2 of t^2, tau."""
+        theta = self._theta(X)
+        sigma, s, tau = self.scales_and_tau(X)
+        if sigma is not None:
             t = np.hypot(sigma, s)
             with np.errstate(invalid="ignore", divide="ignore"):
                 rho2 = np.where(t > 0, (sigma / np.where(t > 0, t, 1.0)) ** 2, 0.0)
         else:
-            t, rho2 = scales, np.zeros_like(scales)
+            t, rho2 = s, np.zeros_like(s)
         return theta, t, rho2, tau
 
     # -------------------------------------------------------------- prior
@@ -434,23 +443,18 @@ class _LogPosterior:
         for j, b in self._open_hi:
             if v[j] >= b:
                 return -math.inf
-        nf, ns = len(self.free), self._n_scales
+        nf = len(self.free)
         lp = 0.0
-        for j in range(nf, len(v)):
-            # half-normal priors on the scales and tau (zero or more; a thousand prior sds is no value)
-            sd = self.scale_prior if j < nf + ns else self._rest_prior[j - nf - ns]
+        for j, sd in enumerate(self._prior_sds, start=nf):
+            # half-normal priors on the scales, tau and the landing noise (zero or more; a thousand prior sds
+            # is no value)
             if not 0.0 <= v[j] <= 1e3 * sd:
                 return -math.inf
             lp -= 0.5 * (v[j] / sd) ** 2
         return lp
 
     def _priors(self) -> list[float]:
-        return [self.scale_prior] * self._n_scales + self._rest_prior
-
-    @property
-    def _rest_prior(self) -> list[float]:
-        """Prior sds of the numbers after the scales: tau's, then the landing noise's."""
-        return (self._tau_prior if self.with_tau else []) + (self.landing_prior or [])
+        return self._prior_sds
 
     def zero_piles(self, x: np.ndarray) -> np.ndarray:
         """Which numbers of ``x`` are scales or discrepancies within a tenth of their prior sd of zero."""
@@ -508,12 +512,11 @@ class _LogPosterior:
         return out
 
     def fix_landing(self, x: np.ndarray | None) -> None:
-        """Hold the landing derivative G at the law's numbers of ``x`` (None: the point fit's) and keep the
-        covariance G Sigma_0 G^T it gives each bounce (with a fitted landing noise: the entries of each component's
-        column g_c g_c^T for a unit sd, scaled by the noise at each evaluation)."""
-        self._land_unit: list[list[np.ndarray]] | None = None
+        """Hold the landing derivative G at the law's numbers of ``x`` (None: the point fit's): keep its columns
+        G_c sigma_c for each landing component c (sigma the data's landing error, or 1 where a landing noise is
+        fitted: the noise scales them at each evaluation)."""
         if self.landing_sd is None and self.landing_prior is None:
-            self._land_cov = None
+            self._land_cols = None
             return
         theta = self.theta0 if x is None else self._theta(np.asarray(x, dtype=float)[None, :])[0]
         n = self.n
@@ -523,21 +526,20 @@ class _LogPosterior:
         out = self._vec.predict(self.law, np.ascontiguousarray(np.concatenate([self.p0, *moved])), theta)
         mean = out[:n]
         sd = self.landing_sd if self.landing_sd is not None else np.ones((n, 3))
-        cols = np.stack([(out[(c + 1) * n:(c + 2) * n] - mean) * (sd[:, c] / self.h_land[:, c])[:, None]
-                         for c in range(3)])
-        if self.landing_sd is not None:
-            self._land_cov = _outer6(cols)
-        else:
-            self._land_cov = None
-            self._land_unit = [_outer6(cols[c:c + 1]) for c in range(3)]
+        self._land_cols = np.stack([(out[(c + 1) * n:(c + 2) * n] - mean) * (sd[:, c] / self.h_land[:, c])[:, None]
+                                    for c in range(3)])
+
+    def landing_columns(self) -> np.ndarray | None:
+        """The columns (3, n, 3) :meth:`fix_landing` holds (None without a landing error)."""
+        return self._land_cols
 
     def landing_entries(self, X: np.ndarray) -> list[np.ndarray] | None:
-        """The six entries (each (w, n), or (n,) when stated by the data) of each bounce's landing-error covariance
-        pushed through the law, G Sigma_0 G^T, for each row of X; None without a landing error."""
-        if self._land_unit is None:
-            return self._land_cov
-        lam2 = self.landing_noise(X) ** 2  # (w, 3)
-        return [sum(lam2[:, c:c + 1] * self._land_unit[c][e] for c in range(3)) for e in range(6)]
+        """The six entries (each (n,) when the data state the error, (w, n) when it is fitted) of each bounce's
+        landing-error covariance pushed through the law, G Sigma_0 G^T, for each row of X; None without one."""
+        if self._land_cols is None:
+            return None
+        lam = self.landing_noise(X)
+        return _outer6(self._land_cols if lam is None else lam[:, :, None, None] * self._land_cols[None])
 
     # -------------------------------------------------------------- moments and likelihood
     def _moments(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], np.ndarray | None, np.ndarray]:
@@ -621,6 +623,23 @@ class _LogPosterior:
 
     def __call__(self, x: np.ndarray) -> float:
         return float(self.batch(np.asarray(x, dtype=float)[None, :])[0])
+
+
+def _det_quad(c: Sequence[np.ndarray], r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Determinants of symmetric 3 x 3 matrices given by their entries (xx, yy, ww, xy, xw, yw), and the
+    quadratic forms r^T C^-1 r, in closed form (cofactors: far faster than batched LAPACK calls on 3 x 3)."""
+    a, d, f, b, cc, e = c
+    A = d * f - e * e
+    B = cc * e - b * f
+    C = b * e - cc * d
+    D = a * f - cc * cc
+    E = b * cc - a * e
+    F = a * d - b * b
+    det = a * A + b * B + cc * C
+    x, y, z = r[..., 0], r[..., 1], r[..., 2]
+    adj = A * x * x + D * y * y + F * z * z + 2.0 * (B * x * y + C * x * z + E * y * z)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return det, adj / det
 
 
 def _woodbury(c: Sequence[np.ndarray], det: np.ndarray, W: np.ndarray, r: np.ndarray, starts: np.ndarray

@@ -12,8 +12,10 @@ mean :math:`f(p_{0,i}, T^{-1}(\zeta))`, covariance :math:`\Sigma_{F,i} + \mathrm
 G_i \Sigma_{0,i} G_i^\top + J_i \mathrm{diag}(s^2) J_i^\top` (measurement errors, discrepancy, the
 landing's error pushed through the law with its derivative :math:`G_i` at the draw, and the bounce's own
 variation linearised with the derivative :math:`J_i` with respect to the transformed parameters at the
-draw: exact when the bounce-to-bounce scale :math:`s` is zero). Where the landing's error is fitted
-(``landing_noise``) its three unit columns join :math:`J`'s, scaled by the fitted standard deviations.
+draw: exact when the bounce-to-bounce scale :math:`s` is zero). Both are columns of one matrix
+:math:`C_i = [J_i, G_i]` with squared scales :math:`(s^2, \lambda^2)`: :math:`G_i`'s columns scaled by the
+data's landing errors (then :math:`\lambda = 1`), or for a unit error with :math:`\lambda` the fitted
+``landing_noise``.
 
 Where a setting's draw moves its repeats across a kink of the law (Rigid's slip to roll) the repeats'
 lift-offs are far from jointly normal, and the joint normal of :mod:`bouncelab.fitting.hierarchical`
@@ -54,7 +56,7 @@ from scipy.special import gammaln
 from bouncelab.core._jit import jit
 from bouncelab.core._parallel import run_rows
 
-__all__ = ["NODES", "WALKER_POINTS", "SettingIntegral", "det_quad"]
+__all__ = ["NODES", "WALKER_POINTS", "SettingIntegral"]
 
 #: Fixed points per setting, drawn once from the setting's proposal.
 NODES = 128
@@ -67,75 +69,51 @@ ROUND_DRAWS = 1024
 RECENTRE = 20
 #: Degrees of freedom of the proposal's multivariate t.
 PROPOSAL_DF = 4.0
-#: Share of the fixed points drawn from the population at the mode (its scales at least SCALE_FLOOR, times WIDEN).
+#: Share of the fixed points drawn from the population at the mode (its scales at least SCALE_FLOOR).
 DEFENSIVE = 0.1
-#: Widening of the t's scales over the setting's estimated draw's, and of the defensive share's over the population's.
-INFLATE = 1.0
-WIDEN = 1.0
 #: Smallest setting-to-setting scale the proposal assumes (transformed units).
 SCALE_FLOOR = 0.05
 
 _LOG2PI = math.log(2.0 * math.pi)
 
 
-def det_quad(c: Any, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Determinants of symmetric 3 x 3 matrices given by their entries (xx, yy, ww, xy, xw, yw), and the
-    quadratic forms r^T C^-1 r, in closed form (cofactors: far faster than batched LAPACK calls on 3 x 3)."""
-    a, d, f, b, cc, e = c
-    A = d * f - e * e
-    B = cc * e - b * f
-    C = b * e - cc * d
-    D = a * f - cc * cc
-    E = b * cc - a * e
-    F = a * d - b * b
-    det = a * A + b * B + cc * C
-    x, y, z = r[..., 0], r[..., 1], r[..., 2]
-    adj = A * x * x + D * y * y + F * z * z + 2.0 * (B * x * y + C * x * z + E * y * z)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return det, adj / det
-
-
-def _outer_entries(cols: np.ndarray) -> np.ndarray:
-    """The entries (xx, yy, ww, xy, xw, yw) of sum_c cols[c] cols[c]^T for columns (3, N, 3): (N, 6)."""
-    x, y, z = cols[..., 0], cols[..., 1], cols[..., 2]
-    return np.stack([(x * x).sum(0), (y * y).sum(0), (z * z).sum(0), (x * y).sum(0), (x * z).sum(0),
-                     (y * z).sum(0)], axis=-1)
+def _log_normal(Z: np.ndarray, mean: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """Log density of independent normals (mean, sd per axis) at points Z (..., V): (...)."""
+    return (-0.5 * ((Z - mean) / sd) ** 2 - np.log(sd) - 0.5 * _LOG2PI).sum(-1)
 
 
 @jit(nogil=True, inline="always")
-def _repeats(y, base, tau2, s2, F, L, J, a, b):  # pragma: no cover - compiled
+def _repeats(y, base, tau2, s2, F, C, a, b):  # pragma: no cover - compiled
     """Sum over bounces a..b-1 of the log normal density of y_i about F_i with covariance
-    base_i + tau2 + L_i + sum_j s2_j J_ij J_ij^T (entries xx, yy, ww, xy, xw, yw)."""
+    diag(base_i + tau2) + sum_j s2_j C_ij C_ij^T."""
     total = 0.0
-    V = J.shape[1]
     for i in range(a, b):
-        cxx = base[i, 0] + tau2[0] + L[i, 0]
-        cyy = base[i, 1] + tau2[1] + L[i, 1]
-        cww = base[i, 2] + tau2[2] + L[i, 2]
-        cxy = L[i, 3]
-        cxw = L[i, 4]
-        cyw = L[i, 5]
-        for j in range(V):
-            jx = J[i, j, 0]
-            jy = J[i, j, 1]
-            jw = J[i, j, 2]
+        cxx = base[i, 0] + tau2[0]
+        cyy = base[i, 1] + tau2[1]
+        cww = base[i, 2] + tau2[2]
+        cxy = 0.0
+        cxw = 0.0
+        cyw = 0.0
+        for j in range(C.shape[1]):
+            jx = C[i, j, 0]
+            jy = C[i, j, 1]
+            jw = C[i, j, 2]
             cxx += s2[j] * jx * jx
             cyy += s2[j] * jy * jy
             cww += s2[j] * jw * jw
             cxy += s2[j] * jx * jy
             cxw += s2[j] * jx * jw
             cyw += s2[j] * jy * jw
+        # determinant and quadratic form by cofactors (as hierarchical._det_quad does for arrays)
         A = cyy * cww - cyw * cyw
         B = cxw * cyw - cxy * cww
-        C = cxy * cyw - cxw * cyy
-        D = cxx * cww - cxw * cxw
-        E = cxy * cxw - cxx * cyw
-        Fc = cxx * cyy - cxy * cxy
-        det = cxx * A + cxy * B + cxw * C
+        D = cxy * cyw - cxw * cyy
+        det = cxx * A + cxy * B + cxw * D
         rx = y[i, 0] - F[i, 0]
         ry = y[i, 1] - F[i, 1]
         rw = y[i, 2] - F[i, 2]
-        quad = (A * rx * rx + D * ry * ry + Fc * rw * rw + 2.0 * (B * rx * ry + C * rx * rw + E * ry * rw)) / det
+        quad = (A * rx * rx + (cxx * cww - cxw * cxw) * ry * ry + (cxx * cyy - cxy * cxy) * rw * rw
+                + 2.0 * (B * rx * ry + D * rx * rw + (cxy * cxw - cxx * cyw) * ry * rw)) / det
         if not (det > 0.0 and quad == quad and quad < math.inf):
             return -math.inf
         total -= 0.5 * (math.log(det) + quad + 3.0 * 1.8378770664093453)
@@ -143,11 +121,10 @@ def _repeats(y, base, tau2, s2, F, L, J, a, b):  # pragma: no cover - compiled
 
 
 @jit(nogil=True)
-def _setting_kernel(out, ends, y, base, FA, LA, JA, ZA, lqA, FB, LB, JB, ZB, lqB, m, sig, s2, tau2, start, stop
+def _setting_kernel(out, ends, y, base, FA, CA, ZA, lqA, FB, CB, ZB, lqB, m, sig, s2, tau2, start, stop
                     ):  # pragma: no cover - compiled
     """log L of walkers start..stop-1: the sum over settings of the log of the mixture estimate (module docs).
-    s2 (w, columns of J): the squared scales of J's columns (the bounce-level scales, then a fitted landing
-    noise's)."""
+    s2 (w, columns of C): the squared scales of C's columns."""
     G = ends.shape[0] - 1
     K = FA.shape[0]
     K2 = FB.shape[1]
@@ -171,10 +148,10 @@ def _setting_kernel(out, ends, y, base, FA, LA, JA, ZA, lqA, FB, LB, JB, ZB, lqB
                     d = (z - m[w, j]) / sig[w, j]
                     lp -= 0.5 * d * d
                 if k < K:
-                    ll = _repeats(y, base, tau2[w], s2[w], FA[k], LA[k], JA[k], a, b)
+                    ll = _repeats(y, base, tau2[w], s2[w], FA[k], CA[k], a, b)
                     lq = lqA[g, k]
                 else:
-                    ll = _repeats(y, base, tau2[w], s2[w], FB[w, k - K], LB[w, k - K], JB[w, k - K], a, b)
+                    ll = _repeats(y, base, tau2[w], s2[w], FB[w, k - K], CB[w, k - K], a, b)
                     lq = lqB[w, g, k - K]
                 la = log_k + lq
                 lb = log_k2 + lp
@@ -197,11 +174,11 @@ def _setting_kernel(out, ends, y, base, FA, LA, JA, ZA, lqA, FB, LB, JB, ZB, lqB
 
 
 @jit(nogil=True)
-def _node_kernel(out, ends, y, base, FA, LA, JA, tau2, s2):  # pragma: no cover - compiled
-    """out[g, k]: the sum over setting g's repeats of log l_i at its fixed point k."""
+def _point_kernel(out, ends, y, base, F, C, tau2, s2):  # pragma: no cover - compiled
+    """out[g, k]: the sum over setting g's repeats of log l_i at point k (F (K, n, 3), C (K, n, columns, 3))."""
     for g in range(ends.shape[0] - 1):
-        for k in range(FA.shape[0]):
-            out[g, k] = _repeats(y, base, tau2, s2, FA[k], LA[k], JA[k], ends[g], ends[g + 1])
+        for k in range(F.shape[0]):
+            out[g, k] = _repeats(y, base, tau2, s2, F[k], C[k], ends[g], ends[g + 1])
 
 
 class _Proposal:
@@ -229,15 +206,14 @@ class _Proposal:
     def log_density(self, Z: np.ndarray) -> np.ndarray:
         """The mixture's log density at points (..., G, k, V) of each setting: (..., G, k)."""
         V = Z.shape[-1]
-        wide = (-0.5 * ((Z - self.wide_mean) / self.wide_sd) ** 2 - np.log(self.wide_sd) - 0.5 * _LOG2PI).sum(-1)
         d = Z - self.mean[:, None, :]
-        sol = np.linalg.solve(self.chol[:, None, :, :], d[..., None])[..., 0] if Z.ndim == 3 else \
-            np.linalg.solve(self.chol[None, :, None, :, :], d[..., None])[..., 0]
-        maha = (sol ** 2).sum(-1)
+        chol = self.chol[:, None, :, :] if Z.ndim == 3 else self.chol[None, :, None, :, :]
+        maha = (np.linalg.solve(chol, d[..., None])[..., 0] ** 2).sum(-1)
         logdet = np.log(np.abs(np.diagonal(self.chol, axis1=-2, axis2=-1))).sum(-1)[:, None]
         nu = PROPOSAL_DF
         t = gammaln((nu + V) / 2) - gammaln(nu / 2) - 0.5 * V * math.log(nu * math.pi) - logdet \
             - 0.5 * (nu + V) * np.log1p(maha / nu)
+        wide = _log_normal(Z, self.wide_mean, self.wide_sd)
         return np.logaddexp(math.log(DEFENSIVE) + wide, math.log1p(-DEFENSIVE) + t)
 
 
@@ -260,33 +236,36 @@ class SettingIntegral:
     def __init__(self, post: Any, x: np.ndarray, *, nodes: int = NODES, walker_points: int = WALKER_POINTS,
                  seed: int = 0) -> None:
         rng = np.random.default_rng([seed, 7919])
-        self.V = len(post.vary)
-        self._x = np.asarray(x, dtype=float)
+        self.V = V = len(post.vary)
+        self.nodes = int(nodes)
+        self.walker_points = int(walker_points)
         self.ends = np.r_[post._starts, post.n].astype(np.int64)
         self.setting_of = np.repeat(np.arange(len(post._starts)), np.diff(self.ends))
-        G, V = len(post._starts), self.V
-        m, sig, _, tau = self.split(post, np.asarray(x, dtype=float)[None, :])
         self.base = np.ascontiguousarray((post.liftoff_var if post.liftoff_var is not None else 0.0)
                                          + post.jitter[None, :] * np.ones((post.n, 1)))
-        wide_sd = WIDEN * np.maximum(sig[0], SCALE_FLOOR)
-        # rounds of adaptive importance sampling of the setting's draw given its repeats, from the widened population
-        Z = m[0] + wide_sd * rng.standard_normal((G, ROUND_DRAWS, V))
-        log_q = (-0.5 * ((Z - m[0]) / wide_sd) ** 2 - np.log(wide_sd) - 0.5 * _LOG2PI).sum(-1)
-        self.ess = np.zeros(G)
-        prior_sd = wide_sd / WIDEN
+        G = len(post._starts)
+        x = np.asarray(x, dtype=float)[None, :]
+        m, sig, _, tau = self.split(post, x)
+        pop_sd = np.maximum(sig[0], SCALE_FLOOR)
+        # rounds of adaptive importance sampling of each setting's draw given its repeats, from the population
+        # (its scale at least SCALE_FLOOR); the landing's error at x, no bounce-level spread: enough to place them
+        landing = post.landing_columns()
+        columns = np.zeros((post.n, 0, 3)) if landing is None else np.ascontiguousarray(landing.transpose(1, 0, 2))
+        scales2 = self._scales2(post, np.zeros((1, 0)), x)[0]
+        Z = m[0] + pop_sd * rng.standard_normal((G, ROUND_DRAWS, V))
+        log_q = _log_normal(Z, m[0], pop_sd)
         for _ in range(ROUNDS):
-            target = (-0.5 * ((Z - m[0]) / prior_sd) ** 2 - np.log(prior_sd) - 0.5 * _LOG2PI).sum(-1)
-            lw = target + self._draw_loglikes(post, Z, tau[0]) - log_q
+            repeats = self._at_draws(post, Z, columns, tau[0], scales2)
+            lw = _log_normal(Z, m[0], pop_sd) + repeats - log_q
             lw = np.where(np.isfinite(lw), lw, -np.inf)
             w = np.exp(lw - lw.max(axis=1, keepdims=True))
             w /= w.sum(axis=1, keepdims=True)
-            self.ess = 1.0 / (w ** 2).sum(axis=1)
             mean = np.einsum("gk,gkv->gv", w, Z)
             d = Z - mean[:, None, :]
             cov = np.einsum("gk,gka,gkb->gab", w, d, d)
             # a setting whose weights sit on a few draws (its draw far in the population's tail): the best
             # RECENTRE draws, unweighted, move the proposal towards it without collapsing it on one point
-            few = np.flatnonzero(self.ess < RECENTRE)
+            few = np.flatnonzero(1.0 / (w ** 2).sum(axis=1) < RECENTRE)
             if few.size:
                 best = np.argsort(lw[few], axis=1)[:, -RECENTRE:]
                 top = np.take_along_axis(Z[few], best[:, :, None], axis=1)
@@ -294,119 +273,90 @@ class SettingIntegral:
                 dt = top - mean[few][:, None, :]
                 cov[few] = np.einsum("gka,gkb->gab", dt, dt) / (RECENTRE - 1)
             # never narrower than a tenth of the population's sd along an axis (a proposal, not an estimate)
-            cov = cov + np.eye(V) * (1e-2 * wide_sd ** 2)[None, :, None]
-            proposal = _Proposal(mean, np.linalg.cholesky(INFLATE ** 2 * cov), m[0], wide_sd)
-            Z = proposal.draw(rng, ROUND_DRAWS)
-            log_q = proposal.log_density(Z)
-        self.proposal = proposal
-        self.nodes = int(nodes)
-        self.walker_points = int(walker_points)
-        self.ZA = np.ascontiguousarray(proposal.draw(rng, self.nodes))  # (G, K, V)
-        self.lqA = np.ascontiguousarray(proposal.log_density(self.ZA))
-        idx = np.tile(np.arange(post.n), self.nodes)
-        zeta = self.ZA[self.setting_of].transpose(1, 0, 2).reshape(-1, V)  # (K n, V): node k of bounce i's setting
-        F, L, J = self._points(post, idx, zeta, np.repeat(post.theta0[None, :], len(idx), axis=0))
-        self.FA = F.reshape(self.nodes, post.n, 3)
-        self.LA = L.reshape(self.nodes, post.n, 6)
-        self.JA = J.reshape(self.nodes, post.n, J.shape[1], 3)
+            cov = cov + np.eye(V) * (1e-2 * pop_sd ** 2)[None, :, None]
+            self.proposal = _Proposal(mean, np.linalg.cholesky(cov), m[0], pop_sd)
+            Z = self.proposal.draw(rng, ROUND_DRAWS)
+            log_q = self.proposal.log_density(Z)
+        self.ZA = np.ascontiguousarray(self.proposal.draw(rng, self.nodes))  # (G, K, V)
+        self.lqA = np.ascontiguousarray(self.proposal.log_density(self.ZA))
+        F, C = self._points(post, self.ZA[None], post.theta0[None, :])
+        self.FA, self.CA = F[0], C[0]
         self.v = rng.standard_normal((G, self.walker_points, V))  # the walker points' standard normals
 
     # ------------------------------------------------------------------ pieces
     @staticmethod
     def split(post: Any, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per row of X: transformed population medians m, setting scales sigma, bounce scales s, tau: (w, .)."""
-        nf, V = len(post.free), len(post.vary)
+        sigma, s, tau = post.scales_and_tau(X)
         m = np.column_stack([post.transforms[v].forward(X[:, post.free.index(v)]) for v in post.vary])
-        sig = X[:, nf:nf + V]
-        s = X[:, nf + V:nf + 2 * V]
-        tau = X[:, nf + 2 * V:nf + 2 * V + 3] if post.with_tau else np.zeros((len(X), 3))
-        return m, sig, s, tau
+        return m, sigma, s, tau
 
-    def _numbers(self, post: Any, zeta: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        numbers = theta.copy()
-        for j, name in enumerate(post.vary):
-            numbers[:, post.index[name]] = post.transforms[name].inverse(zeta[:, j])
-        return numbers
+    @staticmethod
+    def _scales2(post: Any, s: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """Squared scales of the columns of C per row of X: the bounce-level scales', then the landing columns'
+        (1 where the data state the error: the columns carry it; the fitted noise's otherwise)."""
+        lam = post.landing_noise(X)
+        if lam is None and post.landing_sd is not None:
+            lam = np.ones((len(X), 3))
+        return np.ascontiguousarray(s ** 2 if lam is None else np.hstack([s ** 2, lam ** 2]))
 
-    def _rows(self, post: Any, landing: np.ndarray, numbers: np.ndarray) -> np.ndarray:
-        """The law on each landing with its own numbers; NaN where a number is not finite."""
-        good = np.isfinite(numbers).all(axis=1)
-        if good.all():
-            return post.rows(landing, numbers)
-        out = np.full((len(landing), 3), np.nan)
-        if good.any():
-            out[good] = post.rows(np.ascontiguousarray(landing[good]), np.ascontiguousarray(numbers[good]))
-        return out
-
-    def _points(self, post: Any, idx: np.ndarray, zeta: np.ndarray, theta: np.ndarray
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """At each (bounce, draw): the lift-off (N, 3), the landing error's covariance entries (N, 6) and the
-        derivatives with respect to the transformed varying parameters (N, V, 3), in one law call."""
-        V, N, step = self.V, len(idx), post.step
-        base = self._numbers(post, zeta, theta)
-        land = post.p0[idx]
-        numbers, landings = [base], [land]
-        for j, name in enumerate(post.vary):  # forward steps along each varying parameter (transformed)
-            moved = base.copy()
-            moved[:, post.index[name]] = post.transforms[name].inverse(zeta[:, j] + step)
-            numbers.append(moved)
+    def _points(self, post: Any, Z: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """At points Z (W, G, k, V) of each setting, the law's numbers of row w of ``theta`` (W, P) elsewhere: for
+        every bounce of the setting the lift-off (W, k, n, 3) and the columns C (W, k, n, columns, 3) (the
+        derivatives with respect to the transformed varying parameters, then the landing's error pushed through
+        the law), in one law call."""
+        W, k, V, n, step = Z.shape[0], Z.shape[2], self.V, post.n, post.step
+        zeta = Z[:, self.setting_of].transpose(0, 2, 1, 3).reshape(-1, V)  # (W k n, V): bounce i's setting's point
+        numbers = _with_draws(post, np.repeat(theta, k * n, axis=0), zeta)
+        land = np.tile(post.p0, (W * k, 1))
+        rows, landings = [numbers], [land]
+        for j in range(V):  # forward steps along each varying parameter (transformed)
+            rows.append(_with_draws(post, numbers.copy(), zeta + step * np.eye(V)[j]))
             landings.append(land)
-        if post.landing_sd is not None or post.landing_prior is not None:  # and along each landing component
+        error = post.landing_sd is not None or post.landing_prior is not None
+        if error:  # and along each landing component
+            h = np.tile(post.h_land, (W * k, 1))
             for c in range(3):
                 moved = land.copy()
-                moved[:, c] += post.h_land[idx, c]
-                numbers.append(base)
+                moved[:, c] += h[:, c]
+                rows.append(numbers)
                 landings.append(moved)
-        out = self._rows(post, np.concatenate(landings), np.concatenate(numbers)).reshape(len(numbers), N, 3)
+        out = _finite_rows(post, np.concatenate(landings), np.concatenate(rows)).reshape(len(rows), -1, 3)
         F = out[0]
-        J = ((out[1:1 + V] - F) / step).transpose(1, 0, 2)
-        L = np.zeros((N, 6))
-        if post.landing_sd is not None:
-            cols = (out[1 + V:] - F) * (post.landing_sd[idx] / post.h_land[idx]).T[:, :, None]
-            L = _outer_entries(cols)
-        elif post.landing_prior is not None:  # a fitted landing noise: its unit columns beside J's, scaled per call
-            cols = (out[1 + V:] - F) / post.h_land[idx].T[:, :, None]
-            J = np.concatenate([J, cols.transpose(1, 0, 2)], axis=1)
-        return F, L, np.ascontiguousarray(J)
+        C = (out[1:1 + V] - F) / step
+        if error:
+            sd = post.landing_sd if post.landing_sd is not None else np.ones((n, 3))
+            C = np.concatenate([C, (out[1 + V:] - F) * (np.tile(sd, (W * k, 1)) / h).T[:, :, None]])
+        return F.reshape(W, k, n, 3), np.ascontiguousarray(C.transpose(1, 0, 2).reshape(W, k, n, -1, 3))
 
-    def _draw_loglikes(self, post: Any, Z: np.ndarray, tau: np.ndarray) -> np.ndarray:
-        """Sum over each setting's repeats of log l_i at draws Z (G, M, V), with the landing error at the mode and
-        no bounce-level spread (enough to place a proposal): (G, M)."""
-        M, V = Z.shape[1], self.V
-        idx = np.tile(np.arange(post.n), M)
-        zeta = Z[self.setting_of].transpose(1, 0, 2).reshape(-1, V)
-        F = self._rows(post, post.p0[idx], self._numbers(post, zeta, np.repeat(post.theta0[None, :], len(idx), axis=0)))
-        entries = [self.base[:, c] + tau[c] ** 2 for c in range(3)] + [np.zeros(post.n)] * 3
-        land = post.landing_entries(self._x[None, :])
-        if land is not None:
-            entries = [a + np.reshape(b, -1) for a, b in zip(entries, land, strict=True)]
-        det, quad = det_quad([np.tile(e, M) for e in entries], post.y[idx] - F)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ll = -0.5 * (np.log(det) + quad + 3 * _LOG2PI)
-        ll = np.where(np.isfinite(ll), ll, -np.inf).reshape(M, post.n)
-        return np.add.reduceat(ll, self.ends[:-1], axis=1).T
+    def _at_draws(self, post: Any, Z: np.ndarray, columns: np.ndarray, tau: np.ndarray, scales2: np.ndarray
+                  ) -> np.ndarray:
+        """Sum over each setting's repeats of log l_i at draws Z (G, M, V) with the columns held (the landing's
+        error at the mode): (G, M)."""
+        M = Z.shape[1]
+        zeta = Z[self.setting_of].transpose(1, 0, 2).reshape(-1, self.V)
+        numbers = _with_draws(post, np.repeat(post.theta0[None, :], len(zeta), axis=0), zeta)
+        F = _finite_rows(post, np.tile(post.p0, (M, 1)), numbers).reshape(M, post.n, 3)
+        out = np.empty((len(self.ends) - 1, M))
+        _point_kernel(out, self.ends, post.y, self.base, F, np.broadcast_to(columns, (M, *columns.shape)),
+                      tau ** 2, scales2)
+        return out
 
     # ------------------------------------------------------------------ the likelihood
     def log_likelihoods(self, post: Any, X: np.ndarray) -> np.ndarray:
         """The log likelihood of each row of X (w, ndim), summed over settings; -inf where it cannot be evaluated."""
-        W, V, K2 = len(X), self.V, self.walker_points
+        W = len(X)
         m, sig, s, tau = self.split(post, X)
-        lam = post.landing_noise(X)
-        s2 = np.ascontiguousarray(s ** 2 if lam is None else np.hstack([s ** 2, lam ** 2]))
+        s2 = self._scales2(post, s, X)
         ok = np.isfinite(m).all(1) & np.isfinite(sig).all(1) & np.isfinite(s2).all(1) & np.isfinite(tau).all(1)
         m = np.where(ok[:, None], m, 0.0)
         sig = np.where(ok[:, None], np.maximum(sig, 1e-12), 1.0)
-        ZB = m[:, None, None, :] + sig[:, None, None, :] * self.v[None]  # (W, G, K2, V)
-        idx = np.tile(np.arange(post.n), W * K2)
-        zeta = ZB[:, self.setting_of].transpose(0, 2, 1, 3).reshape(-1, V)  # (W K2 n, V)
-        theta = np.repeat(post._theta(X), K2 * post.n, axis=0)
-        F, L, J = self._points(post, idx, zeta, theta)
-        lqB = self.proposal.log_density(ZB)
+        ZB = np.ascontiguousarray(m[:, None, None, :] + sig[:, None, None, :] * self.v[None])  # (W, G, K2, V)
+        FB, CB = self._points(post, ZB, post._theta(X))
+        lqB = np.ascontiguousarray(self.proposal.log_density(ZB))
         out = np.empty(W)
-        args = (np.ascontiguousarray(post.y), self.base, self.FA, self.LA, self.JA, self.ZA, self.lqA,
-                F.reshape(W, K2, post.n, 3), L.reshape(W, K2, post.n, 6), J.reshape(W, K2, post.n, J.shape[1], 3),
-                np.ascontiguousarray(ZB), np.ascontiguousarray(lqB), np.ascontiguousarray(m), np.ascontiguousarray(sig),
-                s2, np.ascontiguousarray(tau ** 2))
+        args = (post.y, self.base, self.FA, self.CA, self.ZA, self.lqA, FB, CB, ZB, lqB, np.ascontiguousarray(m),
+                np.ascontiguousarray(sig), s2, np.ascontiguousarray(tau ** 2))
 
         def part(start: int, stop: int) -> None:
             _setting_kernel(out, self.ends, *args, start, stop)
@@ -418,14 +368,28 @@ class SettingIntegral:
         """Per setting, the effective number of the fixed points at ``x`` (Kish's, from their weights)."""
         x = np.asarray(x, dtype=float)[None, :]
         m, sig, s, tau = self.split(post, x)
-        lam = post.landing_noise(x)
-        s2 = s[0] ** 2 if lam is None else np.r_[s[0] ** 2, lam[0] ** 2]
-        sig = np.maximum(sig, 1e-12)
-        lp = (-0.5 * ((self.ZA - m[0]) / sig[0]) ** 2 - np.log(sig[0]) - 0.5 * _LOG2PI).sum(-1)
         ll = np.empty((len(self.ends) - 1, self.nodes))
-        _node_kernel(ll, self.ends, np.ascontiguousarray(post.y), self.base, self.FA, self.LA, self.JA, tau[0] ** 2,
-                     s2)
-        lw = lp + ll - self.lqA
+        _point_kernel(ll, self.ends, post.y, self.base, self.FA, self.CA, tau[0] ** 2, self._scales2(post, s, x)[0])
+        lw = _log_normal(self.ZA, m[0], np.maximum(sig[0], 1e-12)) + ll - self.lqA
         lw = np.where(np.isfinite(lw), lw, -np.inf)
         w = np.exp(lw - lw.max(axis=1, keepdims=True))
         return w.sum(axis=1) ** 2 / (w ** 2).sum(axis=1)
+
+
+def _with_draws(post: Any, numbers: np.ndarray, zeta: np.ndarray) -> np.ndarray:
+    """``numbers`` (rows of the law's numbers) with the varying parameters set from the transformed draws ``zeta``."""
+    for j, name in enumerate(post.vary):
+        numbers[:, post.index[name]] = post.transforms[name].inverse(zeta[:, j])
+    return numbers
+
+
+def _finite_rows(post: Any, landing: np.ndarray, numbers: np.ndarray) -> np.ndarray:
+    """The law on each landing with its own numbers (``post.rows``); NaN where a number is not finite (a draw far
+    out in a transform's tail)."""
+    good = np.isfinite(numbers).all(axis=1)
+    if good.all():
+        return post.rows(landing, numbers)
+    out = np.full((len(landing), 3), np.nan)
+    if good.any():
+        out[good] = post.rows(np.ascontiguousarray(landing[good]), np.ascontiguousarray(numbers[good]))
+    return out
