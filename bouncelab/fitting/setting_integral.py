@@ -25,8 +25,8 @@ is estimated by importance sampling, with two sets of points per setting:
 * ``nodes`` fixed points drawn once from a proposal :math:`q_g` built at the mode of the joint-normal
   posterior: a multivariate t (4 degrees of freedom) about the setting's draw given its repeats, found by
   :data:`ROUNDS` rounds of adaptive importance sampling, mixed with a share :data:`DEFENSIVE` of the
-  population's own distribution at that mode, widened. The law and its derivatives are evaluated at these
-  points once;
+  population's own distribution at that mode (its scales at least :data:`SCALE_FLOOR`). The points are
+  scrambled Sobol draws. The law and its derivatives are evaluated at these points once;
 * ``walker_points`` points :math:`m + \sigma v_{gl}` from each evaluated point's own population
   (fixed standard normal :math:`v_{gl}`), evaluated at every call. They carry the integral where the
   population is narrow against the repeats' information (a setting-to-setting scale near zero), where the
