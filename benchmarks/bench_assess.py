@@ -168,71 +168,113 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 
 # ------------------------------------------------------------------------------ coverage on a known process
-def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = True):
+def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = True, draws: bool = False):
     """The done-when's campaign, the tests' own (``tests/test_calibrate.py::spot_campaign``): Rigid with r
     (logit-normal: median 0.5, scale 0.25) and mu (log-normal: 0.4, 0.3) drawn per launcher setting, the repeats of
-    a setting on its spot, measured with known normal errors (stated as 95 % intervals when ``intervals``)."""
+    a setting on its spot, measured with known normal errors (stated as 95 % intervals when ``intervals``); with
+    ``draws`` also the settings' own draws."""
     from tests.test_calibrate import spot_campaign as campaign
 
-    return campaign(n_settings, repeats, seed=seed, intervals=intervals)
+    return campaign(n_settings, repeats, seed=seed, intervals=intervals, draws=draws)
+
+
+def _inside(post, fresh, n: int = 2000):
+    lo, hi = post.interval(fresh.landing.values, n=n)
+    pf = fresh.liftoff.values
+    return (pf >= lo) & (pf <= hi)
 
 
 def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]:
+    """One row per campaign (with and without interval columns, per seed), then a summary over the seeds.
+
+    Besides the done-when's figures each row gives what the campaign itself allows: the error of the medians of
+    its own setting draws (an estimator that saw every draw would have it), whether the posterior's 95 % intervals
+    of the population medians and setting scales hold the generating values, and the coverage that the generating
+    process itself (a posterior holding the truth, ``tests/test_calibrate.py::_truth``) gets on the same fresh
+    bounces: the part of a row's coverage that is the fresh campaign's own draw."""
     import numpy as np
     import pandas as pd
 
-    from tests.test_calibrate import MU_MED, R_MED, S_MU, S_R
+    from tests.test_calibrate import LOGIT, MU_MED, R_MED, S_MU, S_R, _truth
 
     print(f"calibrate(Rigid, vary=['r', 'mu']) with defaults on {settings} settings x 6 repeats per seed; fresh: "
           f"{2 * settings} new settings x 6; load average before: {_load()}", flush=True)
     rows = []
     for intervals in (True, False):
+        truth = _truth(intervals)
         for seed in seeds:
-            data = spot_campaign(settings, 6, seed, intervals)
+            data, z = spot_campaign(settings, 6, seed, intervals, draws=True)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", bl.errors.BouncelabWarning)
                 secs, post = _timed(bl.calibrate, bl.Rigid, data, vary=["r", "mu"], seed=0,
                                     **({"steps": 30} if quick else {}))
             fresh = spot_campaign(2 * settings, 6, seed + 1000, intervals)
-            lo, hi = post.interval(fresh.landing.values)
-            pf = fresh.liftoff.values
-            inside = (pf >= lo) & (pf <= hi)
+            inside = _inside(post, fresh)
             by_setting = pd.DataFrame(inside).groupby(fresh.setting.values).mean()
             check = post.check(fresh).loc["all", ["xdot", "ydot", "omega"]].to_numpy(dtype=float)
-            med = post.samples.median()
+            q = post.samples[["r", "mu"]].quantile([0.025, 0.5, 0.975])
             sc = post.scales()
             converged = post.converged and not any(issubclass(w.category, ConvergenceWarning) for w in caught)
             row = {"intervals": "yes" if intervals else "no", "seed": seed, "s": secs,
                    "converged": "yes" if converged else "NO",
-                   "r_err_pct": 100 * (med["r"] / R_MED - 1), "mu_err_pct": 100 * (med["mu"] / MU_MED - 1),
+                   "r_err_pct": 100 * (q.loc[0.5, "r"] / R_MED - 1),
+                   "mu_err_pct": 100 * (q.loc[0.5, "mu"] / MU_MED - 1),
+                   # the population medians the campaign's own setting draws give (their mean in the transformed space)
+                   "r_draws_pct": 100 * (LOGIT.inverse(LOGIT.forward(R_MED) + z[:, 0].mean()) / R_MED - 1),
+                   "mu_draws_pct": 100 * (np.exp(z[:, 1].mean()) - 1),
+                   "draw_sd": z.std(axis=0, ddof=1),
+                   "medians_held": bool(q.loc[0.025, "r"] <= R_MED <= q.loc[0.975, "r"])
+                   + bool(q.loc[0.025, "mu"] <= MU_MED <= q.loc[0.975, "mu"]),
+                   "setting_scales_held": sum(bool(sc.loc[v, "setting_low"] <= t <= sc.loc[v, "setting_high"])
+                                              for v, t in (("r", S_R), ("mu", S_MU))),
                    "cover": inside.mean(axis=0), "cover_by_setting": by_setting.mean().to_numpy(),
-                   # settings whose repeats are all inside, per component (the repeats share a spot: a setting's
-                   # bounces miss together when its spot is an unusual one)
-                   "settings_all_inside": (by_setting == 1.0).mean().to_numpy(),
-                   "settings_most_outside": (by_setting < 0.5).mean().to_numpy(),
+                   "truth_cover": _inside(truth, fresh).mean(axis=0),
                    "check_same": bool(np.array_equal(check, inside.mean(axis=0))),
-                   "scales": {v: (sc.loc[v, "new_spot"], sc.loc[v, "new_spot_low"], sc.loc[v, "new_spot_high"])
+                   "scales": {v: (sc.loc[v, "setting"], sc.loc[v, "setting_low"], sc.loc[v, "setting_high"])
                               for v in ("r", "mu")}}
             rows.append(row)
             print(f"  intervals={row['intervals']} seed {seed}: {secs:.0f} s, converged {row['converged']}; r "
-                  f"{row['r_err_pct']:+.1f} %, mu {row['mu_err_pct']:+.1f} %; coverage {np.round(row['cover'], 3)}, "
-                  f"by setting {np.round(row['cover_by_setting'], 3)} (settings all inside "
-                  f"{np.round(row['settings_all_inside'], 3)}, most outside "
-                  f"{np.round(row['settings_most_outside'], 3)}); check() same: {row['check_same']}", flush=True)
+                  f"{row['r_err_pct']:+.1f} % (own draws {row['r_draws_pct']:+.1f} %), mu {row['mu_err_pct']:+.1f} % "
+                  f"(own draws {row['mu_draws_pct']:+.1f} %); coverage {np.round(row['cover'], 3)}, by setting "
+                  f"{np.round(row['cover_by_setting'], 3)}, the truth's {np.round(row['truth_cover'], 3)}; "
+                  f"check() same: {row['check_same']}", flush=True)
     print(f"\nload average after: {_load()}")
-    print("| intervals | seed | r error | mu error | coverage xdot, ydot, omega (by bounce) | by setting (mean) | "
-          "settings with all repeats inside | settings with most outside | check() same | new-spot scale r (95 %) | "
-          "mu | time, s | converged |")
-    print("|---|---:|---:|---:|---|---|---|---|---|---|---|---:|---|")
+    print("| intervals | seed | r error | (own draws) | mu error | (own draws) | coverage xdot, ydot, omega | "
+          "the truth's coverage | check() same | setting scale r (95 %) | mu | draws' sd r, mu | time, s | converged |")
+    print("|---|---:|---:|---:|---:|---:|---|---|---|---|---|---|---:|---|")
     for r in rows:
         sr, sm = r["scales"]["r"], r["scales"]["mu"]
-        print(f"| {r['intervals']} | {r['seed']} | {r['r_err_pct']:+.1f} % | {r['mu_err_pct']:+.1f} % | "
-              f"{', '.join(f'{v:.3f}' for v in r['cover'])} | {', '.join(f'{v:.3f}' for v in r['cover_by_setting'])} | "
-              f"{', '.join(f'{v:.2f}' for v in r['settings_all_inside'])} | "
-              f"{', '.join(f'{v:.2f}' for v in r['settings_most_outside'])} | {'yes' if r['check_same'] else 'NO'} | "
-              f"{sr[0]:.3f} [{sr[1]:.3f}, {sr[2]:.3f}] (true {S_R}) | "
-              f"{sm[0]:.3f} [{sm[1]:.3f}, {sm[2]:.3f}] (true {S_MU}) | {r['s']:.0f} | {r['converged']} |")
+        print(f"| {r['intervals']} | {r['seed']} | {r['r_err_pct']:+.1f} % | {r['r_draws_pct']:+.1f} % | "
+              f"{r['mu_err_pct']:+.1f} % | {r['mu_draws_pct']:+.1f} % | {', '.join(f'{v:.3f}' for v in r['cover'])} | "
+              f"{', '.join(f'{v:.3f}' for v in r['truth_cover'])} | {'yes' if r['check_same'] else 'NO'} | "
+              f"{sr[0]:.3f} [{sr[1]:.3f}, {sr[2]:.3f}] | {sm[0]:.3f} [{sm[1]:.3f}, {sm[2]:.3f}] | "
+              f"{r['draw_sd'][0]:.3f}, {r['draw_sd'][1]:.3f} | {r['s']:.0f} | {r['converged']} |")
+    print(f"(generating: r median {R_MED}, mu median {MU_MED}, setting scales {S_R}, {S_MU})")
+    _coverage_summary(rows)
     return rows
+
+
+def _coverage_summary(rows: list[dict]) -> None:
+    """Over the campaigns of each kind: the done-when per campaign (medians within 5 %, every coverage in
+    92-98 %), the posterior's 95 % intervals against the generating values, and the mean coverage."""
+    import numpy as np
+
+    print("\n| intervals | campaigns | medians within 5 % | of the own draws' medians | coverage in 92-98 % | "
+          "median intervals hold truth | setting-scale intervals hold truth | mean coverage | the truth's mean |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|---|")
+    for kind in ("yes", "no"):
+        some = [r for r in rows if r["intervals"] == kind]
+        if not some:
+            continue
+        n = len(some)
+        within = sum(abs(r["r_err_pct"]) <= 5 and abs(r["mu_err_pct"]) <= 5 for r in some)
+        own = sum(abs(r["r_draws_pct"]) <= 5 and abs(r["mu_draws_pct"]) <= 5 for r in some)
+        band = sum(bool(((r["cover"] >= 0.92) & (r["cover"] <= 0.98)).all()) for r in some)
+        mean = np.mean([r["cover"] for r in some], axis=0)
+        truth = np.mean([r["truth_cover"] for r in some], axis=0)
+        print(f"| {kind} | {n} | {within} | {own} | {band} | {sum(r['medians_held'] for r in some)} of {2 * n} | "
+              f"{sum(r['setting_scales_held'] for r in some)} of {2 * n} | {', '.join(f'{v:.3f}' for v in mean)} | "
+              f"{', '.join(f'{v:.3f}' for v in truth)} |")
 
 
 if __name__ == "__main__":

@@ -340,6 +340,24 @@ def test_rendered_npz_clips_carry_their_frame_rate(tmp_path, capsys):
     assert main(["track", str(renamed), "--fps", "5000", "--out", str(tmp_path / "e.nc"), "--quiet"]) == 0
 
 
+def test_track_clip_takes_a_rendered_clips_own_frame_rate(tmp_path):
+    """The library's track_clip reads a rendered .npz clip's stored rate as the command does (one place,
+    frame_times): without fps the same track as with the stored rate; a disagreeing fps is refused, named."""
+    from bouncelab.tracking import FrameRateError, track_clip
+
+    clips = tmp_path / "clips"
+    _write_clips(clips, 1)
+    clip = next(clips.iterdir())
+    own = track_clip(clip)
+    given = track_clip(clip, fps=5000.0)
+    assert own.attrs["fps"] == given.attrs["fps"] == 5000.0
+    np.testing.assert_array_equal(own["t"].values, given["t"].values)
+    with pytest.raises(FrameRateError) as e:
+        track_clip(clip, fps=4000.0)
+    assert (e.value.fps, e.value.source) == (4000.0, "argument")
+    assert "disagrees with the frame rate the clip file records (5000 frames/s)" in str(e.value)
+
+
 def test_a_clip_path_that_does_not_exist_is_named_before_any_frame_rate_question(tmp_path, capsys):
     from bouncelab.cli.main import main
 

@@ -22,11 +22,8 @@ from bouncelab.core.units import BALL_RADIUS_M, INERTIA_FACTOR
 from bouncelab.data.campaign import make_campaign
 from bouncelab.tracking.frames import CAMERA_SUFFIXES, open_clip, stored_fps
 from bouncelab.tracking.tracker import (
-    FPS_AGREEMENT,
     FPS_SOURCES,
-    FrameRateError,
     check_fps,
-    fps_source_text,
     track_clip,
 )
 
@@ -405,13 +402,6 @@ def _process_clip(job) -> tuple[xr.Dataset | None, xr.Dataset | None, DataError 
     failure = None
     try:
         fps, source = s.fps, s.fps_source if s.fps_source in FPS_SOURCES else "argument"
-        stored = stored_fps(clip)  # a rendered .npz clip knows its frame rate
-        if fps is None and stored is not None:
-            fps, source = stored, "clip file"
-        elif fps is not None and stored is not None and abs(float(fps) / stored - 1.0) > FPS_AGREEMENT:
-            raise FrameRateError(f"{fps_source_text(source)} {float(fps):g} frames/s disagrees with the frame rate the "
-                                 f"clip file records ({stored:g} frames/s); leave the frame rate out to use it",
-                                 fps=fps, source=source, file=name)
         if isinstance(clip, str | Path) and not Path(clip).exists():  # said as such, not as a missing frame rate
             raise MissingFileError("no such file or folder", file=name)
         if fps is not None or not records_times(clip):
@@ -449,8 +439,10 @@ def _collect(result: TrackedCampaign, rows: list, radii: set, job, out, keep_tra
 
 
 def records_times(clip) -> bool:
-    """Whether ``clip`` is a camera file, which records its frames' times (no frame rate is needed)."""
-    return isinstance(clip, str | Path) and Path(clip).suffix.lower() in CAMERA_SUFFIXES
+    """Whether ``clip`` records its frames' times or rate, so that no frame rate is needed: a camera file, or a
+    rendered ``.npz`` clip with its ``fps`` (:func:`~bouncelab.tracking.frames.stored_fps`)."""
+    return isinstance(clip, str | Path) and (Path(clip).suffix.lower() in CAMERA_SUFFIXES
+                                             or stored_fps(clip) is not None)
 
 
 def _longest_run(mask: np.ndarray) -> tuple[int, int]:

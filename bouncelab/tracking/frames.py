@@ -141,7 +141,8 @@ class _Source:
     """Raw (h, w) frames of one kind of file, in frame order. ``kind``: the source array's dtype kind.
 
     A camera file also gives its frames' ``times`` (s), ``fps``, ``time_source``, ``bit_depth``, the
-    pixel ``levels`` (black, white) that map its values to the clip's grey levels, and its ``metadata``."""
+    pixel ``levels`` (black, white) that map its values to the clip's grey levels, and its ``metadata``; a
+    rendered ``.npz`` clip its stored ``fps`` (without times)."""
 
     n: int
     h: int
@@ -284,6 +285,7 @@ class _NpzSource(_Source):
         self.fortran = fortran and len(shape) > 1
         self.file_dtype = dtype
         self.kind = dtype.kind
+        self.fps = stored_fps(path)  # a rendered clip's rate (no times: frame_times reconciles it with an fps given)
         self.dtype = np.dtype(np.float64) if self.channels in (3, 4) else dtype.newbyteorder("=")
 
     def raw(self, wanted):
@@ -567,7 +569,8 @@ class Clip:
         block, from the trigger; a ``.mraw``'s start frame over its record
         rate), or None (the file records none: give the frame rate).
     fps
-        The file's frame rate, frames/s (from its times where it has them), or None.
+        The file's frame rate, frames/s (from its times where it has them; a
+        rendered ``.npz`` clip's stored ``fps``), or None.
     time_source
         Where ``times`` come from: ``"TIME64 block"``, ``"frame rate"`` (the
         header's rate and frame numbers), or None.

@@ -338,15 +338,23 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
                 ) -> tuple[np.ndarray, float, str]:
     """(times in s, frame rate, where they come from) of a clip's frames: the times a camera file records
     (``fps``, if given, must agree with them), else ``frame / fps`` (a frame missing from a video's
-    timestamps counted in).
+    timestamps counted in), with the rate a rendered ``.npz`` clip stores where ``fps`` is not given (one
+    given must agree with it).
 
     Raises
     ------
     FrameRateError
-        No times and no ``fps``; an ``fps`` that disagrees with the file's times by more than
-        :data:`FPS_AGREEMENT`; a file rate outside :data:`FPS_RANGE`.
+        No times and no ``fps``; an ``fps`` that disagrees with the file's times or stored rate by more
+        than :data:`FPS_AGREEMENT`; a file rate outside :data:`FPS_RANGE`.
     """
     n = len(frames)
+    if frames.times is None and frames.fps is not None:  # a rendered clip: its stored rate, no times
+        if fps is None:
+            fps, fps_source = frames.fps, "clip file"
+        elif abs(float(fps) / frames.fps - 1.0) > FPS_AGREEMENT:
+            raise FrameRateError(f"{_SOURCE_TEXT[fps_source]} {float(fps):g} frames/s disagrees with the frame rate "
+                                 f"the clip file records ({frames.fps:g} frames/s); leave the frame rate out to use "
+                                 "it", fps=fps, source=fps_source, file=label)
     if frames.times is None or frames.time_source == "stream timestamps":
         fps = check_fps(fps, label, fps_source)
         gaps = frames.gaps
