@@ -17,7 +17,8 @@ targets, on 2 cores:
 ``--coverage`` measures issue 30's done-when instead: Rigid with r and mu drawn per launcher setting (the
 repeats of a setting share its spot; 100 settings x 6 repeats, both regimes, known measurement noise), with and
 without interval columns; ``calibrate(vary=["r", "mu"])`` with defaults; the error of the population medians and
-the share of fresh measured bounces on new spots (200 fresh settings x 6) inside the default 95 % intervals, per
+the share of fresh measured bounces on new spots (``--fresh`` 10 fresh campaigns of 200 new settings x 6: 12,000
+bounces; on one campaign the share scatters by about 0.005) inside the default 95 % intervals, per
 component, over the bounces and averaged over the fresh settings, and whether ``check()`` gives the same shares.
 
 Each row prints the time of the plain ``bouncelab.fit`` of the same law on the same data. The
@@ -88,10 +89,18 @@ def main(argv: list[str] | None = None) -> list[dict]:
                     help="measure the coverage of calibrate's default intervals on known campaigns instead")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1], help="campaign seeds of --coverage")
     ap.add_argument("--settings", type=int, default=100, help="launcher settings of --coverage's campaigns")
+    ap.add_argument("--fresh", type=int, default=10,
+                    help="fresh campaigns (each twice --settings new settings x 6) a coverage is measured on")
+    ap.add_argument("--profile", action="store_true",
+                    help="with --coverage: where the brute-force likelihood of each campaign puts mu's median, and "
+                         "how sharply (what any estimator can do on it)")
     ap.add_argument("--quick", action="store_true", help="small counts: a check that the script runs (CI)")
     args = ap.parse_args(argv)
     if args.coverage:
-        return coverage(args.seeds, 10 if args.quick else args.settings, quick=args.quick)
+        settings = 10 if args.quick else args.settings
+        if args.profile:
+            likelihood_profile(args.seeds, settings)
+        return coverage(args.seeds, settings, fresh=1 if args.quick else args.fresh, quick=args.quick)
     quick = {"n_bootstrap": 40, "starts": 1, "profile_points": 3, "local_points": 0} if args.quick else {}
     if args.quick:
         args.turf = False
@@ -184,21 +193,23 @@ def _inside(post, fresh, n: int = 2000):
     return (pf >= lo) & (pf <= hi)
 
 
-def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]:
+def coverage(seeds: list[int], settings: int, fresh: int = 10, quick: bool = False) -> list[dict]:
     """One row per campaign (with and without interval columns, per seed), then a summary over the seeds.
 
     Besides the done-when's figures each row gives what the campaign itself allows: the error of the medians of
     its own setting draws (an estimator that saw every draw would have it), whether the posterior's 95 % intervals
     of the population medians and setting scales hold the generating values, and the coverage that the generating
     process itself (a posterior holding the truth, ``tests/test_calibrate.py::_truth``) gets on the same fresh
-    bounces: the part of a row's coverage that is the fresh campaign's own draw."""
+    bounces: the part of a row's coverage that is the fresh campaigns' own draw. A coverage is the share of the
+    bounces of ``fresh`` fresh campaigns (seeds seed + 1000, + 1001, ...), with the range over those campaigns: on
+    one campaign of 1,200 bounces it scatters by about 0.005 (one standard deviation)."""
     import numpy as np
     import pandas as pd
 
     from tests.test_calibrate import LOGIT, MU_MED, R_MED, S_MU, S_R, _truth
 
     print(f"calibrate(Rigid, vary=['r', 'mu']) with defaults on {settings} settings x 6 repeats per seed; fresh: "
-          f"{2 * settings} new settings x 6; load average before: {_load()}", flush=True)
+          f"{fresh} x {2 * settings} new settings x 6; load average before: {_load()}", flush=True)
     rows = []
     for intervals in (True, False):
         truth = _truth(intervals)
@@ -208,10 +219,13 @@ def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]
                 warnings.simplefilter("always", bl.errors.BouncelabWarning)
                 secs, post = _timed(bl.calibrate, bl.Rigid, data, vary=["r", "mu"], seed=0,
                                     **({"steps": 30} if quick else {}))
-            fresh = spot_campaign(2 * settings, 6, seed + 1000, intervals)
-            inside = _inside(post, fresh)
-            by_setting = pd.DataFrame(inside).groupby(fresh.setting.values).mean()
-            check = post.check(fresh).loc["all", ["xdot", "ydot", "omega"]].to_numpy(dtype=float)
+            news = [spot_campaign(2 * settings, 6, seed + 1000 + j, intervals) for j in range(fresh)]
+            each = [_inside(post, f) for f in news]
+            inside = np.concatenate(each)
+            by_setting = pd.concat([pd.DataFrame(i).groupby(f.setting.values).mean()
+                                    for i, f in zip(each, news, strict=True)])
+            check = post.check(news[0]).loc["all", ["xdot", "ydot", "omega"]].to_numpy(dtype=float)
+            spread = np.array([i.mean(axis=0) for i in each])
             q = post.samples[["r", "mu"]].quantile([0.025, 0.5, 0.975])
             sc = post.scales()
             converged = post.converged and not any(issubclass(w.category, ConvergenceWarning) for w in caught)
@@ -228,30 +242,61 @@ def coverage(seeds: list[int], settings: int, quick: bool = False) -> list[dict]
                    "setting_scales_held": sum(bool(sc.loc[v, "setting_low"] <= t <= sc.loc[v, "setting_high"])
                                               for v, t in (("r", S_R), ("mu", S_MU))),
                    "cover": inside.mean(axis=0), "cover_by_setting": by_setting.mean().to_numpy(),
-                   "truth_cover": _inside(truth, fresh).mean(axis=0),
-                   "check_same": bool(np.array_equal(check, inside.mean(axis=0))),
+                   "cover_low": spread.min(axis=0), "cover_high": spread.max(axis=0),
+                   "truth_cover": np.concatenate([_inside(truth, f) for f in news]).mean(axis=0),
+                   "check_same": bool(np.array_equal(check, each[0].mean(axis=0))),
                    "scales": {v: (sc.loc[v, "setting"], sc.loc[v, "setting_low"], sc.loc[v, "setting_high"])
                               for v in ("r", "mu")}}
             rows.append(row)
             print(f"  intervals={row['intervals']} seed {seed}: {secs:.0f} s, converged {row['converged']}; r "
                   f"{row['r_err_pct']:+.1f} % (own draws {row['r_draws_pct']:+.1f} %), mu {row['mu_err_pct']:+.1f} % "
-                  f"(own draws {row['mu_draws_pct']:+.1f} %); coverage {np.round(row['cover'], 3)}, by setting "
+                  f"(own draws {row['mu_draws_pct']:+.1f} %); coverage {np.round(row['cover'], 3)} (per fresh campaign "
+                  f"{np.round(row['cover_low'], 3)} to {np.round(row['cover_high'], 3)}), by setting "
                   f"{np.round(row['cover_by_setting'], 3)}, the truth's {np.round(row['truth_cover'], 3)}; "
                   f"check() same: {row['check_same']}", flush=True)
     print(f"\nload average after: {_load()}")
     print("| intervals | seed | r error | (own draws) | mu error | (own draws) | coverage xdot, ydot, omega | "
-          "the truth's coverage | check() same | setting scale r (95 %) | mu | draws' sd r, mu | time, s | converged |")
-    print("|---|---:|---:|---:|---:|---:|---|---|---|---|---|---|---:|---|")
+          "per fresh campaign | the truth's coverage | check() same | setting scale r (95 %) | mu | draws' sd r, mu | "
+          "time, s | converged |")
+    print("|---|---:|---:|---:|---:|---:|---|---|---|---|---|---|---|---:|---|")
     for r in rows:
         sr, sm = r["scales"]["r"], r["scales"]["mu"]
         print(f"| {r['intervals']} | {r['seed']} | {r['r_err_pct']:+.1f} % | {r['r_draws_pct']:+.1f} % | "
               f"{r['mu_err_pct']:+.1f} % | {r['mu_draws_pct']:+.1f} % | {', '.join(f'{v:.3f}' for v in r['cover'])} | "
+              f"{', '.join(f'{a:.3f}-{b:.3f}' for a, b in zip(r['cover_low'], r['cover_high'], strict=True))} | "
               f"{', '.join(f'{v:.3f}' for v in r['truth_cover'])} | {'yes' if r['check_same'] else 'NO'} | "
               f"{sr[0]:.3f} [{sr[1]:.3f}, {sr[2]:.3f}] | {sm[0]:.3f} [{sm[1]:.3f}, {sm[2]:.3f}] | "
               f"{r['draw_sd'][0]:.3f}, {r['draw_sd'][1]:.3f} | {r['s']:.0f} | {r['converged']} |")
     print(f"(generating: r median {R_MED}, mu median {MU_MED}, setting scales {S_R}, {S_MU})")
     _coverage_summary(rows)
     return rows
+
+
+def likelihood_profile(seeds: list[int], settings: int) -> None:
+    """Per campaign (with interval columns): the brute-force log likelihood (each setting's repeats integrated over
+    its draw on a grid, ``tests/test_calibrate.py::_setting_loglikes``; the landing's error left out) as a function
+    of mu's population median, the other numbers at the generating process; a parabola through 9 points within
+    +-8 % gives where it peaks and its width (one standard deviation). No estimator can place the median closer than
+    that width allows."""
+    import numpy as np
+
+    from tests.test_calibrate import _TRUE_X, MU_MED, _setting_loglikes, _two_level
+
+    print("| seed | likelihood's peak of mu's median | its sd | the own draws' |\n|---:|---:|---:|---:|")
+    for seed in seeds:
+        data, z = spot_campaign(settings, 6, seed, True, draws=True)
+        post = _two_level(data.landing.values, data.liftoff.values, data.setting.values, landing_error=False)
+        logs = np.linspace(-0.08, 0.08, 9)
+        ll = []
+        for g in logs:
+            x = _TRUE_X.copy()
+            x[1] = MU_MED * np.exp(g)
+            ll.append(_setting_loglikes(post, x)[1].sum())
+        c = np.polyfit(logs, ll, 2)
+        peak = -c[1] / (2 * c[0]) if c[0] < 0 else np.nan
+        sd = (-2 * c[0]) ** -0.5 if c[0] < 0 else np.nan
+        own = 100 * np.expm1(z[:, 1].mean())
+        print(f"| {seed} | {100 * np.expm1(peak):+.1f} % | {100 * sd:.1f} % | {own:+.1f} % |", flush=True)
 
 
 def _coverage_summary(rows: list[dict]) -> None:

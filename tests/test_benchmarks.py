@@ -103,3 +103,14 @@ def test_the_benchmark_runs_quickly(script):
             assert phrase in proc.stdout, f"{script} --quick did not print {phrase!r}:\n{proc.stdout[-3000:]}"
     if script == "bench_tracking_memory.py":
         assert proc.stdout.count("peak RSS") == 2  # the AVI and the .cine
+
+
+@pytest.mark.slow  # about 10 s
+def test_the_coverage_benchmark_runs_quickly():
+    """bench_assess.py's --coverage mode (issue 30's done-when, with the likelihood profile) runs too: its tables
+    per campaign, over the campaigns and of the profile."""
+    proc = subprocess.run([sys.executable, str(BENCHMARKS / "bench_assess.py"), "--coverage", "--profile", "--quick",
+                           "--seeds", "1"], capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr[-3000:]
+    for phrase in ("likelihood's peak of mu's median", "per fresh campaign", "median intervals hold truth"):
+        assert phrase in proc.stdout, phrase

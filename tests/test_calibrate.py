@@ -125,41 +125,49 @@ def test_calibrate_recovers_population_scales_and_covers_fresh_bounces() -> None
 #: on seed 1 without interval columns one noise per component stood for a landing error that moves a rolling and a
 #: slipping lift-off differently, and omega's interval covered 0.986 (the landing's error is now fitted:
 #: test_a_fitted_landing_noise_is_a_stated_landing_error_of_that_size).
-#: Seed 1 without interval columns sits on the edge of the done-when: omega's coverage measured 0.979, 0.980 and 0.981
-#: in three runs whose chains differ only by rounding (1e-10 in the log likelihood). Its cause: the campaign's 100
-#: setting draws of mu have sd 0.340 against the generating 0.3, and the posterior's setting scale (0.376) follows
-#: them. Not strict: the run may fall either side.
-_EDGE = pytest.mark.xfail(reason="omega's coverage on this campaign measured 0.979-0.981 against the bound 0.98",
-                          strict=False)
+#: The coverage is a rate, measured on FRESH_CAMPAIGNS fresh campaigns of 200 new settings x 6 (12,000 bounces): on
+#: one such campaign (1,200 bounces) it scatters with a standard deviation of 0.004-0.007 (measured, seed 1 without
+#: interval columns), as much as the gap between a good interval and the bound: there omega's share was 0.981 on the
+#: first fresh campaign and 0.967-0.983 over ten, 0.975 over all 12,000.
+FRESH_CAMPAIGNS = 10
 
 
-@pytest.mark.long  # 1-2.5 minutes each on 2 cores; benchmarks/bench_assess.py --coverage measures the same
-@pytest.mark.parametrize(("seed", "intervals"), [(1, True), pytest.param(1, False, marks=_EDGE), (3, True), (3, False)],
+def fresh_campaigns(seed: int, intervals: bool, k: int = FRESH_CAMPAIGNS) -> list[xr.Dataset]:
+    """``k`` fresh campaigns of 200 new settings x 6 for the campaign of ``seed`` (seeds seed + 1000, + 1001, ...)."""
+    return [spot_campaign(200, 6, seed=seed + 1000 + j, intervals=intervals) for j in range(k)]
+
+
+@pytest.mark.long  # 1.5-3 minutes each on 2 cores; benchmarks/bench_assess.py --coverage measures the same
+@pytest.mark.parametrize(("seed", "intervals"), [(1, True), (1, False), (3, True), (3, False)],
                          ids=["1-intervals", "1-no-intervals", "3-intervals", "3-no-intervals"])
 def test_setting_level_recovers_population_and_covers_fresh_bounces_on_new_spots(seed: int, intervals: bool) -> None:
     """Issue 30's done-when: r and mu vary by launcher setting, the repeats share a spot. With defaults, the population
-    medians come back within 5 % and the default 95 % intervals cover 92-98 % of fresh measured bounces on new
-    spots, per component, overall and averaged over the fresh settings; check() is interval(). Without interval
-    columns (where the default interval covered 61 % while check() said 89 %) the same."""
+    medians come back within 5 % (and the posterior's 95 % intervals of them hold the generating values), and the
+    default 95 % intervals cover 92-98 % of fresh measured bounces on new spots, per component, overall and averaged
+    over the fresh settings; check() is interval(). Without interval columns (where the default interval covered
+    61 % while check() said 89 %) the same."""
     data = spot_campaign(100, 6, seed=seed, intervals=intervals)
     post = calibrate(bl.Rigid, data, vary=["r", "mu"], seed=0)
     assert post.converged, post.diagnostics["reason"]
     assert post.levels == ["setting", "bounce"]
     assert post.residual == ("discrepancy" if intervals else "noise")
-    med = post.samples.median()
-    assert med["r"] == pytest.approx(R_MED, rel=0.05)
-    assert med["mu"] == pytest.approx(MU_MED, rel=0.05)
+    q = post.samples[["r", "mu"]].quantile([0.025, 0.5, 0.975])
+    assert q.loc[0.5, "r"] == pytest.approx(R_MED, rel=0.05)
+    assert q.loc[0.5, "mu"] == pytest.approx(MU_MED, rel=0.05)
+    assert q.loc[0.025, "r"] <= R_MED <= q.loc[0.975, "r"] and q.loc[0.025, "mu"] <= MU_MED <= q.loc[0.975, "mu"]
     scales = post.scales()
     assert scales.loc["r", "setting"] > 5 * scales.loc["r", "bounce"]  # the spread is the settings'
     assert scales.loc["r", "new_spot_low"] <= S_R <= scales.loc["r", "new_spot_high"]
-    fresh = spot_campaign(200, 6, seed=seed + 1000, intervals=intervals)
-    share, by_setting = coverage(post, fresh)
+    fresh = fresh_campaigns(seed, intervals)
+    shares = [coverage(post, f) for f in fresh]
+    share = np.mean([s for s, _ in shares], axis=0)  # the campaigns are of one size: the share of all their bounces
+    by_setting = pd.concat([b for _, b in shares]).mean()
     assert ((0.92 <= share) & (share <= 0.98)).all(), share
-    assert by_setting.mean().between(0.92, 0.98).all(), by_setting.mean()
-    _assert_check_is_interval(post, fresh, share)
+    assert by_setting.between(0.92, 0.98).all(), by_setting
+    _assert_check_is_interval(post, fresh[0], shares[0][0])
     if not intervals:
         with pytest.raises(FitError) as e:  # the noise-free lift-off: the data cannot separate it
-            post.interval(fresh.landing.values[:3], measurement_error=False)
+            post.interval(fresh[0].landing.values[:3], measurement_error=False)
         assert e.value.option == "measurement_error"
 
 
