@@ -486,7 +486,20 @@ def test_an_interrupt_nlopt_turns_into_forced_stop_is_reraised():
     assert err.value is terminated
 
 
-def test_an_interrupt_a_library_swallowed_still_exits_130(monkeypatch):
+@pytest.fixture
+def terminal_sigint():
+    """SIGINT as at a terminal, where Python raises KeyboardInterrupt. A shell starts a background job (``cmd &``
+    without job control: CI scripts, nohup) with SIGINT ignored, and Ctrl-C cannot reach it there at all."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+#: The same in a child process, before it starts the command.
+TERMINAL_SIGINT = "import signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
+
+
+def test_an_interrupt_a_library_swallowed_still_exits_130(monkeypatch, terminal_sigint):
     """numba's compiler drops a KeyboardInterrupt raised in its callbacks: the command went on and exited 0."""
     import bouncelab.cli.main as cli
 
@@ -507,7 +520,7 @@ def test_ctrl_c_during_a_fit_exits_130(delay):
     # TurfContact's fit takes seconds even with a warm cache, so the interrupt lands inside the command (with
     # PiecewiseAffine, about 1 s warm, a Ctrl-C at 1.2 s sometimes came after the command had ended, in Python's
     # own exit, which then ends of SIGINT: returncode -2, shell status 130, but not bouncelab's message).
-    code = ("import sys, bouncelab.cli.main as m; print('ready', flush=True); "
+    code = (TERMINAL_SIGINT + "import sys, bouncelab.cli.main as m; print('ready', flush=True); "
             "sys.exit(m.main(['fit', 'TurfContact', 'B']))")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             cwd=ROOT)
