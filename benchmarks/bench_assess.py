@@ -187,12 +187,6 @@ def spot_campaign(n_settings: int, repeats: int, seed: int, intervals: bool = Tr
     return campaign(n_settings, repeats, seed=seed, intervals=intervals, draws=draws)
 
 
-def _inside(post, fresh, n: int = 2000):
-    lo, hi = post.interval(fresh.landing.values, n=n)
-    pf = fresh.liftoff.values
-    return (pf >= lo) & (pf <= hi)
-
-
 def coverage(seeds: list[int], settings: int, fresh: int = 10, quick: bool = False) -> list[dict]:
     """One row per campaign (with and without interval columns, per seed), then a summary over the seeds.
 
@@ -204,28 +198,23 @@ def coverage(seeds: list[int], settings: int, fresh: int = 10, quick: bool = Fal
     bounces of ``fresh`` fresh campaigns (seeds seed + 1000, + 1001, ...), with the range over those campaigns: on
     one campaign of 1,200 bounces it moves about (up to 0.05 over ten)."""
     import numpy as np
-    import pandas as pd
 
-    from tests.test_calibrate import LOGIT, MU_MED, R_MED, S_MU, S_R, _truth
+    from tests.test_calibrate import LOGIT, MU_MED, R_MED, S_MU, S_R, _truth, fresh_campaigns, pooled_coverage
 
     print(f"calibrate(Rigid, vary=['r', 'mu']) with defaults on {settings} settings x 6 repeats per seed; fresh: "
           f"{fresh} x {2 * settings} new settings x 6; load average before: {_load()}", flush=True)
     rows = []
     for intervals in (True, False):
-        truth = _truth(intervals)
+        truth = _truth()
         for seed in seeds:
             data, z = spot_campaign(settings, 6, seed, intervals, draws=True)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", bl.errors.BouncelabWarning)
                 secs, post = _timed(bl.calibrate, bl.Rigid, data, vary=["r", "mu"], seed=0,
                                     **({"steps": 30} if quick else {}))
-            news = [spot_campaign(2 * settings, 6, seed + 1000 + j, intervals) for j in range(fresh)]
-            each = [_inside(post, f) for f in news]
-            inside = np.concatenate(each)
-            by_setting = pd.concat([pd.DataFrame(i).groupby(f.setting.values).mean()
-                                    for i, f in zip(each, news, strict=True)])
+            news = fresh_campaigns(seed, intervals, fresh, settings=2 * settings)
+            cover, by_setting, each = pooled_coverage(post, news)
             check = post.check(news[0]).loc["all", ["xdot", "ydot", "omega"]].to_numpy(dtype=float)
-            spread = np.array([i.mean(axis=0) for i in each])
             q = post.samples[["r", "mu"]].quantile([0.025, 0.5, 0.975])
             sc = post.scales()
             converged = post.converged and not any(issubclass(w.category, ConvergenceWarning) for w in caught)
@@ -241,10 +230,10 @@ def coverage(seeds: list[int], settings: int, fresh: int = 10, quick: bool = Fal
                    + bool(q.loc[0.025, "mu"] <= MU_MED <= q.loc[0.975, "mu"]),
                    "setting_scales_held": sum(bool(sc.loc[v, "setting_low"] <= t <= sc.loc[v, "setting_high"])
                                               for v, t in (("r", S_R), ("mu", S_MU))),
-                   "cover": inside.mean(axis=0), "cover_by_setting": by_setting.mean().to_numpy(),
-                   "cover_low": spread.min(axis=0), "cover_high": spread.max(axis=0),
-                   "truth_cover": np.concatenate([_inside(truth, f) for f in news]).mean(axis=0),
-                   "check_same": bool(np.array_equal(check, each[0].mean(axis=0))),
+                   "cover": cover, "cover_by_setting": by_setting.to_numpy(),
+                   "cover_low": each.min(axis=0), "cover_high": each.max(axis=0),
+                   "truth_cover": pooled_coverage(truth, news)[0],
+                   "check_same": bool(np.array_equal(check, each[0])),
                    "scales": {v: (sc.loc[v, "setting"], sc.loc[v, "setting_low"], sc.loc[v, "setting_high"])
                               for v in ("r", "mu")}}
             rows.append(row)

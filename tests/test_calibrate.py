@@ -132,9 +132,19 @@ def test_calibrate_recovers_population_scales_and_covers_fresh_bounces() -> None
 FRESH_CAMPAIGNS = 10
 
 
-def fresh_campaigns(seed: int, intervals: bool, k: int = FRESH_CAMPAIGNS) -> list[xr.Dataset]:
-    """``k`` fresh campaigns of 200 new settings x 6 for the campaign of ``seed`` (seeds seed + 1000, + 1001, ...)."""
-    return [spot_campaign(200, 6, seed=seed + 1000 + j, intervals=intervals) for j in range(k)]
+def fresh_campaigns(seed: int, intervals: bool, k: int = FRESH_CAMPAIGNS, settings: int = 200) -> list[xr.Dataset]:
+    """``k`` fresh campaigns of ``settings`` new settings x 6 for the campaign of ``seed`` (seeds seed + 1000,
+    + 1001, ...)."""
+    return [spot_campaign(settings, 6, seed=seed + 1000 + j, intervals=intervals) for j in range(k)]
+
+
+def pooled_coverage(post: Posterior, fresh: list[xr.Dataset], n: int = 2000
+                    ) -> tuple[np.ndarray, pd.Series, np.ndarray]:
+    """:func:`coverage` over fresh campaigns of one size: the share of all their bounces per component, its mean
+    over all their settings, and each campaign's share (k, 3)."""
+    shares = [coverage(post, f, n=n) for f in fresh]
+    each = np.array([share for share, _ in shares])
+    return each.mean(axis=0), pd.concat([by for _, by in shares]).mean(), each
 
 
 @pytest.mark.long  # 1.5-3 minutes each on 2 cores; benchmarks/bench_assess.py --coverage measures the same
@@ -159,19 +169,17 @@ def test_setting_level_recovers_population_and_covers_fresh_bounces_on_new_spots
     assert scales.loc["r", "setting"] > 5 * scales.loc["r", "bounce"]  # the spread is the settings'
     assert scales.loc["r", "new_spot_low"] <= S_R <= scales.loc["r", "new_spot_high"]
     fresh = fresh_campaigns(seed, intervals)
-    shares = [coverage(post, f) for f in fresh]
-    share = np.mean([s for s, _ in shares], axis=0)  # the campaigns are of one size: the share of all their bounces
-    by_setting = pd.concat([b for _, b in shares]).mean()
+    share, by_setting, each = pooled_coverage(post, fresh)
     assert ((0.92 <= share) & (share <= 0.98)).all(), share
     assert by_setting.between(0.92, 0.98).all(), by_setting
-    _assert_check_is_interval(post, fresh[0], shares[0][0])
+    _assert_check_is_interval(post, fresh[0], each[0])
     if not intervals:
         with pytest.raises(FitError) as e:  # the noise-free lift-off: the data cannot separate it
             post.interval(fresh[0].landing.values[:3], measurement_error=False)
         assert e.value.option == "measurement_error"
 
 
-def _truth(intervals: bool = True) -> Posterior:
+def _truth() -> Posterior:
     """A Posterior whose every sample is the known process of spot_campaign (no sampling): what a perfect calibration
     would give."""
     law = bl.Rigid(r=R_MED, mu=MU_MED)

@@ -453,25 +453,22 @@ class _LogPosterior:
             lp -= 0.5 * (v[j] / sd) ** 2
         return lp
 
-    def _priors(self) -> list[float]:
-        return self._prior_sds
-
     def zero_piles(self, x: np.ndarray) -> np.ndarray:
         """Which numbers of ``x`` are scales or discrepancies within a tenth of their prior sd of zero."""
         out = np.zeros(len(x), bool)
-        out[len(self.free):] = np.asarray(x[len(self.free):]) < 0.1 * np.asarray(self._priors())
+        out[len(self.free):] = np.asarray(x[len(self.free):]) < 0.1 * np.asarray(self._prior_sds)
         return out
 
     def pile_widths(self, x: np.ndarray) -> np.ndarray:
         """Spread of walkers over a pile at zero: the value, at least a tenth of the prior sd (others: zero)."""
         out = np.zeros(len(x))
-        out[len(self.free):] = np.maximum(np.abs(x[len(self.free):]), 0.1 * np.asarray(self._priors()))
+        out[len(self.free):] = np.maximum(np.abs(x[len(self.free):]), 0.1 * np.asarray(self._prior_sds))
         return out
 
     def widths(self, x: np.ndarray) -> np.ndarray:
         """Small steps of each sampled number about ``x`` (for finite differences): a thousandth of the search box
         of a population value; of a scale or discrepancy a thousandth of its value, at least 1e-5 of its prior sd."""
-        rest = [1e-3 * max(abs(float(v)), 1e-2 * sd) for v, sd in zip(x[len(self.free):], self._priors(), strict=True)]
+        rest = [1e-3 * max(abs(float(v)), 1e-2 * sd) for v, sd in zip(x[len(self.free):], self._prior_sds, strict=True)]
         return np.array([1e-3 * (self.box[f][1] - self.box[f][0]) for f in self.free] + rest)
 
     # -------------------------------------------------------------- the law on many parameter rows

@@ -257,15 +257,13 @@ class SettingIntegral:
         for _ in range(ROUNDS):
             repeats = self._at_draws(post, Z, columns, tau[0], scales2)
             lw = _log_normal(Z, m[0], pop_sd) + repeats - log_q
-            lw = np.where(np.isfinite(lw), lw, -np.inf)
-            w = np.exp(lw - lw.max(axis=1, keepdims=True))
-            w /= w.sum(axis=1, keepdims=True)
+            w, ess = _weights(lw)
             mean = np.einsum("gk,gkv->gv", w, Z)
             d = Z - mean[:, None, :]
             cov = np.einsum("gk,gka,gkb->gab", w, d, d)
             # a setting whose weights sit on a few draws (its draw far in the population's tail): the best
             # RECENTRE draws, unweighted, move the proposal towards it without collapsing it on one point
-            few = np.flatnonzero(1.0 / (w ** 2).sum(axis=1) < RECENTRE)
+            few = np.flatnonzero(ess < RECENTRE)
             if few.size:
                 best = np.argsort(lw[few], axis=1)[:, -RECENTRE:]
                 top = np.take_along_axis(Z[few], best[:, :, None], axis=1)
@@ -370,10 +368,16 @@ class SettingIntegral:
         m, sig, s, tau = self.split(post, x)
         ll = np.empty((len(self.ends) - 1, self.nodes))
         _point_kernel(ll, self.ends, post.y, self.base, self.FA, self.CA, tau[0] ** 2, self._scales2(post, s, x)[0])
-        lw = _log_normal(self.ZA, m[0], np.maximum(sig[0], 1e-12)) + ll - self.lqA
-        lw = np.where(np.isfinite(lw), lw, -np.inf)
-        w = np.exp(lw - lw.max(axis=1, keepdims=True))
-        return w.sum(axis=1) ** 2 / (w ** 2).sum(axis=1)
+        return _weights(_log_normal(self.ZA, m[0], np.maximum(sig[0], 1e-12)) + ll - self.lqA)[1]
+
+
+def _weights(lw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Importance weights from log weights (G, k), normalised per setting (a non-finite one counts as zero), and
+    their effective number per setting (Kish's, 1 / sum w^2)."""
+    lw = np.where(np.isfinite(lw), lw, -np.inf)
+    w = np.exp(lw - lw.max(axis=1, keepdims=True))
+    w /= w.sum(axis=1, keepdims=True)
+    return w, 1.0 / (w ** 2).sum(axis=1)
 
 
 def _with_draws(post: Any, numbers: np.ndarray, zeta: np.ndarray) -> np.ndarray:

@@ -349,12 +349,11 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
     """
     n = len(frames)
     if frames.times is None and frames.fps is not None:  # a rendered clip: its stored rate, no times
+        own = check_fps(frames.fps, label, "clip file")
+        _agree(fps, own, fps_source, label, f"the frame rate the clip file records ({own:g} frames/s); leave the "
+               "frame rate out to use it")
         if fps is None:
-            fps, fps_source = frames.fps, "clip file"
-        elif abs(float(fps) / frames.fps - 1.0) > FPS_AGREEMENT:
-            raise FrameRateError(f"{_SOURCE_TEXT[fps_source]} {float(fps):g} frames/s disagrees with the frame rate "
-                                 f"the clip file records ({frames.fps:g} frames/s); leave the frame rate out to use "
-                                 "it", fps=fps, source=fps_source, file=label)
+            fps, fps_source = own, "clip file"
     if frames.times is None or frames.time_source == "stream timestamps":
         fps = check_fps(fps, label, fps_source)
         gaps = frames.gaps
@@ -366,24 +365,22 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
             periods[k] += missing
         return np.r_[0.0, np.cumsum(periods)] / fps, fps, "fps and stream timestamps"
     own = check_fps(frames.fps, label, "clip file")
-    if fps is not None and abs(fps / own - 1.0) > FPS_AGREEMENT:
-        what = _SOURCE_TEXT[fps_source]
-        origin = {"TIME64 block": "the times of its TIME64 block"}.get(str(frames.time_source),
-                                                                         "its header's frame rate")
-        raise FrameRateError(
-            f"{what} {fps:g} frames/s disagrees with the frame times the file records ({own:g} frames/s, from "
-            f"{origin}); the file's times are the camera's: leave the frame rate out to use them",
-            fps=fps, source=fps_source, file=label)
+    origin = {"TIME64 block": "the times of its TIME64 block"}.get(str(frames.time_source), "its header's frame rate")
+    _agree(fps, own, fps_source, label, f"the frame times the file records ({own:g} frames/s, from {origin}); the "
+           "file's times are the camera's: leave the frame rate out to use them")
     return np.asarray(frames.times, dtype=float), own, str(frames.time_source)
+
+
+def _agree(fps, own: float, fps_source: str, label: str, records: str) -> None:
+    """A FrameRateError where a given ``fps`` disagrees with the rate ``own`` (checked) the file records by more than
+    :data:`FPS_AGREEMENT`; ``records`` says what the file records and what to do."""
+    if fps is not None and abs(float(fps) / own - 1.0) > FPS_AGREEMENT:
+        raise FrameRateError(f"{_SOURCE_TEXT[fps_source]} {float(fps):g} frames/s disagrees with {records}",
+                             fps=fps, source=fps_source, file=label)
 
 
 _SOURCE_TEXT = {"argument": "fps", "manifest": "the manifest's fps", "file name": "the fps in the file name",
                 "clip file": "the fps stored in the clip file"}
-
-
-def fps_source_text(source: str) -> str:
-    """How a message names a frame rate from ``source`` (one of :data:`FPS_SOURCES`): "fps", "the manifest's fps"..."""
-    return _SOURCE_TEXT[source]
 
 
 def check_fps(fps, label: str, source: str = "argument") -> float:
