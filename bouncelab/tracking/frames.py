@@ -64,6 +64,7 @@ from bouncelab.core.errors import DataError, Hint, MissingFileError
 from bouncelab.core.files import check_regular_file
 from bouncelab.tracking._cv import cv2
 from bouncelab.tracking.pyav import wanted_frames
+from bouncelab.tracking.rates import check_fps
 
 __all__ = [
     "CAMERA_SUFFIXES",
@@ -285,7 +286,8 @@ class _NpzSource(_Source):
         self.fortran = fortran and len(shape) > 1
         self.file_dtype = dtype
         self.kind = dtype.kind
-        self.fps = stored_fps(path)  # a rendered clip's rate (no times: frame_times reconciles it with an fps given)
+        stored = stored_fps(path)  # a rendered clip's rate (no times: frame_times reconciles it with an fps given)
+        self.fps = None if stored is None else check_fps(stored, label, "clip file")
         self.dtype = np.dtype(np.float64) if self.channels in (3, 4) else dtype.newbyteorder("=")
 
     def raw(self, wanted):
@@ -929,18 +931,20 @@ def read_frames(source, *, name: str | None = None, memory_budget: float | None 
     return open_clip(source, name=name, memory_budget=memory_budget).read()
 
 
-def stored_fps(source) -> float | None:
-    """The frame rate an ``.npz`` clip carries (a scalar ``fps`` entry, as ``RenderedClip.save`` writes it),
-    or None (another kind of clip, no such entry, or an unreadable file: reading the frames reports that)."""
+def stored_fps(source) -> Any:
+    """The ``fps`` entry an ``.npz`` clip carries (as ``RenderedClip.save`` writes it), as stored: a number, or
+    whatever a hostile file holds there (:func:`~bouncelab.tracking.rates.check_fps` judges it where the clip is
+    opened); None for another kind of clip, a file without that entry, or an unreadable one (reading the frames
+    says why)."""
     if not isinstance(source, str | Path) or Path(source).suffix.lower() != ".npz":
         return None
     try:
         if not stat.S_ISREG(os.stat(source).st_mode):  # a FIFO would hang np.load: reading the frames says why
             return None
         with np.load(source, allow_pickle=False) as data:
-            if "fps" not in data.files or np.asarray(data["fps"]).size != 1:
+            if "fps" not in data.files:
                 return None
-            fps = float(np.asarray(data["fps"]).ravel()[0])
+            fps = data["fps"]
     except (OSError, ValueError, TypeError, KeyError, AttributeError, EOFError, zipfile.BadZipFile):
         return None
-    return fps
+    return fps.item() if fps.ndim == 0 else fps  # one number as a Python scalar (messages show it as such)

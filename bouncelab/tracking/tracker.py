@@ -8,58 +8,20 @@ at ``y = 0``, time in seconds, spin in rad/s anticlockwise.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from bouncelab.analysis.measurement import FRAME_RATE_RANGE
 from bouncelab.core import checks
-from bouncelab.core.errors import DataError, Hint
+from bouncelab.core.errors import DataError
 from bouncelab.core.units import BALL_RADIUS_M
 from bouncelab.tracking.detect import estimate_background, find_ball
 from bouncelab.tracking.frames import Clip, open_clip
+from bouncelab.tracking.rates import FPS_AGREEMENT, FPS_RANGE, FPS_SOURCES, FrameRateError, agree, check_fps
 from bouncelab.tracking.rotation import _window_rotation, rotation_window
 
 __all__ = ["FPS_AGREEMENT", "FPS_RANGE", "FPS_SOURCES", "FrameRateError", "check_fps", "frame_times", "track_clip"]
-
-#: Frame rates a clip may have, frames/s: from 1 (slower is not video) to 10^7 (the fastest framing cameras
-#: record some 10^7 frames/s; a golf ball then moves a few micrometres a frame). Beyond them the frame rate is
-#: a mistake (a unit, a typo, a damaged file), and the velocities would be as wrong. The measurement's own
-#: range (:data:`bouncelab.analysis.measurement.FRAME_RATE_RANGE`).
-FPS_RANGE = FRAME_RATE_RANGE
-
-#: Where a clip's frame rate can come from (:attr:`FrameRateError.source`): the ``fps`` given to the function
-#: (``--fps`` on the command line), the manifest's ``fps`` column, the file name (through the pattern's ``fps``
-#: group) or the clip file itself (the ``fps`` entry of a rendered ``.npz``).
-FPS_SOURCES = ("argument", "manifest", "file name", "clip file")
-
-#: Largest relative difference between a frame rate given for a camera file and the rate of the times it
-#: records (0.1 %): more is another rate (a typing mistake, the playback rate, a decimated recording), and
-#: the file's times are not silently overruled.
-FPS_AGREEMENT = 1e-3
-
-
-class FrameRateError(DataError):
-    """A clip's frame rate is missing, not a number, outside :data:`FPS_RANGE`, or disagrees with the rate or
-    times the clip file records.
-
-    Attributes
-    ----------
-    fps
-        The value as given (``None`` if missing).
-    source
-        Where it came from, one of :data:`FPS_SOURCES` (``"argument"``: the
-        ``fps`` passed in, ``--fps`` on the command line).
-    """
-
-    def __init__(self, message: str, *, fps: Any = None, source: str = "argument", file: str | None = None,
-                 hints: Iterable[Hint] = (), **where: Any) -> None:
-        super().__init__(message, file=file, hints=hints, **where)
-        self.fps = fps
-        self.source = source
-
 
 def track_clip(
     source,
@@ -348,12 +310,11 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
         than :data:`FPS_AGREEMENT`; a file rate outside :data:`FPS_RANGE`.
     """
     n = len(frames)
-    if frames.times is None and frames.fps is not None:  # a rendered clip: its stored rate, no times
-        own = check_fps(frames.fps, label, "clip file")
-        _agree(fps, own, fps_source, label, f"the frame rate the clip file records ({own:g} frames/s); leave the "
-               "frame rate out to use it")
+    if frames.times is None and frames.fps is not None:  # a rendered clip: its stored rate (checked), no times
+        agree(fps, frames.fps, fps_source, label, f"the frame rate the clip file records ({frames.fps:g} frames/s); "
+              "leave the frame rate out to use it")
         if fps is None:
-            fps, fps_source = own, "clip file"
+            fps, fps_source = frames.fps, "clip file"
     if frames.times is None or frames.time_source == "stream timestamps":
         fps = check_fps(fps, label, fps_source)
         gaps = frames.gaps
@@ -366,54 +327,8 @@ def frame_times(frames: Clip, fps: float | None, label: str, fps_source: str = "
         return np.r_[0.0, np.cumsum(periods)] / fps, fps, "fps and stream timestamps"
     own = check_fps(frames.fps, label, "clip file")
     origin = {"TIME64 block": "the times of its TIME64 block"}.get(str(frames.time_source), "its header's frame rate")
-    _agree(fps, own, fps_source, label, f"the frame times the file records ({own:g} frames/s, from {origin}); the "
+    agree(fps, own, fps_source, label, f"the frame times the file records ({own:g} frames/s, from {origin}); the "
            "file's times are the camera's: leave the frame rate out to use them")
     return np.asarray(frames.times, dtype=float), own, str(frames.time_source)
 
 
-def _agree(fps, own: float, fps_source: str, label: str, records: str) -> None:
-    """A FrameRateError where a given ``fps`` disagrees with the rate ``own`` (checked) the file records by more than
-    :data:`FPS_AGREEMENT`; ``records`` says what the file records and what to do."""
-    if fps is not None and abs(float(fps) / own - 1.0) > FPS_AGREEMENT:
-        raise FrameRateError(f"{_SOURCE_TEXT[fps_source]} {float(fps):g} frames/s disagrees with {records}",
-                             fps=fps, source=fps_source, file=label)
-
-
-_SOURCE_TEXT = {"argument": "fps", "manifest": "the manifest's fps", "file name": "the fps in the file name",
-                "clip file": "the fps stored in the clip file"}
-
-
-def check_fps(fps, label: str, source: str = "argument") -> float:
-    """The frame rate as a float within :data:`FPS_RANGE`, or a :class:`FrameRateError` naming the clip, the
-    value and where it came from (``source``, one of :data:`FPS_SOURCES`)."""
-    if source not in FPS_SOURCES:
-        raise ValueError(f"source must be one of {FPS_SOURCES}; got {source!r}")
-    what = _SOURCE_TEXT[source]
-    if fps is None:
-        raise FrameRateError("the frame rate is missing", fps=None, source=source, file=label,
-                             hints=[Hint("fps", None, "the camera's recording rate, e.g. 5000"),
-                                    Hint("manifest", None, "with an fps column")])
-    given = fps
-    why = ""
-    if isinstance(fps, str) and source != "argument":  # a manifest's cell, a file name's digits: text to read
-        try:
-            fps = float(fps)
-        except ValueError:
-            why = "text that is not a number"
-    else:  # an argument: a real number (not True, "5000" or 5000j: core.checks' rule)
-        fps, why = checks.as_float(fps)
-    if why:
-        raise FrameRateError(f"{what} is not a number of frames per second: {checks.shown(given)} ({why})",
-                             fps=given, source=source, file=label) from None
-    lo, hi = FPS_RANGE
-    if not np.isfinite(fps):
-        raise FrameRateError(f"{what} must be a finite number of frames per second; got {given!r}", fps=given,
-                             source=source, file=label)
-    if not fps > 0:
-        raise FrameRateError(f"{what} must be a positive number of frames per second; got {given!r}", fps=given,
-                             source=source, file=label)
-    if not lo <= fps <= hi:
-        raise FrameRateError(f"{what} {fps:g} frames/s is not a camera's frame rate (bouncelab takes "
-                             f"{lo:g} to {hi:g} frames/s, bouncelab.tracking.FPS_RANGE): a unit or typing mistake?",
-                             fps=given, source=source, file=label)
-    return fps
